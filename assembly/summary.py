@@ -1,0 +1,235 @@
+r"""A summary of an assembly for ``vtcr check``: plates, edges, joints, loads and graph.
+
+:func:`summarise` returns a renderable and prints nothing; the CLI prints it.  With rich
+installed it is a :class:`rich.console.Group` of tables, otherwise (or with
+``style="text"``) a plain string.  The bending wavelength of each plate is
+
+.. math:: \lambda = 2\pi / \kappa_0, \qquad \kappa_0^4 = \rho h \omega^2 / D, \qquad
+          D = E h^3 / (12 (1 - \nu^2)),
+
+and "wavelengths across" is ``Lx / lambda x Ly / lambda``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any, Literal
+
+from .graph import build_graph, components, plate_degrees
+from .models import EDGE_NAMES, Case, CoplanarJoint, EdgeId, PointForce
+
+__all__ = ["summarise", "summary_text"]
+
+_MAX_FREQUENCY_COLUMNS = 3
+
+
+@dataclass(frozen=True)
+class _Section:
+    title: str
+    columns: tuple[str, ...]
+    rows: list[tuple[str, ...]] = field(default_factory=list)
+
+
+def _complex(z: complex) -> str:
+    if z.imag == 0.0:
+        return f"{z.real:g}"
+    sign = "+" if z.imag >= 0 else "-"
+    return f"{z.real:g} {sign} {abs(z.imag):g}j"
+
+
+def _shown_frequencies(case: Case) -> list[float]:
+    freqs = list(case.frequencies or ())
+    if len(freqs) <= _MAX_FREQUENCY_COLUMNS:
+        return freqs
+    return [min(freqs), max(freqs)]
+
+
+def _header(case: Case) -> list[str]:
+    freqs = case.frequencies or ()
+    shown = ", ".join(f"{f:g}" for f in freqs[:8]) + (", ..." if len(freqs) > 8 else "")
+    noun = "frequency" if len(freqs) == 1 else f"{len(freqs)} frequencies"
+    return [
+        f"Assembly {case.name!r}: {len(case.plates)} plate(s), {len(case.joints)} joint(s), "
+        f"{len(case.loads)} load(s); {noun}: {shown} Hz"
+    ]
+
+
+def _sections(case: Case) -> list[_Section]:
+    degrees = plate_degrees(build_graph(case))
+    freqs = _shown_frequencies(case)
+
+    plates = _Section(
+        "Plates",
+        ("plate", "material", "Lx x Ly (m)", "h (mm)", "joints")
+        + tuple(f"lambda @ {f:g} Hz (m, across)" for f in freqs),
+    )
+    for pid, plate in case.plates.items():
+        material = case.materials[plate.material]
+        cells = []
+        for f in freqs:
+            lam = material.bending_wavelength(plate.thickness, f)
+            cells.append(f"{lam:.3g} ({plate.lx / lam:.1f} x {plate.ly / lam:.1f})")
+        plates.rows.append(
+            (
+                pid,
+                plate.material,
+                f"{plate.lx:g} x {plate.ly:g}",
+                f"{plate.thickness * 1e3:g}",
+                str(degrees.get(pid, 0)),
+                *cells,
+            )
+        )
+
+    conditions = case.edge_conditions()
+    joined = case.edge_joints()
+    edges = _Section("Edges (joint id or condition)", ("plate", *EDGE_NAMES))
+    for pid in case.plates:
+        keys = [EdgeId(pid, name) for name in EDGE_NAMES]
+        edges.rows.append((pid, *(joined.get(key, conditions[key]) for key in keys)))
+
+    joints = _Section(
+        "Joints", ("joint", "kind", "between", "log10 k", "zeta", "mu (kg/m)", "length (m)")
+    )
+    for jid, joint in case.joints.items():
+        joints.rows.append(
+            (
+                jid,
+                joint.kind,
+                " - ".join(joint.between),
+                f"{joint.log10_stiffness:g}",
+                f"{joint.loss_factor:g}",
+                f"{joint.mass:g}" if isinstance(joint, CoplanarJoint) else "-",
+                f"{case.edge_length(joint.between[0]):g}",
+            )
+        )
+
+    loads = _Section("Loads", ("#", "kind", "where", "amplitude", "distribution"))
+    for i, load in enumerate(case.loads):
+        if isinstance(load, PointForce):
+            where = f"{load.plate} at ({load.at[0]:g}, {load.at[1]:g}) m"
+            loads.rows.append((str(i), load.kind, where, f"{_complex(load.amplitude)} N", "-"))
+        else:
+            unit = "N/m" if load.kind == "edge_shear" else "N·m/m"
+            loads.rows.append(
+                (str(i), load.kind, load.edge, f"{_complex(load.amplitude)} {unit}",
+                 load.distribution)
+            )
+    return [s for s in (plates, edges, joints, loads) if s.rows]
+
+
+def _notes(case: Case) -> list[str]:
+    graph = build_graph(case)
+    groups = components(graph)
+    notes = []
+    if len(groups) == 1:
+        notes.append(
+            f"Graph: connected ({graph.number_of_nodes()} plate(s), "
+            f"{graph.number_of_edges()} joint(s))."
+        )
+    else:
+        listed = "; ".join("{" + ", ".join(g) + "}" for g in groups)
+        notes.append(
+            f"Graph: NOT connected, {len(groups)} sub-assemblies: {listed} "
+            "(allowed; each sub-assembly responds independently)."
+        )
+    if not case.loads:
+        notes.append("No loads: the forced response is zero.")
+    if case.truth.joints:
+        true = ", ".join(
+            f"{jid}: " + ", ".join(f"{k}={v:g}" for k, v in t.changes().items())
+            for jid, t in case.truth.joints.items()
+        )
+        notes.append(f"Truth (simulated experiment): {true}.")
+    unused = sorted(set(case.materials) - {p.material for p in case.plates.values()})
+    if unused:
+        notes.append(f"Unused materials: {', '.join(unused)}.")
+    return notes
+
+
+def _text_table(section: _Section) -> list[str]:
+    rows = [section.columns, *section.rows]
+    widths = [max(len(r[i]) for r in rows) for i in range(len(section.columns))]
+    lines = [section.title]
+    for k, row in enumerate(rows):
+        lines.append("  " + "  ".join(cell.ljust(w) for cell, w in zip(row, widths)).rstrip())
+        if k == 0:
+            lines.append("  " + "  ".join("-" * w for w in widths))
+    return lines
+
+
+def summary_text(case: Case) -> str:
+    """Return the summary of an assembly as plain text.
+
+    Parameters
+    ----------
+    case : Case
+        A validated assembly.
+
+    Returns
+    -------
+    str
+        Header line, tables (plates with bending wavelengths, edges, joints, loads) and
+        notes on the graph (connected components), one item per line.
+
+    Examples
+    --------
+    >>> from assembly import load_case
+    >>> print(summary_text(load_case("cases/single_plate.toml")).splitlines()[0])
+    Assembly 'single-plate': 1 plate(s), 0 joint(s), 1 load(s); frequency: 155 Hz
+    """
+    lines = _header(case)
+    for section in _sections(case):
+        lines += ["", *_text_table(section)]
+    lines += ["", *_notes(case)]
+    return "\n".join(lines)
+
+
+def summarise(case: Case, *, style: Literal["auto", "rich", "text"] = "auto") -> Any:
+    """Summarise an assembly for ``vtcr check``; prints nothing.
+
+    Parameters
+    ----------
+    case : Case
+        A validated assembly.
+    style : {"auto", "rich", "text"}, optional
+        ``"rich"``: a :class:`rich.console.Group` of :class:`rich.table.Table`;
+        ``"text"``: the plain string of :func:`summary_text`; ``"auto"`` (default): rich if
+        it is installed, else text.
+
+    Returns
+    -------
+    rich.console.Group or str
+        Print it with ``rich.console.Console().print(...)`` or ``print(...)``.
+
+    Raises
+    ------
+    ModuleNotFoundError
+        If ``style="rich"`` and rich is not installed.
+
+    Examples
+    --------
+    >>> from assembly import load_case
+    >>> text = summarise(load_case("cases/single_plate.toml"), style="text")
+    >>> "lambda @ 155 Hz" in text
+    True
+    """
+    if style == "text":
+        return summary_text(case)
+    try:
+        from rich.console import Group
+        from rich.table import Table
+        from rich.text import Text
+    except ModuleNotFoundError:
+        if style == "rich":
+            raise
+        return summary_text(case)
+    parts: list[Any] = [Text(line, style="bold") for line in _header(case)]
+    for section in _sections(case):
+        table = Table(title=section.title, title_justify="left")
+        for column in section.columns:
+            table.add_column(column)
+        for row in section.rows:
+            table.add_row(*row)
+        parts.append(table)
+    parts += [Text(line) for line in _notes(case)]
+    return Group(*parts)

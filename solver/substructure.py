@@ -1,0 +1,513 @@
+r"""Substructured VTCR of jointed plates: admissibility, joint residuals, reduced problem.
+
+Formulation: ``vtcr-formulation.md`` sections 6.2–7 (the consistent, "Neumann-substructured"
+reading of the paper's eqs. 5–16 and 25–30).
+
+**Reliable equations (admissibility).** Each plate :math:`i` is a complete VTCR problem whose
+joined edges carry unknown line loads (:math:`K_n = F`, :math:`M_n = C`, as static data of the
+variational form) — a Neumann-type subproblem, square and invertible for :math:`\eta > 0`:
+
+.. math:: K_i U_i = F_i + B_i S ,\qquad U_i = U_i^0 + T_i S,\quad
+          U_i^0 = K_i^{-1}F_i,\; T_i = K_i^{-1}B_i .
+
+:math:`S` gathers the interface unknowns, discretised along each joint by Legendre polynomials
+:math:`\psi_m(\sigma)` (:math:`\sigma` the arc length along the joint from the start of its
+first edge; the second edge runs the other way, as edges do when the assembly is unfolded
+flat). Per joint:
+
+* ``coplanar``: the common bending moment :math:`C` (:math:`M_n^A = M_n^B = C`) and the shear
+  loads — one function :math:`F` with :math:`K_n^A = F = -K_n^B` when the joint is massless
+  (exact force balance built in), or :math:`F_A, F_B` when it has a line mass. Rigid
+  translation is a reliable constraint, imposed weakly:
+  :math:`\int_\Gamma (w_A - w_B)\psi_m\,d\sigma = 0`.
+* ``hinge``: the joint line is a kinematic support of both plates (:math:`w = 0`), and only
+  :math:`C` is unknown.
+* **Junction points.** Where plate corners meet at a joint end (the centre of a 2 x 2
+  arrangement, the ends of a joint between free edges), each *static* corner (no kinematic
+  edge next to it) receives an unknown corner force :math:`P_c` (static corner term
+  :math:`(R_c - P_c)\delta w_c^*`); the displacements of the corners meeting there are made
+  equal (or zero if one of them is supported), and, with no support, :math:`\sum_c P_c = 0`.
+  Without them a free corner would be forced to :math:`R_c = 0`, which the continuous plate
+  does not satisfy where a joint cuts it.
+
+None of :math:`K_i, F_i, B_i, T_i`, nor the constraints, depends on the joint parameters.
+
+**Unreliable equations (the joint laws) and their residual.** With
+:math:`\theta = \partial_n w` (outward normals) and :math:`k^* = k(1 + j\zeta)`:
+
+.. math::
+    r_{rot} = C - k^*(\theta_A + \theta_B),\qquad
+    r_{mass} = F_A + F_B - \omega^2\mu\,\tfrac12(w_A + w_B),
+
+    e_\Gamma^2 = \int_\Gamma \frac{|r_{rot}|^2}{2k}\,d\sigma
+               + \int_\Gamma \frac{|r_{mass}|^2}{2\omega^2\mu}\,d\sigma ,\qquad
+    E_\Gamma^2 = e_\Gamma^2 / E_{ref},\qquad E_{int}^2 = \sum_\Gamma \alpha_\Gamma E_\Gamma^2 ,
+
+(the constitutive-relation error in the energy norm; :math:`e^2` in J). :math:`E_{ref}` is a
+fixed energy, twice the time-averaged kinetic energy of the r = 0 solution at the initial
+parameters, :math:`\tfrac12\omega^2\sum_i\rho_ih_i\int_{\Omega_i}|w_i|^2dA`, so every
+:math:`E_\Gamma^2` is dimensionless and unchanged by the unit system or the load level.
+
+Every residual sample is affine in :math:`S` and in the parameter :math:`c` (:math:`k^*` or
+:math:`\omega^2\mu`): :math:`r = (L S + l) - c\,(R S + \rho)`. With :math:`z = [S; 1]`, a channel's
+energy is :math:`z^H(G_{LL} - cG_{LR} - \bar cG_{RL} + |c|^2G_{RR})z / (2\,\mathrm{Re}\,c)`, where
+the Gram matrices :math:`G_{XY} = X^H\mathrm{diag}(\omega_q)Y` of the augmented samples are
+computed once. Assembling the cost for new parameters is a few scalar multiplications.
+
+**Direct problem (r = 0).** Minimise :math:`E_{int}^2` subject to the constraints
+:math:`GS = g`: the KKT system :math:`[H\ G^H; G\ 0][S;\lambda] = [h; g]`. Its minimum is zero
+for the exact solution, so the minimiser is the assembly's forced response and the minimum is
+the discretisation floor.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.linalg
+
+from solver.plate import (
+    PlateSolution,
+    assemble_plate,
+    boundary_traces,
+    edge_projection,
+    edge_values,
+    evaluate_field,
+)
+from solver.problems import plate_basis, plate_problem
+from solver.rays import EDGES
+
+__all__ = [
+    "Channel",
+    "AssemblySystem",
+    "build_assembly_system",
+    "joint_parameters",
+    "solve_reduced",
+    "solve_assembly",
+    "interface_function_count",
+]
+
+KINEMATIC_DEFLECTION = frozenset({"clamped", "simply_supported"})
+
+
+def interface_function_count(kappa0, length, resolution=1.0):
+    r"""Legendre functions per interface unknown: :math:`M = \lceil 0.75\,s\,\kappa_0 L\rceil + 8`.
+
+    A Legendre series resolves :math:`e^{j\beta\sigma}` on :math:`[0, L]` once
+    :math:`M > \beta L/2`; the joint loads carry wavenumbers up to about :math:`1.5\kappa_0`
+    (propagating waves plus the slower part of the edge boundary layers).
+    """
+    return math.ceil(0.75 * resolution * kappa0 * length) + 8
+
+
+def legendre_values(sigma, length, n):
+    """``P_m(2 sigma / L - 1)`` for ``m < n``, shape ``(len(sigma), n)``."""
+    x = 2.0 * np.asarray(sigma) / length - 1.0
+    return np.polynomial.legendre.legvander(x, n - 1)
+
+
+@dataclass(frozen=True)
+class Channel:
+    """One residual channel of one joint, as augmented Gram matrices.
+
+    Attributes
+    ----------
+    joint : str
+    kind : {"rotation", "mass"}
+    gram : dict of str to ndarray of complex, shape (n_s + 1, n_s + 1)
+        ``"LL"``, ``"LR"``, ``"RR"`` (``"RL"`` is the adjoint of ``"LR"``).
+    """
+
+    joint: str
+    kind: str
+    gram: dict
+
+    def energy_matrix(self, c):
+        r"""Augmented matrix :math:`Q(c)` with :math:`e^2 = z^HQz`, for parameter ``c``."""
+        g = self.gram
+        return (g["LL"] - c * g["LR"] - np.conj(c) * g["LR"].conj().T
+                + abs(c) ** 2 * g["RR"]) / (2.0 * c.real)
+
+
+@dataclass
+class AssemblySystem:
+    """Everything about an assembly at one frequency that does not depend on the joint laws.
+
+    Attributes
+    ----------
+    frequency : float
+        Hz.
+    problems, bases : dict of str to PlateProblem / RayBasis
+    u0 : dict of str to ndarray, shape (n_i,)
+        Plate amplitudes for ``S = 0``.
+    transfer : dict of str to ndarray, shape (n_i, n_s)
+        :math:`T_i`: plate amplitudes per unit interface unknown.
+    n_s : int
+        Number of interface unknowns.
+    layout : dict of str to dict of str to slice
+        Position of each joint's unknown functions (``"C"``, ``"F"``, ``"FA"``, ``"FB"``) in S.
+    constraints : (ndarray, ndarray)
+        :math:`G` (n_g, n_s) and :math:`g` (n_g,).
+    channels : list of Channel
+    rcond : dict of str to float
+        Reciprocal condition estimate of each plate's VTCR matrix.
+    e_ref : float or None
+        Reference energy (J), fixed by the first direct solve.
+    timings : dict of str to float
+    """
+
+    frequency: float
+    problems: dict
+    bases: dict
+    u0: dict
+    transfer: dict
+    n_s: int
+    layout: dict
+    constraints: tuple
+    channels: list
+    rcond: dict
+    e_ref: float | None = None
+    timings: dict = field(default_factory=dict)
+
+    @property
+    def omega(self) -> float:
+        return 2.0 * math.pi * self.frequency
+
+    def plate_amplitudes(self, s):
+        """Ray amplitudes of every plate for interface unknowns ``s``."""
+        return {pid: self.u0[pid] + self.transfer[pid] @ s for pid in self.problems}
+
+    def affine_plate_operator(self, plate_id, values, particular):
+        r"""A plate quantity :math:`XU_i + x_p` as an affine map of S: ``(X T_i, X U_i^0 + x_p)``."""
+        return values @ self.transfer[plate_id], values @ self.u0[plate_id] + particular
+
+
+# ----------------------------------------------------------------------------------------------
+# building the parameter-independent system
+# ----------------------------------------------------------------------------------------------
+
+def _joint_gauss(length, k_max):
+    x, w = np.polynomial.legendre.leggauss(math.ceil(k_max * length) + 16)
+    return 0.5 * length * (x + 1.0), 0.5 * length * w
+
+
+def _has_mass_channel(joint, identify):
+    return joint.kind == "coplanar" and (joint.mass > 0.0 or "mass" in identify)
+
+
+def _layout(case, counts):
+    """Slices of S: per joint ``C`` and ``F`` (or ``FA``, ``FB``); then the corner forces."""
+    layout, start = {}, 0
+    identify = case.updating.identify
+    for jid, joint in case.joints.items():
+        m = counts[jid]
+        names = ["C"]
+        if joint.kind == "coplanar":
+            names += ["FA", "FB"] if _has_mass_channel(joint, identify) else ["F"]
+        layout[jid] = {}
+        for name in names:
+            layout[jid][name] = slice(start, start + m)
+            start += m
+    return layout, start
+
+
+def _corner_of(edge_name, end):
+    """Plate corner index at the start (end=0) or end (end=1) of an edge."""
+    return (EDGES.index(edge_name) + end) % 4
+
+
+def _junctions(case, problems):
+    """Groups of plate corners that coincide at joint ends, with their kinematic flags."""
+    parent = {}
+
+    def find(a):
+        while parent.setdefault(a, a) != a:
+            a = parent[a]
+        return a
+
+    for joint in case.joints.values():
+        a, b = joint.sides
+        for end in (0, 1):
+            ra, rb = find((a.plate, _corner_of(a.edge, end))), find((b.plate, _corner_of(b.edge, 1 - end)))
+            if ra != rb:
+                parent[ra] = rb
+    groups = {}
+    for corner in list(parent):
+        groups.setdefault(find(corner), []).append(corner)
+    junctions = []
+    for members in groups.values():
+        flags = []
+        for pid, c in sorted(members):
+            kinds = [problems[pid].condition(EDGES[c]).kind,
+                     problems[pid].condition(EDGES[c - 1]).kind]
+            flags.append(((pid, c), any(k in KINEMATIC_DEFLECTION for k in kinds)))
+        if any(not kinematic for _, kinematic in flags):
+            junctions.append(flags)
+    return junctions
+
+
+def build_assembly_system(case, frequency, resolution=None) -> AssemblySystem:
+    """Plate admissibility blocks, interface layout, constraints and residual channels.
+
+    Everything here is independent of the joint parameters and is computed once per
+    frequency.
+    """
+    t0 = time.perf_counter()
+    scale = case.discretisation.resolution if resolution is None else resolution
+    problems = {pid: plate_problem(case, pid, frequency) for pid in case.plates}
+    bases = {pid: plate_basis(case, pid, problems[pid], resolution) for pid in case.plates}
+    boundaries = {pid: boundary_traces(problems[pid], bases[pid]) for pid in case.plates}
+    k_max = {pid: float(np.max(np.abs(b.k))) for pid, b in bases.items()}
+
+    counts = {}
+    for jid, joint in case.joints.items():
+        a, b = joint.sides
+        kappa0 = max(problems[a.plate].kappa.real, problems[b.plate].kappa.real)
+        counts[jid] = (case.discretisation.interface_functions
+                       or interface_function_count(kappa0, case.edge_length(a), scale))
+    layout, n_joint_unknowns = _layout(case, counts)
+    junctions = _junctions(case, problems)
+    corner_columns, n_s = {}, n_joint_unknowns
+    for flags in junctions:
+        for (pid, c), kinematic in flags:
+            if not kinematic:
+                corner_columns[(pid, c)] = n_s
+                n_s += 1
+
+    # load operators B_i (plate equations: K_i U_i = F_i + B_i S)
+    loads = {pid: np.zeros((bases[pid].n_dof, n_s), dtype=complex) for pid in case.plates}
+    for jid, joint in case.joints.items():
+        length = case.edge_length(joint.sides[0])
+        for side_index, side in enumerate(joint.sides):
+            traces = boundaries[side.plate].edges[side.edge]
+            sigma = traces.s if side_index == 0 else length - traces.s
+            psi = legendre_values(sigma, length, counts[jid])
+            slots = layout[jid]
+            loads[side.plate][:, slots["C"]] += edge_projection(traces, "moment", psi)
+            if "F" in slots:
+                sign = 1.0 if side_index == 0 else -1.0
+                loads[side.plate][:, slots["F"]] += sign * edge_projection(traces, "shear", psi)
+            elif "FA" in slots:
+                key = "FA" if side_index == 0 else "FB"
+                loads[side.plate][:, slots[key]] += edge_projection(traces, "shear", psi)
+    for (pid, c), column in corner_columns.items():
+        loads[pid][:, column] += boundaries[pid].corner_w[c].conj()
+
+    u0, transfer, rcond = {}, {}, {}
+    for pid in case.plates:
+        K, F = assemble_plate(problems[pid], boundaries[pid])
+        scale_cols = 1.0 / np.maximum(np.abs(K).max(axis=0), np.finfo(float).tiny)
+        lu, piv = scipy.linalg.lu_factor(K * scale_cols, check_finite=False)
+        gecon = scipy.linalg.get_lapack_funcs("gecon", (lu,))
+        rcond[pid] = float(gecon(lu, np.linalg.norm(K * scale_cols, 1), norm="1")[0])
+        solution = scipy.linalg.lu_solve((lu, piv), np.column_stack([F, loads[pid]]),
+                                         check_finite=False) * scale_cols[:, None]
+        u0[pid], transfer[pid] = solution[:, 0], solution[:, 1:]
+    t1 = time.perf_counter()
+
+    system = AssemblySystem(frequency, problems, bases, u0, transfer, n_s, layout,
+                            (np.zeros((0, n_s), dtype=complex), np.zeros(0, dtype=complex)),
+                            [], rcond)
+    rows, rhs, channels = [], [], []
+    for jid, joint in case.joints.items():
+        a, b = joint.sides
+        length = case.edge_length(a)
+        sigma, wq = _joint_gauss(length, max(k_max[a.plate], k_max[b.plate]))
+        psi = legendre_values(sigma, length, counts[jid])
+        traces = {}
+        for side, s in ((a, sigma), (b, length - sigma)):
+            rays, part = edge_values(problems[side.plate], bases[side.plate], side.edge, s)
+            traces[side.plate, side.edge] = {
+                key: system.affine_plate_operator(side.plate, rays[key], part[key])
+                for key in ("w", "slope")}
+        ta, tb = traces[a.plate, a.edge], traces[b.plate, b.edge]
+        slots = layout[jid]
+
+        def unknown(name):
+            matrix = np.zeros((len(sigma), n_s), dtype=complex)
+            matrix[:, slots[name]] = psi
+            return matrix, np.zeros(len(sigma), dtype=complex)
+
+        rotation_jump = (ta["slope"][0] + tb["slope"][0], ta["slope"][1] + tb["slope"][1])
+        channels.append(Channel(jid, "rotation", _gram(unknown("C"), rotation_jump, wq)))
+        if "FA" in slots:
+            (fa, _), (fb, zero) = unknown("FA"), unknown("FB")
+            mean_w = (0.5 * (ta["w"][0] + tb["w"][0]), 0.5 * (ta["w"][1] + tb["w"][1]))
+            channels.append(Channel(jid, "mass", _gram((fa + fb, zero), mean_w, wq)))
+        if joint.kind == "coplanar":
+            weighted = psi.T * wq
+            rows.append(weighted @ (ta["w"][0] - tb["w"][0]))
+            rhs.append(-(weighted @ (ta["w"][1] - tb["w"][1])))
+
+    for flags in junctions:
+        values = {}
+        for (pid, c), _ in flags:
+            bd = boundary_traces_corner(system, pid, c)
+            values[pid, c] = bd
+        static = [corner for corner, kinematic in flags if not kinematic]
+        kinematic = [corner for corner, kin in flags if kin]
+        if kinematic:
+            for corner in static:
+                rows.append(values[corner][0][None, :])
+                rhs.append(-np.atleast_1d(values[corner][1]))
+        else:
+            reference = static[0]
+            for corner in static[1:]:
+                rows.append((values[corner][0] - values[reference][0])[None, :])
+                rhs.append(-np.atleast_1d(values[corner][1] - values[reference][1]))
+            balance = np.zeros((1, n_s), dtype=complex)
+            balance[0, [corner_columns[corner] for corner in static]] = 1.0
+            rows.append(balance)
+            rhs.append(np.zeros(1, dtype=complex))
+    if rows:
+        system.constraints = (np.vstack(rows), np.concatenate(rhs))
+    system.channels = channels
+    system.timings = {"plates": t1 - t0, "interface": time.perf_counter() - t1}
+    return system
+
+
+def boundary_traces_corner(system, plate_id, corner):
+    """Displacement of a plate corner as an affine map of S."""
+    problem, basis = system.problems[plate_id], system.bases[plate_id]
+    edge = EDGES[corner]
+    rays, part = edge_values(problem, basis, edge, np.array([0.0]))
+    return system.affine_plate_operator(plate_id, rays["w"][0], part["w"][0])
+
+
+def _gram(left, right, weights):
+    """Augmented Gram matrices of a channel ``r = (L S + l) - c (R S + rho)``."""
+    x = np.column_stack([left[0], left[1]])
+    y = np.column_stack([right[0], right[1]])
+    wx, wy = weights[:, None] * x, weights[:, None] * y
+    return {"LL": x.conj().T @ wx, "LR": x.conj().T @ wy, "RR": y.conj().T @ wy}
+
+
+# ----------------------------------------------------------------------------------------------
+# parameters, reduced solve
+# ----------------------------------------------------------------------------------------------
+
+def joint_parameters(case, omega):
+    """Channel parameters ``{(joint, kind): c}`` from the description's joints."""
+    params = {}
+    for jid, joint in case.joints.items():
+        params[jid, "rotation"] = 10.0 ** joint.log10_stiffness * (1.0 + 1j * joint.loss_factor)
+        if joint.kind == "coplanar":
+            params[jid, "mass"] = omega**2 * joint.mass + 0j
+    return params
+
+
+def joint_energy_matrices(system, params):
+    """Per joint, the augmented matrix of :math:`e_\\Gamma^2` (J) for channel parameters."""
+    out = {}
+    for channel in system.channels:
+        c = params[channel.joint, channel.kind]
+        if channel.kind == "mass" and c.real <= 0.0:
+            raise ValueError(f"joint {channel.joint}: the mass channel needs a line mass > 0")
+        q = channel.energy_matrix(c)
+        out[channel.joint] = out.get(channel.joint, 0.0) + q
+    return out
+
+
+def solve_reduced(system, cost):
+    r"""Minimise :math:`z^H Q z` (:math:`z = [S; 1]`) subject to :math:`GS = g`.
+
+    Parameters
+    ----------
+    cost : ndarray of complex, shape (n_s + 1, n_s + 1)
+        Hermitian augmented cost matrix.
+
+    Returns
+    -------
+    ndarray of complex, shape (n_s,)
+    """
+    n = system.n_s
+    g_mat, g_rhs = system.constraints
+    m = g_mat.shape[0]
+    kkt = np.zeros((n + m, n + m), dtype=complex)
+    kkt[:n, :n] = cost[:n, :n]
+    kkt[:n, n:] = g_mat.conj().T
+    kkt[n:, :n] = g_mat
+    rhs = np.concatenate([-cost[:n, n], g_rhs])
+    # equilibrate rows and columns: the blocks mix energies per force^2 and displacements
+    scale = 1.0 / np.sqrt(np.maximum(np.abs(kkt).max(axis=1), np.finfo(float).tiny))
+    solution = scipy.linalg.solve(kkt * scale[:, None] * scale[None, :], rhs * scale,
+                                  check_finite=False)
+    return (solution * scale)[:n]
+
+
+def reference_energy(system, amplitudes, n_min=12):
+    r""":math:`E_{ref} = \tfrac12\omega^2\sum_i\rho_ih_i\int_{\Omega_i}|w_i|^2dA` (J), Gauss in 2D."""
+    total = 0.0
+    for pid, problem in system.problems.items():
+        lx, ly = problem.size
+        kappa0 = problem.kappa.real
+        nx, ny = (max(n_min, math.ceil(kappa0 * length) + 12) for length in (lx, ly))
+        gx, wx = np.polynomial.legendre.leggauss(nx)
+        gy, wy = np.polynomial.legendre.leggauss(ny)
+        X, Y = np.meshgrid(0.5 * lx * (gx + 1), 0.5 * ly * (gy + 1), indexing="ij")
+        weights = np.outer(0.5 * lx * wx, 0.5 * ly * wy).ravel()
+        w = evaluate_field(problem, system.bases[pid], amplitudes[pid],
+                           np.c_[X.ravel(), Y.ravel()])["w"]
+        total += problem.mass_per_area * float(weights @ np.abs(w) ** 2)
+    return 0.5 * system.omega**2 * total
+
+
+def joint_residuals(system, params, s):
+    """``{joint: E_Gamma^2}`` (dimensionless) at interface unknowns ``s``."""
+    z = np.append(s, 1.0)
+    return {jid: float((z.conj() @ q @ z).real) / system.e_ref
+            for jid, q in joint_energy_matrices(system, params).items()}
+
+
+@dataclass(frozen=True)
+class AssemblySolution:
+    """Forced response of a jointed assembly (r = 0) and its joint residuals.
+
+    Same interface as :class:`solver.vtcr.CaseSolution`, plus ``residuals``
+    (:math:`E_\\Gamma^2` per joint), ``interface`` (S) and ``system``.
+    """
+
+    frequency: float
+    plates: dict
+    timings: dict
+    warnings: tuple
+    residuals: dict
+    interface: np.ndarray
+    system: AssemblySystem
+
+    @property
+    def n_unknowns(self) -> int:
+        return sum(p.basis.n_dof for p in self.plates.values()) + self.system.n_s
+
+    @property
+    def condition_estimate(self) -> float:
+        return max(p.condition_estimate for p in self.plates.values())
+
+    def w(self, plate_id, points):
+        return self.plates[plate_id].field(points)["w"]
+
+
+def solve_assembly(case, frequency, resolution=None, system=None) -> AssemblySolution:
+    """Direct problem of a jointed assembly: minimise :math:`E_{int}^2` under admissibility.
+
+    The reference energy is fixed by this solve if the system has none yet.
+    """
+    from solver.vtcr import _condition_warnings
+
+    system = system or build_assembly_system(case, frequency, resolution)
+    t0 = time.perf_counter()
+    params = joint_parameters(case, system.omega)
+    energies = joint_energy_matrices(system, params)
+    cost = sum(case.updating.alpha[jid] * q for jid, q in energies.items())
+    s = solve_reduced(system, cost)
+    amplitudes = system.plate_amplitudes(s)
+    if system.e_ref is None:
+        system.e_ref = reference_energy(system, amplitudes)
+    plates = {pid: PlateSolution(system.problems[pid], system.bases[pid], amplitudes[pid],
+                                 system.rcond[pid]) for pid in system.problems}
+    timings = dict(system.timings, reduced=time.perf_counter() - t0)
+    return AssemblySolution(frequency, plates, timings, _condition_warnings(plates),
+                            joint_residuals(system, params, s), s, system)

@@ -1,0 +1,248 @@
+"""Kernel checks of the single-plate VTCR against quantities computed independently.
+
+Notes section 9: G1 (Green function), R1 (reciprocity), D1 (dissipation), plus the two
+quadratures the solver relies on (sector means and edge integrals), each compared with a slow,
+obvious evaluation written here.
+"""
+
+import numpy as np
+import pytest
+from scipy import integrate, special
+
+from solver.kirchhoff import (
+    bending_wavenumber,
+    complex_bending_stiffness,
+    point_force_derivatives,
+    point_force_radial,
+)
+from solver.plate import EdgeCondition, PlateProblem, assemble_plate, boundary_traces
+from solver.rays import EDGES, automatic_ray_counts, build_ray_basis, plate_edges, ray_field
+
+STEEL = dict(young_modulus=210e9, poisson_ratio=0.3, density=7800.0)
+SIZE = (0.5, 0.4)
+THICKNESS = 1e-3
+
+
+def plate(frequency=400.0, eta=0.01, edges=None):
+    d = complex_bending_stiffness(STEEL["young_modulus"], THICKNESS, STEEL["poisson_ratio"], eta)
+    conditions = edges or {e: EdgeCondition("simply_supported") for e in EDGES}
+    return PlateProblem(SIZE, d, STEEL["poisson_ratio"], STEEL["density"] * THICKNESS,
+                        2 * np.pi * frequency, conditions)
+
+
+def basis_for(problem, resolution=1.0, n_q=8):
+    counts = automatic_ray_counts(problem.kappa.real, problem.size, resolution)
+    return build_ray_basis(problem.size, problem.kappa, counts, n_q=n_q)
+
+
+# ------------------------------------------------------------------------------------------
+# G1: Green function
+# ------------------------------------------------------------------------------------------
+
+def test_hankel_of_imaginary_argument_is_bessel_k():
+    """H0^(2)(-j z) = (2j/pi) K0(z): the identity that turns the Green function into one form."""
+    z = np.array([0.3, 1.7 - 0.02j, 6.0 - 0.1j])
+    assert np.allclose(special.hankel2(0, -1j * z), 2j / np.pi * special.kv(0, z), rtol=1e-13)
+
+
+def test_drive_point_mobility_of_the_infinite_plate():
+    """j omega w(0) = F / (8 sqrt(D* rho h)) (Cremer & Heckl), approached as r -> 0."""
+    problem = plate()
+    f, *_ = point_force_radial(np.array([1e-9]), problem.kappa, problem.bending_stiffness, 1.0)
+    mobility = 1j * problem.omega * f[0]
+    exact = 1.0 / (8.0 * np.sqrt(problem.bending_stiffness * problem.mass_per_area))
+    # the next term of f near 0 is O((kappa r)^2 log r) ~ 1e-15 at r = 1e-9 m
+    assert abs(mobility - exact) / abs(exact) < 1e-10
+
+
+def test_green_function_satisfies_the_plate_equation_off_the_source():
+    """D* lap^2 w - rho h omega^2 w = 0 away from the source, by a 13-point FD stencil.
+
+    The stencil's truncation error is O(h^2 kappa^2) relative: 1e-4 at h = 0.5 mm, 400 Hz.
+    """
+    problem = plate()
+    h = 5e-4
+    x0 = np.array([0.13, 0.07])
+    offsets = [(0, 0, 20), (1, 0, -8), (-1, 0, -8), (0, 1, -8), (0, -1, -8), (1, 1, 2),
+               (1, -1, 2), (-1, 1, 2), (-1, -1, 2), (2, 0, 1), (-2, 0, 1), (0, 2, 1), (0, -2, 1)]
+    points = np.array([x0 + h * np.array([i, j]) for i, j, _ in offsets])
+    w = point_force_derivatives(points, (0.0, 0.0), problem.kappa,
+                                problem.bending_stiffness, 1.0)["w"]
+    bilaplacian = sum(c * wi for (_, _, c), wi in zip(offsets, w)) / h**4
+    residual = problem.bending_stiffness * bilaplacian - problem.mass_per_area * problem.omega**2 * w[0]
+    scale = abs(problem.mass_per_area * problem.omega**2 * w[0])
+    assert abs(residual) / scale < 1e-3
+
+
+def test_green_function_derivatives_match_finite_differences():
+    """Gradient and Hessian formulas against central differences of w (relative 1e-6)."""
+    problem = plate()
+    h = 1e-5
+    x = np.array([[0.21, -0.05]])
+    g = point_force_derivatives(x, (0.0, 0.0), problem.kappa, problem.bending_stiffness, 1.0)
+
+    def w_at(p):
+        return point_force_derivatives(np.atleast_2d(p), (0.0, 0.0), problem.kappa,
+                                       problem.bending_stiffness, 1.0)
+
+    e = np.eye(2) * h
+    grad = np.array([(w_at(x[0] + e[i])["w"] - w_at(x[0] - e[i])["w"])[0] / (2 * h)
+                     for i in range(2)])
+    hess = np.array([(w_at(x[0] + e[i])["grad"] - w_at(x[0] - e[i])["grad"])[0] / (2 * h)
+                     for i in range(2)])
+    assert np.allclose(g["grad"][0], grad, rtol=1e-6)
+    assert np.allclose(g["hess"][0], hess, rtol=1e-6)
+
+
+# ------------------------------------------------------------------------------------------
+# quadratures
+# ------------------------------------------------------------------------------------------
+
+def test_sector_means_match_adaptive_quadrature():
+    """Each shape function is the mean of its family's exponential over its sector.
+
+    Recomputed here with adaptive quadrature (scipy.integrate.quad) from the loci of the
+    notes (section 5.1) for one sector of every family. Every shape function is bounded by
+    about 1 in the plate, so the 8-point Gauss rule must agree to 1e-8 in absolute value
+    (measured: 1e-9 on the first propagating-edge sector and 3e-10 on the single corner sector
+    at 1.6 kHz), far below the discretisation errors we accept (1e-3). A quadrature error here
+    cannot spoil the solution anyway: every node is an exact plate solution, so it only
+    perturbs which Trefftz function the sector stands for.
+    """
+    problem = plate(frequency=1600.0)
+    counts = automatic_ray_counts(problem.kappa.real, problem.size, 1.0)
+    basis = build_ray_basis(problem.size, problem.kappa, counts)
+    kappa, k0, tau = problem.kappa, problem.kappa.real, 2.5
+    x = np.array([0.31, 0.17])
+    values = ray_field(basis, x[None, :])["w"][0]
+    bottom = plate_edges(SIZE)[0]
+
+    def mean(fun, a, b):
+        re = integrate.quad(lambda t: fun(t).real, a, b, epsabs=0, epsrel=1e-13, limit=200)[0]
+        im = integrate.quad(lambda t: fun(t).imag, a, b, epsabs=0, epsrel=1e-13, limit=200)[0]
+        return (re + 1j * im) / (b - a)
+
+    def sqrt_pos(z):
+        s = np.sqrt(complex(z))
+        return s if s.real >= 0 else -s
+
+    centre = np.array(SIZE) / 2
+    n_int = counts.interior
+    checks = {
+        basis.family.index("interior") + 3: mean(
+            lambda t: np.exp(-1j * kappa * ((x - centre) @ [np.cos(t), np.sin(t)])),
+            3 * 2 * np.pi / n_int, 4 * 2 * np.pi / n_int),
+    }
+    first_m = basis.family.index("edge_evanescent:bottom")
+    n_m = counts.edge_evanescent[0]
+    betas = np.linspace(-tau * k0, tau * k0, n_m + 1)
+    checks[first_m + 2] = mean(
+        lambda b: np.exp(-1j * b * x[0] - sqrt_pos(b * b + kappa**2) * x[1]), betas[2], betas[3])
+    first_h = basis.family.index("edge_propagating:bottom")
+    n_half = counts.edge_propagating[0] // 2
+    psis = np.arccosh(np.linspace(1.0, tau, n_half + 1))
+    checks[first_h + n_half] = mean(
+        lambda p: np.exp(-1j * kappa * np.cosh(p) * x[0] - kappa * np.sinh(p) * x[1]),
+        psis[0], psis[1])
+    checks[basis.family.index("corner:0")] = mean(
+        lambda t: np.exp(-kappa * (x @ [np.cos(t), np.sin(t)])), 0.0, np.pi / 2)
+    assert bottom.name == "bottom"
+    for dof, expected in checks.items():
+        assert abs(values[dof] - expected) <= 1e-8, basis.family[dof]
+
+
+def test_edge_gauss_rule_matches_closed_form_exponential_integrals():
+    """Edge integrals of trace products against the closed form node pair by node pair.
+
+    For node exponentials with trace :math:`c_p e^{\\alpha_p s}`,
+    :math:`\\int_0^L \\overline{c_p e^{\\alpha_p s}}\\,c_q e^{\\alpha_q s}ds
+    = \\bar c_p c_q\\,\\mathrm{expm1}(zL)/z`, :math:`z = \\bar\\alpha_p + \\alpha_q` (the slow,
+    exact assembly of the notes, section 5.3). The Gram matrix of the sector-averaged traces
+    on every edge must agree with the Gauss rule to 1e-11 relative to its largest entry.
+    """
+    problem = plate(frequency=1000.0)
+    basis = basis_for(problem)
+    boundary = boundary_traces(problem, basis)
+    for edge in plate_edges(SIZE):
+        c = np.exp((edge.start - basis.origin) @ np.array([1, 0]) * basis.k[:, 0]
+                   + (edge.start - basis.origin) @ np.array([0, 1]) * basis.k[:, 1])
+        alpha = basis.k @ edge.tangent
+        z = alpha.conj()[:, None] + alpha[None, :]
+        small = np.abs(z * edge.length) < 1e-8
+        integral = np.where(small, edge.length,
+                            np.expm1(z * edge.length) / np.where(small, 1.0, z))
+        node_gram = (c.conj() * basis.weight)[:, None] * integral * (c * basis.weight)[None, :]
+        n, q = basis.n_dof, basis.n_q
+        exact = node_gram.reshape(n, q, n, q).sum(axis=(1, 3))
+        traces = boundary.edges[edge.name]
+        gauss = traces.w.conj().T @ (traces.weights[:, None] * traces.w)
+        assert np.abs(gauss - exact).max() <= 1e-11 * np.abs(exact).max(), edge.name
+
+
+# ------------------------------------------------------------------------------------------
+# R1 reciprocity and D1 dissipation
+# ------------------------------------------------------------------------------------------
+
+def boundary_work(boundary):
+    """G[a, b] = <g(phi_b), q(phi_a)>: closed-boundary work, corners included, no conjugation."""
+    g = sum(t.w.T @ (t.weights[:, None] * t.shear) - t.slope.T @ (t.weights[:, None] * t.moment)
+            for t in boundary.edges.values())
+    return g + boundary.corner_w.T @ boundary.corner_force
+
+
+@pytest.mark.parametrize("frequency", [155.0, 1600.0])
+def test_reciprocity_of_ray_fields(frequency):
+    """R1: <g(u), q(v)> = <g(v), q(u)> for Trefftz fields u, v (Green identity 2.1, f = 0).
+
+    The left side of (2.1) is symmetric in (u, v), so the boundary work matrix is symmetric to
+    quadrature accuracy; dropping the corner forces breaks it at O(1).
+    """
+    problem = plate(frequency)
+    boundary = boundary_traces(problem, basis_for(problem))
+    g = boundary_work(boundary)
+    assert np.abs(g - g.T).max() <= 1e-9 * np.abs(g).max()
+    without_corners = g - boundary.corner_w.T @ boundary.corner_force
+    assert np.abs(without_corners - without_corners.T).max() > 1e-3 * np.abs(g).max()
+
+
+def domain_strain_energy(problem, basis, x, n=120):
+    r""":math:`a(w, w^*) = \int (1-\nu)|\chi|^2 + \nu|\mathrm{tr}\chi|^2 dA` by tensor Gauss."""
+    gx, wx = np.polynomial.legendre.leggauss(n)
+    xs, ys = (gx + 1) * SIZE[0] / 2, (gx + 1) * SIZE[1] / 2
+    X, Y = np.meshgrid(xs, ys, indexing="ij")
+    weights = np.outer(wx * SIZE[0] / 2, wx * SIZE[1] / 2).ravel()
+    d = ray_field(basis, np.c_[X.ravel(), Y.ravel()], ("w_xx", "w_xy", "w_yy"))
+    wxx, wxy, wyy = (d[key] @ x for key in ("w_xx", "w_xy", "w_yy"))
+    nu = problem.poisson_ratio
+    density = (1 - nu) * (abs(wxx) ** 2 + 2 * abs(wxy) ** 2 + abs(wyy) ** 2) + nu * abs(wxx + wyy) ** 2
+    return float(weights @ density)
+
+
+def test_dissipation_identity_for_every_boundary_condition():
+    """D1: Im(x^H K x) = eta D a(w, w*) > 0, whatever the boundary conditions.
+
+    Static terms contribute g q^*, kinematic ones -(g q^*)^*, which have the same imaginary
+    part, so the quadratic form's imaginary part is the dissipated-energy functional of the
+    field alone (notes section 4); here it is compared with the domain integral of the
+    curvatures (Gauss 120 x 120: converged to 1e-9 for these smooth fields).
+    """
+    rng = np.random.default_rng(3)
+    mixes = [
+        {e: EdgeCondition("simply_supported") for e in EDGES},
+        {e: EdgeCondition("clamped") for e in EDGES},
+        {e: EdgeCondition("free") for e in EDGES},
+        dict(zip(EDGES, [EdgeCondition("clamped"), EdgeCondition("free"),
+                         EdgeCondition("simply_supported"), EdgeCondition("free")])),
+    ]
+    problem = plate(frequency=400.0, edges=mixes[0])
+    basis = basis_for(problem, resolution=0.5)
+    x = rng.normal(size=basis.n_dof) + 1j * rng.normal(size=basis.n_dof)
+    d_real = problem.bending_stiffness.real
+    eta = problem.bending_stiffness.imag / d_real
+    expected = eta * d_real * domain_strain_energy(problem, basis, x)
+    for edges in mixes:
+        problem = plate(frequency=400.0, edges=edges)
+        K, _ = assemble_plate(problem, boundary_traces(problem, basis))
+        quadratic = x.conj() @ K @ x
+        assert quadratic.imag > 0
+        assert abs(quadratic.imag - expected) <= 1e-7 * expected
