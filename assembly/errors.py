@@ -102,8 +102,8 @@ class DescriptionError(AssemblyError):
     >>> try:
     ...     load_case_text('name = "x"', source="x.toml")
     ... except DescriptionError as err:
-    ...     print(err.messages[0])
-    x.toml: frequency: no frequency given; add frequency = 155.0 (Hz) or frequencies = [150.0, 155.0]
+    ...     print(err.issues[0].path)
+    frequency
     """
 
     def __init__(self, issues: Iterable[Issue]) -> None:

@@ -72,7 +72,9 @@ def build_graph(case: Case) -> nx.MultiGraph:
     return graph
 
 
-def _value_function(value: str | Callable[..., Any]) -> Callable[[Hashable, Hashable, dict[str, Any]], Any]:
+def _value_function(
+    value: str | Callable[..., Any],
+) -> Callable[[Hashable, Hashable, dict[str, Any]], Any]:
     if callable(value):
         return value
     return lambda u, v, data: data[value]

@@ -1,9 +1,10 @@
 """Read assembly descriptions (TOML) into validated :class:`~assembly.models.Case` objects.
 
 Every problem of a description is reported at once, as one
-:class:`~assembly.errors.DescriptionError` whose lines read
+:class:`~assembly.errors.DescriptionError` whose lines read (on one line)::
 
-    cases/x.toml: joints.G2.between[1]: plate 'P9' is not in the assembly (plates: P1, P2); fix the edge reference
+    cases/x.toml: joints.G2.between[1]: plate 'P9' is not in the assembly
+    (plates: P1, P2); fix the edge reference
 
 i.e. source, dotted field path (``[i]`` for list indices), what is wrong and how to fix it.
 Schema problems (types, ranges, unknown keys) come from pydantic and are translated here;
@@ -222,7 +223,7 @@ def load_case(path: str | os.PathLike[str]) -> Case:
 
 
 def load_case_text(text: str, source: str = "<string>") -> Case:
-    """Read an assembly description from TOML text.
+    r"""Read an assembly description from TOML text.
 
     Parameters
     ----------
@@ -243,10 +244,10 @@ def load_case_text(text: str, source: str = "<string>") -> Case:
     Examples
     --------
     >>> try:
-    ...     load_case_text("name = ", source="x.toml")
+    ...     load_case_text('name = "x"\nfrequency = 1,5\n', source="x.toml")
     ... except DescriptionError as err:
     ...     print(err)  # doctest: +ELLIPSIS
-    x.toml: line 1, column 8: TOML syntax error: invalid value; ...
+    x.toml: line 2, column 14: TOML syntax error: expected newline or end of document ...
     """
     try:
         data = tomllib.loads(text)
@@ -302,7 +303,9 @@ def parse_case(data: Mapping[str, Any], source: str = "<dict>") -> Case:
 # --------------------------------------------------------------------------------------
 # TOML syntax errors
 # --------------------------------------------------------------------------------------
-_TOML_POSITION = re.compile(r"^(?P<msg>.*?)\s*\(at (?:line (?P<line>\d+), column (?P<col>\d+)|end of document)\)$")
+_TOML_POSITION = re.compile(
+    r"^(?P<msg>.*?)\s*\(at (?:line (?P<line>\d+), column (?P<col>\d+)|end of document)\)$"
+)
 
 
 def _toml_issue(exc: tomllib.TOMLDecodeError, text: str, source: str) -> Issue:

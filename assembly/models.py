@@ -548,7 +548,7 @@ class Plate(_Model):
             self.edge_length(edge)  # raises the AssemblyError
         start, normal = frames[edge]
         n = np.array(normal)
-        return np.array(start), np.array([-n[1], n[0]]), n, self.edge_length(edge)
+        return np.array(start), np.array([-n[1], n[0]]) + 0.0, n, self.edge_length(edge)
 
     def contains(self, x: float, y: float, *, strict: bool = True) -> bool:
         """Tell whether a plate-local point lies in the plate.
@@ -1601,9 +1601,10 @@ class Case(_Model):
                         f"{name!r} is not a joint parameter of joint {jid!r} (parameters: "
                         f"{', '.join(JOINT_PARAMETERS)})"
                     )
-                if not _is_real(value) and not (
-                    isinstance(value, np.ndarray) and value.shape == () and value.dtype.kind in "iuf"
-                ):
+                scalar_array = isinstance(value, np.ndarray) and (
+                    value.shape == () and value.dtype.kind in "iuf"
+                )
+                if not (_is_real(value) or scalar_array):
                     raise AssemblyError(
                         f"{name} of joint {jid!r} must be a real number, got {_show(value)}"
                     )

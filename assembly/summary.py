@@ -229,7 +229,7 @@ def summarise(case: Case, *, style: Literal["auto", "rich", "text"] = "auto") ->
         for column in section.columns:
             table.add_column(column)
         for row in section.rows:
-            table.add_row(*row)
+            table.add_row(*(Text(cell) for cell in row))  # Text: no markup parsing of ids
         parts.append(table)
     parts += [Text(line) for line in _notes(case)]
     return Group(*parts)

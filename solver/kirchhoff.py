@@ -133,7 +133,8 @@ def point_force_derivatives(points, source, kappa, bending_stiffness, force):
     Parameters
     ----------
     points : ndarray of float, shape (n, 2)
-        Evaluation points, away from the source (``r > 0``).
+        Evaluation points. At the source itself ``w`` is the finite limit and the slope 0;
+        the curvatures and shear forces are infinite there.
     source : array_like, shape (2,)
 
     Returns
@@ -143,13 +144,18 @@ def point_force_derivatives(points, source, kappa, bending_stiffness, force):
     """
     d = np.asarray(points, dtype=float) - np.asarray(source, dtype=float)
     r = np.hypot(d[:, 0], d[:, 1])
-    e = d / r[:, None]
-    f, df, d2f, dlap = point_force_radial(r, kappa, bending_stiffness, force)
+    at_source = r == 0.0
+    r_safe = np.where(at_source, 1.0, r)
+    e = d / r_safe[:, None]
+    f, df, d2f, dlap = point_force_radial(r_safe, kappa, bending_stiffness, force)
     ee = e[:, :, None] * e[:, None, :]
-    hess = d2f[:, None, None] * ee + (df / r)[:, None, None] * (np.eye(2) - ee)
-    return {
-        "w": f,
-        "grad": df[:, None] * e,
-        "hess": hess,
-        "shear_force": -bending_stiffness * dlap[:, None] * e,
-    }
+    hess = d2f[:, None, None] * ee + (df / r_safe)[:, None, None] * (np.eye(2) - ee)
+    if at_source.any():
+        # w is finite at the force (f(0) = jA), the slope vanishes by symmetry, and the
+        # curvatures and shear are infinite (log and 1/r singularities)
+        f = np.where(at_source, -1j * force / (8.0 * kappa**2 * bending_stiffness), f)
+        df = np.where(at_source, 0.0, df)
+        hess[at_source] = np.inf
+    shear = -bending_stiffness * dlap[:, None] * e
+    shear[at_source] = np.inf
+    return {"w": f, "grad": df[:, None] * e, "hess": hess, "shear_force": shear}

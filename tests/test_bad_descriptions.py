@@ -280,7 +280,9 @@ def test_catalogue_is_large_and_unique() -> None:
     ("mutate", "path", "fragments"),
     [pytest.param(m, p, f, id=i) for i, m, p, f in CATALOGUE],
 )
-def test_bad_description(mutate: Callable[[str], str], path: str, fragments: tuple[str, ...]) -> None:
+def test_bad_description(
+    mutate: Callable[[str], str], path: str, fragments: tuple[str, ...]
+) -> None:
     text = mutate(BASE)
     with pytest.raises(DescriptionError) as info:
         load_case_text(text, source=SOURCE)
