@@ -876,9 +876,9 @@ class PointMeasurement(_Model):
 class Measurement(_Model):
     """Measurement grid of a (simulated) experiment (``[measurement]``).
 
-    The grid of a measured plate of size ``Lx x Ly`` consists of the interior nodes of a
-    uniform mesh of about `spacing`: ``nx = max(2, round(Lx / spacing))`` intervals, points
-    ``x_i = i Lx / nx`` for ``i = 1 .. nx - 1`` (likewise in y).  See
+    The grid of a measured plate of size ``Lx x Ly`` consists of the centres of a uniform
+    mesh of about `spacing`: ``nx = max(1, round(Lx / spacing))`` cells, points
+    ``x_i = (i + 1/2) Lx / nx`` for ``i = 0 .. nx - 1`` (likewise in y).  See
     :meth:`Case.measurement_points`.
 
     Parameters
@@ -1176,6 +1176,7 @@ def _cross_check(view: _View) -> list[tuple[Loc, str]]:  # noqa: C901 (a flat li
                 conditions[edge] = (bc.condition, i)
 
     # loads
+    edge_loads: dict[tuple[EdgeId, str], int] = {}
     if view.loads is not None:
         for i, load in enumerate(view.loads):
             if load is None:
@@ -1196,6 +1197,16 @@ def _cross_check(view: _View) -> list[tuple[Loc, str]]:  # noqa: C901 (a flat li
             loc = ("loads", i, "edge")
             edge_of(load.edge, loc)
             edge = parse_edge_ref(load.edge)
+            if (edge, load.kind) in edge_loads:
+                issues.append(
+                    (
+                        loc,
+                        f"edge {load.edge!r} already carries an {load.kind} load "
+                        f"(loads[{edge_loads[edge, load.kind]}]); give one {load.kind} per "
+                        "edge, e.g. with the amplitudes summed",
+                    )
+                )
+            edge_loads.setdefault((edge, load.kind), i)
             cond = conditions.get(edge, ("free", -1))[0]
             if isinstance(load, EdgeShear):
                 if edge in joined:
@@ -1498,10 +1509,11 @@ class Case(_Model):
     def measurement_points(self) -> tuple[tuple[str, float, float], ...]:
         """Return the measurement points ``(plate, x, y)`` in plate-local m.
 
-        The grid of each measured plate (:meth:`measured_plates`) consists of the interior
-        nodes of a uniform mesh: ``nx = max(2, round(Lx / spacing))`` intervals and points
-        ``x_i = i Lx / nx``, ``i = 1 .. nx - 1`` (likewise in y), ordered by plate, then x,
-        then y.  The explicit ``measurement.points`` follow.
+        The grid of each measured plate (:meth:`measured_plates`) consists of the cell
+        centres of a uniform mesh: ``nx = max(1, round(Lx / spacing))`` cells and points
+        ``x_i = (i + 1/2) Lx / nx``, ``i = 0 .. nx - 1`` (likewise in y), ordered by plate,
+        then x, then y -- the rule of ``solver.field_grid``.  The explicit
+        ``measurement.points`` follow.
 
         Returns
         -------
@@ -1511,17 +1523,19 @@ class Case(_Model):
         --------
         >>> from assembly import load_case
         >>> case = load_case("cases/single_plate.toml")
-        >>> len(case.measurement_points())  # 4 x 3 interior nodes of a 0.1 m mesh
-        12
+        >>> len(case.measurement_points())  # 5 x 4 cell centres of a 0.1 m mesh
+        20
         """
         spacing = self.measurement.spacing
         points: list[tuple[str, float, float]] = []
         for pid in self.measured_plates():
             lx, ly = self.plates[pid].size
-            nx = max(2, round(lx / spacing))
-            ny = max(2, round(ly / spacing))
+            nx = max(1, round(lx / spacing))
+            ny = max(1, round(ly / spacing))
             points.extend(
-                (pid, i * lx / nx, j * ly / ny) for i in range(1, nx) for j in range(1, ny)
+                (pid, (i + 0.5) * lx / nx, (j + 0.5) * ly / ny)
+                for i in range(nx)
+                for j in range(ny)
             )
         points.extend((p.plate, p.at[0], p.at[1]) for p in self.measurement.points)
         return tuple(points)

@@ -85,7 +85,9 @@ def _sections(case: Case) -> list[_Section]:
     edges = _Section("Edges (joint id or condition)", ("plate", *EDGE_NAMES))
     for pid in case.plates:
         keys = [EdgeId(pid, name) for name in EDGE_NAMES]
-        edges.rows.append((pid, *(joined.get(key, conditions[key]) for key in keys)))
+        edges.rows.append(
+            (pid, *(joined.get(key, conditions[key].replace("_", " ")) for key in keys))
+        )
 
     joints = _Section(
         "Joints", ("joint", "kind", "between", "log10 k", "zeta", "mu (kg/m)", "length (m)")
@@ -135,7 +137,7 @@ def _notes(case: Case) -> list[str]:
     if not case.loads:
         notes.append("No loads: the forced response is zero.")
     if case.truth.joints:
-        true = ", ".join(
+        true = "; ".join(
             f"{jid}: " + ", ".join(f"{k}={v:g}" for k, v in t.changes().items())
             for jid, t in case.truth.joints.items()
         )
@@ -227,7 +229,7 @@ def summarise(case: Case, *, style: Literal["auto", "rich", "text"] = "auto") ->
     for section in _sections(case):
         table = Table(title=section.title, title_justify="left")
         for column in section.columns:
-            table.add_column(column)
+            table.add_column(column, overflow="fold")
         for row in section.rows:
             table.add_row(*(Text(cell) for cell in row))  # Text: no markup parsing of ids
         parts.append(table)

@@ -43,6 +43,7 @@ centre to the furthest corner). :func:`automatic_ray_counts` applies it, scaled 
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -209,13 +210,18 @@ def _sector_nodes(lower, upper, n_sectors, n_q):
 
 def _sector_nodes_mapped(edges, n_q):
     """Gauss–Legendre nodes and normalised weights on the sectors ``[edges[i], edges[i+1]]``."""
-    x, w = np.polynomial.legendre.leggauss(n_q)
+    x, w = _gauss_legendre(n_q)
     n_sectors = len(edges) - 1
     half = 0.5 * np.diff(edges)
     mid = 0.5 * (edges[1:] + edges[:-1])
     nodes = (mid[:, None] + half[:, None] * x[None, :]).ravel()
     weights = np.tile(0.5 * w, n_sectors)
     return nodes, weights
+
+
+@functools.lru_cache(maxsize=32)
+def _gauss_legendre(n):
+    return np.polynomial.legendre.leggauss(n)
 
 
 def _root_positive_real(z):

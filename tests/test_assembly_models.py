@@ -232,10 +232,12 @@ def test_alpha_is_completed_and_normalised(two: Case) -> None:
 def test_measurement_points(two: Case) -> None:
     points = two.measurement_points()
     grid = [p for p in points if p[0] == "P1"]
-    # 0.5 x 0.4 m at 0.05 m: 9 x 7 interior nodes of the mesh.
-    assert len(grid) == 9 * 7
+    # 0.5 x 0.4 m at 0.05 m: 10 x 8 cell centres.
+    assert len(grid) == 10 * 8
     xs = sorted({round(x, 12) for _, x, _ in grid})
-    assert xs[0] == pytest.approx(0.05) and xs[-1] == pytest.approx(0.45)
+    assert xs[0] == pytest.approx(0.025) and xs[-1] == pytest.approx(0.475)
+    assert [p[0] for p in grid[:2]] == ["P1", "P1"]
+    np.testing.assert_allclose([p[1:] for p in grid[:2]], [[0.025, 0.025], [0.025, 0.075]])
     assert points[-1] == ("P3", 0.0, 0.3)
 
 

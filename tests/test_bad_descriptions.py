@@ -155,6 +155,9 @@ CATALOGUE: list[tuple[str, Callable[[str], str], str, tuple[str, ...]]] = [
      "loads[0].edge", ("M_n is a reaction", "load a free or simply supported edge")),
     ("edge-moment-on-joined-edge", replace(SHEAR, 'kind = "edge_moment"\nedge = "P2.left"'),
      "loads[0].edge", ("joined by joint 'G1'", "load a free or simply supported edge")),
+    ("two-shears-on-one-edge", append('[[loads]]\nkind = "edge_shear"\nedge = "P1.left"\n'
+                                      'amplitude = 2.0'),
+     "loads[2].edge", ("already carries an edge_shear load (loads[0])", "amplitudes summed")),
     ("zero-thickness", replace("thickness = 0.001", "thickness = 0.0"),
      "plates.P1.thickness", ("must be > 0", "thickness = 0.001 (m)")),
     ("negative-size", replace("size = [0.5, 0.4]", "size = [-0.5, 0.4]"),
