@@ -10,17 +10,24 @@ from rich.table import Table
 __all__ = ["steps_table", "result_json", "result_markdown"]
 
 
-def _bound_note(step, joint, upper):
-    if step.selected == joint and step.interval and step.interval[1] >= upper - 1e-9:
-        return f" (>= {step.interval[0]:.2f})"
+def _bound_note(step, joint, bounds):
+    """``(>= a)`` or ``(<= b)`` when the selected joint's cost is flat up to a bound."""
+    if step.selected != joint or not step.interval:
+        return ""
+    low, high = step.interval
+    if high >= bounds[1] - 1e-9 and low > bounds[0] + 1e-9:
+        return f" (>= {low:.2f})"
+    if low <= bounds[0] + 1e-9 and high < bounds[1] - 1e-9:
+        return f" (<= {high:.2f})"
     return ""
 
 
 def steps_table(result, title, bounds):
     """Rows: joints, then E_mod^2; per step the log10 k and E_Gamma^2 (%) of every joint.
 
-    The joint corrected in a step is shown in bold; a joint whose cost stays flat up to the
-    upper bound is marked ``>= lower bound``.
+    The joint corrected in a step is shown in bold; a joint whose cost stays within 1 % of its
+    minimum up to a bound is marked ``>= a`` (stiff: only a lower bound is identifiable) or
+    ``<= b`` (near-hinge: only an upper bound).
     """
     table = Table(title=title)
     table.add_column("joint")
@@ -33,7 +40,7 @@ def steps_table(result, title, bounds):
         for step in result.steps:
             style = "bold" if step.selected == joint else ""
             value = step.parameters[joint]["log10_stiffness"]
-            note = _bound_note(step, joint, bounds[1])
+            note = _bound_note(step, joint, bounds)
             cells += [f"[{style}]{value:.2f}{note}[/]" if style else f"{value:.2f}",
                       f"{100 * step.residuals[joint]:.2f}"]
         table.add_row(joint, *cells)
@@ -64,7 +71,7 @@ def result_markdown(result, title, bounds):
         cells = []
         for step in result.steps:
             text = (f"{step.parameters[joint]['log10_stiffness']:.2f}"
-                    f"{_bound_note(step, joint, bounds[1])} / {100 * step.residuals[joint]:.2f}")
+                    f"{_bound_note(step, joint, bounds)} / {100 * step.residuals[joint]:.2f}")
             cells.append(f"**{text}**" if step.selected == joint else text)
         lines.append(f"| {joint} | " + " | ".join(cells) + " |")
     lines.append("| E_mod^2 % | " + " | ".join(f"{100 * s.e_mod:.2f}" for s in result.steps)

@@ -18,7 +18,8 @@ Rule (configurable in ``[updating]``):
 
 A joint is reported as *bounded below* when its cost curve stays within 1 % of the minimum up
 to the upper bound: a joint much stiffer than the plates around it moves nothing, and only a
-lower bound of its stiffness can be identified.
+lower bound of its stiffness can be identified. Symmetrically, a joint much softer than the
+plates acts as a moment-free line and only an upper bound is identifiable.
 """
 
 from __future__ import annotations
