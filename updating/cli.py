@@ -68,13 +68,18 @@ def cmd_solve(args):
              "w": [float(values[pid][i].real), float(values[pid][i].imag)]}
             for pid, i in order
         ]
+        residuals = getattr(solution, "residuals", {})
         results.append({
             "frequency": frequency,
             "unknowns": solution.n_unknowns,
             "condition_estimate": solution.condition_estimate,
             "warnings": list(solution.warnings),
+            "joint_residuals": residuals,
             "probes": rows,
         })
+        if residuals:
+            console.print("joint residuals E_Gamma^2 (discretisation floor at the model's own "
+                          "parameters): " + ", ".join(f"{j} {v:.1e}" for j, v in residuals.items()))
         table = Table(title=f"{case.name}: w at {frequency:g} Hz "
                             f"({solution.n_unknowns} ray unknowns, "
                             f"condition estimate {solution.condition_estimate:.1e})")
