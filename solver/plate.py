@@ -63,6 +63,7 @@ __all__ = [
     "assemble_plate",
     "edge_projection",
     "edge_values",
+    "factorise_dense",
     "solve_dense",
     "PlateSolution",
     "solve_plate",
@@ -372,21 +373,37 @@ def edge_projection(traces: EdgeTraces, component: str, values):
     raise ValueError(f"unknown component {component!r}")
 
 
-def solve_dense(matrix, rhs):
-    """LU solve with column equilibration; returns ``(x, rcond)``.
+def factorise_dense(matrix):
+    """LU factors of a column-equilibrated matrix and its reciprocal condition estimate.
 
     Trefftz matrices are ill-conditioned by nature (1e17 is normal while the field is
     accurate), so the reciprocal condition number is estimated (LAPACK ``gecon``, 1-norm, on
     the equilibrated matrix) and returned rather than acted upon. Normal equations are never
     formed.
+
+    Returns
+    -------
+    solve : callable
+        ``solve(rhs)`` for ``rhs`` of shape (n,) or (n, m).
+    rcond : float
     """
     scale = 1.0 / np.maximum(np.abs(matrix).max(axis=0), np.finfo(float).tiny)
     scaled = matrix * scale
     lu, piv = scipy.linalg.lu_factor(scaled, check_finite=False)
     gecon = scipy.linalg.get_lapack_funcs("gecon", (lu,))
     rcond, _ = gecon(lu, np.linalg.norm(scaled, 1), norm="1")
-    x = scipy.linalg.lu_solve((lu, piv), rhs, check_finite=False)
-    return (x.T * scale).T, float(rcond)
+
+    def solve(rhs):
+        x = scipy.linalg.lu_solve((lu, piv), rhs, check_finite=False)
+        return (x.T * scale).T
+
+    return solve, float(rcond)
+
+
+def solve_dense(matrix, rhs):
+    """LU solve with column equilibration; returns ``(x, rcond)`` (see :func:`factorise_dense`)."""
+    solve, rcond = factorise_dense(matrix)
+    return solve(rhs), rcond
 
 
 @dataclass(frozen=True)

@@ -76,6 +76,7 @@ from solver.plate import (
     edge_projection,
     edge_values,
     evaluate_field,
+    factorise_dense,
 )
 from solver.problems import plate_basis, plate_problem
 from solver.rays import EDGES
@@ -299,12 +300,8 @@ def build_assembly_system(case, frequency, resolution=None) -> AssemblySystem:
     u0, transfer, rcond = {}, {}, {}
     for pid in case.plates:
         K, F = assemble_plate(problems[pid], boundaries[pid])
-        scale_cols = 1.0 / np.maximum(np.abs(K).max(axis=0), np.finfo(float).tiny)
-        lu, piv = scipy.linalg.lu_factor(K * scale_cols, check_finite=False)
-        gecon = scipy.linalg.get_lapack_funcs("gecon", (lu,))
-        rcond[pid] = float(gecon(lu, np.linalg.norm(K * scale_cols, 1), norm="1")[0])
-        solution = scipy.linalg.lu_solve((lu, piv), np.column_stack([F, loads[pid]]),
-                                         check_finite=False) * scale_cols[:, None]
+        solve, rcond[pid] = factorise_dense(K)
+        solution = solve(np.column_stack([F, loads[pid]]))
         u0[pid], transfer[pid] = solution[:, 0], solution[:, 1:]
     t1 = time.perf_counter()
 
@@ -343,10 +340,9 @@ def build_assembly_system(case, frequency, resolution=None) -> AssemblySystem:
             rhs.append(-(weighted @ (ta["w"][1] - tb["w"][1])))
 
     for flags in junctions:
-        values = {}
-        for (pid, c), _ in flags:
-            bd = boundary_traces_corner(system, pid, c)
-            values[pid, c] = bd
+        values = {(pid, c): system.affine_plate_operator(pid, boundaries[pid].corner_w[c],
+                                                          boundaries[pid].corner_w_p[c])
+                  for (pid, c), _ in flags}
         static = [corner for corner, kinematic in flags if not kinematic]
         kinematic = [corner for corner, kin in flags if kin]
         if kinematic:
@@ -367,14 +363,6 @@ def build_assembly_system(case, frequency, resolution=None) -> AssemblySystem:
     system.channels = channels
     system.timings = {"plates": t1 - t0, "interface": time.perf_counter() - t1}
     return system
-
-
-def boundary_traces_corner(system, plate_id, corner):
-    """Displacement of a plate corner as an affine map of S."""
-    problem, basis = system.problems[plate_id], system.bases[plate_id]
-    edge = EDGES[corner]
-    rays, part = edge_values(problem, basis, edge, np.array([0.0]))
-    return system.affine_plate_operator(plate_id, rays["w"][0], part["w"][0])
 
 
 def _gram(left, right, weights):

@@ -16,7 +16,8 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["InputError", "Probes", "read_probes", "write_json_atomic", "write_text_atomic"]
+__all__ = ["InputError", "Probes", "csv_rows", "parse_finite", "point_problem", "read_probes",
+           "write_json_atomic", "write_text_atomic"]
 
 
 class InputError(ValueError):
@@ -35,16 +36,35 @@ class Probes:
     order: tuple  # ((plate_id, index_in_plate), ...)
 
 
-def _number(path, row_number, column, text):
+def parse_finite(path, row_number, column, text, what):
+    """A finite float from one CSV cell, or :class:`InputError` naming the row, column and fix."""
     try:
         value = float(text)
     except (TypeError, ValueError):
         raise InputError(f"{path}: row {row_number}, column {column!r}: {text!r} is not a "
-                         "number; write a decimal number in metres") from None
+                         f"number; give {what}") from None
     if not math.isfinite(value):
         raise InputError(f"{path}: row {row_number}, column {column!r}: {text} is not finite; "
-                         "give a finite coordinate")
+                         f"give {what}")
     return value
+
+
+def point_problem(path, row_number, case, plate_id, x, y):
+    """Message when a CSV row's point is not on its plate (None when it is)."""
+    if plate_id not in case.plates:
+        return (f"{path}: row {row_number}, column 'plate': plate {plate_id!r} is not in the "
+                f"assembly (plates: {', '.join(case.plates)})")
+    lx, ly = case.plates[plate_id].size
+    if not (0.0 <= x <= lx and 0.0 <= y <= ly):
+        return (f"{path}: row {row_number}: point ({x}, {y}) is outside plate {plate_id} "
+                f"[0, {lx}] x [0, {ly}]; give plate-local metres")
+    return None
+
+
+def csv_rows(reader):
+    """``(row number, {column: stripped text})`` of a csv.DictReader, header being row 1."""
+    for number, raw in enumerate(reader, start=2):
+        yield number, {k.strip(): (v or "").strip() for k, v in raw.items() if k}
 
 
 def read_probes(path, case):
@@ -69,22 +89,17 @@ def read_probes(path, case):
         if not {"plate", "x", "y"} <= set(header):
             raise InputError(f"{path}: header is {','.join(header) or 'empty'}; the probe file "
                              "needs the columns plate,x,y")
-        for number, raw in enumerate(reader, start=2):
-            row = {k.strip(): (v or "").strip() for k, v in raw.items() if k}
+        for number, row in csv_rows(reader):
             plate_id = row["plate"]
-            if plate_id not in case.plates:
-                problems.append(f"{path}: row {number}, column 'plate': plate {plate_id!r} is "
-                                f"not in the assembly (plates: {', '.join(case.plates)})")
-                continue
             try:
-                x, y = (_number(path, number, c, row[c]) for c in ("x", "y"))
+                x, y = (parse_finite(path, number, c, row[c], "plate-local metres")
+                        for c in ("x", "y"))
             except InputError as err:
                 problems.extend(err.lines)
                 continue
-            lx, ly = case.plates[plate_id].size
-            if not (0.0 <= x <= lx and 0.0 <= y <= ly):
-                problems.append(f"{path}: row {number}: point ({x}, {y}) is outside plate "
-                                f"{plate_id} [0, {lx}] x [0, {ly}]; give plate-local metres")
+            problem = point_problem(path, number, case, plate_id, x, y)
+            if problem:
+                problems.append(problem)
                 continue
             rows.append((plate_id, x, y))
     if not rows and not problems:

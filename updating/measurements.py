@@ -11,14 +11,13 @@ from __future__ import annotations
 
 import csv
 import io
-import math
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from solver import solve_case
-from updating.files import InputError, write_text_atomic
+from updating.files import InputError, csv_rows, parse_finite, point_problem, write_text_atomic
 
 __all__ = ["Measurements", "simulate_measurements", "read_measurements", "write_measurements",
            "add_noise"]
@@ -92,18 +91,6 @@ def write_measurements(path, measurements):
     write_text_atomic(path, buffer.getvalue())
 
 
-def _float(path, number, column, text, what):
-    try:
-        value = float(text)
-    except (TypeError, ValueError):
-        raise InputError(f"{path}: row {number}, column {column!r}: {text!r} is not a number; "
-                         f"give {what}") from None
-    if not math.isfinite(value):
-        raise InputError(f"{path}: row {number}, column {column!r}: {text} is not finite; "
-                         f"give {what}")
-    return value
-
-
 def read_measurements(path, case):
     """Read a measurement CSV (contract: ``plate,x,y,re,im`` and optional ``frequency``).
 
@@ -128,26 +115,22 @@ def read_measurements(path, case):
         raise InputError(f"{path}: no frequency column but the description has frequencies "
                          f"{list(case.frequencies)}; add a frequency column")
     problems, rows = [], {}
-    for number, raw in enumerate(reader, start=2):
-        row = {k.strip(): (v or "").strip() for k, v in raw.items() if k}
+    for number, row in csv_rows(reader):
         pid = row["plate"]
-        if pid not in case.plates:
-            problems.append(f"{path}: row {number}, column 'plate': plate {pid!r} is not in the "
-                            f"assembly (plates: {', '.join(case.plates)})")
-            continue
         try:
-            x, y = (_float(path, number, c, row[c], "plate-local metres") for c in ("x", "y"))
-            re, im = (_float(path, number, c, row[c], "the displacement in metres")
+            x, y = (parse_finite(path, number, c, row[c], "plate-local metres")
+                    for c in ("x", "y"))
+            re, im = (parse_finite(path, number, c, row[c], "the displacement in metres")
                       for c in ("re", "im"))
-            frequency = (_float(path, number, "frequency", row["frequency"], "a frequency in Hz")
+            frequency = (parse_finite(path, number, "frequency", row["frequency"],
+                                      "a frequency in Hz")
                          if has_frequency else case.frequencies[0])
         except InputError as err:
             problems.extend(err.lines)
             continue
-        lx, ly = case.plates[pid].size
-        if not (0.0 <= x <= lx and 0.0 <= y <= ly):
-            problems.append(f"{path}: row {number}: point ({x}, {y}) is outside plate {pid} "
-                            f"[0, {lx}] x [0, {ly}]; give plate-local metres")
+        problem = point_problem(path, number, case, pid, x, y)
+        if problem:
+            problems.append(problem)
             continue
         match = [f for f in case.frequencies if abs(f - frequency) <= 1e-9 * f]
         if not match:

@@ -95,14 +95,10 @@ class UpdateResult:
 def localise(problem, parameters, step=0, selected=None, interval=None, noise=0.0):
     """Evaluate the modified problem and the floors at ``parameters``; returns a :class:`Step`."""
     evaluation = problem.evaluate(parameters)
-    floors = problem.noise_floor(parameters, noise) if noise > 0 else _discretisation_floor(
-        problem, parameters)
+    # without noise the floor is deterministic (discretisation only): one realisation
+    floors = problem.noise_floor(parameters, noise, realisations=4 if noise > 0 else 1)
     return Step(step, selected, {j: dict(p) for j, p in parameters.items()}, evaluation.residuals,
                 floors, evaluation.e_mod, evaluation.e_int, evaluation.e_mes, interval)
-
-
-def _discretisation_floor(problem, parameters):
-    return problem.noise_floor(parameters, 0.0, realisations=1)
 
 
 def correct_joint(problem, parameters, joint, bounds, identify=("stiffness",)):
