@@ -1001,6 +1001,25 @@ class CrossReferenceError(ValueError):
         super().__init__("\n".join(f"{format_path(loc)}: {msg}" for loc, msg in self.issues))
 
 
+def _grid_shape(size: tuple[float, float], spacing: float) -> tuple[int, int]:
+    """``(nx, ny)`` cells of the measurement grid of a plate."""
+    return max(1, round(size[0] / spacing)), max(1, round(size[1] / spacing))
+
+
+def _grid_points(size: tuple[float, float], spacing: float) -> list[tuple[float, float]]:
+    """Cell centres of the measurement grid of a plate, ordered by x, then y (m)."""
+    (lx, ly), (nx, ny) = size, _grid_shape(size, spacing)
+    return [((i + 0.5) * lx / nx, (j + 0.5) * ly / ny) for i in range(nx) for j in range(ny)]
+
+
+def _on_grid(size: tuple[float, float], spacing: float, x: float, y: float) -> bool:
+    """Tell whether a point is a cell centre of the plate's measurement grid (to 1e-9 m)."""
+    (lx, ly), (nx, ny) = size, _grid_shape(size, spacing)
+    i, j = round(x * nx / lx - 0.5), round(y * ny / ly - 0.5)
+    return (0 <= i < nx and 0 <= j < ny and abs((i + 0.5) * lx / nx - x) <= 1e-9
+            and abs((j + 0.5) * ly / ny - y) <= 1e-9)
+
+
 @dataclass
 class _View:
     """What the cross-reference checks look at; None marks an invalid or absent part.
@@ -1257,12 +1276,15 @@ def _cross_check(view: _View) -> list[tuple[Loc, str]]:  # noqa: C901 (a flat li
                     (("measurement", "plates", i), f"plate {pid!r} is listed twice; list it once")
                 )
             seen.add(pid)
+        gridded = set(plates or ()) if view.measurement.plates is None else seen
+        spacing = view.measurement.spacing
+        earlier: dict[tuple[str, float, float], str] = {}
         for i, point in enumerate(view.measurement.points):
             plate = known_plate(
                 point.plate, ("measurement", "points", i, "plate"), "fix the plate id"
             )
-            if plate is not None and not plate.contains(*point.at, strict=False):
-                x, y = point.at
+            x, y = point.at
+            if plate is not None and not plate.contains(x, y, strict=False):
                 issues.append(
                     (
                         ("measurement", "points", i, "at"),
@@ -1271,6 +1293,32 @@ def _cross_check(view: _View) -> list[tuple[Loc, str]]:  # noqa: C901 (a flat li
                         "move the point onto the plate",
                     )
                 )
+                continue
+            key = (point.plate, round(x, 9), round(y, 9))
+            twin = earlier.get(key)
+            if twin is None and plate is not None and point.plate in gridded:
+                if _on_grid(plate.size, spacing, x, y):
+                    twin = "a point of the measurement grid"
+            if twin is not None:
+                issues.append(
+                    (
+                        ("measurement", "points", i, "at"),
+                        f"point ({x:g}, {y:g}) of plate {point.plate!r} is already "
+                        f"{twin}; a point is measured once, remove this one",
+                    )
+                )
+            earlier.setdefault(key, f"measurement.points[{i}]")
+        if view.measurement.plates is not None and not view.measurement.plates and not (
+            view.measurement.points
+        ):
+            issues.append(
+                (
+                    ("measurement", "plates"),
+                    "is empty and no `points` are given, so nothing is measured; list the "
+                    'measured plates, e.g. plates = ["P1"], or add points = [{plate = "P1", '
+                    "at = [0.1, 0.2]}]",
+                )
+            )
 
     joints = view.joints
     joint_list = _listing(joints) if joints is not None else ""
@@ -1529,14 +1577,7 @@ class Case(_Model):
         spacing = self.measurement.spacing
         points: list[tuple[str, float, float]] = []
         for pid in self.measured_plates():
-            lx, ly = self.plates[pid].size
-            nx = max(1, round(lx / spacing))
-            ny = max(1, round(ly / spacing))
-            points.extend(
-                (pid, (i + 0.5) * lx / nx, (j + 0.5) * ly / ny)
-                for i in range(nx)
-                for j in range(ny)
-            )
+            points.extend((pid, x, y) for x, y in _grid_points(self.plates[pid].size, spacing))
         points.extend((p.plate, p.at[0], p.at[1]) for p in self.measurement.points)
         return tuple(points)
 

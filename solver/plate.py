@@ -32,12 +32,19 @@ Departure from the notes (section 5.3): the edge integrals are not evaluated in 
 node pair by node pair. A product of two node exponentials is an entire function of the arc
 length whose bandwidth is bounded by :math:`2\max|\mathbf k|`, so a Gauss–Legendre rule of
 :math:`Q \approx 0.75\max|\mathbf k|\,L + 10` points integrates it to round-off (checked against
-the closed form :math:`\int_0^L e^{zs}ds = \mathrm{expm1}(zL)/z` in the tests). It costs
-:math:`Q\,n_{nodes}` exponentials per edge instead of :math:`n_{nodes}^2`, a factor
-:math:`n_{nodes}/Q \approx 10`–20 fewer, and it treats data and particular-solution terms
-with the same points. :math:`K_n(w_p)` is integrated by parts along the edge
-(:math:`\int K_n\varphi^* = \int Q_n\varphi^* - \int M_{nt}\partial_s\varphi^* + [M_{nt}\varphi^*]`)
-so no third derivative of the Green function is needed.
+the closed form :math:`\int_0^L e^{zs}ds = \mathrm{expm1}(zL)/z` in the tests), and it
+treats data and particular-solution terms with the same points. Opposite edges get the same
+rule (the larger of their two), so their points share the coordinate along the edges; there a
+node's exponential is a constant per edge times a function of that coordinate alone, which
+nodes whose wave vectors have equal components up to sign share
+(:func:`solver.rays.line_exponentials`; the ray loci are sampled exactly symmetrically for
+this). The exponentials then cost about :math:`Q\,n_{nodes}/4` per pair of edges, instead of
+:math:`Q\,n_{nodes}` per edge point by point or :math:`n_{nodes}^2` per edge in closed form.
+Every term, corners included, has the form :math:`\sigma A^H\mathrm{diag}(\omega)[B \mid d]`,
+so :math:`K` and :math:`F` come out of one matrix product per term. :math:`K_n(w_p)` is
+integrated by parts along the edge (:math:`\int K_n\varphi^* = \int Q_n\varphi^*
+- \int M_{nt}\partial_s\varphi^* + [M_{nt}\varphi^*]`) so no third derivative of the Green
+function is needed.
 """
 
 from __future__ import annotations
@@ -50,7 +57,14 @@ import numpy as np
 import scipy.linalg
 
 from solver.kirchhoff import point_force_derivatives, wave_edge_factors
-from solver.rays import EDGES, RayBasis, node_exponentials, plate_edges, ray_field
+from solver.rays import (
+    EDGES,
+    RayBasis,
+    line_exponentials,
+    node_exponentials,
+    plate_edges,
+    ray_field,
+)
 
 __all__ = [
     "EdgeLoad",
@@ -149,7 +163,8 @@ class EdgeTraces:
     """Traces of the shape functions (and of the particular solution) at an edge's Gauss points.
 
     Every ray array has shape ``(Q, n_dof)``; the particular-solution arrays have shape ``(Q,)``
-    (zero when the plate carries no point force).
+    (zero when the plate carries no point force). ``tangential`` is only computed where the
+    point-force term needs it (free edges of a loaded plate), and is None elsewhere.
     """
 
     name: str
@@ -161,7 +176,7 @@ class EdgeTraces:
     slope: np.ndarray
     moment: np.ndarray
     shear: np.ndarray
-    tangential: np.ndarray  # d/ds of the shape functions
+    tangential: np.ndarray | None  # d/ds of the shape functions
     particular: dict
 
 
@@ -177,8 +192,8 @@ class PlateBoundary:
     edge_end_w: np.ndarray  # (4, 2, n_dof): shape functions at the start/end of edge i
 
 
-def _edge_gauss_points(length, k_max, sources, edge):
-    """Gauss–Legendre rule for one edge, sized to the wavelength and to nearby sources.
+def _edge_rule_size(length, k_max, sources, edge):
+    """Number of Gauss–Legendre points for one edge, sized to the wavelength and to sources.
 
     Bandwidth: products of traces oscillate or decay at rates up to :math:`2\\max|k|`; a
     Gauss rule of :math:`Q = 0.75\\max|k|\\,L + 10` points integrates them to round-off
@@ -192,8 +207,7 @@ def _edge_gauss_points(length, k_max, sources, edge):
         d_along = float(np.clip(rel @ edge.tangent, 0.0, length))
         dist = float(np.linalg.norm(rel - d_along * edge.tangent))
         q = max(q, math.ceil(12.0 * math.sqrt(length / max(dist, 1e-12 * length))))
-    x, w = _gauss_legendre(min(q, 4000))
-    return 0.5 * length * (x + 1.0), 0.5 * length * w
+    return min(q, 4000)
 
 
 @functools.lru_cache(maxsize=64)
@@ -202,80 +216,129 @@ def _gauss_legendre(n):
 
 
 def _particular_traces(problem, points, normal, tangent):
-    """Edge quantities of the point-force particular solution at ``points``."""
+    """Edge quantities of the point-force particular solution at ``points``.
+
+    ``normal`` and ``tangent`` are one unit vector each, shape (2,), or one per point.
+    """
     n = len(points)
+    normal, tangent = np.broadcast_to(normal, points.shape), np.broadcast_to(tangent, points.shape)
     out = {key: np.zeros(n, dtype=complex) for key in ("w", "slope", "moment", "twist", "shear_q")}
     for force in problem.point_forces:
         f = point_force_derivatives(points, force.position, problem.kappa,
                                     problem.bending_stiffness, force.amplitude)
         hess = f["hess"]
-        w_nn = np.einsum("i,nij,j->n", normal, hess, normal)
-        w_tt = np.einsum("i,nij,j->n", tangent, hess, tangent)
-        w_nt = np.einsum("i,nij,j->n", normal, hess, tangent)
+        w_nn = np.einsum("ni,nij,nj->n", normal, hess, normal)
+        w_tt = np.einsum("ni,nij,nj->n", tangent, hess, tangent)
+        w_nt = np.einsum("ni,nij,nj->n", normal, hess, tangent)
         d, nu = problem.bending_stiffness, problem.poisson_ratio
         out["w"] += f["w"]
-        out["slope"] += f["grad"] @ normal
+        out["slope"] += np.einsum("ni,ni->n", f["grad"], normal)
         out["moment"] += -d * (w_nn + nu * w_tt)
         out["twist"] += -d * (1.0 - nu) * w_nt
-        out["shear_q"] += f["shear_force"] @ normal
+        out["shear_q"] += np.einsum("ni,ni->n", f["shear_force"], normal)
     return out
+
+
+_TRACE_KEYS = ("w", "slope", "moment", "shear")
+
+
+def _trace_factors(problem, basis, edge, keys):
+    """Factor of each node for each trace in ``keys``, shape (len(keys), n_nodes)."""
+    factors = wave_edge_factors(basis.k, edge.normal, edge.tangent, problem.bending_stiffness,
+                                problem.poisson_ratio) | {"w": np.ones(len(basis.k))}
+    return np.array([factors[key] for key in keys])
+
+
+def _pair_traces(problem, basis, edges, q, keys):
+    """Ray traces on two opposite edges at ``[0, s_1..s_q, L]`` along each edge.
+
+    Both edges get the same Gauss rule, so that their points share the coordinate along
+    the edges and the node exponentials factor through :func:`solver.rays.line_exponentials`.
+
+    Returns
+    -------
+    s, weights : ndarray of float, shape (q,)
+        The common Gauss rule in arc length.
+    traces : list of dict of str to ndarray of complex
+        Per edge, the traces named in its entry of ``keys`` at the edge's start, Gauss points
+        and end, shape ``(q + 2, n_dof)``, and ``"twist"`` (:math:`M_{nt}`, needed at the
+        corners only) at its start and end, shape ``(2, n_dof)``.
+    """
+    axis = int(np.argmax(np.abs(edges[0].tangent)))
+    length = edges[0].length
+    x, w = _gauss_legendre(q)
+    s, weights = 0.5 * length * (x + 1.0), 0.5 * length * w
+    u = np.concatenate([[0.0], s, [length]])  # symmetric: u[::-1] = length - u
+    shared, constants = line_exponentials(basis, axis, u, [e.start[1 - axis] for e in edges])
+    # each edge's node constants fold into its trace factors: one sector-mean product serves
+    # both edges; the corner twist is only needed at the two ends
+    factors = [_trace_factors(problem, basis, e, edge_keys + ("twist",)) * c
+               for e, edge_keys, c in zip(edges, keys, constants)]
+    values = basis.sector_means(shared, np.concatenate([f[:-1] for f in factors]))
+    twists = basis.sector_means(shared[[0, -1]], np.array([f[-1] for f in factors]))
+    traces, start = [], 0
+    for i, (edge, edge_keys) in enumerate(zip(edges, keys)):
+        step = int(np.sign(edge.tangent[axis]))  # an edge against the axis runs backwards
+        block = values[start:start + len(edge_keys), ::step]
+        start += len(edge_keys)
+        traces.append(dict(zip(edge_keys, block)) | {"twist": twists[i, ::step]})
+    return s, weights, traces
 
 
 def boundary_traces(problem, basis: RayBasis) -> PlateBoundary:
     """Traces of every shape function on the four edges and at the four corners.
 
-    Costs one complex exponential per (Gauss point, ray node) pair; all edge quantities of a
-    node are scalar multiples of its exponential (:func:`solver.kirchhoff.wave_edge_factors`).
+    Opposite edges share one Gauss rule (the larger of their two) and their node
+    exponentials (:func:`solver.rays.line_exponentials`); all edge quantities of a node are
+    scalar multiples of its exponential (:func:`solver.kirchhoff.wave_edge_factors`). The
+    particular solution is evaluated at all four edges' points at once.
     """
     k_max = float(np.max(np.abs(basis.k)))
     sources = [f.position for f in problem.point_forces]
     geometry = plate_edges(problem.size)
+    rules, rays = [None] * 4, [None] * 4
+    # the tangential derivative only serves the by-parts term of a point force on a free edge
+    keys = [_TRACE_KEYS + ("tangential",) if sources and problem.condition(e.name).kind == "free"
+            else _TRACE_KEYS for e in geometry]
+    for pair in ((0, 2), (1, 3)):
+        pair_edges = [geometry[i] for i in pair]
+        q = max(_edge_rule_size(e.length, k_max, sources, e) for e in pair_edges)
+        s, wq, pair_traces = _pair_traces(problem, basis, pair_edges, q, [keys[i] for i in pair])
+        for i, traces in zip(pair, pair_traces):
+            rules[i], rays[i] = (s, wq), traces
+    # every edge's points: its start, its Gauss points, its end
+    arcs = [np.concatenate([[0.0], s, [edge.length]]) for (s, _), edge in zip(rules, geometry)]
+    sizes = [len(arc) for arc in arcs]
+    part = _particular_traces(
+        problem, np.concatenate([e.start + a[:, None] * e.tangent for e, a in zip(geometry, arcs)]),
+        np.repeat([e.normal for e in geometry], sizes, axis=0),
+        np.repeat([e.tangent for e in geometry], sizes, axis=0))
+    parts = [{key: value[start:start + size] for key, value in part.items()}
+             for start, size in zip(np.cumsum([0] + sizes[:-1]), sizes)]
     edges = {}
-    corner_twist = np.zeros((4, 2, basis.n_dof), dtype=complex)  # [corner, (in, out)]
-    corner_twist_p = np.zeros((4, 2), dtype=complex)
-    edge_end_w = np.zeros((4, 2, basis.n_dof), dtype=complex)
-    corner_w_p = np.zeros(4, dtype=complex)
-    for i, edge in enumerate(geometry):
-        s, wq = _edge_gauss_points(edge.length, k_max, sources, edge)
-        points = edge.start + s[:, None] * edge.tangent
-        traces, part = _traces_at(problem, basis, edge, np.concatenate([s, [0.0, edge.length]]))
-        q = len(s)
+    for edge, (s, wq), traces, p in zip(geometry, rules, rays, parts):
+        inner = slice(1, len(s) + 1)
         edges[edge.name] = EdgeTraces(
-            name=edge.name, s=s, weights=wq, points=points, length=edge.length,
-            w=traces["w"][:q], slope=traces["slope"][:q], moment=traces["moment"][:q],
-            shear=traces["shear"][:q], tangential=traces["tangential"][:q],
-            particular={key: value[:q] for key, value in part.items()}
-            | {"twist_ends": part["twist"][q:], "w_ends": part["w"][q:]},
+            name=edge.name, s=s, weights=wq, points=edge.start + s[:, None] * edge.tangent,
+            length=edge.length, w=traces["w"][inner], slope=traces["slope"][inner],
+            moment=traces["moment"][inner], shear=traces["shear"][inner],
+            tangential=traces["tangential"][inner] if "tangential" in traces else None,
+            particular={key: value[inner] for key, value in p.items()}
+            | {"twist_ends": p["twist"][[0, -1]], "w_ends": p["w"][[0, -1]]},
         )
-        edge_end_w[i] = traces["w"][q:]
-        # edge i starts at corner i (outgoing edge e+) and ends at corner i+1 (incoming e-)
-        corner_twist[i, 1] = traces["twist"][q]
-        corner_twist[(i + 1) % 4, 0] = traces["twist"][q + 1]
-        corner_twist_p[i, 1] = part["twist"][q]
-        corner_twist_p[(i + 1) % 4, 0] = part["twist"][q + 1]
-        corner_w_p[i] = part["w"][q]
+    # edge i starts at corner i (outgoing edge e+) and ends at corner i+1 (incoming e-)
+    twist_out = np.array([traces["twist"][0] for traces in rays])
+    twist_in = np.roll([traces["twist"][-1] for traces in rays], 1, axis=0)
+    twist_p_out = np.array([p["twist"][0] for p in parts])
+    twist_p_in = np.roll([p["twist"][-1] for p in parts], 1)
     return PlateBoundary(
         edges=edges,
-        corner_w=edge_end_w[:, 0],
-        corner_force=corner_twist[:, 1] - corner_twist[:, 0],
-        corner_w_p=corner_w_p,
-        corner_force_p=corner_twist_p[:, 1] - corner_twist_p[:, 0],
-        edge_end_w=edge_end_w,
+        corner_w=np.array([traces["w"][0] for traces in rays]),
+        corner_force=twist_out - twist_in,
+        corner_w_p=np.array([p["w"][0] for p in parts]),
+        corner_force_p=twist_p_out - twist_p_in,
+        edge_end_w=np.array([traces["w"][[0, -1]] for traces in rays]),
     )
-
-
-_TRACE_KEYS = ("slope", "moment", "shear", "tangential", "twist")
-
-
-def _traces_at(problem, basis, edge, s):
-    """Ray traces ``{"w", *_TRACE_KEYS}`` (each ``(len(s), n_dof)``) and particular traces."""
-    points = edge.start + np.asarray(s)[:, None] * edge.tangent
-    nodal = node_exponentials(basis, points)
-    factors = wave_edge_factors(basis.k, edge.normal, edge.tangent, problem.bending_stiffness,
-                                problem.poisson_ratio)
-    stacked = np.array([np.ones(len(basis.k))] + [factors[key] for key in _TRACE_KEYS])
-    traces = dict(zip(("w",) + _TRACE_KEYS, basis.sector_means(nodal, stacked)))
-    return traces, _particular_traces(problem, points, edge.normal, edge.tangent)
 
 
 def edge_values(problem, basis, edge_name, s):
@@ -289,9 +352,11 @@ def edge_values(problem, basis, edge_name, s):
         The same quantities of the particular solution.
     """
     edge = plate_edges(problem.size)[EDGES.index(edge_name)]
-    traces, part = _traces_at(problem, basis, edge, s)
-    return ({"w": traces["w"], "slope": traces["slope"]},
-            {"w": part["w"], "slope": part["slope"]})
+    points = edge.start + np.asarray(s)[:, None] * edge.tangent
+    nodal = node_exponentials(basis, points)
+    w, slope = basis.sector_means(nodal, _trace_factors(problem, basis, edge, ("w", "slope")))
+    part = _particular_traces(problem, points, edge.normal, edge.tangent)
+    return {"w": w, "slope": slope}, {"w": part["w"], "slope": part["slope"]}
 
 
 def _edge_terms(condition: EdgeCondition):
@@ -305,22 +370,53 @@ def _edge_terms(condition: EdgeCondition):
     raise ValueError(f"unknown edge condition {condition.kind!r}")
 
 
-def _particular_trial(traces: EdgeTraces, trial: str, test: np.ndarray, end_w: np.ndarray):
-    r""":math:`\int B(w_p)\,A^*\,ds` for one edge term, as a vector over test functions.
+def _twist_remainder(traces: EdgeTraces, end_w: np.ndarray):
+    r""":math:`\int K_n(w_p)\,w^*ds - \int Q_n(w_p)\,w^*ds` for every test function :math:`w`.
 
-    For :math:`B = K_n` (only with test :math:`A = w`) the integral is done by parts.
+    By parts along the edge, :math:`\int K_n\varphi^* = \int Q_n\varphi^*
+    - \int M_{nt}\partial_s\varphi^* + [M_{nt}\varphi^*]_0^L`, so that no third derivative
+    of the Green function is needed.
     """
-    p, wq = traces.particular, traces.weights
-    if trial == "shear":
-        by_parts = test.conj().T @ (wq * p["shear_q"])
-        by_parts -= traces.tangential.conj().T @ (wq * p["twist"])
-        by_parts += end_w[1].conj() * p["twist_ends"][1] - end_w[0].conj() * p["twist_ends"][0]
-        return by_parts
-    return test.conj().T @ (wq * p[trial])
+    p = traces.particular
+    inner = (traces.weights * p["twist"]).conj() @ traces.tangential
+    ends = p["twist_ends"][1].conj() * end_w[1] - p["twist_ends"][0].conj() * end_w[0]
+    return (ends - inner).conj()
+
+
+def _boundary_terms(problem: PlateProblem, boundary: PlateBoundary):
+    r"""Every term :math:`\sigma\sum_q \omega_q A_q^*(B_q(w) - d_q)` of the variational form.
+
+    Yields ``(sigma, weights, A, B, d)`` with ``A``, ``B`` of shape ``(m, n_dof)`` (the test
+    and trial traces at ``m`` points) and ``d`` of shape ``(m,)`` (the datum minus the trial
+    quantity of the particular solution; for :math:`B = K_n` only its :math:`Q_n` part, see
+    :func:`_twist_remainder`): the edges' Gauss points, then the corners.
+    """
+    kinematic_edge = []
+    for name in EDGES:
+        traces = boundary.edges[name]
+        condition = problem.condition(name)
+        kinematic_edge.append(condition.kind in KINEMATIC_DEFLECTION)
+        for sigma, test_key, trial_key, datum in _edge_terms(condition):
+            d = -traces.particular["shear_q" if trial_key == "shear" else trial_key]
+            if datum is not None:
+                d = d + datum.values(traces.s, traces.length)
+            yield (sigma, traces.weights, getattr(traces, test_key), getattr(traces, trial_key),
+                   d)
+    one = np.ones(1)
+    for c in range(4):
+        # corner c joins edge c-1 (incoming) and edge c (outgoing)
+        w_c, force_c = boundary.corner_w[c][None], boundary.corner_force[c][None]
+        if kinematic_edge[c] or kinematic_edge[c - 1]:
+            yield -1.0, one, force_c, w_c, -boundary.corner_w_p[c:c + 1]
+        else:
+            yield +1.0, one, w_c, force_c, -boundary.corner_force_p[c:c + 1]
 
 
 def assemble_plate(problem: PlateProblem, boundary: PlateBoundary):
-    """VTCR matrix and right-hand side of one plate (see the module docstring).
+    r"""VTCR matrix and right-hand side of one plate (see the module docstring).
+
+    :math:`[K \mid F] = \sum\sigma A^H\mathrm{diag}(\omega)\,[B \mid d]` over the terms of
+    :func:`_boundary_terms`.
 
     Returns
     -------
@@ -328,29 +424,17 @@ def assemble_plate(problem: PlateProblem, boundary: PlateBoundary):
     F : ndarray of complex, shape (n_dof,)
     """
     n = boundary.corner_w.shape[1]
-    K = np.zeros((n, n), dtype=complex)
-    F = np.zeros(n, dtype=complex)
-    kinematic_edge = []
+    product = np.zeros((n, n + 1), dtype=complex)
+    for sigma, weights, test, trial, d in _boundary_terms(problem, boundary):
+        weighted = np.empty((len(weights), n + 1), dtype=complex)
+        np.multiply(trial, (sigma * weights)[:, None], out=weighted[:, :n])
+        weighted[:, n] = sigma * weights * d
+        product += test.conj().T @ weighted
+    K, F = product[:, :n], product[:, n]
     for i, name in enumerate(EDGES):
-        traces = boundary.edges[name]
-        condition = problem.condition(name)
-        kinematic_edge.append(condition.kind in KINEMATIC_DEFLECTION)
-        for sigma, test_key, trial_key, datum in _edge_terms(condition):
-            test, trial = getattr(traces, test_key), getattr(traces, trial_key)
-            K += sigma * (test.conj().T @ (traces.weights[:, None] * trial))
-            if datum is not None:
-                F += sigma * (test.conj().T @ (traces.weights * datum.values(traces.s,
-                                                                          traces.length)))
-            if problem.point_forces:
-                F -= sigma * _particular_trial(traces, trial_key, test, boundary.edge_end_w[i])
-    for c in range(4):
-        # corner c joins edge c-1 (incoming) and edge c (outgoing)
-        if kinematic_edge[c] or kinematic_edge[c - 1]:
-            K -= np.outer(boundary.corner_force[c].conj(), boundary.corner_w[c])
-            F += boundary.corner_force[c].conj() * boundary.corner_w_p[c]
-        else:
-            K += np.outer(boundary.corner_w[c].conj(), boundary.corner_force[c])
-            F -= boundary.corner_w[c].conj() * boundary.corner_force_p[c]
+        for sigma, _, trial_key, _ in _edge_terms(problem.condition(name)):
+            if trial_key == "shear" and problem.point_forces:
+                F -= sigma * _twist_remainder(boundary.edges[name], boundary.edge_end_w[i])
     return K, F
 
 

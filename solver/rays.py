@@ -30,7 +30,11 @@ the exponential over the sector,
 :math:`\Phi_i(\mathbf x) = |\mathcal C_i|^{-1}\int_{\mathcal C_i} e^{\mathbf k(\alpha)\cdot(\mathbf x-\mathbf x_r)}d\alpha`,
 computed by Gauss–Legendre quadrature with ``n_q`` nodes. A basis is therefore stored as
 *nodes* (one wave vector per quadrature node, with its weight) grouped by sector:
-``n_nodes = n_dof * n_q``, nodes of dof ``i`` at ``i*n_q:(i+1)*n_q``.
+``n_nodes = n_dof * n_q``, nodes of dof ``i`` at ``i*n_q:(i+1)*n_q``. The nodes are placed
+exactly (to the last bit) symmetrically: :math:`\pm\beta`, :math:`\pm\theta` and
+:math:`\theta+\pi`, the same loci on opposite edges and the four corners related by quarter
+turns, so that the rectangle's symmetries map nodes onto nodes and
+:func:`line_exponentials` can share their edge exponentials.
 
 Resolution rule (section 5.2 of the notes): a sector of width :math:`\Delta\beta` makes a wave
 packet about :math:`2\pi/\Delta\beta` long along its edge, so carrying a boundary layer along an
@@ -58,6 +62,7 @@ __all__ = [
     "build_ray_basis",
     "ray_field",
     "node_exponentials",
+    "line_exponentials",
 ]
 
 EDGES = ("bottom", "right", "top", "left")
@@ -211,12 +216,30 @@ def _sector_nodes(lower, upper, n_sectors, n_q):
 def _sector_nodes_mapped(edges, n_q):
     """Gauss–Legendre nodes and normalised weights on the sectors ``[edges[i], edges[i+1]]``."""
     x, w = _gauss_legendre(n_q)
-    n_sectors = len(edges) - 1
-    half = 0.5 * np.diff(edges)
+    half = 0.5 * (edges[1:] - edges[:-1])
     mid = 0.5 * (edges[1:] + edges[:-1])
     nodes = (mid[:, None] + half[:, None] * x[None, :]).ravel()
-    weights = np.tile(0.5 * w, n_sectors)
+    weights = np.broadcast_to(0.5 * w, (len(half), n_q)).ravel()
     return nodes, weights
+
+
+def _circle_nodes(n_sectors, n_q):
+    r"""Directions :math:`(\cos\theta, \sin\theta)` and weights of the interior-ray nodes.
+
+    The directions are made exactly (in floating point) symmetric under :math:`\theta\to-\theta`
+    (node ``i`` to node ``N-1-i``) and, for an even number of sectors, under
+    :math:`\theta\to\theta+\pi` (node ``i`` to node ``i+N/2``): nodes related by the
+    rectangle's symmetries then have wave-vector components equal up to sign, and share their
+    edge exponentials (:func:`line_exponentials`). ``(a - b) = -(b - a)`` exactly, so each
+    half-sum below is exactly even or odd and the second keeps the parity of the first.
+    """
+    theta, w = _sector_nodes(0.0, 2 * np.pi, n_sectors, n_q)
+    c, s = np.cos(theta), np.sin(theta)
+    c, s = 0.5 * (c + c[::-1]), 0.5 * (s - s[::-1])
+    if n_sectors % 2 == 0:
+        half = len(theta) // 2
+        c, s = 0.5 * (c - np.roll(c, half)), 0.5 * (s - np.roll(s, half))
+    return np.stack([c, s], axis=1), w
 
 
 @functools.lru_cache(maxsize=32)
@@ -228,6 +251,33 @@ def _root_positive_real(z):
     r"""Square root with :math:`\mathrm{Re} \ge 0` (the decaying branch)."""
     s = np.sqrt(z + 0j)
     return np.where(s.real < 0, -s, s)
+
+
+def _propagating_locus(kappa, n_sectors, n_q, tau):
+    r"""Propagating edge rays, :math:`\mathbf k = \mp j\kappa\cosh\psi\,\mathbf t
+    + \kappa\sinh\psi\,\mathbf n`: ``(along, across, weights)``, half the sectors per sign."""
+    n_half = n_sectors // 2
+    psi, w = _sector_nodes_mapped(np.arccosh(np.linspace(1.0, tau, n_half + 1)), n_q)
+    sign = np.repeat([-1.0, 1.0], len(psi))
+    psi, w = np.concatenate([psi, psi]), np.concatenate([w, w])
+    return -1j * sign * kappa * np.cosh(psi), kappa * np.sinh(psi), w
+
+
+def _evanescent_locus(kappa, n_sectors, n_q, tau):
+    r"""Evanescent edge rays, :math:`\mathbf k = -j\beta\,\mathbf t
+    + \sqrt{\beta^2+\kappa^2}\,\mathbf n`: ``(along, across, weights)``."""
+    kappa0 = kappa.real
+    beta, w = _sector_nodes(-tau * kappa0, tau * kappa0, n_sectors, n_q)
+    beta = 0.5 * (beta - beta[::-1])  # exactly odd: +-beta share edge exponentials
+    return -1j * beta, _root_positive_real(beta**2 + kappa**2), w
+
+
+def _corner_locus(kappa, n_sectors, n_q, tau):
+    r"""Corner rays, :math:`\mathbf k = -\kappa(\cos\varphi\,\mathbf t - \sin\varphi\,\mathbf n)`,
+    :math:`\varphi\in[0, \pi/2]` from the edge leaving the corner into the plate
+    (:math:`-\mathbf n` points inwards): ``(along, across, weights)``; ``tau`` is unused."""
+    phi, w = _sector_nodes(0.0, 0.5 * np.pi, n_sectors, n_q)
+    return -kappa * np.cos(phi), kappa * np.sin(phi), w
 
 
 def build_ray_basis(size, kappa, counts, n_q=8, tau=2.5):
@@ -249,7 +299,6 @@ def build_ray_basis(size, kappa, counts, n_q=8, tau=2.5):
     -------
     RayBasis
     """
-    kappa0 = kappa.real
     ks, origins, weights, family = [], [], [], []
 
     def add(k, origin, weight, n_sectors, name):
@@ -259,33 +308,33 @@ def build_ray_basis(size, kappa, counts, n_q=8, tau=2.5):
         family.extend([name] * n_sectors)
 
     centre = 0.5 * np.asarray(size, dtype=float)
-    theta, w = _sector_nodes(0.0, 2 * np.pi, counts.interior, n_q)
-    add(-1j * kappa * np.stack([np.cos(theta), np.sin(theta)], axis=1), centre, w,
-        counts.interior, "interior")
+    directions, w = _circle_nodes(counts.interior, n_q)
+    add(-1j * kappa * directions, centre, w, counts.interior, "interior")
 
-    for i, edge in enumerate(plate_edges(size)):
-        n_half = counts.edge_propagating[i] // 2
-        if n_half:
-            psi, w_psi = _sector_nodes_mapped(np.arccosh(np.linspace(1.0, tau, n_half + 1)), n_q)
-            sign = np.repeat([-1.0, 1.0], len(psi))
-            psi, w_psi = np.tile(psi, 2), np.tile(w_psi, 2)
-            k = (-1j * sign * kappa * np.cosh(psi))[:, None] * edge.tangent \
-                + (kappa * np.sinh(psi))[:, None] * edge.normal
-            add(k, edge.start, w_psi, 2 * n_half, f"edge_propagating:{edge.name}")
-        n_m = counts.edge_evanescent[i]
-        if n_m:
-            beta, wb = _sector_nodes(-tau * kappa0, tau * kappa0, n_m, n_q)
-            decay = _root_positive_real(beta**2 + kappa**2)
-            k = -1j * beta[:, None] * edge.tangent + decay[:, None] * edge.normal
-            add(k, edge.start, wb, n_m, f"edge_evanescent:{edge.name}")
+    # edge and corner wave vectors are (along) t + (across) n; opposite edges have the same
+    # counts, so each locus is sampled once per count
+    loci = {}
 
+    def locus(kind, n_sectors):
+        if (kind, n_sectors) not in loci:
+            loci[kind, n_sectors] = kind(kappa, n_sectors, n_q, tau)
+        return loci[kind, n_sectors]
+
+    edges = plate_edges(size)
+    for i, edge in enumerate(edges):
+        for kind, name, n_sectors in (
+                (_propagating_locus, "edge_propagating", 2 * (counts.edge_propagating[i] // 2)),
+                (_evanescent_locus, "edge_evanescent", counts.edge_evanescent[i])):
+            if n_sectors:
+                along, across, w = locus(kind, n_sectors)
+                k = along[:, None] * edge.tangent + across[:, None] * edge.normal
+                add(k, edge.start, w, n_sectors, f"{name}:{edge.name}")
     if counts.corner:
-        for i, edge in enumerate(plate_edges(size)):
+        for i, edge in enumerate(edges):
             # corner i is the start of edge i; its inward quadrant starts at the edge direction
-            a0 = math.atan2(edge.tangent[1], edge.tangent[0])
-            theta, w = _sector_nodes(a0, a0 + 0.5 * np.pi, counts.corner, n_q)
-            add(-kappa * np.stack([np.cos(theta), np.sin(theta)], axis=1), edge.start, w,
-                counts.corner, f"corner:{i}")
+            along, across, w = locus(_corner_locus, counts.corner)
+            k = along[:, None] * edge.tangent + across[:, None] * edge.normal
+            add(k, edge.start, w, counts.corner, f"corner:{i}")
 
     return RayBasis(
         k=np.concatenate(ks),
@@ -331,3 +380,60 @@ def node_exponentials(basis, points):
     exponent = (points[:, None, 0] - basis.origin[None, :, 0]) * basis.k[None, :, 0]
     exponent += (points[:, None, 1] - basis.origin[None, :, 1]) * basis.k[None, :, 1]
     return np.exp(exponent)
+
+
+def line_exponentials(basis, axis, u, offsets):
+    r"""Node exponentials on segments parallel to a coordinate axis, through shared factors.
+
+    On the segment :math:`x_{axis} = u \in [0, U]`, :math:`x_{other} = c` each node's
+    exponential factors as
+
+    .. math::
+        e^{\mathbf k_q\cdot(\mathbf x - \mathbf x_{r,q})} = C_q(c)\,G_q(u), \qquad
+        G_q(u) = e^{a_q (u - u_q)},\quad a_q = k_{q,axis},
+
+    with :math:`u_q` the end (0 or :math:`U`) where :math:`\mathrm{Re}(a_q u)` is largest,
+    so :math:`|G_q| \le 1`, and :math:`C_q(c)` the node's value at that end, bounded as
+    every ray is on the plate. Neither factor can overflow, and :math:`C_q` underflows only
+    where the whole segment does. :math:`G_q` depends on :math:`a_q` alone, up to the mirror
+    :math:`u \to U - u` when :math:`a_q` changes sign; the rectangle's symmetries make many
+    nodes share :math:`\pm a_q` exactly (both segments of a pair of opposite edges, both
+    signs of the propagating edge rays, :math:`\pm\beta`, the interior rays at
+    :math:`\pm\theta` and :math:`\theta+\pi`), so the exponentials cost
+    ``len(u)`` per distinct :math:`\pm a_q` (about a quarter of the nodes) plus one per
+    (node, segment), instead of ``len(u)`` per (node, segment).
+
+    Parameters
+    ----------
+    basis : RayBasis
+    axis : int
+        0 for segments along :math:`x`, 1 along :math:`y`.
+    u : ndarray of float, shape (n_u,)
+        Ascending, from 0 to :math:`U`, symmetric: ``u[::-1]`` is ``U - u`` (to round-off).
+    offsets : sequence of float
+        The other coordinate :math:`c` of each segment.
+
+    Returns
+    -------
+    shared : ndarray of complex, shape (n_u, n_nodes)
+        :math:`G_q(u_p)`.
+    constants : ndarray of complex, shape (len(offsets), n_nodes)
+        :math:`C_q(c)`; the exponentials on segment ``j`` are ``constants[j] * shared``.
+    """
+    other = 1 - axis
+    a = basis.k[:, axis]
+    # anchor at u = U where Re(a u) grows with u (tie Re a = 0 broken on Im a, so that a and
+    # -a always anchor at opposite ends and meet in one canonical value, with Re <= 0)
+    far = (a.real > 0) | ((a.real == 0) & (a.imag > 0))
+    distinct, index = np.unique(np.where(far, -a, a), return_inverse=True)
+    n_distinct = len(distinct)
+    g = np.empty((len(u), 2 * n_distinct), dtype=complex)
+    np.multiply.outer(u, distinct, out=g[:, :n_distinct])
+    np.exp(g[:, :n_distinct], out=g[:, :n_distinct])
+    # a node anchored at U reads g at U - u, i.e. in reverse order
+    g[:, n_distinct:] = g[::-1, :n_distinct]
+    shared = g.take(index.ravel() + far * n_distinct, axis=1)
+    anchor = np.where(far, u[-1], 0.0)
+    exponent = (anchor - basis.origin[:, axis]) * a \
+        + (np.asarray(offsets, dtype=float)[:, None] - basis.origin[None, :, other]) * basis.k[:, other]
+    return shared, np.exp(exponent)

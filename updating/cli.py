@@ -17,7 +17,9 @@ __all__ = ["main"]
 
 
 def _console(args):
-    return Console(quiet=getattr(args, "quiet", False), highlight=False)
+    # a file or a pipe has no width: 120 columns keeps wide tables (Table 4) on one line
+    width = None if sys.stdout.isatty() else 120
+    return Console(quiet=getattr(args, "quiet", False), highlight=False, width=width)
 
 
 def _load(path):
@@ -42,7 +44,101 @@ def cmd_check(args):
 
 def _solution_warnings(console, solution):
     for warning in solution.warnings:
-        console.print(f"[yellow]warning:[/] {warning}")
+        _warn(console, warning)
+
+
+def _warn(console, line):
+    from rich.markup import escape
+
+    console.print(f"[yellow]warning:[/] {escape(line)}", soft_wrap=True)
+
+
+class _Parser(argparse.ArgumentParser):
+    """Argument parser whose usage errors are one line ``vtcr: ...`` (exit status 2)."""
+
+    def error(self, message):
+        self.exit(2, f"vtcr: {message}; see `{self.prog} --help`\n")
+
+
+def _option_problems(args):
+    """One line per bad option value, naming the option and the fix (before any work)."""
+    import math
+
+    from updating.files import output_path_problem
+
+    problems = []
+    frequency, noise = getattr(args, "frequency", None), getattr(args, "noise", None)
+    seed, points = getattr(args, "seed", None), getattr(args, "points", None)
+    max_rows = getattr(args, "max_rows", None)
+    if frequency is not None and not (math.isfinite(frequency) and frequency > 0):
+        problems.append(f"--frequency {frequency}: must be a finite frequency > 0 in Hz; give "
+                        "e.g. --frequency 155")
+    if noise is not None and not 0 <= noise < 1:
+        problems.append(f"--noise {noise}: must be a fraction in [0, 1); give e.g. --noise 0.1 "
+                        "for +-10 %")
+    if seed is not None and seed < 0:
+        problems.append(f"--seed {seed}: must be a whole number >= 0; give e.g. --seed 1")
+    if points is not None and points < 2:
+        problems.append(f"--points {points}: must be at least 2 (samples of log10 k over "
+                        "[updating] bounds); give e.g. --points 41")
+    if max_rows is not None and max_rows < 0:
+        problems.append(f"--max-rows {max_rows}: must be >= 0 (0 shows no rows); give e.g. "
+                        "--max-rows 20")
+    inputs = [getattr(args, n, None) for n in ("case", "probes", "measurements", "uff_map")]
+    for name, flag in (("out", "--out"), ("json", "--json"), ("csv", "--csv"),
+                       ("report", "--report"), ("run_file", "--run")):
+        if getattr(args, name, None) is not None:
+            problem = output_path_problem(getattr(args, name), flag, inputs)
+            problems += [problem] if problem else []
+    return problems
+
+
+def _check_description(args):
+    """Physical and numerical sanity of the description, before any work; prints warnings."""
+    from solver.problems import check_description
+
+    if not getattr(args, "case", None):
+        return
+    frequency = getattr(args, "frequency", None)
+    for line in check_description(_load(args.case), args.case,
+                                  None if frequency is None else (frequency,),
+                                  need_loads=args.command != "check"):
+        _warn(_console(args), line)
+
+
+def _checked_measurements(case, args):
+    """:func:`_measurements`, after checking that they can see the joints to update."""
+    from updating.files import InputError
+    from updating.measurements import check_joints_seen
+
+    if not case.joints:
+        raise InputError(f"{args.case}: joints: the description has no joint to update; add a "
+                         "[joints.ID] table (vtcr solve works without joints)")
+    joints = [args.joint] if getattr(args, "joint", None) in case.joints else None
+    if not getattr(args, "measurements", None):  # simulated: check the layout first
+        warnings = check_joints_seen(case, None, joints, f"{args.case}: measurement")
+        measurements = _measurements(case, args)
+    else:
+        measurements = _measurements(case, args)
+        warnings = check_joints_seen(case, measurements, joints, args.measurements)
+    for line in warnings:
+        _warn(_console(args), line)
+    return measurements
+
+
+def _problem_warnings(args, problem):
+    """Print the condition warnings of a ModifiedProblem; stop on a non-finite set-up."""
+    import math
+
+    from solver.vtcr import NumericalError
+
+    for line in getattr(problem, "warnings", ()):
+        _warn(_console(args), line)
+    for frequency, energy in problem.reference_energies.items():
+        if not (math.isfinite(energy) and energy > 0):
+            raise NumericalError(f"the reference energy at {frequency:g} Hz is {energy}: the "
+                                 "model's response is zero or not finite; check the loads and "
+                                 "the plates' materials")
 
 
 def cmd_solve(args):
@@ -98,11 +194,29 @@ def cmd_solve(args):
 
 
 def _measurements(case, args):
+    from updating.files import InputError
     from updating.measurements import read_measurements, simulate_measurements
+    from updating.uff import UFF_SUFFIXES, is_uff, read_uff
 
-    if getattr(args, "measurements", None):
-        return read_measurements(args.measurements, case)
+    path, uff_map = getattr(args, "measurements", None), getattr(args, "uff_map", None)
+    if path and is_uff(path):  # dispatch on the suffix: UFF 58 (needs pyuff) or CSV
+        return read_uff(path, case, uff_map)
+    if uff_map:
+        raise InputError(f"--uff-map {uff_map}: only used with a UFF measurement file "
+                         f"({', '.join(UFF_SUFFIXES)}); got --measurements {path or '(none)'}")
+    if path:
+        return read_measurements(path, case)
     return simulate_measurements(case)
+
+
+def _measurement_options(parser):
+    parser.add_argument("--measurements", metavar="FILE",
+                        help="measured field: CSV plate,x,y,re,im[,frequency], or a UFF file "
+                             "(.uff, .unv, .58: datasets 58/58b, needs vtcr[uff]) with "
+                             "--uff-map (default: simulated)")
+    parser.add_argument("--uff-map", metavar="MAP.csv",
+                        help="CSV node,plate,x,y placing the UFF response nodes on the plates "
+                             "(plate-local metres)")
 
 
 def cmd_simulate(args):
@@ -120,7 +234,9 @@ def cmd_simulate(args):
 def _modified_problem(case, args):
     from updating.cost import ModifiedProblem
 
-    return ModifiedProblem(case, _measurements(case, args))
+    problem = ModifiedProblem(case, _checked_measurements(case, args))
+    _problem_warnings(args, problem)
+    return problem
 
 
 def cmd_localise(args):
@@ -142,29 +258,94 @@ def cmd_localise(args):
     return 0
 
 
+def _truth(case, args):
+    """``{joint: true log10 k}`` of a simulated experiment (none with measured data)."""
+    if getattr(args, "measurements", None):
+        return {}
+    return {jid: t.log10_stiffness for jid, t in case.truth.joints.items()
+            if t.log10_stiffness is not None}
+
+
+def _run_path(args):
+    """The run file: ``--run``, else beside the report or the JSON, else ``CASE.run.json``."""
+    from pathlib import Path
+
+    if args.run_file:
+        return Path(args.run_file)
+    for output in (args.report, args.json):
+        if output:
+            return Path(output).with_suffix(".run.json")
+    return Path(Path(args.case).stem + ".run.json")
+
+
 def cmd_update(args):
     import time
 
+    from updating.cost import ModifiedProblem
     from updating.files import write_json_atomic, write_text_atomic
-    from updating.report import result_json, result_markdown, steps_table
+    from updating.progress import progress_bar
+    from updating.report import identified_lines, result_json, result_markdown, steps_table
+    from updating.runfile import RunFile, fingerprint, load_run
     from updating.strategy import update_joints
 
     case = _load(args.case)
     console = _console(args)
+    if args.plot:
+        from updating.plots import require_matplotlib
+
+        require_matplotlib()  # fail before the run, not after it
     t0 = time.perf_counter()
-    problem = _modified_problem(case, args)
+    measurements = _checked_measurements(case, args)
+    digests = fingerprint(case, measurements)
+    if args.resume:
+        run = load_run(args.resume, case.name, digests)
+    else:
+        run = RunFile(_run_path(args), case.name, digests)
+    problem = ModifiedProblem(case, measurements)
+    _problem_warnings(args, problem)
     t1 = time.perf_counter()
-    result = update_joints(problem, case.updating, noise=case.measurement.noise)
+    settings = case.updating
+    with progress_bar(console, "localising", settings.max_steps + 1) as advance:
+        def corrected(number, joint, again):
+            advance(f"step {number}: {'re-' if again else ''}correcting {joint}", amount=0)
+
+        def finished(step):
+            run.save_step(step)
+            advance(f"step {step.step} finished (E_mod^2 {100 * step.e_mod:.2f} %)")
+
+        try:
+            result = update_joints(problem, settings, noise=case.measurement.noise,
+                                   start=run.steps, on_step=finished, on_correct=corrected)
+        except KeyboardInterrupt:
+            print(f"vtcr: interrupted; {len(run.steps)} finished steps are saved in {run.path}; "
+                  f"continue with: vtcr update {args.case} --resume {run.path}", file=sys.stderr)
+            return 130
+    run.finish(result)
     t2 = time.perf_counter()
-    bounds = case.updating.bounds
+    bounds = settings.bounds
     console.print(steps_table(result, f"{case.name}: localisation and correction", bounds))
+    for line in identified_lines(result, bounds, _truth(case, args)):
+        console.print(line)
     n_rays, n_s, n_g = problem.size
     console.print(f"{n_rays} ray unknowns, {n_s} interface unknowns, {n_g} constraints; "
-                  f"set-up {t1 - t0:.2f} s, updating {t2 - t1:.2f} s")
+                  f"set-up {t1 - t0:.2f} s, updating {t2 - t1:.2f} s; run file {run.path}")
+    factorisations = problem.factorisation_seconds
+    console.print(f"one E_mod^2(p) evaluation ({len(factorisations)} frequencies): "
+                  f"{1e3 * problem.evaluation_seconds(result.parameters):.1f} ms; one "
+                  f"factorisation of the admissibility system: "
+                  f"{1e3 * sum(factorisations.values()) / len(factorisations):.1f} ms per "
+                  "frequency")
     if args.json:
         write_json_atomic(args.json, result_json(result, {"case": case.name}))
     if args.report:
-        write_text_atomic(args.report, result_markdown(result, case.name, bounds))
+        write_text_atomic(args.report, result_markdown(result, case.name, bounds, _truth(case, args)))
+    if args.plot:
+        from updating.plots import write_update_figures
+
+        t3 = time.perf_counter()
+        paths = write_update_figures(case, problem, measurements, result, args.plot)
+        console.print(f"{len(paths)} figures written to {args.plot} "
+                      f"({time.perf_counter() - t3:.1f} s): {', '.join(p.name for p in paths)}")
     return 0
 
 
@@ -180,11 +361,18 @@ def cmd_curve(args):
     case = _load(args.case)
     if args.joint not in case.joints:
         raise InputError(f"--joint {args.joint}: not a joint of {args.case} "
-                         f"(joints: {', '.join(case.joints)})")
+                         f"(joints: {', '.join(case.joints)}); give one of them")
+    if args.plot:
+        from updating.plots import require_matplotlib
+
+        require_matplotlib()
     problem = _modified_problem(case, args)
     lo, hi = case.updating.bounds
-    rows = cost_curve(problem, problem.initial_parameters(), args.joint,
-                      np.linspace(lo, hi, args.points))
+    from updating.progress import progress_bar
+
+    with progress_bar(_console(args), f"cost curve of {args.joint}", args.points) as advance:
+        rows = cost_curve(problem, problem.initial_parameters(), args.joint,
+                          np.linspace(lo, hi, args.points), on_point=advance)
     table = Table(title=f"{case.name}: cost against log10 k of {args.joint}")
     header = ("log10_stiffness", "e_mod", "e_int", "e_mes", "e_joint")
     for column in header:
@@ -200,11 +388,35 @@ def cmd_curve(args):
         writer.writerow(header)
         writer.writerows(rows)
         write_text_atomic(args.csv, buffer.getvalue())
+    if args.plot:
+        from updating.plots import write_curve_figure
+
+        path = write_curve_figure(case, rows, args.joint, args.plot)
+        _console(args).print(f"figure written to {path}")
+    return 0
+
+
+def cmd_schema(args):
+    import json
+
+    from assembly.schema import case_json_schema
+    from updating.files import write_text_atomic
+
+    text = json.dumps(case_json_schema(), indent=2, ensure_ascii=False) + "\n"
+    if not args.out:
+        sys.stdout.write(text)
+        return 0
+    from pathlib import Path
+
+    write_text_atomic(args.out, text)
+    _console(args).print(f"JSON Schema of the description written to {args.out}; for editor "
+                         f"completion, start a description beside it with "
+                         f"`#:schema ./{Path(args.out).name}`", markup=False)
     return 0
 
 
 def build_parser():
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="vtcr",
         description="Localise and correct badly modelled joints of plate assemblies (VTCR).")
     sub = parser.add_subparsers(dest="command", required=True)
@@ -230,26 +442,39 @@ def build_parser():
 
     localise = sub.add_parser("localise", help="per-joint residuals at the model's parameters")
     localise.add_argument("case")
-    localise.add_argument("--measurements", help="measurement CSV (default: simulated)")
+    _measurement_options(localise)
     localise.add_argument("--json")
     localise.set_defaults(run=cmd_localise)
 
     update = sub.add_parser("update", help="localisation-correction loop")
     update.add_argument("case")
-    update.add_argument("--measurements", help="measurement CSV (default: simulated)")
+    _measurement_options(update)
     update.add_argument("--json")
     update.add_argument("--report", help="Markdown report to write")
+    update.add_argument("--plot", metavar="DIR",
+                        help="write PNG figures into DIR (needs the extra vtcr[plot])")
+    update.add_argument("--run", dest="run_file", metavar="RUN",
+                        help="run file saving every finished step (default: beside --report or "
+                             "--json, else CASE.run.json in the current directory)")
+    update.add_argument("--resume", metavar="RUN",
+                        help="continue the run saved in RUN from its last finished step")
     update.set_defaults(run=cmd_update)
 
     curve = sub.add_parser("curve", help="E_mod^2, E_int^2, E_mes^2 against one joint's log10 k")
     curve.add_argument("case")
     curve.add_argument("--joint", required=True)
-    curve.add_argument("--measurements", help="measurement CSV (default: simulated)")
+    _measurement_options(curve)
     curve.add_argument("--csv")
     curve.add_argument("--points", type=int, default=41)
+    curve.add_argument("--plot", metavar="DIR",
+                       help="write the curve as DIR/cost_JOINT.png (needs the extra vtcr[plot])")
     curve.set_defaults(run=cmd_curve)
 
-    for p in (check, solve, simulate, localise, update, curve):
+    schema = sub.add_parser("schema", help="JSON Schema of the description (editor completion)")
+    schema.add_argument("--out", help="write it to this file (default: standard output)")
+    schema.set_defaults(run=cmd_schema)
+
+    for p in (check, solve, simulate, localise, update, curve, schema):
         p.add_argument("--quiet", action="store_true", help="print nothing but errors")
     return parser
 
@@ -259,20 +484,25 @@ def main(argv=None):
     from assembly import DescriptionError
     from updating.files import InputError
 
+    from solver.vtcr import NumericalError
+
     parser = build_parser()
     args = parser.parse_args(argv)
-    if getattr(args, "frequency", None) is not None and not args.frequency > 0:
-        parser.error(f"--frequency must be > 0 Hz, got {args.frequency}")
-    if getattr(args, "noise", None) is not None and not 0 <= args.noise < 1:
-        parser.error(f"--noise must be a fraction in [0, 1), got {args.noise}")
-    if getattr(args, "points", 2) < 2:
-        parser.error(f"--points must be at least 2, got {args.points}")
+    problems = _option_problems(args)
+    for line in problems:
+        print(f"vtcr: {line}", file=sys.stderr)
+    if problems:
+        return 2
     try:
+        _check_description(args)
         return args.run(args)
     except (DescriptionError, InputError) as err:
         for line in str(err).splitlines():
             print(f"vtcr: {line}", file=sys.stderr)
         return 2
+    except NumericalError as err:
+        print(f"vtcr: numerical failure: {err}", file=sys.stderr)
+        return 1
     except KeyboardInterrupt:
         print("vtcr: interrupted", file=sys.stderr)
         return 130

@@ -21,11 +21,14 @@ multiplications and solves the small KKT system of :func:`solver.substructure.so
 
 from __future__ import annotations
 
+import math
+import time
 from dataclasses import dataclass
 
 import numpy as np
 
 from solver.plate import evaluate_field
+from solver.vtcr import NumericalError
 from solver.rays import ray_field
 from solver.substructure import (
     build_assembly_system,
@@ -126,55 +129,102 @@ class ModifiedProblem:
                      for jid, q in energies.items()}
         return s, residuals, float((z.conj() @ gram @ z).real)
 
-    def evaluate(self, parameters) -> Evaluation:
-        """:math:`E_{mod}^2`, :math:`E_{int}^2`, :math:`E_{mes}^2` and every :math:`E_\\Gamma^2`."""
+    def evaluate(self, parameters, grams=None) -> Evaluation:
+        """:math:`E_{mod}^2`, :math:`E_{int}^2`, :math:`E_{mes}^2` and every :math:`E_\\Gamma^2`.
+
+        ``grams`` (``{frequency: gram}``, see :meth:`synthetic_grams`) replaces the measured
+        data by other data on the same points.
+        """
         residuals = dict.fromkeys(self.joints, 0.0)
         e_mes, interfaces = 0.0, {}
         for frequency, data in self.frequencies.items():
-            s, res, mes = self._solve(data, parameters, data.gram)
+            gram = data.gram if grams is None else grams[frequency]
+            s, res, mes = self._solve(data, parameters, gram)
             interfaces[frequency] = s
             e_mes += mes
             for jid, value in res.items():
                 residuals[jid] += value
         e_int = sum(self.alpha[jid] * value for jid, value in residuals.items())
         e_mod = (1.0 - self.r) * e_int + self.r * e_mes
+        if not math.isfinite(e_mod):  # an optimiser fed NaN would wander silently
+            raise NumericalError(
+                "E_mod^2 is not finite at " + ", ".join(
+                    f"{j} log10 k {p['log10_stiffness']:.3g}" for j, p in parameters.items())
+                + f" (residuals {residuals}, E_mes^2 {e_mes})")
         return Evaluation(e_mod, e_int, e_mes, residuals, interfaces)
 
-    def cost(self, parameters) -> float:
+    def cost(self, parameters, grams=None) -> float:
         """:math:`E_{mod}^2(p)` (the reduced cost function)."""
-        return self.evaluate(parameters).e_mod
+        return self.evaluate(parameters, grams).e_mod
 
-    def noise_floor(self, parameters, noise, seed=0, realisations=4):
-        r"""Residuals a correct model would show under measurement noise alone.
+    def synthetic_grams(self, parameters, noise, seed=0, realisations=4):
+        r"""Measurement Gram matrices of synthetic experiments on the measured points.
 
-        The measured values are replaced by the model's own prediction at ``parameters`` times
-        :math:`1 + e`, :math:`e\sim U[-noise, noise]`; the mean of the resulting
-        :math:`E_\Gamma^2` over a few realisations is the level below which a joint's residual
-        cannot be told from noise and discretisation error.
+        The data are the model's own prediction at ``parameters`` (the interface solution of
+        :math:`E_{int}^2` alone) times :math:`1 + e`, :math:`e\sim U[-noise, noise]`: what the
+        measurements would be if the model were right and only the stated noise were at work.
+        Returns ``realisations`` dicts ``{frequency: gram}``.
         """
         rng = np.random.default_rng(seed)
-        floors = dict.fromkeys(self.joints, 0.0)
+        predictions = {}
         for frequency, data in self.frequencies.items():
             energies = joint_energy_matrices(
                 data.system, channel_parameters(parameters, data.system.omega))
-            cost0 = sum(self.alpha[jid] * q for jid, q in energies.items())
-            s0 = solve_reduced(data.system, cost0)
-            prediction = data.operator @ s0 + data.offset
-            for _ in range(realisations):
-                noisy = prediction * (1.0 + rng.uniform(-noise, noise, prediction.shape))
-                gram = _measurement_gram(data.operator, data.offset, noisy)
-                _, res, _ = self._solve(data, parameters, gram)
-                for jid, value in res.items():
-                    floors[jid] += value / realisations
-        return floors
+            s0 = solve_reduced(data.system, sum(self.alpha[j] * q for j, q in energies.items()))
+            predictions[frequency] = data.operator @ s0 + data.offset
+        grams = []
+        for _ in range(realisations):
+            grams.append({
+                f: _measurement_gram(self.frequencies[f].operator, self.frequencies[f].offset,
+                                     w * (1.0 + rng.uniform(-noise, noise, w.shape)))
+                for f, w in predictions.items()})
+        return grams
+
+    def noise_floor(self, parameters, noise, seed=0, realisations=4):
+        """What a correct model would show under measurement noise alone.
+
+        Means over :meth:`synthetic_grams` realisations: ``({joint: E_Gamma^2}, E_mod^2)``, the
+        levels below which a joint's residual, and the cost, cannot be told from noise and
+        discretisation error.
+        """
+        floors, e_mod = dict.fromkeys(self.joints, 0.0), 0.0
+        for grams in self.synthetic_grams(parameters, noise, seed, realisations):
+            evaluation = self.evaluate(parameters, grams)
+            e_mod += evaluation.e_mod / realisations
+            for jid, value in evaluation.residuals.items():
+                floors[jid] += value / realisations
+        return floors, e_mod
 
     def field(self, frequency, interface):
         """Plate amplitudes for interface unknowns S (to plot or export the updated field)."""
         return self.frequencies[frequency].system.plate_amplitudes(interface)
 
+    def evaluation_seconds(self, parameters, repeats=5):
+        """Best wall time of one :meth:`cost` evaluation at ``parameters`` (all frequencies)."""
+        best = math.inf
+        for _ in range(repeats):
+            t0 = time.perf_counter()
+            self.cost(parameters)
+            best = min(best, time.perf_counter() - t0)
+        return best
+
+    @property
+    def factorisation_seconds(self):
+        """Per frequency: the time to assemble and factorise the full admissibility system (plate
+        blocks and their transfer operators, interface layout), done once in the set-up."""
+        return {f: sum(d.system.timings.values()) for f, d in self.frequencies.items()}
+
     @property
     def reference_energies(self):
         return {f: d.system.e_ref for f, d in self.frequencies.items()}
+
+    @property
+    def warnings(self):
+        """Condition warnings of the plate solves, one line each (as ``CaseSolution.warnings``)."""
+        from solver.vtcr import condition_warnings
+
+        return tuple(line for f, d in self.frequencies.items()
+                     for line in condition_warnings(d.system.rcond, f))
 
     @property
     def size(self):
@@ -190,13 +240,18 @@ def log_grid(bounds, n):
     return np.linspace(lo, hi, n) if n > 1 else np.array([0.5 * (lo + hi)])
 
 
-def cost_curve(problem, parameters, joint, values):
-    """E_mod^2, E_int^2, E_mes^2 and E_Gamma^2 of ``joint`` against its log10 k."""
+def cost_curve(problem, parameters, joint, values, on_point=None):
+    """E_mod^2, E_int^2, E_mes^2 and E_Gamma^2 of ``joint`` against its log10 k.
+
+    ``on_point()`` is called after each value (progress display).
+    """
     rows = []
     for value in values:
         trial = {jid: dict(p) for jid, p in parameters.items()}
         trial[joint]["log10_stiffness"] = float(value)
         ev = problem.evaluate(trial)
         rows.append((float(value), ev.e_mod, ev.e_int, ev.e_mes, ev.residuals[joint]))
+        if on_point:
+            on_point()
     return rows
 

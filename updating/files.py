@@ -1,12 +1,21 @@
 """Files exchanged with the user: probe and measurement CSV, JSON results (written atomically).
 
 Every problem in a file is reported as :class:`InputError` with one line naming the file, the
-row and column, and what would fix it.
+row and column, and what would fix it; all the bad rows of a file are reported at once.
+
+CSV files are read leniently where spreadsheets differ and strictly where a mistake would
+change the numbers: a UTF-8 byte-order mark, spaces around cells and the case of the header
+are ignored, blank lines are skipped, and unknown extra columns are ignored (unless one looks
+like a misspelt column); a file separated by ``;`` or tabs, a non-numeric or non-finite cell,
+a repeated point and a row with more cells than the header are errors. Row numbers are the
+file's line numbers (the header is row 1), as a spreadsheet shows them.
 """
 
 from __future__ import annotations
 
 import csv
+import difflib
+import io
 import json
 import math
 import os
@@ -16,8 +25,9 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["InputError", "Probes", "csv_rows", "parse_finite", "point_problem", "read_probes",
-           "write_json_atomic", "write_text_atomic"]
+__all__ = ["InputError", "Probes", "csv_rows", "output_path_problem", "parse_finite",
+           "plate_point", "point_problem", "read_csv_table", "read_probes", "write_json_atomic",
+           "write_text_atomic"]
 
 
 class InputError(ValueError):
@@ -38,22 +48,26 @@ class Probes:
 
 def parse_finite(path, row_number, column, text, what):
     """A finite float from one CSV cell, or :class:`InputError` naming the row, column and fix."""
+    where = f"{path}: row {row_number}, column {column!r}"
+    if text is None or not str(text).strip():
+        raise InputError(f"{where}: the cell is empty; give {what}")
     try:
         value = float(text)
     except (TypeError, ValueError):
-        raise InputError(f"{path}: row {row_number}, column {column!r}: {text!r} is not a "
-                         f"number; give {what}") from None
+        hint = " (write a decimal point, not a comma)" if "," in str(text) else ""
+        raise InputError(f"{where}: {text!r} is not a number{hint}; give {what}") from None
     if not math.isfinite(value):
-        raise InputError(f"{path}: row {row_number}, column {column!r}: {text} is not finite; "
-                         f"give {what}")
+        raise InputError(f"{where}: {text} is not finite; give {what}")
     return value
 
 
 def point_problem(path, row_number, case, plate_id, x, y):
     """Message when a CSV row's point is not on its plate (None when it is)."""
     if plate_id not in case.plates:
+        close = difflib.get_close_matches(plate_id, list(case.plates), n=1)
+        hint = f" (did you mean {close[0]!r}?)" if close else ""
         return (f"{path}: row {row_number}, column 'plate': plate {plate_id!r} is not in the "
-                f"assembly (plates: {', '.join(case.plates)})")
+                f"assembly (plates: {', '.join(case.plates)}){hint}; fix the plate id")
     lx, ly = case.plates[plate_id].size
     if not (0.0 <= x <= lx and 0.0 <= y <= ly):
         return (f"{path}: row {row_number}: point ({x}, {y}) is outside plate {plate_id} "
@@ -61,10 +75,133 @@ def point_problem(path, row_number, case, plate_id, x, y):
     return None
 
 
+def plate_point(path, row_number, case, plate_id, row):
+    """``(x, y)`` of a CSV row's point on its plate, or :class:`InputError` naming the fix."""
+    x, y = (parse_finite(path, row_number, c, row[c], "plate-local metres") for c in ("x", "y"))
+    problem = point_problem(path, row_number, case, plate_id, x, y)
+    if problem:
+        raise InputError(problem)
+    return x, y
+
+
 def csv_rows(reader):
-    """``(row number, {column: stripped text})`` of a csv.DictReader, header being row 1."""
-    for number, raw in enumerate(reader, start=2):
-        yield number, {k.strip(): (v or "").strip() for k, v in raw.items() if k}
+    """``(row number, {column: stripped text})`` of a csv.DictReader (its line numbers)."""
+    for raw in reader:
+        yield reader.line_num, {k.strip(): (v or "").strip() for k, v in raw.items() if k}
+
+
+def _read_text(path, what, header):
+    """The text of a CSV file (a UTF-8 byte-order mark removed), or :class:`InputError`."""
+    hint = f"give an existing CSV file with the header {header}"
+    try:
+        raw = Path(path).read_bytes()
+    except IsADirectoryError:
+        raise InputError(f"{path}: is a directory, not a {what} file; {hint}") from None
+    except FileNotFoundError:
+        raise InputError(f"{path}: {what} file not found; check the path, or {hint}") from None
+    except OSError as err:
+        raise InputError(f"{path}: cannot read the {what} file ({err.strerror}); {hint}") from None
+    try:
+        return raw.decode("utf-8-sig")
+    except UnicodeDecodeError as err:
+        line = raw[: err.start].count(b"\n") + 1
+        raise InputError(f"{path}: row {line}: not UTF-8 text; save the file as CSV UTF-8 "
+                         "(comma delimited)") from None
+
+
+def read_csv_table(path, what, columns, optional=()):
+    """Check a CSV file and its header; return its columns and its rows.
+
+    Parameters
+    ----------
+    path : str or path-like
+    what : str
+        What the file holds, for messages (``"probe"``, ``"measurement"``).
+    columns : sequence of str
+        Required columns (lower case).
+    optional : sequence of str, optional
+        Optional columns; absent ones are not in the row dicts.
+
+    Returns
+    -------
+    present : tuple of str
+        The known columns the header has.
+    rows : iterator of (int, dict of str to str)
+        The file's line number (header = 1) and the stripped cells of the present columns;
+        blank rows are skipped.
+
+    Raises
+    ------
+    InputError
+        Missing, unreadable or empty file, not UTF-8, a file separated by ``;`` or tabs, a
+        header lacking a column or naming one twice, a column that looks like a misspelt
+        known column. Rows with more cells than the header are reported together with the
+        caller's row problems (yielded as ``(row, None)``).
+    """
+    header_text = ",".join(columns)
+    text = _read_text(path, what, header_text)
+    if not text.strip():
+        raise InputError(f"{path}: the {what} file is empty; write the header {header_text} "
+                         "and one row per point")
+    reader = csv.reader(io.StringIO(text))
+    first = next(reader, [])
+    while not any(cell.strip() for cell in first):
+        first = next(reader, None)
+        if first is None:
+            raise InputError(f"{path}: the {what} file is empty; write the header "
+                             f"{header_text} and one row per point")
+    header = [cell.strip().lower() for cell in first]
+    joined = ",".join(first)
+    for separator, name in ((";", "semicolons"), ("\t", "tabs")):
+        if len(header) == 1 and separator in joined:
+            raise InputError(
+                f"{path}: row {reader.line_num}: the columns are separated by {name}; use "
+                f"commas, with a decimal point in numbers ({header_text}); in a spreadsheet "
+                "save as 'CSV UTF-8 (comma delimited)'")
+    known = set(columns) | set(optional)
+    problems = []
+    repeated = sorted({h for h in header if h and header.count(h) > 1})
+    if repeated:
+        problems.append(f"{path}: row {reader.line_num}: column(s) {', '.join(repeated)} "
+                        "appear twice in the header; keep one of each")
+    for h in header:
+        if h and h not in known:
+            close = difflib.get_close_matches(h, sorted(known - set(header)), n=1, cutoff=0.75)
+            if close:
+                problems.append(f"{path}: row {reader.line_num}: unknown column {h!r} (did you "
+                                f"mean {close[0]!r}?); rename it")
+    missing = [c for c in columns if c not in header]
+    if missing:
+        found = ",".join(h for h in header) or "nothing"
+        problems.append(f"{path}: row {reader.line_num}: the header lacks {', '.join(missing)} "
+                        f"(found {found}); the {what} file needs the columns {header_text}"
+                        + (f" (and optionally {','.join(optional)})" if optional else ""))
+    if problems:
+        raise InputError(problems)
+    index = {h: i for i, h in enumerate(header) if h in known}
+
+    def rows():
+        for cells in reader:
+            if not any(cell.strip() for cell in cells):
+                continue
+            number = reader.line_num
+            if len(cells) > len(header):
+                yield number, None
+                continue
+            yield number, {c: (cells[i].strip() if i < len(cells) else "")
+                           for c, i in index.items()}
+
+    return tuple(index), rows()
+
+
+def _too_many_cells(path, number, columns):
+    return (f"{path}: row {number}: more cells than the header's columns; remove the extra "
+            f"cells (or the thousands separators), one point per row {','.join(columns)}")
+
+
+def _point_key(plate_id, x, y, *rest):
+    """A key that identifies a point up to 1e-9 m (the precision of written CSV values)."""
+    return (plate_id, round(x, 9), round(y, 9), *rest)
 
 
 def read_probes(path, case):
@@ -73,35 +210,30 @@ def read_probes(path, case):
     Raises
     ------
     InputError
-        Missing file, wrong header, unknown plate, non-numeric or non-finite coordinate, a
-        point outside its plate, or no rows; every bad row is reported.
+        Missing, empty or non-UTF-8 file, wrong header or separator, unknown plate,
+        non-numeric or non-finite coordinate, a point outside its plate, a point given twice,
+        or no rows; every bad row is reported.
     """
-    path = Path(path)
-    try:
-        handle = path.open(newline="")
-    except OSError as err:
-        raise InputError(f"{path}: cannot read the probe file ({err.strerror}); "
-                         "give an existing CSV with header plate,x,y") from None
-    problems, rows = [], []
-    with handle:
-        reader = csv.DictReader(handle)
-        header = [h.strip() for h in (reader.fieldnames or [])]
-        if not {"plate", "x", "y"} <= set(header):
-            raise InputError(f"{path}: header is {','.join(header) or 'empty'}; the probe file "
-                             "needs the columns plate,x,y")
-        for number, row in csv_rows(reader):
-            plate_id = row["plate"]
-            try:
-                x, y = (parse_finite(path, number, c, row[c], "plate-local metres")
-                        for c in ("x", "y"))
-            except InputError as err:
-                problems.extend(err.lines)
-                continue
-            problem = point_problem(path, number, case, plate_id, x, y)
-            if problem:
-                problems.append(problem)
-                continue
-            rows.append((plate_id, x, y))
+    columns = ("plate", "x", "y")
+    problems, rows, seen = [], [], {}
+    _, table = read_csv_table(path, "probe", columns)
+    for number, row in table:
+        if row is None:
+            problems.append(_too_many_cells(path, number, columns))
+            continue
+        plate_id = row["plate"]
+        try:
+            x, y = plate_point(path, number, case, plate_id, row)
+        except InputError as err:
+            problems.extend(err.lines)
+            continue
+        key = _point_key(plate_id, x, y)
+        if key in seen:
+            problems.append(f"{path}: row {number}: repeats the point of row {seen[key]} "
+                            f"({plate_id}, {x:g}, {y:g}); remove one of the rows")
+            continue
+        seen[key] = number
+        rows.append((plate_id, x, y))
     if not rows and not problems:
         problems.append(f"{path}: no probe rows; add at least one line plate,x,y")
     if problems:
@@ -111,6 +243,44 @@ def read_probes(path, case):
         by_plate.setdefault(plate_id, []).append((x, y))
         order.append((plate_id, len(by_plate[plate_id]) - 1))
     return Probes({k: np.array(v) for k, v in by_plate.items()}, tuple(order))
+
+
+def output_path_problem(path, option, inputs=()):
+    """Why an output file cannot be written (one line naming the option), or None.
+
+    Checked before any work is done, so that a long run does not fail at its end: the path
+    must not be a directory nor one of the ``inputs``, and its directory must exist and be
+    writable (the directory is not created: a misspelt directory is more often a mistake).
+
+    Parameters
+    ----------
+    path : str or path-like
+    option : str
+        The command-line option that gave it, e.g. ``"--json"``.
+    inputs : iterable of str or path-like, optional
+        Files the command reads; writing over one of them is refused.
+    """
+    target = Path(path)
+    where = f"{option} {path}"
+    if str(path).strip() == "":
+        return f"{option}: the file name is empty; give a file name"
+    if target.is_dir():
+        return f"{where}: is a directory; give a file name inside it, e.g. {target / 'out'}"
+    for source in inputs:
+        if source and target.exists() and Path(source).exists() and \
+                os.path.samefile(target, source):
+            return f"{where}: is also an input of this command; write to another file"
+    parent = target.parent
+    if not parent.exists():
+        return (f"{where}: directory {parent} does not exist; create it first "
+                f"(mkdir -p {parent}) or give another path")
+    if not parent.is_dir():
+        return f"{where}: {parent} is not a directory; give a path in an existing directory"
+    if not os.access(parent, os.W_OK | os.X_OK):
+        return f"{where}: directory {parent} is not writable; give a path in a writable one"
+    if target.exists() and not os.access(target, os.W_OK):
+        return f"{where}: the file exists and is not writable; give another path"
+    return None
 
 
 def write_text_atomic(path, text):

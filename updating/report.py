@@ -5,50 +5,77 @@ Formatting only: everything shown comes from :class:`updating.strategy.UpdateRes
 
 from __future__ import annotations
 
+from rich import box
 from rich.table import Table
 
-__all__ = ["steps_table", "result_json", "result_markdown"]
+__all__ = ["steps_table", "identified_lines", "result_json", "result_markdown"]
 
 
-def _bound_note(step, joint, bounds):
-    """``(>= a)`` or ``(<= b)`` when the selected joint's cost is flat up to a bound."""
-    if step.selected != joint or not step.interval:
-        return ""
-    low, high = step.interval
-    if high >= bounds[1] - 1e-9 and low > bounds[0] + 1e-9:
-        return f" (>= {low:.2f})"
-    if low <= bounds[0] + 1e-9 and high < bounds[1] - 1e-9:
-        return f" (<= {high:.2f})"
-    return ""
+def _label(step):
+    return f"step {step.step}" + ("*" if step.recorrection else "")
 
 
-def steps_table(result, title, bounds):
-    """Rows: joints, then E_mod^2; per step the log10 k and E_Gamma^2 (%) of every joint.
+def _identified(result, bounds):
+    """``{joint: (value, interval, note)}`` of every corrected joint, at its last correction.
 
-    The joint corrected in a step is shown in bold; a joint whose cost stays within 1 % of its
-    minimum up to a bound is marked ``>= a`` (stiff: only a lower bound is identifiable) or
-    ``<= b`` (near-hinge: only an upper bound).
+    The note is ``>= a`` when the cost stays within 1 % of its minimum up to the upper bound
+    (a stiff joint: only a lower bound is identifiable), ``<= b`` for the lower bound (a
+    near-hinge: only an upper bound), empty otherwise.
     """
-    table = Table(title=title)
-    table.add_column("joint")
+    out = {}
     for step in result.steps:
-        label = "initial" if step.step == 0 else f"step {step.step}"
-        table.add_column(f"{label}\nlog10 k", justify="right")
-        table.add_column("E_G^2 %", justify="right")
+        if step.selected is None or step.interval is None:
+            continue
+        low, high = step.interval
+        value = result.parameters[step.selected]["log10_stiffness"]
+        note = ""
+        if high >= bounds[1] - 1e-9 and low > bounds[0] + 1e-9:
+            note = f">= {low:.2f}"
+        elif low <= bounds[0] + 1e-9 and high < bounds[1] - 1e-9:
+            note = f"<= {high:.2f}"
+        out[step.selected] = (value, (low, high), note)
+    return out
+
+
+def identified_lines(result, bounds, truth=None):
+    """One line per corrected joint: value, interval within 1 % of the optimum, bound notes."""
+    lines = []
+    for joint, (value, (low, high), note) in sorted(_identified(result, bounds).items()):
+        text = f"{joint}: log10 k = {value:.2f}, within 1 % of the optimum on [{low:.2f}, {high:.2f}]"
+        if note:
+            text += f"; only {'a lower' if note.startswith('>') else 'an upper'} bound is " \
+                    f"identifiable: {note}"
+        if truth and joint in truth:
+            text += f" (true {truth[joint]:.2f})"
+        lines.append(text)
+    return lines
+
+
+def steps_table(result, title, bounds=None):
+    """Rows: joints, then E_mod^2 and its noise floor; per step log10 k and E_Gamma^2 (%).
+
+    The joint corrected in a step is shown in bold (the paper's Table 4); a step marked ``*``
+    re-corrects a joint selected before (see :mod:`updating.strategy`).
+    """
+    # left padding only: five steps of four joints fit in 80 columns
+    table = Table(title=title, box=box.SIMPLE_HEAD, pad_edge=False, padding=(0, 0, 0, 1))
+    table.add_column("joint", no_wrap=True)
+    for step in result.steps:
+        table.add_column(f"{_label(step)}\nlog k", justify="right", no_wrap=True)
+        table.add_column("\nE_Γ² %", justify="right", no_wrap=True)
     for joint in result.steps[0].parameters:
         cells = []
         for step in result.steps:
-            style = "bold" if step.selected == joint else ""
-            value = step.parameters[joint]["log10_stiffness"]
-            note = _bound_note(step, joint, bounds)
-            cells += [f"[{style}]{value:.2f}{note}[/]" if style else f"{value:.2f}",
-                      f"{100 * step.residuals[joint]:.2f}"]
+            value = f"{step.parameters[joint]['log10_stiffness']:.2f}"
+            residual = f"{100 * step.residuals[joint]:.2f}"
+            if step.selected == joint:
+                value, residual = f"[bold]{value}[/]", f"[bold]{residual}[/]"
+            cells += [value, residual]
         table.add_row(joint, *cells)
-    cells = []
-    for step in result.steps:
-        cells += ["", f"{100 * step.e_mod:.2f}"]
-    table.add_row("E_mod^2 %", *cells, end_section=True)
-    table.caption = result.message
+    table.add_row("E_mod² %", *[c for s in result.steps for c in ("", f"{100 * s.e_mod:.2f}")])
+    table.add_row("floor %", *[c for s in result.steps
+                               for c in ("", f"{100 * s.e_mod_floor:.2f}")])
+    table.caption = f"bold: corrected joint; *: re-correction. Stopped: {result.message}"
     return table
 
 
@@ -60,21 +87,24 @@ def result_json(result, extra=None):
     return out
 
 
-def result_markdown(result, title, bounds):
-    """A Markdown report of the run (same content as :func:`steps_table`)."""
+def result_markdown(result, title, bounds, truth=None):
+    """A Markdown report of the run (same content as :func:`steps_table`), for a lab notebook."""
     joints = list(result.steps[0].parameters)
-    head = ["joint"] + [f"{'initial' if s.step == 0 else f'step {s.step}'} log k / E_G^2 %"
-                        for s in result.steps]
-    lines = [f"# {title}", "", "| " + " | ".join(head) + " |",
-             "|" + "---|" * len(head)]
+    head = ["joint"] + [f"{_label(s)} log k / E_Γ² %" for s in result.steps]
+    lines = [f"# {title}", "", "| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     for joint in joints:
         cells = []
         for step in result.steps:
-            text = (f"{step.parameters[joint]['log10_stiffness']:.2f}"
-                    f"{_bound_note(step, joint, bounds)} / {100 * step.residuals[joint]:.2f}")
+            text = (f"{step.parameters[joint]['log10_stiffness']:.2f} / "
+                    f"{100 * step.residuals[joint]:.2f}")
             cells.append(f"**{text}**" if step.selected == joint else text)
         lines.append(f"| {joint} | " + " | ".join(cells) + " |")
-    lines.append("| E_mod^2 % | " + " | ".join(f"{100 * s.e_mod:.2f}" for s in result.steps)
+    lines.append("| E_mod² % | " + " | ".join(f"{100 * s.e_mod:.2f}" for s in result.steps)
                  + " |")
+    lines.append("| noise floor % | " + " | ".join(f"{100 * s.e_mod_floor:.2f}"
+                                                 for s in result.steps) + " |")
+    lines += ["", "Bold: the joint corrected in that step; *: a re-correction. "
+              "The floor is E_mod² of a correct model under the stated measurement noise.", ""]
+    lines += [f"- {line}" for line in identified_lines(result, bounds, truth)]
     lines += ["", f"Stopped: {result.message}.", ""]
     return "\n".join(lines)

@@ -7,14 +7,21 @@ Rule (configurable in ``[updating]``):
    were right and only the measurement noise (``[measurement] noise``) and the discretisation
    were at work (:meth:`ModifiedProblem.noise_floor`).
 2. **Select** the worst joint among those whose residual stands out of its floor
-   (:math:`E_\\Gamma^2 >` ``stop_ratio`` x floor) and that are not *exhausted*. None left:
-   stop (status 0).
+   (:math:`E_\\Gamma^2 >` ``stop_ratio`` x floor) and that are not *exhausted*.
 3. **Correct** only that joint: a bounded optimisation of its log10 k (a scan over
    ``bounds`` then Brent's method around the best point), with its loss factor and line mass
    too when ``identify`` asks for them.
 4. If the correction lowered :math:`E_{mod}^2` by less than ``min_decrease`` (relative), the
-   joint is exhausted until another joint changes, and the step is undone. Stop after
-   ``max_steps`` corrections (status 2).
+   joint is exhausted until another joint changes, and the step is undone.
+5. **Re-correct** when no joint stands out any more: a joint corrected while other joints were
+   still wrong has compensated for them, and its residual can sit near the floor while its
+   value is biased (the paper's Table 4 re-corrects Γ1 and Γ2 for this reason). The joints
+   corrected so far are tried again, largest residual-to-floor ratio first, under the same
+   ``min_decrease`` rule; an accepted re-correction starts a new localisation.
+
+The loop stops when no joint stands out and no re-correction lowers :math:`E_{mod}^2`
+(status 0), when joints stand out but no correction lowers :math:`E_{mod}^2` (status 1), or
+after ``max_steps`` accepted corrections (status 2).
 
 A joint is reported as *bounded below* when its cost curve stays within 1 % of the minimum up
 to the upper bound: a joint much stiffer than the plates around it moves nothing, and only a
@@ -24,6 +31,7 @@ plates acts as a moment-free line and only an upper bound is identifiable.
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -32,10 +40,11 @@ from scipy import optimize
 from updating.cost import log_grid
 
 __all__ = ["Step", "UpdateResult", "TERMINATION_MESSAGES", "correct_joint", "update_joints",
-           "localise"]
+           "localise", "flat_interval"]
 
 TERMINATION_MESSAGES = {
-    0: "no joint's residual stands out of the noise and discretisation floor",
+    0: "no joint's residual stands out of the noise and discretisation floor, and re-correcting "
+       "the corrected joints no longer lowers E_mod^2",
     1: "no correction lowers E_mod^2 any more",
     2: "the maximum number of correction steps was reached",
 }
@@ -57,6 +66,22 @@ class Step:
     e_int: float
     e_mes: float
     interval: tuple | None = None  # log10 k range within 1 % of the optimum (selected joint)
+    recorrection: bool = False  # selected to be corrected again, not for standing out
+    e_mod_floor: float = 0.0  # E_mod^2 a correct model shows under the stated noise
+
+    def to_record(self):
+        """Every field at full precision (JSON floats round-trip exactly), for run files."""
+        record = dataclasses.asdict(self)
+        record["interval"] = list(self.interval) if self.interval is not None else None
+        return record
+
+    @classmethod
+    def from_record(cls, record):
+        """Inverse of :meth:`to_record`."""
+        record = dict(record)
+        if record.get("interval") is not None:
+            record["interval"] = tuple(record["interval"])
+        return cls(**record)
 
     def to_json(self):
         joints = {}
@@ -68,9 +93,11 @@ class Step:
             }
         out = {"step": self.step, "selected": self.selected, "e_mod_percent": 100.0 * self.e_mod,
                "e_int_percent": 100.0 * self.e_int, "e_mes_percent": 100.0 * self.e_mes,
-               "joints": joints}
+               "e_mod_floor_percent": 100.0 * self.e_mod_floor, "joints": joints}
         if self.interval is not None:
             out["identified_interval"] = list(self.interval)
+        if self.recorrection:
+            out["recorrection"] = True
         return out
 
 
@@ -92,39 +119,71 @@ class UpdateResult:
         return len(self.steps) - 1
 
 
-def localise(problem, parameters, step=0, selected=None, interval=None, noise=0.0):
+def localise(problem, parameters, step=0, selected=None, interval=None, noise=0.0,
+             recorrection=False):
     """Evaluate the modified problem and the floors at ``parameters``; returns a :class:`Step`."""
     evaluation = problem.evaluate(parameters)
     # without noise the floor is deterministic (discretisation only): one realisation
-    floors = problem.noise_floor(parameters, noise, realisations=4 if noise > 0 else 1)
+    floors, e_mod_floor = problem.noise_floor(parameters, noise,
+                                              realisations=4 if noise > 0 else 1)
     return Step(step, selected, {j: dict(p) for j, p in parameters.items()}, evaluation.residuals,
-                floors, evaluation.e_mod, evaluation.e_int, evaluation.e_mes, interval)
+                floors, evaluation.e_mod, evaluation.e_int, evaluation.e_mes, interval,
+                recorrection, e_mod_floor)
+
+
+def flat_interval(grid, costs, best, value, best_cost):
+    """The scanned values around the optimum whose cost is within :data:`FLAT` of the minimum.
+
+    Only the run of grid points contiguous with the best one counts (another valley elsewhere
+    is not an uncertainty of this optimum); the interval always contains ``value``.
+    """
+    threshold = best_cost * (1.0 + FLAT)
+    lo = hi = best
+    while lo > 0 and costs[lo - 1] <= threshold:
+        lo -= 1
+    while hi < len(grid) - 1 and costs[hi + 1] <= threshold:
+        hi += 1
+    low, high = (grid[lo], grid[hi]) if costs[best] <= threshold else (value, value)
+    return float(min(low, value)), float(max(high, value))
+
+
+def _minimise_on_log_scale(cost, bounds, n_scan):
+    """Scan ``cost(log10 k)`` on ``n_scan`` points over ``bounds``, then Brent around the best.
+
+    Returns ``(value, minimum, grid, costs, best index)``; the scan keeps Brent out of the
+    other valleys a cost curve in log10 k can have.
+    """
+    grid = log_grid(bounds, n_scan)
+    costs = np.array([cost(float(v)) for v in grid])
+    best = int(np.argmin(costs))
+    lo, hi = grid[max(best - 1, 0)], grid[min(best + 1, len(grid) - 1)]
+    result = optimize.minimize_scalar(cost, bounds=(lo, hi), method="bounded",
+                                      options={"xatol": 1e-3})
+    if result.fun <= costs[best]:
+        return float(result.x), float(result.fun), grid, costs, best
+    return float(grid[best]), float(costs[best]), grid, costs, best
 
 
 def correct_joint(problem, parameters, joint, bounds, identify=("stiffness",)):
-    """Optimise one joint's parameters, the others fixed; returns ``(parameters, interval)``."""
+    """Optimise one joint's parameters, the others fixed; returns ``(parameters, interval)``.
+
+    ``interval`` is the log10 k range that cannot be told from the optimum: the scanned values
+    whose cost is within :data:`FLAT` of the minimum (:func:`flat_interval`).
+    """
 
     def with_value(**values):
         trial = {j: dict(p) for j, p in parameters.items()}
         trial[joint].update(values)
         return trial
 
-    grid = log_grid(bounds, SCAN_POINTS)
-    costs = np.array([problem.cost(with_value(log10_stiffness=float(v))) for v in grid])
-    best = int(np.argmin(costs))
-    lo, hi = grid[max(best - 1, 0)], grid[min(best + 1, len(grid) - 1)]
-    result = optimize.minimize_scalar(
-        lambda v: problem.cost(with_value(log10_stiffness=float(v))),
-        bounds=(lo, hi), method="bounded", options={"xatol": 1e-3})
-    value = float(result.x) if result.fun <= costs[best] else float(grid[best])
-    best_cost = min(float(result.fun), float(costs[best]))
-    flat = grid[costs <= best_cost * (1.0 + FLAT) + 1e-15]
-    interval = (float(min(flat.min(), value)), float(max(flat.max(), value)))
+    value, minimum, grid, costs, best = _minimise_on_log_scale(
+        lambda v: problem.cost(with_value(log10_stiffness=v)), bounds, SCAN_POINTS)
+    low, high = flat_interval(grid, costs, best, value, minimum)
     updated = with_value(log10_stiffness=value)
     extra = [name for name in ("damping", "mass") if name in identify]
     if extra:
         updated = _optimise_more(problem, updated, joint, bounds, extra)
-    return updated, interval
+    return updated, (low, high)
 
 
 def _optimise_more(problem, parameters, joint, bounds, extra):
@@ -151,8 +210,18 @@ def _optimise_more(problem, parameters, joint, bounds, extra):
     return unpack(result.x)
 
 
-def update_joints(problem, settings, noise=0.0, start=None, on_step=None):
-    """The localisation–correction loop.
+def _candidates(step, settings, corrected, exhausted):
+    """Joints to try next and whether they are re-corrections (rule steps 2 and 5)."""
+    by_residual = sorted(step.residuals, key=step.residuals.get, reverse=True)
+    standing = [j for j in by_residual if step.residuals[j] > settings.stop_ratio * step.floors[j]]
+    if standing:
+        return [j for j in standing if j not in exhausted], False
+    ratio = {j: step.residuals[j] / max(step.floors[j], 1e-300) for j in corrected}
+    return [j for j in sorted(corrected, key=ratio.get, reverse=True) if j not in exhausted], True
+
+
+def update_joints(problem, settings, noise=0.0, start=None, on_step=None, on_correct=None):
+    """The localisation–correction loop (the rule in the module docstring).
 
     Parameters
     ----------
@@ -162,9 +231,13 @@ def update_joints(problem, settings, noise=0.0, start=None, on_step=None):
     noise : float
         Measurement noise level used for the floors.
     start : sequence of Step, optional
-        Steps of an earlier run to continue from (resume).
+        Finished steps of an earlier run to continue from (resume). The loop's state is a
+        function of its finished steps only, so a resumed run ends where an uninterrupted one
+        does.
     on_step : callable, optional
         Called with each finished :class:`Step` (to save progress).
+    on_correct : callable, optional
+        Called with ``(step number, joint, recorrection)`` before each correction (progress).
 
     Returns
     -------
@@ -175,24 +248,26 @@ def update_joints(problem, settings, noise=0.0, start=None, on_step=None):
         steps.append(localise(problem, problem.initial_parameters(), noise=noise))
         if on_step:
             on_step(steps[-1])
+    corrected = {s.selected for s in steps if s.selected is not None}
     exhausted = set()
     status = 2
     while len(steps) - 1 < settings.max_steps:
         current = steps[-1]
-        candidates = [j for j in sorted(current.residuals, key=current.residuals.get, reverse=True)
-                      if current.residuals[j] > settings.stop_ratio * current.floors[j]
-                      and j not in exhausted]
+        candidates, recorrection = _candidates(current, settings, corrected, exhausted)
         if not candidates:
-            status = 0 if not exhausted else 1
+            status = 0 if recorrection else 1
             break
         joint = candidates[0]
+        if on_correct:
+            on_correct(len(steps), joint, recorrection)
         parameters, interval = correct_joint(problem, current.parameters, joint,
                                              settings.bounds, settings.identify)
-        step = localise(problem, parameters, len(steps), joint, interval, noise)
+        step = localise(problem, parameters, len(steps), joint, interval, noise, recorrection)
         if current.e_mod - step.e_mod < settings.min_decrease * current.e_mod:
             exhausted.add(joint)
             continue
         exhausted.clear()
+        corrected.add(joint)
         steps.append(step)
         if on_step:
             on_step(step)

@@ -1,0 +1,278 @@
+"""Figures of an updating run (``--plot DIR``, optional extra ``vtcr[plot]``).
+
+The figures are checked as files (PNG signature, size, not blank) and through the data
+functions behind them (what is drawn equals what the run computed); the core must neither
+import matplotlib nor need it.
+"""
+
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from assembly import load_case_text
+from solver import solve_case
+from updating.cli import main
+from updating.cost import ModifiedProblem, cost_curve
+from updating.measurements import simulate_measurements
+from updating.plots import (
+    MISSING_MATPLOTLIB,
+    cost_curve_data,
+    field_map_data,
+    frequency_band,
+    frequency_response_data,
+    residual_bars_data,
+    spatial_rms,
+)
+from updating.strategy import update_joints
+
+ROOT = Path(__file__).resolve().parents[1]
+PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
+
+# Two small plates (108 ray unknowns), a point force, the joint modelled 2 decades too stiff:
+# one correction step, about 0.1 s of updating.
+SMALL = """
+name = "small-pair"
+frequency = 120.0
+
+[materials.steel]
+young_modulus = 210e9
+poisson_ratio = 0.3
+density = 7800.0
+loss_factor = 0.01
+
+[plates.P1]
+material = "steel"
+thickness = 0.001
+size = [0.3, 0.25]
+
+[plates.P2]
+material = "steel"
+thickness = 0.001
+size = [0.3, 0.25]
+origin = [0.3, 0.0]
+
+[joints.G1]
+between = ["P1.right", "P2.left"]
+kind = "coplanar"
+log10_stiffness = 2.5
+
+[[boundaries]]
+edge = "P2.right"
+condition = "clamped"
+
+[[boundaries]]
+edge = "P1.left"
+condition = "simply_supported"
+
+[[loads]]
+kind = "point_force"
+plate = "P1"
+at = [0.11, 0.07]
+amplitude = 1.0
+
+[measurement]
+spacing = 0.05
+noise = 0.02
+seed = 1
+
+[updating]
+bounds = [-1.0, 5.0]
+
+[truth.joints.G1]
+log10_stiffness = 0.5
+"""
+
+
+@pytest.fixture(scope="module")
+def run():
+    """Run the small case: its simulated measurements, modified problem and result."""
+    case = load_case_text(SMALL)
+    measurements = simulate_measurements(case)
+    problem = ModifiedProblem(case, measurements)
+    result = update_joints(problem, case.updating, noise=case.measurement.noise)
+    assert [s.selected for s in result.steps] == [None, "G1"]
+    return case, measurements, problem, result
+
+
+def _check_png(path):
+    matplotlib_image = pytest.importorskip("matplotlib.image")
+    data = path.read_bytes()
+    assert data[:8] == PNG_SIGNATURE, path
+    assert len(data) > 20_000, f"{path.name}: only {len(data)} bytes"
+    pixels = matplotlib_image.imread(path)
+    assert pixels.ndim == 3 and min(pixels.shape[:2]) > 300, pixels.shape
+    assert float(pixels[..., :3].std()) > 0.05, f"{path.name} looks blank"
+
+
+def test_update_plot_writes_the_figures(tmp_path, monkeypatch):
+    """``vtcr update --plot DIR`` writes readable PNGs atomically (no temporary left)."""
+    pytest.importorskip("matplotlib")
+    monkeypatch.chdir(tmp_path)  # side files of the run (run file) stay in tmp_path
+    case_file = tmp_path / "small.toml"
+    case_file.write_text(SMALL)
+    out = tmp_path / "figures" / "nested"  # created if needed
+    assert main(["update", str(case_file), "--plot", str(out), "--quiet"]) == 0
+    expected = {"residuals.png", "cost_G1.png", "field_120Hz.png", "frf.png"}
+    assert {p.name for p in out.iterdir()} == expected  # nothing half-written left over
+    for name in sorted(expected):
+        _check_png(out / name)
+
+
+def test_curve_plot_writes_the_joint_figure(tmp_path, monkeypatch):
+    """``vtcr curve --plot DIR`` writes the joint's cost curve."""
+    pytest.importorskip("matplotlib")
+    monkeypatch.chdir(tmp_path)
+    case_file = tmp_path / "small.toml"
+    case_file.write_text(SMALL)
+    status = main(["curve", str(case_file), "--joint", "G1", "--points", "13", "--plot",
+                   str(tmp_path / "out"), "--quiet"])
+    assert status == 0
+    assert [p.name for p in (tmp_path / "out").iterdir()] == ["cost_G1.png"]
+    _check_png(tmp_path / "out" / "cost_G1.png")
+
+
+def test_field_map_data_measured_panel_is_the_measurements(run):
+    """The field maps draw the measurements and the models' responses on one colour scale.
+
+    The measured panel is |w~| at the measurement points; the model panels are the model's
+    own response at the initial and at the identified joints.
+    """
+    case, measurements, problem, result = run
+    frequency = case.frequencies[0]
+    data = field_map_data(case, problem, measurements, frequency,
+                          problem.initial_parameters(), result.parameters)
+    for pid, (points, values) in measurements.data[frequency].items():
+        drawn_points, drawn = data.measured[pid]
+        np.testing.assert_array_equal(drawn_points, points)
+        np.testing.assert_array_equal(drawn, np.abs(values))
+        # the simulated grid is cell-centred: drawn as cells covering the plate
+        x_edges, y_edges = data.cells[pid]
+        assert (x_edges[0], x_edges[-1]) == (0.0, case.plates[pid].size[0])
+        assert (y_edges[0], y_edges[-1]) == (0.0, case.plates[pid].size[1])
+    # P2 lies right of P1 in the assembly plane
+    np.testing.assert_allclose(data.grids["P2"][0].min(), 0.3)
+    np.testing.assert_allclose(data.measured_global["P2"][:, 0],
+                               measurements.data[frequency]["P2"][0][:, 0] + 0.3)
+    every = [v for d in (data.initial, data.updated) for v in d.values()]
+    every += [v for _, v in data.measured.values()]
+    assert data.limits == (0.0, max(float(v.max()) for v in every))
+    # the initial model (joint 2 decades too stiff) misses the measurements; the updated
+    # one agrees with them to the 2 % noise
+    assert data.misfit[0] > 0.1 and data.misfit[1] < 0.03, data.misfit
+    # model panel = direct solve of the description with the identified joints
+    updated_case = case.with_joint_parameters(result.parameters)
+    gx, gy = data.grids["P1"]
+    corner = np.array([[gx[3, 5], gy[3, 5]]])  # P1 sits at the origin: local = global
+    expected = abs(solve_case(updated_case, frequency).w("P1", corner)[0])
+    np.testing.assert_allclose(data.updated["P1"][3, 5], expected, rtol=1e-8)
+
+
+def test_field_map_data_modified_source_uses_the_modified_problem(run):
+    """``source="modified"`` draws the minimiser of E_mod^2: its misfit is sqrt(E_mes^2)."""
+    case, measurements, problem, result = run
+    frequency = case.frequencies[0]
+    data = field_map_data(case, problem, measurements, frequency,
+                          problem.initial_parameters(), result.parameters, quantity="real",
+                          source="modified")
+    evaluation = problem.evaluate(result.parameters)
+    # the misfit of the modified field at the measurement points is sqrt(E_mes^2)
+    # (E_mes^2 is a quadratic form z^H G z: a few digits go to cancellation)
+    np.testing.assert_allclose(data.misfit[1], np.sqrt(evaluation.e_mes), rtol=1e-6)
+    assert data.limits[0] == -data.limits[1] < 0
+    with pytest.raises(ValueError, match="source"):
+        field_map_data(case, problem, measurements, frequency, result.parameters,
+                       result.parameters, source="other")
+
+
+def test_residual_bars_data_are_the_step_residuals(run):
+    """The bars are the steps' E_Gamma^2, thresholds and E_mod^2, in %."""
+    case, _, _, result = run
+    data = residual_bars_data(result, stop_ratio=case.updating.stop_ratio)
+    assert data.labels == ("initial", "step 1") and data.joints == ("G1",)
+    np.testing.assert_array_equal(
+        data.residuals, [[100 * s.residuals["G1"]] for s in result.steps])
+    np.testing.assert_array_equal(
+        data.thresholds, [[100 * case.updating.stop_ratio * s.floors["G1"]]
+                          for s in result.steps])
+    np.testing.assert_array_equal(data.e_mod, [100 * s.e_mod for s in result.steps])
+    assert data.selected == (None, 0)
+    assert data.log10_k[1, 0] == result.parameters["G1"]["log10_stiffness"]
+
+
+def test_cost_curve_data_sorts_and_marks_the_minimum(run):
+    """Rows in any order give sorted curves; the minimum of E_mod^2 is marked by default."""
+    _case, _, problem, result = run
+    rows = cost_curve(problem, result.parameters, "G1", [3.0, -1.0, 0.5, 1.5])
+    data = cost_curve_data(rows, "G1", true=0.5)
+    np.testing.assert_array_equal(data.log10_k, [-1.0, 0.5, 1.5, 3.0])
+    by_k = {row[0]: row for row in rows}
+    np.testing.assert_array_equal(data.e_mod, [by_k[k][1] for k in data.log10_k])
+    np.testing.assert_array_equal(data.e_joint, [by_k[k][4] for k in data.log10_k])
+    assert data.identified == min(rows, key=lambda r: r[1])[0] == 0.5
+    assert data.identified_label == "minimum"
+    assert data.true == 0.5
+
+
+def test_frequency_response_equals_direct_solves(run):
+    """A system shared by the parameter sets gives the field of ``solve_case``.
+
+    One system per frequency, then a reduced solve per parameter set: the same field as
+    solving the description with those joints.
+    """
+    case, measurements, problem, result = run
+    frequency = case.frequencies[0]
+    points = {pid: p for pid, (p, _) in measurements.data[frequency].items()}
+    sets = {"initial": problem.initial_parameters(), "updated": result.parameters}
+    frequencies = [0.9 * frequency, frequency]
+    data = frequency_response_data(case, sets, frequencies, points)
+    for label, parameters in sets.items():
+        for i, f in enumerate(frequencies):
+            solution = solve_case(case.with_joint_parameters(parameters), f)
+            expected = spatial_rms(solution.w(pid, p) for pid, p in points.items())
+            np.testing.assert_allclose(data.curves[label][i], expected, rtol=1e-8)
+
+
+def test_frequency_band_contains_the_analysed_frequencies():
+    """The band is uniform around the analysed frequencies and passes through them."""
+    band = frequency_band((309.4,), width=0.2, points=60)
+    assert 309.4 in band and len(band) == 61
+    np.testing.assert_allclose((band[0], band[-1]), (0.8 * 309.4, 1.2 * 309.4))
+    assert np.all(np.diff(band) > 0)
+
+
+def _python(code):
+    return subprocess.run([sys.executable, "-c", textwrap.dedent(code)], cwd=ROOT,
+                          capture_output=True, text=True, timeout=120, check=False)
+
+
+def test_core_does_not_import_matplotlib():
+    """``import updating.cli``, ``updating.plots`` and ``vtcr check`` leave matplotlib out."""
+    done = _python("""
+        import sys
+        import updating.cli
+        import updating.plots  # the data layer and the module itself import it lazily
+        status = updating.cli.main(["check", "cases/single_plate.toml", "--quiet"])
+        assert status == 0, status
+        print("matplotlib" in sys.modules)
+    """)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == "False"
+
+
+@pytest.mark.parametrize("command", [["update"], ["curve", "--joint", "G1"]])
+def test_plot_without_matplotlib_is_a_one_line_error(tmp_path, command):
+    """``--plot`` without matplotlib: exit 2, one line, before any work and any file."""
+    done = _python(f"""
+        import sys
+        sys.modules["matplotlib"] = None  # as if it were not installed
+        from updating.cli import main
+        sys.exit(main([{command[0]!r}, "cases/two_plates.toml", *{command[1:]!r},
+                       "--plot", {str(tmp_path / "out")!r}]))
+    """)
+    assert done.returncode == 2, done.stderr
+    assert done.stderr.splitlines() == [f"vtcr: {MISSING_MATPLOTLIB}"]
+    assert not (tmp_path / "out").exists()

@@ -1,0 +1,134 @@
+"""Interrupted updating runs lose nothing: run files, --resume, Ctrl-C.
+
+The run is the four-plate study at one frequency (309.4 Hz), which takes four correction steps:
+enough to interrupt after the first and still have work left to resume.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+from updating import runfile
+from updating.cli import main
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+@pytest.fixture(scope="module")
+def one_frequency_case(tmp_path_factory):
+    text = (ROOT / "cases" / "four_plates.toml").read_text()
+    text = text.replace("frequencies = [218.0, 248.0, 309.4]", "frequency = 309.4")
+    assert "frequency = 309.4" in text
+    path = tmp_path_factory.mktemp("case") / "four.toml"
+    path.write_text(text)
+    return path
+
+
+@pytest.fixture(scope="module")
+def uninterrupted(one_frequency_case, tmp_path_factory):
+    out = tmp_path_factory.mktemp("full") / "full.json"
+    assert main(["update", str(one_frequency_case), "--json", str(out), "--quiet"]) == 0
+    return json.loads(out.read_text())
+
+
+def _steps(run_json):
+    return [(s["step"], s["selected"], s["e_mod_percent"],
+             {j: v["log10_stiffness"] for j, v in s["joints"].items()}) for s in run_json["steps"]]
+
+
+def test_resume_after_an_interruption_ends_like_an_uninterrupted_run(
+        one_frequency_case, uninterrupted, tmp_path, monkeypatch, capsys):
+    assert len(uninterrupted["steps"]) >= 3  # something is left to resume after step 1
+    run = tmp_path / "run.json"
+    save_step = runfile.RunFile.save_step
+
+    def save_then_interrupt(self, step):
+        save_step(self, step)
+        if step.step == 1:
+            raise KeyboardInterrupt
+
+    monkeypatch.setattr(runfile.RunFile, "save_step", save_then_interrupt)
+    assert main(["update", str(one_frequency_case), "--run", str(run), "--quiet"]) == 130
+    assert "--resume" in capsys.readouterr().err
+    saved = json.loads(run.read_text())
+    assert saved["finished"] is False and [s["step"] for s in saved["steps"]] == [0, 1]
+
+    monkeypatch.setattr(runfile.RunFile, "save_step", save_step)
+    resumed = tmp_path / "resumed.json"
+    assert main(["update", str(one_frequency_case), "--resume", str(run), "--json",
+                 str(resumed), "--quiet"]) == 0
+    # the loop's state is its finished steps: the resumed run repeats the same arithmetic
+    assert _steps(json.loads(resumed.read_text())) == _steps(uninterrupted)
+    assert json.loads(run.read_text())["finished"] is True
+
+
+def test_ctrl_c_leaves_a_valid_run_file(one_frequency_case, tmp_path, uninterrupted):
+    run = tmp_path / "run.json"
+    env = dict(os.environ, OPENBLAS_NUM_THREADS="1")
+    process = subprocess.Popen(
+        [sys.executable, "-m", "updating", "update", str(one_frequency_case), "--run", str(run),
+         "--quiet"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
+    deadline = time.monotonic() + 120
+    while time.monotonic() < deadline and process.poll() is None:
+        if run.exists() and len(json.loads(run.read_text())["steps"]) >= 2:
+            break
+        time.sleep(0.05)
+    assert process.poll() is None, "the run ended before it could be interrupted"
+    process.send_signal(signal.SIGINT)
+    _, err = process.communicate(timeout=60)
+    assert process.returncode == 130
+    assert "Traceback" not in err and "finished steps are saved" in err
+    saved = json.loads(run.read_text())  # valid JSON: written atomically
+    assert saved["finished"] is False and len(saved["steps"]) >= 2
+    assert _steps({"steps": [s for s in uninterrupted["steps"][:len(saved["steps"])]]}) == \
+        [(r["step"], r["selected"], 100 * r["e_mod"],
+          {j: p["log10_stiffness"] for j, p in r["parameters"].items()}) for r in saved["steps"]]
+
+
+def test_resume_refuses_a_run_of_another_description(one_frequency_case, tmp_path, capsys):
+    run = tmp_path / "run.json"
+    assert main(["update", str(one_frequency_case), "--run", str(run), "--quiet"]) == 0
+    other = tmp_path / "other.toml"
+    other.write_text(one_frequency_case.read_text().replace("r = 0.8", "r = 0.7"))
+    assert main(["update", str(other), "--resume", str(run), "--quiet"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "another description" in err[0] and str(run) in err[0]
+
+
+@pytest.mark.parametrize("content, message", [
+    (None, "cannot read the run file"),
+    ("{not json", "not valid JSON"),
+    ('{"format": "something-else"}', "not a vtcr-run/1 run file"),
+])
+def test_resume_rejects_bad_run_files(one_frequency_case, tmp_path, capsys, content, message):
+    run = tmp_path / "run.json"
+    if content is not None:
+        run.write_text(content)
+    assert main(["update", str(one_frequency_case), "--resume", str(run), "--quiet"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and message in err[0] and "--resume" in err[0]
+
+
+@pytest.mark.parametrize("terminal, quiet, shown", [
+    (True, False, True), (False, False, False), (True, True, False)])
+def test_progress_shows_only_on_a_terminal_and_not_when_quiet(terminal, quiet, shown):
+    import io
+
+    from rich.console import Console
+
+    from updating.progress import progress_bar
+
+    buffer = io.StringIO()
+    console = Console(file=buffer, force_terminal=terminal, quiet=quiet, width=80)
+    with progress_bar(console, "correcting G7", 3) as advance:
+        for _ in range(3):
+            advance()
+    assert ("correcting G7" in buffer.getvalue()) is shown

@@ -1,0 +1,870 @@
+r"""Figures of an updating run (optional extra ``vtcr[plot]``: matplotlib, Agg backend).
+
+``vtcr update CASE.toml --plot DIR`` writes, into ``DIR``:
+
+* ``cost_<joint>.png`` — :math:`E_{mod}^2`, :math:`E_{int}^2`, :math:`E_{mes}^2` and the
+  joint's :math:`E_\Gamma^2` against its :math:`\log_{10}k`, the other joints at their final
+  values (the paper's Figs. 6–9 and 14), for every joint corrected in the run;
+* ``field_<f>Hz.png`` — :math:`|w|` of the measurements, of the initial and of the updated
+  model, plates laid out in the assembly plane, one colour scale (Figs. 12–13);
+* ``residuals.png`` — :math:`E_{\Gamma_i}^2` per joint and :math:`E_{mod}^2` per step
+  (Table 4);
+* ``frf.png`` — spatial RMS of :math:`|w|` over the measurement points against frequency, for
+  the initial, updated (and true) joints, around the analysed frequencies (Fig. 11 right).
+
+The module is split in two layers: ``*_data`` functions compute what is drawn (numpy arrays,
+no matplotlib; tested on their own), ``draw_*`` functions turn those into a
+:class:`matplotlib.figure.Figure`. matplotlib is imported only inside the drawing layer, so
+``import updating.plots`` works without it; :func:`require_matplotlib` turns its absence into a
+one-line :class:`~updating.files.InputError`. Figures are written atomically (a temporary file
+in the same directory, then :func:`os.replace`): an interrupted run never leaves a half-written
+PNG.
+
+Model fields. The "initial model" and "updated model" panels of the field maps show the
+model's own response (the direct problem, r = 0) with the initial and with the identified joint
+parameters: the paper's Fig. 13 shows "the response of the updated structure", and only the
+model's own response shows how wrong the initial model was. ``field_source="modified"`` draws
+instead the field of the modified problem, the minimiser of :math:`E_{mod}^2` at those
+parameters (a compromise between the joint laws and the measurements, r = ``[updating] r``):
+at the optimum it is close to the updated response, but at the initial parameters the
+measurement term pulls it towards the measurements and hides most of the model error. The
+frequency response also uses the model's own response (no measurement exists off the analysed
+frequencies).
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import secrets
+import textwrap
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from updating.cost import channel_parameters, cost_curve, log_grid
+from updating.files import InputError
+
+__all__ = [
+    "MISSING_MATPLOTLIB",
+    "CostCurveData",
+    "FieldMapData",
+    "FrequencyResponseData",
+    "ResidualBarsData",
+    "cost_curve_data",
+    "draw_cost_curve",
+    "draw_field_maps",
+    "draw_frequency_response",
+    "draw_residual_bars",
+    "field_map_data",
+    "frequency_band",
+    "frequency_response_data",
+    "require_matplotlib",
+    "residual_bars_data",
+    "save_figure_atomic",
+    "write_curve_figure",
+    "write_update_figures",
+]
+
+MISSING_MATPLOTLIB = "--plot needs matplotlib: pip install 'vtcr[plot]'"
+
+_LOG_K = r"$\log_{10} k$  ($k$ in N·m/m per rad)"
+
+
+def require_matplotlib():
+    """Import matplotlib or raise :class:`InputError` with the install hint (exit 2)."""
+    try:
+        import matplotlib
+    except ImportError:
+        raise InputError(MISSING_MATPLOTLIB) from None
+    return matplotlib
+
+
+def _case_parameters(case):
+    """``{joint: {log10_stiffness, loss_factor, mass}}`` of a description's joints."""
+    return {jid: {"log10_stiffness": j.log10_stiffness, "loss_factor": j.loss_factor,
+                  "mass": j.mass} for jid, j in case.joints.items()}
+
+
+def _true_parameters(case):
+    """Joint parameters of ``[truth.joints]`` (None when the description has none)."""
+    if not case.truth.joints:
+        return None
+    return _case_parameters(case.true_case())
+
+
+def _true_log_k(case, joint):
+    true = case.truth.joints.get(joint)
+    return None if true is None else true.log10_stiffness
+
+
+def _direct_amplitudes(system, parameters, alpha):
+    """Plate amplitudes of the model response (r = 0) for joint ``parameters``.
+
+    The same minimisation of the weighted interface error under admissibility as
+    :func:`solver.substructure.solve_assembly`, on an already built system.
+    """
+    from solver.substructure import joint_energy_matrices, solve_reduced
+
+    energies = joint_energy_matrices(system, channel_parameters(parameters, system.omega))
+    cost = sum(alpha[jid] * q for jid, q in energies.items())
+    return system.plate_amplitudes(solve_reduced(system, cost))
+
+
+def _plate_w(system, amplitudes, plate_id, points):
+    from solver.plate import evaluate_field
+
+    return evaluate_field(system.problems[plate_id], system.bases[plate_id],
+                          amplitudes[plate_id], points)["w"]
+
+
+# ----------------------------------------------------------------------------------------------
+# data (no matplotlib)
+# ----------------------------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class CostCurveData:
+    """One joint's cost curve; costs dimensionless (fractions, drawn in %).
+
+    Attributes
+    ----------
+    joint : str
+    log10_k, e_mod, e_int, e_mes, e_joint : ndarray of float, shape (n,)
+    identified, true, initial : float or None
+        log10 k marked on the curve (identified value, ``[truth]`` value, model start).
+    interval : tuple of float or None
+        log10 k range within 1 % of the optimum (shaded).
+    note : str
+        What the other joints are held at (subtitle).
+    identified_label : str
+        Legend of the ``identified`` mark.
+    """
+
+    joint: str
+    log10_k: np.ndarray
+    e_mod: np.ndarray
+    e_int: np.ndarray
+    e_mes: np.ndarray
+    e_joint: np.ndarray
+    identified: float | None = None
+    true: float | None = None
+    initial: float | None = None
+    interval: tuple | None = None
+    note: str = ""
+    identified_label: str = "identified"
+
+
+def cost_curve_data(rows, joint, identified=None, true=None, initial=None, interval=None,
+                    note=""):
+    """Arrays of a cost curve from :func:`updating.cost.cost_curve` rows.
+
+    Parameters
+    ----------
+    rows : sequence of (log10_k, e_mod, e_int, e_mes, e_joint)
+    joint : str
+    identified : float, optional
+        Marked value; default the curve's minimum of :math:`E_{mod}^2`.
+
+    Returns
+    -------
+    CostCurveData
+    """
+    table = np.asarray(rows, dtype=float).reshape(-1, 5)
+    order = np.argsort(table[:, 0])
+    table = table[order]
+    label = "identified"
+    if identified is None and len(table):
+        identified = float(table[np.argmin(table[:, 1]), 0])
+        label = "minimum"
+    return CostCurveData(joint, *(table[:, i].copy() for i in range(5)), identified=identified,
+                         true=true, initial=initial, interval=interval, note=note,
+                         identified_label=label)
+
+
+@dataclass(frozen=True)
+class FieldMapData:
+    r"""Measured and model fields at one frequency, in the assembly plane.
+
+    Attributes
+    ----------
+    frequency : float
+        Hz.
+    quantity : {"abs", "real"}
+        ``|w|`` or ``Re w`` (m).
+    grids : dict of str to (X, Y)
+        Per plate, assembly-plane coordinates of the evaluation grid, shape (ny, nx) each.
+    initial, updated : dict of str to ndarray, shape (ny, nx)
+        Model fields on the grids.
+    measured : dict of str to (points, values)
+        Per plate, plate-local measurement points (n, 2) and the measured quantity (n,).
+    measured_global : dict of str to ndarray, shape (n, 2)
+        The measurement points in the assembly plane.
+    outlines : dict of str to ndarray, shape (5, 2)
+        Closed plate outlines in the assembly plane.
+    joints : dict of str to ndarray, shape (2, 2)
+        Joint lines (end points) in the assembly plane.
+    cells : dict of str to (x_edges, y_edges) or None
+        When a plate's measurement points form the cell centres of a tensor grid, the
+        plate-local cell edges (drawn as cells), else None (drawn as markers).
+    e_mod : (float, float)
+        :math:`E_{mod}^2` at the initial and updated parameters (summed over the
+        ``n_frequencies`` measured frequencies).
+    misfit : (float, float)
+        Relative misfit :math:`\|w - \tilde w\| / \|\tilde w\|` of the drawn initial and
+        updated fields at the measurement points.
+    source : {"direct", "modified"}
+    n_frequencies : int
+    limits : (float, float)
+        Common colour range of the three panels: the largest value, measured or modelled, on
+        the measured plates (0 to it for ``|w|``, symmetric for ``Re w``).
+    """
+
+    frequency: float
+    quantity: str
+    grids: dict
+    initial: dict
+    updated: dict
+    measured: dict
+    measured_global: dict
+    outlines: dict
+    joints: dict
+    cells: dict
+    e_mod: tuple
+    misfit: tuple
+    source: str
+    n_frequencies: int
+    limits: tuple
+
+
+def _transform(values, quantity):
+    if quantity == "abs":
+        return np.abs(values)
+    if quantity == "real":
+        return np.real(values)
+    raise ValueError(f"quantity must be 'abs' or 'real', got {quantity!r}")
+
+
+def _plate_outline(plate):
+    lx, ly = plate.size
+    x, y = plate.to_global([0.0, lx, lx, 0.0, 0.0], [0.0, 0.0, ly, ly, 0.0])
+    return np.column_stack([x, y])
+
+
+def _joint_line(case, joint):
+    side = joint.sides[0]
+    plate = case.plates[side.plate]
+    start, tangent, _, length = plate.edge_frame(side.edge)
+    local = np.array([start, start + length * tangent])
+    x, y = plate.to_global(local[:, 0], local[:, 1])
+    return np.column_stack([x, y])
+
+
+def _tensor_cells(points, size, tol=1e-9):
+    """Cell edges when ``points`` are the cell centres of a tensor grid on ``[0, L]^2``."""
+    if len(points) < 2:
+        return None
+    edges = []
+    for axis in range(2):
+        values = np.unique(np.round(points[:, axis] / tol) * tol)
+        inner = 0.5 * (values[1:] + values[:-1])
+        bounds = np.concatenate([[0.0], inner, [size[axis]]])
+        centres = 0.5 * (bounds[1:] + bounds[:-1])
+        if not np.allclose(centres, values, atol=1e-6 * size[axis]):
+            return None
+        edges.append(bounds)
+    if len(points) != (len(edges[0]) - 1) * (len(edges[1]) - 1):
+        return None
+    return tuple(edges)
+
+
+def _grid_counts(size, kappa, points_per_wavelength=12, minimum=24, maximum=160):
+    wavelength = 2.0 * math.pi / kappa
+    return tuple(int(np.clip(math.ceil(points_per_wavelength * length / wavelength) + 1,
+                             minimum, maximum)) for length in size)
+
+
+def field_map_data(case, problem, measurements, frequency, initial, updated,
+                   quantity="abs", source="direct", points_per_wavelength=12):
+    r"""Measured, initial and updated fields at one measured frequency.
+
+    Parameters
+    ----------
+    case : assembly.Case
+    problem : updating.cost.ModifiedProblem
+    measurements : updating.measurements.Measurements
+    frequency : float
+        One of ``measurements.frequencies`` (Hz).
+    initial, updated : dict
+        Joint parameters ``{joint: {log10_stiffness, loss_factor, mass}}``.
+    quantity : {"abs", "real"}
+        Draw :math:`|w|` or :math:`\mathrm{Re}\,w`.
+    source : {"direct", "modified"}
+        Model field: the model's own response (r = 0; default, the paper's Fig. 13), or the
+        minimiser of :math:`E_{mod}^2` at the parameters (see the module notes).
+    points_per_wavelength : int
+        Grid density of the model fields (bending wavelength of each plate).
+
+    Returns
+    -------
+    FieldMapData
+    """
+    if source not in ("modified", "direct"):
+        raise ValueError(f"source must be 'modified' or 'direct', got {source!r}")
+    system = problem.frequencies[frequency].system
+    evaluations = {"initial": problem.evaluate(initial), "updated": problem.evaluate(updated)}
+    fields = {}
+    for name, parameters in (("initial", initial), ("updated", updated)):
+        if source == "modified":
+            s = evaluations[name].interface[frequency]
+            fields[name] = problem.field(frequency, s)
+        else:
+            fields[name] = _direct_amplitudes(system, parameters, problem.alpha)
+    grids, model = {}, {"initial": {}, "updated": {}}
+    for pid, plate in case.plates.items():
+        nx, ny = _grid_counts(plate.size, system.problems[pid].kappa.real, points_per_wavelength)
+        x, y = np.meshgrid(np.linspace(0.0, plate.size[0], nx),
+                           np.linspace(0.0, plate.size[1], ny))
+        points = np.column_stack([x.ravel(), y.ravel()])
+        gx, gy = plate.to_global(x, y)
+        grids[pid] = (gx, gy)
+        for name, values in model.items():
+            w = _plate_w(system, fields[name], pid, points)
+            values[pid] = _transform(w, quantity).reshape(x.shape)
+    measured, measured_global, cells = {}, {}, {}
+    residual = {"initial": 0.0, "updated": 0.0}
+    reference = 0.0
+    for pid, (points, values) in measurements.data[frequency].items():
+        points, values = np.asarray(points, dtype=float), np.asarray(values)
+        for name in residual:
+            w = _plate_w(system, fields[name], pid, points)
+            residual[name] += float(np.sum(np.abs(w - values) ** 2))
+        reference += float(np.sum(np.abs(values) ** 2))
+        measured[pid] = (points, _transform(values, quantity))
+        gx, gy = case.plates[pid].to_global(points[:, 0], points[:, 1])
+        measured_global[pid] = np.column_stack([gx, gy])
+        cells[pid] = _tensor_cells(points, case.plates[pid].size)
+    # the colour range covers the measured plates (an unmeasured driven plate would otherwise
+    # set the scale and darken what can be compared); elsewhere the colours may saturate
+    every = [d[pid] for d in model.values() for pid in measured] + [v for _, v in measured.values()]
+    if quantity == "abs":
+        limits = (0.0, max(float(np.max(v)) for v in every))
+    else:
+        top = max(float(np.max(np.abs(v))) for v in every)
+        limits = (-top, top)
+    return FieldMapData(
+        frequency, quantity, grids, model["initial"], model["updated"], measured,
+        measured_global, {pid: _plate_outline(p) for pid, p in case.plates.items()},
+        {jid: _joint_line(case, j) for jid, j in case.joints.items()}, cells,
+        (evaluations["initial"].e_mod, evaluations["updated"].e_mod),
+        tuple(math.sqrt(residual[n] / reference) for n in ("initial", "updated")), source,
+        len(problem.frequencies), limits)
+
+
+@dataclass(frozen=True)
+class ResidualBarsData:
+    r"""Per-step joint residuals (Table 4), in %.
+
+    Attributes
+    ----------
+    labels : tuple of str
+        One per step (``"initial"``, ``"step 1"``, ...).
+    joints : tuple of str
+    residuals : ndarray, shape (n_steps, n_joints)
+        :math:`E_{\Gamma_i}^2` in %.
+    thresholds : ndarray, shape (n_steps, n_joints)
+        ``stop_ratio`` x floor in % (a joint above it stands out).
+    selected : tuple of (int or None)
+        Column of the joint corrected in each step.
+    e_mod : ndarray, shape (n_steps,)
+        :math:`E_{mod}^2` in %.
+    log10_k : ndarray, shape (n_steps, n_joints)
+    """
+
+    labels: tuple
+    joints: tuple
+    residuals: np.ndarray
+    thresholds: np.ndarray
+    selected: tuple
+    e_mod: np.ndarray
+    log10_k: np.ndarray
+
+
+def residual_bars_data(result, stop_ratio=1.0):
+    """Arrays of :func:`draw_residual_bars` from an :class:`~updating.strategy.UpdateResult`."""
+    joints = tuple(result.steps[0].parameters)
+    labels = tuple("initial" if s.step == 0 else f"step {s.step}" for s in result.steps)
+    residuals = np.array([[100.0 * s.residuals[j] for j in joints] for s in result.steps])
+    thresholds = np.array([[100.0 * stop_ratio * s.floors[j] for j in joints]
+                           for s in result.steps])
+    selected = tuple(joints.index(s.selected) if s.selected in joints else None
+                     for s in result.steps)
+    e_mod = np.array([100.0 * s.e_mod for s in result.steps])
+    log10_k = np.array([[s.parameters[j]["log10_stiffness"] for j in joints]
+                        for s in result.steps])
+    return ResidualBarsData(labels, joints, residuals, thresholds, selected, e_mod, log10_k)
+
+
+@dataclass(frozen=True)
+class FrequencyResponseData:
+    """Spatial RMS of ``|w|`` (m) over the measurement points against frequency.
+
+    Attributes
+    ----------
+    frequencies : ndarray, shape (n,)
+        Hz.
+    curves : dict of str to ndarray, shape (n,)
+        ``"initial"``, ``"updated"`` and, with ``[truth.joints]``, ``"true"``.
+    analysed : tuple of float
+        The measured frequencies (Hz).
+    measured : ndarray, shape (len(analysed),)
+        RMS of the measured ``|w|`` at the analysed frequencies.
+    """
+
+    frequencies: np.ndarray
+    curves: dict
+    analysed: tuple
+    measured: np.ndarray
+
+
+def frequency_band(frequencies, width=0.2, points=60):
+    """``points`` frequencies over ``[(1 - width) f_min, (1 + width) f_max]`` plus ``frequencies``.
+
+    The analysed frequencies are inserted so that the curves pass through them.
+    """
+    if points < 2:
+        raise ValueError(f"points must be at least 2, got {points}")
+    if not 0.0 < width < 1.0:
+        raise ValueError(f"width must be in (0, 1), got {width}")
+    lo, hi = (1.0 - width) * min(frequencies), (1.0 + width) * max(frequencies)
+    return np.union1d(np.linspace(lo, hi, points), np.asarray(frequencies, dtype=float))
+
+
+def spatial_rms(values):
+    r"""Return :math:`\sqrt{\mathrm{mean}|w|^2}` of a sequence of complex arrays."""
+    flat = np.concatenate([np.ravel(v) for v in values])
+    return float(np.sqrt(np.mean(np.abs(flat) ** 2)))
+
+
+def frequency_response_data(case, parameter_sets, frequencies, points, measured=None,
+                            analysed=(), resolution=None):
+    """Spatial RMS of the model response at ``points`` for several joint parameter sets.
+
+    One parameter-independent system per frequency
+    (:func:`solver.substructure.build_assembly_system`) is shared by the parameter sets: the
+    direct problem at each set is a small reduced solve. The result equals
+    ``solver.solve_case(case.with_joint_parameters(p), f)`` sampled at ``points``.
+
+    Parameters
+    ----------
+    case : assembly.Case
+        An assembly with joints.
+    parameter_sets : dict of str to dict
+        ``{label: {joint: {log10_stiffness, loss_factor, mass}}}``.
+    frequencies : array_like of float, shape (n,)
+        Hz.
+    points : dict of str to ndarray, shape (m, 2)
+        Plate-local points per plate.
+    measured : array_like of float, optional
+        RMS of the measurements at ``analysed``.
+    analysed : sequence of float
+        The measured frequencies (Hz), marked on the figure.
+    resolution : float, optional
+        Discretisation resolution (default the description's).
+
+    Returns
+    -------
+    FrequencyResponseData
+
+    Notes
+    -----
+    Cost: one system build per frequency (about 0.1 s for ``cases/four_plates.toml``).
+    """
+    from solver.substructure import build_assembly_system
+
+    frequencies = np.asarray(frequencies, dtype=float)
+    alpha = dict(case.updating.alpha)
+    curves = {label: np.empty(len(frequencies)) for label in parameter_sets}
+    for i, frequency in enumerate(frequencies):
+        system = build_assembly_system(case, float(frequency), resolution)
+        for label, parameters in parameter_sets.items():
+            amplitudes = _direct_amplitudes(system, parameters, alpha)
+            curves[label][i] = spatial_rms(_plate_w(system, amplitudes, pid, pts)
+                                           for pid, pts in points.items())
+    measured = np.asarray([] if measured is None else measured, dtype=float)
+    return FrequencyResponseData(frequencies, curves, tuple(analysed), measured)
+
+
+# ----------------------------------------------------------------------------------------------
+# drawing (matplotlib)
+# ----------------------------------------------------------------------------------------------
+
+def _figure(**kwargs):
+    require_matplotlib()
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    figure = Figure(layout="constrained", **kwargs)
+    FigureCanvasAgg(figure)
+    return figure
+
+
+def _positive(values):
+    """Values for a log axis: non-positive entries become NaN (gaps, not warnings)."""
+    values = np.asarray(values, dtype=float).copy()
+    values[~(values > 0)] = np.nan
+    return values
+
+
+def draw_cost_curve(data, title=""):
+    """Figure of a :class:`CostCurveData` (log y axis, costs in %)."""
+    figure = _figure(figsize=(7.5, 5.0))
+    ax = figure.add_subplot()
+    styles = [
+        (data.e_mod, r"$E_{mod}^2$ (cost)", {"color": "black", "lw": 2.2}),
+        (data.e_int, r"$E_{int}^2$ (interface error)", {"color": "tab:blue", "lw": 1.5}),
+        (data.e_mes, r"$E_{mes}^2$ (measurement term)", {"color": "tab:orange", "lw": 1.5}),
+        (data.e_joint, rf"$E_\Gamma^2$ of {data.joint}",
+         {"color": "tab:green", "lw": 1.5, "ls": "--"}),
+    ]
+    for values, label, style in styles:
+        ax.plot(data.log10_k, _positive(100.0 * values), label=label, **style)
+    ax.set_yscale("log")
+    if data.interval is not None and data.interval[1] > data.interval[0]:
+        ax.axvspan(*data.interval, color="tab:red", alpha=0.08,
+                   label="within 1 % of the optimum")
+    if data.initial is not None:
+        ax.axvline(data.initial, color="grey", ls=":", lw=1.3,
+                   label=f"model start {data.initial:.2f}")
+    if data.identified is not None:
+        ax.axvline(data.identified, color="tab:red", lw=1.5,
+                   label=f"{data.identified_label} {data.identified:.2f}")
+    if data.true is not None:
+        ax.axvline(data.true, color="tab:purple", ls="--", lw=1.5, label=f"true {data.true:.2f}")
+    ax.set_xlabel(_LOG_K)
+    ax.set_ylabel("error [%] (log scale)")
+    ax.set_xlim(data.log10_k.min(), data.log10_k.max())
+    ax.grid(True, which="major", alpha=0.4)
+    ax.grid(True, which="minor", alpha=0.12)
+    title = title or f"cost against $\\log_{{10}} k$ of joint {data.joint}"
+    ax.set_title(f"{title}\n{data.note}" if data.note else title, fontsize="medium")
+    ax.legend(fontsize="small", loc="best", framealpha=0.9)
+    return figure
+
+
+def _draw_plate_frame(ax, data, labels=False):
+    """Plate outlines, joint lines (dashed white) and measurement points (black dots)."""
+    for pid, outline in data.outlines.items():
+        ax.plot(outline[:, 0], outline[:, 1], color="black", lw=0.8)
+        if labels:
+            corner = outline[0] + 0.04 * (outline[2] - outline[0])
+            ax.text(*corner, pid, fontsize="small", ha="left", va="bottom", color="white",
+                    fontweight="bold",
+                    bbox={"boxstyle": "round,pad=0.15", "fc": "black", "alpha": 0.45, "lw": 0})
+    for jid, line in data.joints.items():
+        ax.plot(line[:, 0], line[:, 1], color="white", lw=1.2, ls="--")
+        if labels:
+            ax.text(*line.mean(axis=0), jid, fontsize="small", ha="center", va="center",
+                    bbox={"boxstyle": "round,pad=0.15", "fc": "white", "alpha": 0.8, "lw": 0})
+    n_points = sum(len(xy) for xy in data.measured_global.values())
+    for xy in data.measured_global.values():
+        ax.plot(xy[:, 0], xy[:, 1], ".", color="black", ms=3 if n_points < 200 else 1.5)
+    ax.set_aspect("equal")
+    ax.set_xlabel("x [m] (assembly plane)")
+    ax.set_ylabel("y [m]")
+
+
+def draw_field_maps(data, title=""):
+    """Three panels (measured, initial, updated) of a :class:`FieldMapData`, one colour scale."""
+    every = np.vstack(list(data.outlines.values()))
+    span = every.max(axis=0) - every.min(axis=0)
+    stacked = span[0] > 2.2 * span[1]
+    ratio = span[1] / span[0]
+    if stacked:  # long assemblies: panels one above the other
+        width = 8.0
+        figsize = (width + 1.6, 3 * (width * ratio + 0.75) + 0.9)
+        bar_height = 0.6
+        axes = _figure(figsize=figsize).subplots(3, 1, sharex=True, sharey=True)
+    else:
+        panel = 4.4
+        figsize = (3 * panel + 1.0, panel * ratio + 2.0)
+        bar_height = float(np.clip(panel * ratio / (panel * ratio + 1.0), 0.5, 0.9))
+        axes = _figure(figsize=figsize).subplots(1, 3, sharex=True, sharey=True)
+    figure = axes[0].figure
+    if data.quantity == "abs":
+        cmap, label = "viridis", "|w| [m]"
+    else:
+        cmap, label = "RdBu_r", "Re w [m]"
+    norm = {"vmin": data.limits[0], "vmax": data.limits[1], "cmap": cmap}
+    mappable = None
+    ax = axes[0]
+    for pid, (points, values) in data.measured.items():
+        cells = data.cells.get(pid)
+        plate_outline = data.outlines[pid]
+        if cells is not None:
+            xe, ye = np.meshgrid(*cells)
+            origin = plate_outline[0]
+            # plate-local cell corners -> assembly plane (same affine map as the outline)
+            ex = (plate_outline[1] - origin) / cells[0][-1]
+            ey = (plate_outline[3] - origin) / cells[1][-1]
+            gx = origin[0] + ex[0] * xe + ey[0] * ye
+            gy = origin[1] + ex[1] * xe + ey[1] * ye
+            nx, ny = len(cells[0]) - 1, len(cells[1]) - 1
+            grid = np.full((ny, nx), np.nan)
+            ix = np.searchsorted(cells[0], points[:, 0]) - 1
+            iy = np.searchsorted(cells[1], points[:, 1]) - 1
+            grid[iy, ix] = values
+            mappable = ax.pcolormesh(gx, gy, grid, shading="flat", **norm)
+        else:
+            xy = data.measured_global[pid]
+            mappable = ax.scatter(xy[:, 0], xy[:, 1], c=values, s=40, marker="s",
+                                  edgecolors="none", **norm)
+    for pid, outline in data.outlines.items():
+        if pid not in data.measured:
+            ax.text(*outline[:4].mean(axis=0), "not measured", ha="center", va="center",
+                    color="grey", fontsize="small")
+    ax.set_title(f"measured\n{sum(len(v) for _, v in data.measured.values())} points")
+    for ax, name in ((axes[1], "initial"), (axes[2], "updated")):
+        fields = getattr(data, name)
+        for pid, (gx, gy) in data.grids.items():
+            mappable = ax.pcolormesh(gx, gy, fields[pid], shading="gouraud", **norm)
+        i = 0 if name == "initial" else 1
+        ax.set_title(f"{name} model\nmisfit {100 * data.misfit[i]:.1f} %")
+    for i, ax in enumerate(axes):
+        _draw_plate_frame(ax, data, labels=(i == 0))
+        ax.set_facecolor("whitesmoke")
+        if stacked and i < 2:
+            ax.set_xlabel("")
+        if not stacked and i > 0:
+            ax.set_ylabel("")
+    # pad and fraction are relative to all three panels: keep the bar close to them
+    low = min(float(np.min(f[pid])) for f in (data.initial, data.updated) for pid in f)
+    high = max(float(np.max(f[pid])) for f in (data.initial, data.updated) for pid in f)
+    extend = {(False, False): "neither", (False, True): "max", (True, False): "min",
+              (True, True): "both"}[low < data.limits[0], high > data.limits[1]]
+    bar = figure.colorbar(mappable, ax=list(axes), label=label, pad=0.015, fraction=0.03,
+                          shrink=bar_height, extend=extend)
+    bar.formatter.set_powerlimits((-2, 3))  # 1e-5 as a multiplier, not 0.00001 ticks
+    bar.update_ticks()
+    source = ("model panels: minimisers of $E_{mod}^2$ at the initial and updated joints"
+              if data.source == "modified" else
+              "model panels: response of the model with the initial and updated joints")
+    summed = f" (sum over {data.n_frequencies} frequencies)" if data.n_frequencies > 1 else ""
+    costs = (f"$E_{{mod}}^2$ {100 * data.e_mod[0]:.2f} % initial, "
+             f"{100 * data.e_mod[1]:.2f} % updated{summed}")
+    misfit = r"misfit = $\|w - \tilde w\| / \|\tilde w\|$ there"
+    figure.suptitle(f"{title or 'field'} at {data.frequency:g} Hz; {costs}\n{source}; dots: "
+                    f"measurement points; {misfit}", fontsize="medium")
+    return figure
+
+
+def draw_residual_bars(data, title=""):
+    r"""Draw grouped bars of :math:`E_{\Gamma_i}^2` per step and :math:`E_{mod}^2` (Table 4)."""
+    from matplotlib.patches import Patch
+
+    n_bars = len(data.labels) * max(1, len(data.joints))
+    figure = _figure(figsize=(float(np.clip(0.45 * n_bars + 3.0, 7.0, 14.0)), 6.5))
+    top, bottom = figure.subplots(2, 1, sharex=True, height_ratios=(2.2, 1.0))
+    n_steps, n_joints = data.residuals.shape
+    width = 0.8 / max(n_joints, 1)
+    colours = [f"C{i % 10}" for i in range(n_joints)]
+    x = np.arange(n_steps)
+    for j, joint in enumerate(data.joints):
+        offsets = x - 0.4 + (j + 0.5) * width
+        chosen = np.array([s == j for s in data.selected])
+        top.bar(offsets, _positive(data.residuals[:, j]), width, color=colours[j],
+                edgecolor=np.where(chosen, "black", colours[j]).tolist(),
+                linewidth=np.where(chosen, 2.0, 0.5).tolist(),
+                hatch=None, label=joint)
+        top.plot(offsets, _positive(data.thresholds[:, j]), "_", color="black", ms=10, mew=1.5)
+    top.set_yscale("log")
+    top.set_ylabel(r"$E_{\Gamma_i}^2$ [%] (log scale)")
+    handles = [Patch(color=c, label=j) for c, j in zip(colours, data.joints)]
+    handles.append(Patch(facecolor="white", edgecolor="black", linewidth=2.0,
+                         label="joint corrected in the step"))
+    from matplotlib.lines import Line2D
+
+    handles.append(Line2D([], [], marker="_", ls="none", color="black", ms=10, mew=1.5,
+                          label="stop threshold (stop_ratio x floor)"))
+    top.legend(handles=handles, fontsize="small", loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    top.grid(True, axis="y", which="major", alpha=0.4)
+    width = int(figure.get_figwidth() * 11)  # characters per title line
+    title = "\n".join(textwrap.fill(line, width) for line in
+                      (title or "joint residuals per step").splitlines())
+    figure.suptitle(title, fontsize="medium")
+    bottom.plot(x, data.e_mod, "o-", color="black")
+    for i, value in enumerate(data.e_mod):
+        bottom.annotate(f"{value:.2f} %", (x[i], value), xytext=(0, 6),
+                        textcoords="offset points", ha="center", fontsize="small")
+    bottom.set_ylabel(r"$E_{mod}^2$ [%]")
+    bottom.set_ylim(0.0, 1.3 * max(float(np.max(data.e_mod)), 1e-12))
+    bottom.grid(True, axis="y", alpha=0.4)
+    ticks = []
+    for i, label in enumerate(data.labels):
+        s = data.selected[i]
+        ticks.append(label if s is None else f"{label}\n{data.joints[s]} → "
+                     f"{data.log10_k[i, s]:.2f}")
+    bottom.set_xticks(x, ticks)
+    bottom.set_xlabel(r"step (corrected joint → its new $\log_{10} k$)")
+    return figure
+
+
+def draw_frequency_response(data, title=""):
+    """RMS ``|w|`` against frequency; analysed frequencies and measured RMS marked."""
+    figure = _figure(figsize=(8.0, 5.0))
+    ax = figure.add_subplot()
+    styles = {"initial": {"color": "tab:blue", "lw": 1.4, "ls": "--", "label": "initial model"},
+              "updated": {"color": "tab:red", "lw": 1.8, "label": "updated model"},
+              "true": {"color": "black", "lw": 1.0, "ls": ":", "label": "true structure ([truth])"}}
+    for label, values in data.curves.items():
+        style = styles.get(label, {"label": label})
+        ax.plot(data.frequencies, _positive(values), **style)
+    for i, frequency in enumerate(data.analysed):
+        ax.axvline(frequency, color="grey", lw=1.0, alpha=0.7,
+                   label="analysed frequency" if i == 0 else None)
+    if len(data.measured):
+        ax.plot(data.analysed[:len(data.measured)], data.measured, "o", color="tab:green",
+                mfc="none", ms=8, mew=1.5, label="measurements")
+    ax.set_yscale("log")
+    ax.set_xlim(data.frequencies.min(), data.frequencies.max())
+    ax.set_xlabel("frequency [Hz]")
+    ax.set_ylabel("spatial RMS of |w| over the measurement points [m]")
+    ax.grid(True, which="major", alpha=0.4)
+    ax.grid(True, which="minor", alpha=0.12)
+    ax.set_title(title or "frequency response")
+    ax.legend(fontsize="small", loc="best", framealpha=0.9)
+    return figure
+
+
+# ----------------------------------------------------------------------------------------------
+# files
+# ----------------------------------------------------------------------------------------------
+
+def save_figure_atomic(figure, path, dpi=120):
+    """Write ``figure`` as PNG through a temporary file in the same directory and a rename."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    # "xb" creates the file with the usual permissions (umask), unlike mkstemp's 0600
+    tmp = path.parent / f".{path.name}.{os.getpid()}.{secrets.token_hex(4)}.tmp"
+    try:
+        with open(tmp, "xb") as handle:
+            figure.savefig(handle, format="png", dpi=dpi)
+        os.replace(tmp, path)
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
+    return path
+
+
+def _frequency_name(frequency):
+    return f"field_{frequency:g}Hz.png"
+
+
+def _corrected_joints(result):
+    joints = []
+    for step in result.steps:
+        if step.selected is not None and step.selected not in joints:
+            joints.append(step.selected)
+    return joints
+
+
+def _last_interval(result, joint):
+    for step in reversed(result.steps):
+        if step.selected == joint:
+            return step.interval
+    return None
+
+
+def write_update_figures(case, problem, measurements, result, directory, curve_points=41,
+                         frf_points=40, frf_width=0.1, quantity="abs", field_source="direct"):
+    """Write the figures of an updating run into ``directory`` (created if needed).
+
+    Parameters
+    ----------
+    case : assembly.Case
+    problem : updating.cost.ModifiedProblem
+    measurements : updating.measurements.Measurements
+    result : updating.strategy.UpdateResult
+    directory : str or Path
+    curve_points : int
+        Points of each cost curve over ``[updating] bounds``.
+    frf_points : int
+        Frequencies of the response curve over ``(1 -/+ frf_width)`` times the analysed band.
+    quantity : {"abs", "real"}
+        Field maps of ``|w|`` or ``Re w``.
+    field_source : {"direct", "modified"}
+        See :func:`field_map_data`.
+
+    Returns
+    -------
+    list of Path
+        ``residuals.png``, ``cost_<joint>.png`` per corrected joint, ``field_<f>Hz.png`` per
+        measured frequency, ``frf.png``.
+
+    Raises
+    ------
+    InputError
+        When matplotlib is not installed.
+    """
+    require_matplotlib()
+    directory = Path(directory)
+    written = []
+    name = case.name
+    bars = residual_bars_data(result, case.updating.stop_ratio)
+    stopped = f"stopped: {result.message}"
+    written.append(save_figure_atomic(
+        draw_residual_bars(bars, f"{name}: joint residuals per step\n{stopped}"),
+        directory / "residuals.png"))
+
+    final = {j: dict(p) for j, p in result.parameters.items()}
+    initial = problem.initial_parameters()
+    base_grid = log_grid(case.updating.bounds, curve_points)
+    frequencies = ", ".join(f"{f:g}" for f in problem.frequencies)
+    for joint in _corrected_joints(result):
+        marks = [final[joint]["log10_stiffness"], _true_log_k(case, joint)]
+        lo, hi = case.updating.bounds
+        grid = np.union1d(base_grid, [v for v in marks if v is not None and lo <= v <= hi])
+        rows = cost_curve(problem, final, joint, grid)
+        data = cost_curve_data(rows, joint, identified=final[joint]["log10_stiffness"],
+                               true=_true_log_k(case, joint),
+                               initial=initial[joint]["log10_stiffness"],
+                               interval=_last_interval(result, joint),
+                               note=f"other joints at their final values; {frequencies} Hz")
+        written.append(save_figure_atomic(
+            draw_cost_curve(data, f"{name}: cost against $\\log_{{10}} k$ of {joint}"),
+            directory / f"cost_{joint}.png"))
+
+    for frequency in measurements.frequencies:
+        data = field_map_data(case, problem, measurements, frequency, initial, final,
+                              quantity=quantity, source=field_source)
+        shown = "|w|" if quantity == "abs" else "Re w"
+        written.append(save_figure_atomic(draw_field_maps(data, f"{name}: {shown}"),
+                                          directory / _frequency_name(frequency)))
+
+    analysed = measurements.frequencies
+    points = {pid: np.asarray(p, dtype=float)
+              for pid, (p, _) in measurements.data[analysed[0]].items()}
+    sets = {"initial": initial, "updated": final}
+    truth = _true_parameters(case)
+    if truth is not None:
+        sets["true"] = truth
+    measured_rms = [spatial_rms(v for _, v in measurements.data[f].values()) for f in analysed]
+    frf = frequency_response_data(case, sets, frequency_band(analysed, frf_width, frf_points),
+                                  points, measured_rms, analysed)
+    written.append(save_figure_atomic(
+        draw_frequency_response(frf, f"{name}: spatial RMS of |w| over the measurement points"),
+        directory / "frf.png"))
+    return written
+
+
+def write_curve_figure(case, rows, joint, directory, parameters_note="other joints at their "
+                       "initial values"):
+    """Write ``cost_<joint>.png`` for :func:`updating.cost.cost_curve` rows (``vtcr curve``)."""
+    require_matplotlib()
+    frequencies = ", ".join(f"{f:g}" for f in case.frequencies)
+    data = cost_curve_data(rows, joint, true=_true_log_k(case, joint),
+                           initial=case.joints[joint].log10_stiffness,
+                           note=f"{parameters_note}; {frequencies} Hz")
+    return save_figure_atomic(draw_cost_curve(data, f"{case.name}: cost against "
+                                                    f"$\\log_{{10}} k$ of {joint}"),
+                              Path(directory) / f"cost_{joint}.png")
