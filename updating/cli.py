@@ -336,7 +336,7 @@ def cmd_update(args):
                   f"{1e3 * sum(factorisations.values()) / len(factorisations):.1f} ms per "
                   "frequency")
     if args.json:
-        write_json_atomic(args.json, result_json(result, {"case": case.name}))
+        write_json_atomic(args.json, result_json(result, {"case": case.name}, bounds))
     if args.report:
         write_text_atomic(args.report, result_markdown(result, case.name, bounds, _truth(case, args)))
     if args.plot:

@@ -768,13 +768,6 @@ def _corrected_joints(result):
     return joints
 
 
-def _last_interval(result, joint):
-    for step in reversed(result.steps):
-        if step.selected == joint:
-            return step.interval
-    return None
-
-
 def write_update_figures(case, problem, measurements, result, directory, curve_points=41,
                          frf_points=40, frf_width=0.1, quantity="abs", field_source="direct"):
     """Write the figures of an updating run into ``directory`` (created if needed).
@@ -828,7 +821,7 @@ def write_update_figures(case, problem, measurements, result, directory, curve_p
         data = cost_curve_data(rows, joint, identified=final[joint]["log10_stiffness"],
                                true=_true_log_k(case, joint),
                                initial=initial[joint]["log10_stiffness"],
-                               interval=_last_interval(result, joint),
+                               interval=result.intervals.get(joint),
                                note=f"other joints at their final values; {frequencies} Hz")
         written.append(save_figure_atomic(
             draw_cost_curve(data, f"{name}: cost against $\\log_{{10}} k$ of {joint}"),

@@ -16,24 +16,20 @@ def _label(step):
 
 
 def _identified(result, bounds):
-    """``{joint: (value, interval, note)}`` of every corrected joint, at its last correction.
+    """``{joint: (value, interval, note)}`` of every corrected joint, at the end of the run.
 
     The note is ``>= a`` when the cost stays within 1 % of its minimum up to the upper bound
     (a stiff joint: only a lower bound is identifiable), ``<= b`` for the lower bound (a
     near-hinge: only an upper bound), empty otherwise.
     """
     out = {}
-    for step in result.steps:
-        if step.selected is None or step.interval is None:
-            continue
-        low, high = step.interval
-        value = result.parameters[step.selected]["log10_stiffness"]
+    for joint, (low, high) in result.intervals.items():
         note = ""
         if high >= bounds[1] - 1e-9 and low > bounds[0] + 1e-9:
             note = f">= {low:.2f}"
         elif low <= bounds[0] + 1e-9 and high < bounds[1] - 1e-9:
             note = f"<= {high:.2f}"
-        out[step.selected] = (value, (low, high), note)
+        out[joint] = (result.parameters[joint]["log10_stiffness"], (low, high), note)
     return out
 
 
@@ -79,10 +75,15 @@ def steps_table(result, title, bounds=None):
     return table
 
 
-def result_json(result, extra=None):
-    """The contract's JSON: ``{"steps": [...], ...}`` plus the status."""
+def result_json(result, extra=None, bounds=None):
+    """The contract's JSON: ``{"steps": [...], ...}``, the status and the identified values."""
     out = {"steps": [step.to_json() for step in result.steps], "status": result.status,
            "message": result.message}
+    if bounds is not None:
+        out["identified"] = {
+            joint: {"log10_stiffness": value, "interval": list(interval),
+                    "only": {">": "lower bound", "<": "upper bound"}.get(note[:1])}
+            for joint, (value, interval, note) in _identified(result, bounds).items()}
     out.update(extra or {})
     return out
 

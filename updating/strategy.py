@@ -40,7 +40,7 @@ from scipy import optimize
 from updating.cost import log_grid
 
 __all__ = ["Step", "UpdateResult", "TERMINATION_MESSAGES", "correct_joint", "update_joints",
-           "localise", "flat_interval"]
+           "localise", "flat_interval", "identification_intervals"]
 
 TERMINATION_MESSAGES = {
     0: "no joint's residual stands out of the noise and discretisation floor, and re-correcting "
@@ -109,6 +109,7 @@ class UpdateResult:
     status: int
     message: str
     parameters: dict = field(default_factory=dict)
+    intervals: dict = field(default_factory=dict)  # corrected joint -> final (low, high)
 
     @property
     def success(self) -> bool:
@@ -271,4 +272,30 @@ def update_joints(problem, settings, noise=0.0, start=None, on_step=None, on_cor
         steps.append(step)
         if on_step:
             on_step(step)
-    return UpdateResult(tuple(steps), status, TERMINATION_MESSAGES[status], steps[-1].parameters)
+    final = steps[-1].parameters
+    return UpdateResult(tuple(steps), status, TERMINATION_MESSAGES[status], final,
+                        identification_intervals(problem, final, sorted(corrected),
+                                                 settings.bounds))
+
+
+def identification_intervals(problem, parameters, joints, bounds):
+    """``{joint: (low, high)}``: the log10 k range each joint's cost cannot tell from its value.
+
+    Scanned with every other joint at its final value: the interval recorded when a joint was
+    corrected is stale once its neighbours have moved (a joint corrected while the others were
+    wrong looks sharply identified at a biased value).
+    """
+    out = {}
+    for joint in joints:
+        value = parameters[joint]["log10_stiffness"]
+
+        def cost(v, joint=joint):
+            trial = {j: dict(p) for j, p in parameters.items()}
+            trial[joint]["log10_stiffness"] = v
+            return problem.cost(trial)
+
+        grid = log_grid(bounds, SCAN_POINTS)
+        costs = np.array([cost(float(v)) for v in grid])
+        best = int(np.argmin(costs))
+        out[joint] = flat_interval(grid, costs, best, value, min(cost(value), float(costs[best])))
+    return out
