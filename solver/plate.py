@@ -41,7 +41,7 @@ nodes whose wave vectors have equal components up to sign share
 this). The exponentials then cost about :math:`Q\,n_{nodes}/4` per pair of edges, instead of
 :math:`Q\,n_{nodes}` per edge point by point or :math:`n_{nodes}^2` per edge in closed form.
 Every term, corners included, has the form :math:`\sigma A^H\mathrm{diag}(\omega)[B \mid d]`,
-so :math:`K` and :math:`F` come out of one matrix product per term. :math:`K_n(w_p)` is
+so :math:`K` and :math:`F` come out of one matrix product of the stacked terms. :math:`K_n(w_p)` is
 integrated by parts along the edge (:math:`\int K_n\varphi^* = \int Q_n\varphi^*
 - \int M_{nt}\partial_s\varphi^* + [M_{nt}\varphi^*]`) so no third derivative of the Green
 function is needed.
@@ -416,7 +416,8 @@ def assemble_plate(problem: PlateProblem, boundary: PlateBoundary):
     r"""VTCR matrix and right-hand side of one plate (see the module docstring).
 
     :math:`[K \mid F] = \sum\sigma A^H\mathrm{diag}(\omega)\,[B \mid d]` over the terms of
-    :func:`_boundary_terms`.
+    :func:`_boundary_terms`, done as one matrix product: the (conjugated) test traces and the
+    weighted trial traces with their data are stacked, term after term, into two arrays.
 
     Returns
     -------
@@ -424,12 +425,18 @@ def assemble_plate(problem: PlateProblem, boundary: PlateBoundary):
     F : ndarray of complex, shape (n_dof,)
     """
     n = boundary.corner_w.shape[1]
-    product = np.zeros((n, n + 1), dtype=complex)
-    for sigma, weights, test, trial, d in _boundary_terms(problem, boundary):
-        weighted = np.empty((len(weights), n + 1), dtype=complex)
-        np.multiply(trial, (sigma * weights)[:, None], out=weighted[:, :n])
-        weighted[:, n] = sigma * weights * d
-        product += test.conj().T @ weighted
+    terms = list(_boundary_terms(problem, boundary))
+    rows = sum(len(weights) for _, weights, *_ in terms)
+    tests = np.empty((rows, n), dtype=complex)
+    trials = np.empty((rows, n + 1), dtype=complex)
+    start = 0
+    for sigma, weights, test, trial, d in terms:
+        block = slice(start, start + len(weights))
+        start = block.stop
+        np.conjugate(test, out=tests[block])
+        np.multiply(trial, (sigma * weights)[:, None], out=trials[block, :n])
+        trials[block, n] = sigma * weights * d
+    product = tests.T @ trials
     K, F = product[:, :n], product[:, n]
     for i, name in enumerate(EDGES):
         for sigma, _, trial_key, _ in _edge_terms(problem.condition(name)):

@@ -399,9 +399,11 @@ def line_exponentials(basis, axis, u, offsets):
     :math:`u \to U - u` when :math:`a_q` changes sign; the rectangle's symmetries make many
     nodes share :math:`\pm a_q` exactly (both segments of a pair of opposite edges, both
     signs of the propagating edge rays, :math:`\pm\beta`, the interior rays at
-    :math:`\pm\theta` and :math:`\theta+\pi`), so the exponentials cost
-    ``len(u)`` per distinct :math:`\pm a_q` (about a quarter of the nodes) plus one per
-    (node, segment), instead of ``len(u)`` per (node, segment).
+    :math:`\pm\theta` and :math:`\theta+\pi`). The points are symmetric too, so half of
+    the :math:`G` values are a division, :math:`e^{a(U - u)} = e^{aU}/e^{au}`, where both
+    exponentials are normal numbers (:math:`\mathrm{Re}(a)U \ge -700`). The exponentials
+    then cost ``len(u)/2`` per distinct :math:`\pm a_q` (about a quarter of the nodes) plus
+    one per (node, segment), instead of ``len(u)`` per (node, segment).
 
     Parameters
     ----------
@@ -426,14 +428,22 @@ def line_exponentials(basis, axis, u, offsets):
     # -a always anchor at opposite ends and meet in one canonical value, with Re <= 0)
     far = (a.real > 0) | ((a.real == 0) & (a.imag > 0))
     distinct, index = np.unique(np.where(far, -a, a), return_inverse=True)
-    n_distinct = len(distinct)
-    g = np.empty((len(u), 2 * n_distinct), dtype=complex)
-    np.multiply.outer(u, distinct, out=g[:, :n_distinct])
-    np.exp(g[:, :n_distinct], out=g[:, :n_distinct])
+    n_u, n_distinct = len(u), len(distinct)
+    g = np.empty((n_u, 2 * n_distinct), dtype=complex)
+    n_head = n_u - n_u // 2
+    head, tail = g[:n_head, :n_distinct], g[n_head:, :n_distinct]
+    np.multiply.outer(u[:n_head], distinct, out=head)
+    np.exp(head, out=head)
+    # the points past U/2 mirror those before: e^{a(U - u)} = e^{aU} / e^{au}, a division
+    # instead of an exponential while e^{aU} (and so e^{au}, u <= U/2) is a normal number
+    shallow = distinct.real * u[-1] >= -700.0
+    tail[:, shallow] = np.exp(u[-1] * distinct[shallow]) / head[n_u // 2 - 1::-1, shallow]
+    tail[:, ~shallow] = np.exp(np.multiply.outer(u[n_head:], distinct[~shallow]))
     # a node anchored at U reads g at U - u, i.e. in reverse order
     g[:, n_distinct:] = g[::-1, :n_distinct]
     shared = g.take(index.ravel() + far * n_distinct, axis=1)
     anchor = np.where(far, u[-1], 0.0)
-    exponent = (anchor - basis.origin[:, axis]) * a \
-        + (np.asarray(offsets, dtype=float)[:, None] - basis.origin[None, :, other]) * basis.k[:, other]
+    offsets = np.asarray(offsets, dtype=float)[:, None]
+    exponent = ((anchor - basis.origin[:, axis]) * a
+                + (offsets - basis.origin[:, other]) * basis.k[:, other])
     return shared, np.exp(exponent)

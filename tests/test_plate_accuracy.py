@@ -219,7 +219,9 @@ def test_unit_system_invariance():
 
     Stresses in N/mm^2 (E * 1e-6), density in t/mm^3 (rho * 1e-12), lengths in mm, forces in
     N, line loads in N/mm. The ray counts and quadratures depend only on kappa0 L, so the two
-    discretisations are the same and the agreement is to round-off (1e-9).
+    discretisations are the same and the agreement is to round-off amplified by the condition
+    of this clamped-free plate (rcond 2e-11): perturbing the matrix entries by 1e-15 relative
+    moves the difference anywhere from 3e-10 to 1.4e-9, hence 1e-8; a unit error is O(1).
     """
     si = solve_case(load_case_text(description(1.0, 1.0)))
     mm = solve_case(load_case_text(description(1e-3, 1e3)))
@@ -227,4 +229,4 @@ def test_unit_system_invariance():
     w_si = si.w("P1", points)
     w_mm = mm.w("P1", points * 1e3)
     assert si.n_unknowns == mm.n_unknowns
-    assert np.abs(w_mm - 1e3 * w_si).max() <= 1e-9 * np.abs(1e3 * w_si).max()
+    assert np.abs(w_mm - 1e3 * w_si).max() <= 1e-8 * np.abs(1e3 * w_si).max()
