@@ -330,10 +330,11 @@ def cmd_update(args):
     console.print(f"{n_rays} ray unknowns, {n_s} interface unknowns, {n_g} constraints; "
                   f"set-up {t1 - t0:.2f} s, updating {t2 - t1:.2f} s; run file {run.path}")
     factorisations = problem.factorisation_seconds
-    console.print(f"one E_mod^2(p) evaluation ({len(factorisations)} frequencies): "
+    n_f = len(factorisations)
+    console.print(f"one E_mod^2(p) evaluation ({n_f} frequenc{'ies' if n_f > 1 else 'y'}): "
                   f"{1e3 * problem.evaluation_seconds(result.parameters):.1f} ms; one "
                   f"factorisation of the admissibility system: "
-                  f"{1e3 * sum(factorisations.values()) / len(factorisations):.1f} ms per "
+                  f"{1e3 * sum(factorisations.values()) / n_f:.1f} ms per "
                   "frequency")
     if args.json:
         write_json_atomic(args.json, result_json(result, {"case": case.name}, bounds))
