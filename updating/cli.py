@@ -344,7 +344,9 @@ def cmd_update(args):
         from updating.plots import write_update_figures
 
         t3 = time.perf_counter()
-        paths = write_update_figures(case, problem, measurements, result, args.plot)
+        with progress_bar(console, "figures", None) as advance:
+            paths = write_update_figures(case, problem, measurements, result, args.plot,
+                                         on_work=lambda label: advance(label))
         console.print(f"{len(paths)} figures written to {args.plot} "
                       f"({time.perf_counter() - t3:.1f} s): {', '.join(p.name for p in paths)}")
     return 0

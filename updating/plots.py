@@ -447,7 +447,7 @@ def spatial_rms(values):
 
 
 def frequency_response_data(case, parameter_sets, frequencies, points, measured=None,
-                            analysed=(), resolution=None):
+                            analysed=(), resolution=None, on_frequency=None):
     """Spatial RMS of the model response at ``points`` for several joint parameter sets.
 
     One parameter-independent system per frequency
@@ -471,6 +471,8 @@ def frequency_response_data(case, parameter_sets, frequencies, points, measured=
         The measured frequencies (Hz), marked on the figure.
     resolution : float, optional
         Discretisation resolution (default the description's).
+    on_frequency : callable, optional
+        Called with each frequency once it is done (progress display).
 
     Returns
     -------
@@ -491,6 +493,8 @@ def frequency_response_data(case, parameter_sets, frequencies, points, measured=
             amplitudes = _direct_amplitudes(system, parameters, alpha)
             curves[label][i] = spatial_rms(_plate_w(system, amplitudes, pid, pts)
                                            for pid, pts in points.items())
+        if on_frequency:
+            on_frequency(float(frequency))
     measured = np.asarray([] if measured is None else measured, dtype=float)
     return FrequencyResponseData(frequencies, curves, tuple(analysed), measured)
 
@@ -769,7 +773,8 @@ def _corrected_joints(result):
 
 
 def write_update_figures(case, problem, measurements, result, directory, curve_points=41,
-                         frf_points=40, frf_width=0.1, quantity="abs", field_source="direct"):
+                         frf_points=40, frf_width=0.1, quantity="abs", field_source="direct",
+                         on_work=None):
     """Write the figures of an updating run into ``directory`` (created if needed).
 
     Parameters
@@ -787,6 +792,9 @@ def write_update_figures(case, problem, measurements, result, directory, curve_p
         Field maps of ``|w|`` or ``Re w``.
     field_source : {"direct", "modified"}
         See :func:`field_map_data`.
+    on_work : callable, optional
+        Called with a label before each cost curve and after each response-curve frequency
+        (progress display).
 
     Returns
     -------
@@ -817,6 +825,8 @@ def write_update_figures(case, problem, measurements, result, directory, curve_p
         marks = [final[joint]["log10_stiffness"], _true_log_k(case, joint)]
         lo, hi = case.updating.bounds
         grid = np.union1d(base_grid, [v for v in marks if v is not None and lo <= v <= hi])
+        if on_work:
+            on_work(f"cost curve of {joint}")
         rows = cost_curve(problem, final, joint, grid)
         data = cost_curve_data(rows, joint, identified=final[joint]["log10_stiffness"],
                                true=_true_log_k(case, joint),
@@ -842,8 +852,10 @@ def write_update_figures(case, problem, measurements, result, directory, curve_p
     if truth is not None:
         sets["true"] = truth
     measured_rms = [spatial_rms(v for _, v in measurements.data[f].values()) for f in analysed]
-    frf = frequency_response_data(case, sets, frequency_band(analysed, frf_width, frf_points),
-                                  points, measured_rms, analysed)
+    frf = frequency_response_data(
+        case, sets, frequency_band(analysed, frf_width, frf_points), points, measured_rms,
+        analysed, on_frequency=lambda f: on_work(f"response curve: {f:.1f} Hz") if on_work
+        else None)
     written.append(save_figure_atomic(
         draw_frequency_response(frf, f"{name}: spatial RMS of |w| over the measurement points"),
         directory / "frf.png"))
