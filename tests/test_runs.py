@@ -132,3 +132,14 @@ def test_progress_shows_only_on_a_terminal_and_not_when_quiet(terminal, quiet, s
         for _ in range(3):
             advance()
     assert ("correcting G7" in buffer.getvalue()) is shown
+
+
+def test_outputs_get_the_usual_permissions_and_no_temporary_is_left(tmp_path):
+    from updating.files import write_json_atomic
+
+    out = tmp_path / "out.json"
+    write_json_atomic(out, {"a": 1})
+    umask = os.umask(0)
+    os.umask(umask)
+    assert out.stat().st_mode & 0o777 == 0o666 & ~umask
+    assert [p.name for p in tmp_path.iterdir()] == ["out.json"]

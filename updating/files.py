@@ -19,15 +19,16 @@ import io
 import json
 import math
 import os
-import tempfile
+import secrets
+from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-__all__ = ["InputError", "Probes", "csv_rows", "output_path_problem", "parse_finite",
-           "plate_point", "point_problem", "read_csv_table", "read_probes", "write_json_atomic",
-           "write_text_atomic"]
+__all__ = ["InputError", "Probes", "atomic_output", "csv_rows", "output_path_problem",
+           "parse_finite", "plate_point", "point_problem", "read_csv_table", "read_probes",
+           "write_json_atomic", "write_text_atomic"]
 
 
 class InputError(ValueError):
@@ -283,18 +284,30 @@ def output_path_problem(path, option, inputs=()):
     return None
 
 
-def write_text_atomic(path, text):
-    """Write ``text`` to ``path`` through a temporary file and a rename (never half-written)."""
+@contextmanager
+def atomic_output(path, binary=False):
+    """Yield a handle on a temporary file beside ``path``, renamed onto it on success.
+
+    A reader never sees a half-written file, and an interruption (Ctrl-C, crash) leaves the
+    previous file, if any, intact. The temporary file is created with mode "x", so it gets the
+    usual permissions (umask), unlike :func:`tempfile.mkstemp`'s 0600.
+    """
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    tmp = path.parent / f".{path.name}.{os.getpid()}.{secrets.token_hex(4)}.tmp"
     try:
-        with os.fdopen(fd, "w") as handle:
-            handle.write(text)
+        with open(tmp, "xb" if binary else "x") as handle:
+            yield handle
         os.replace(tmp, path)
     except BaseException:
-        Path(tmp).unlink(missing_ok=True)
+        tmp.unlink(missing_ok=True)
         raise
+
+
+def write_text_atomic(path, text):
+    """Write ``text`` to ``path`` atomically (:func:`atomic_output`)."""
+    with atomic_output(path) as handle:
+        handle.write(text)
 
 
 def write_json_atomic(path, data):

@@ -36,7 +36,6 @@ from __future__ import annotations
 
 import math
 import os
-import secrets
 import textwrap
 from dataclasses import dataclass
 from pathlib import Path
@@ -44,7 +43,7 @@ from pathlib import Path
 import numpy as np
 
 from updating.cost import channel_parameters, cost_curve, log_grid
-from updating.files import InputError
+from updating.files import InputError, atomic_output
 
 __all__ = [
     "MISSING_MATPLOTLIB",
@@ -747,16 +746,8 @@ def draw_frequency_response(data, title=""):
 def save_figure_atomic(figure, path, dpi=120):
     """Write ``figure`` as PNG through a temporary file in the same directory and a rename."""
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    # "xb" creates the file with the usual permissions (umask), unlike mkstemp's 0600
-    tmp = path.parent / f".{path.name}.{os.getpid()}.{secrets.token_hex(4)}.tmp"
-    try:
-        with open(tmp, "xb") as handle:
-            figure.savefig(handle, format="png", dpi=dpi)
-        os.replace(tmp, path)
-    except BaseException:
-        tmp.unlink(missing_ok=True)
-        raise
+    with atomic_output(path, binary=True) as handle:
+        figure.savefig(handle, format="png", dpi=dpi)
     return path
 
 
