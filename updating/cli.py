@@ -29,10 +29,13 @@ def _console(args):
     return Console(quiet=getattr(args, "quiet", False), highlight=False, width=width)
 
 
-def _load(path):
+def _load(args):
+    """The description of ``args.case``, loaded and validated once per command."""
     from assembly import load_case
 
-    return load_case(path)
+    if getattr(args, "case_model", None) is None:
+        args.case_model = load_case(args.case)
+    return args.case_model
 
 
 def _frequencies(case, args):
@@ -44,7 +47,7 @@ def _frequencies(case, args):
 def cmd_check(args):
     from assembly import summarise
 
-    case = _load(args.case)
+    case = _load(args)
     _console(args).print(summarise(case))
     return 0
 
@@ -107,7 +110,7 @@ def _check_description(args):
     if not getattr(args, "case", None):
         return
     frequency = getattr(args, "frequency", None)
-    for line in check_description(_load(args.case), args.case,
+    for line in check_description(_load(args), args.case,
                                   None if frequency is None else (frequency,),
                                   need_loads=args.command != "check"):
         _warn(_console(args), line)
@@ -152,7 +155,7 @@ def cmd_solve(args):
     from solver import field_grid, solve_case
     from updating.files import read_probes, write_json_atomic
 
-    case = _load(args.case)
+    case = _load(args)
     probes = read_probes(args.probes, case) if args.probes else None
     console = _console(args)
     results = []
@@ -229,7 +232,7 @@ def _measurement_options(parser):
 def cmd_simulate(args):
     from updating.measurements import simulate_measurements, write_measurements
 
-    case = _load(args.case)
+    case = _load(args)
     measurements = simulate_measurements(case, noise=args.noise, seed=args.seed)
     write_measurements(args.out, measurements)
     _console(args).print(f"{measurements.count()} simulated values at "
@@ -238,10 +241,13 @@ def cmd_simulate(args):
     return 0
 
 
-def _modified_problem(case, args):
+def _modified_problem(case, args, measurements=None):
+    """The updating problem on ``measurements`` (default: read or simulated per ``args``)."""
     from updating.cost import ModifiedProblem
 
-    problem = ModifiedProblem(case, _checked_measurements(case, args))
+    if measurements is None:
+        measurements = _checked_measurements(case, args)
+    problem = ModifiedProblem(case, measurements)
     _problem_warnings(args, problem)
     return problem
 
@@ -250,7 +256,7 @@ def cmd_localise(args):
     from updating.files import write_json_atomic
     from updating.strategy import localise
 
-    case = _load(args.case)
+    case = _load(args)
     problem = _modified_problem(case, args)
     step = localise(problem, problem.initial_parameters(), noise=case.measurement.noise)
     table = Table(title=f"{case.name}: joint residuals (E_mod^2 = {100 * step.e_mod:.3f} %)")
@@ -288,14 +294,13 @@ def _run_path(args):
 def cmd_update(args):
     import time
 
-    from updating.cost import ModifiedProblem
     from updating.files import write_json_atomic, write_text_atomic
     from updating.progress import progress_bar
     from updating.report import identified_lines, result_json, result_markdown, steps_table
     from updating.runfile import RunFile, fingerprint, load_run
     from updating.strategy import update_joints
 
-    case = _load(args.case)
+    case = _load(args)
     console = _console(args)
     if args.plot:
         from updating.plots import require_matplotlib
@@ -308,8 +313,7 @@ def cmd_update(args):
         run = load_run(args.resume, case.name, digests)
     else:
         run = RunFile(_run_path(args), case.name, digests)
-    problem = ModifiedProblem(case, measurements)
-    _problem_warnings(args, problem)
+    problem = _modified_problem(case, args, measurements)
     t1 = time.perf_counter()
     settings = case.updating
     with progress_bar(console, "localising", settings.max_steps + 1) as advance:
@@ -363,12 +367,11 @@ def cmd_curve(args):
     import csv
     import io
 
-    import numpy as np
-
-    from updating.cost import cost_curve
+    from updating.cost import cost_curve, log_grid
     from updating.files import InputError, write_text_atomic
+    from updating.progress import progress_bar
 
-    case = _load(args.case)
+    case = _load(args)
     if args.joint not in case.joints:
         raise InputError(f"--joint {args.joint}: not a joint of {args.case} "
                          f"(joints: {', '.join(case.joints)}); give one of them")
@@ -377,12 +380,9 @@ def cmd_curve(args):
 
         require_matplotlib()
     problem = _modified_problem(case, args)
-    lo, hi = case.updating.bounds
-    from updating.progress import progress_bar
-
     with progress_bar(_console(args), f"cost curve of {args.joint}", args.points) as advance:
         rows = cost_curve(problem, problem.initial_parameters(), args.joint,
-                          np.linspace(lo, hi, args.points), on_point=advance)
+                          log_grid(case.updating.bounds, args.points), on_point=advance)
     table = Table(title=f"{case.name}: cost against log10 k of {args.joint}")
     header = ("log10_stiffness", "e_mod", "e_int", "e_mes", "e_joint")
     for column in header:

@@ -37,9 +37,35 @@ from solver.substructure import (
     solve_reduced,
 )
 
-__all__ = ["ModifiedProblem", "Evaluation", "channel_parameters", "PARAMETER_NAMES"]
+__all__ = ["ModifiedProblem", "Evaluation", "channel_parameters", "case_parameters",
+           "with_joint", "direct_interface", "joint_energies", "PARAMETER_NAMES"]
 
 PARAMETER_NAMES = ("log10_stiffness", "loss_factor", "mass")
+
+
+def case_parameters(case):
+    """``{joint: {log10_stiffness, loss_factor, mass}}`` of a description's joints."""
+    return {jid: {"log10_stiffness": j.log10_stiffness, "loss_factor": j.loss_factor,
+                  "mass": j.mass} for jid, j in case.joints.items()}
+
+
+def with_joint(parameters, joint, **values):
+    """A copy of ``parameters`` with ``values`` set on ``joint`` (the others untouched)."""
+    trial = {jid: dict(p) for jid, p in parameters.items()}
+    trial[joint].update(values)
+    return trial
+
+
+def direct_interface(system, energies, alpha):
+    r"""Interface unknowns S of the model response (r = 0): minimise the weighted joint error
+    :math:`\sum\alpha_\Gamma z^HQ_\Gamma z` under admissibility, as
+    :func:`solver.substructure.solve_assembly` does, on an already built system."""
+    return solve_reduced(system, sum(alpha[jid] * q for jid, q in energies.items()))
+
+
+def joint_energies(system, parameters):
+    """``{joint: Q_Gamma}`` of one frequency's system at ``parameters``."""
+    return joint_energy_matrices(system, channel_parameters(parameters, system.omega))
 
 
 def channel_parameters(parameters, omega):
@@ -115,12 +141,14 @@ class ModifiedProblem:
 
     def initial_parameters(self):
         """``{joint: {log10_stiffness, loss_factor, mass}}`` of the model."""
-        return {jid: {"log10_stiffness": j.log10_stiffness, "loss_factor": j.loss_factor,
-                      "mass": j.mass} for jid, j in self.case.joints.items()}
+        return case_parameters(self.case)
 
-    def _solve(self, data, parameters, gram):
+    def _energies(self, parameters):
+        """``{frequency: {joint: Q_Gamma}}`` at ``parameters``."""
+        return {f: joint_energies(d.system, parameters) for f, d in self.frequencies.items()}
+
+    def _solve(self, data, energies, gram):
         system = data.system
-        energies = joint_energy_matrices(system, channel_parameters(parameters, system.omega))
         interface = sum(self.alpha[jid] * q for jid, q in energies.items()) / system.e_ref
         cost = (1.0 - self.r) * interface + self.r * gram
         s = solve_reduced(system, cost)
@@ -135,11 +163,14 @@ class ModifiedProblem:
         ``grams`` (``{frequency: gram}``, see :meth:`synthetic_grams`) replaces the measured
         data by other data on the same points.
         """
+        return self._evaluate(parameters, self._energies(parameters), grams)
+
+    def _evaluate(self, parameters, energies, grams=None):
         residuals = dict.fromkeys(self.joints, 0.0)
         e_mes, interfaces = 0.0, {}
         for frequency, data in self.frequencies.items():
             gram = data.gram if grams is None else grams[frequency]
-            s, res, mes = self._solve(data, parameters, gram)
+            s, res, mes = self._solve(data, energies[frequency], gram)
             interfaces[frequency] = s
             e_mes += mes
             for jid, value in res.items():
@@ -165,31 +196,30 @@ class ModifiedProblem:
         measurements would be if the model were right and only the stated noise were at work.
         Returns ``realisations`` dicts ``{frequency: gram}``.
         """
+        return self._synthetic_grams(self._energies(parameters), noise, seed, realisations)
+
+    def _synthetic_grams(self, energies, noise, seed, realisations):
         rng = np.random.default_rng(seed)
-        predictions = {}
-        for frequency, data in self.frequencies.items():
-            energies = joint_energy_matrices(
-                data.system, channel_parameters(parameters, data.system.omega))
-            s0 = solve_reduced(data.system, sum(self.alpha[j] * q for j, q in energies.items()))
-            predictions[frequency] = data.operator @ s0 + data.offset
-        grams = []
-        for _ in range(realisations):
-            grams.append({
-                f: _measurement_gram(self.frequencies[f].operator, self.frequencies[f].offset,
-                                     w * (1.0 + rng.uniform(-noise, noise, w.shape)))
-                for f, w in predictions.items()})
-        return grams
+        predictions = {
+            f: d.operator @ direct_interface(d.system, energies[f], self.alpha) + d.offset
+            for f, d in self.frequencies.items()}
+        return [{f: _measurement_gram(self.frequencies[f].operator, self.frequencies[f].offset,
+                                      w * (1.0 + rng.uniform(-noise, noise, w.shape)))
+                 for f, w in predictions.items()}
+                for _ in range(realisations)]
 
     def noise_floor(self, parameters, noise, seed=0, realisations=4):
         """What a correct model would show under measurement noise alone.
 
         Means over :meth:`synthetic_grams` realisations: ``({joint: E_Gamma^2}, E_mod^2)``, the
         levels below which a joint's residual, and the cost, cannot be told from noise and
-        discretisation error.
+        discretisation error. The joint energies at ``parameters`` are built once and serve
+        every realisation.
         """
+        energies = self._energies(parameters)
         floors, e_mod = dict.fromkeys(self.joints, 0.0), 0.0
-        for grams in self.synthetic_grams(parameters, noise, seed, realisations):
-            evaluation = self.evaluate(parameters, grams)
+        for grams in self._synthetic_grams(energies, noise, seed, realisations):
+            evaluation = self._evaluate(parameters, energies, grams)
             e_mod += evaluation.e_mod / realisations
             for jid, value in evaluation.residuals.items():
                 floors[jid] += value / realisations
@@ -247,9 +277,7 @@ def cost_curve(problem, parameters, joint, values, on_point=None):
     """
     rows = []
     for value in values:
-        trial = {jid: dict(p) for jid, p in parameters.items()}
-        trial[joint]["log10_stiffness"] = float(value)
-        ev = problem.evaluate(trial)
+        ev = problem.evaluate(with_joint(parameters, joint, log10_stiffness=float(value)))
         rows.append((float(value), ev.e_mod, ev.e_int, ev.e_mes, ev.residuals[joint]))
         if on_point:
             on_point()

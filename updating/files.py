@@ -26,9 +26,9 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["InputError", "Probes", "atomic_output", "csv_rows", "output_path_problem",
-           "parse_finite", "plate_point", "point_problem", "read_csv_table", "read_probes",
-           "write_json_atomic", "write_text_atomic"]
+__all__ = ["InputError", "Probes", "atomic_output", "output_path_problem", "parse_finite",
+           "plate_point", "point_key", "point_problem", "read_csv_table", "read_probes",
+           "too_many_cells", "write_json_atomic", "write_text_atomic"]
 
 
 class InputError(ValueError):
@@ -85,12 +85,6 @@ def plate_point(path, row_number, case, plate_id, row):
     return x, y
 
 
-def csv_rows(reader):
-    """``(row number, {column: stripped text})`` of a csv.DictReader (its line numbers)."""
-    for raw in reader:
-        yield reader.line_num, {k.strip(): (v or "").strip() for k, v in raw.items() if k}
-
-
 def _read_text(path, what, header):
     """The text of a CSV file (a UTF-8 byte-order mark removed), or :class:`InputError`."""
     hint = f"give an existing CSV file with the header {header}"
@@ -140,17 +134,11 @@ def read_csv_table(path, what, columns, optional=()):
         caller's row problems (yielded as ``(row, None)``).
     """
     header_text = ",".join(columns)
-    text = _read_text(path, what, header_text)
-    if not text.strip():
+    reader = csv.reader(io.StringIO(_read_text(path, what, header_text)))
+    first = next((cells for cells in reader if any(cell.strip() for cell in cells)), None)
+    if first is None:
         raise InputError(f"{path}: the {what} file is empty; write the header {header_text} "
                          "and one row per point")
-    reader = csv.reader(io.StringIO(text))
-    first = next(reader, [])
-    while not any(cell.strip() for cell in first):
-        first = next(reader, None)
-        if first is None:
-            raise InputError(f"{path}: the {what} file is empty; write the header "
-                             f"{header_text} and one row per point")
     header = [cell.strip().lower() for cell in first]
     joined = ",".join(first)
     for separator, name in ((";", "semicolons"), ("\t", "tabs")):
@@ -195,12 +183,12 @@ def read_csv_table(path, what, columns, optional=()):
     return tuple(index), rows()
 
 
-def _too_many_cells(path, number, columns):
+def too_many_cells(path, number, columns):
     return (f"{path}: row {number}: more cells than the header's columns; remove the extra "
             f"cells (or the thousands separators), one point per row {','.join(columns)}")
 
 
-def _point_key(plate_id, x, y, *rest):
+def point_key(plate_id, x, y, *rest):
     """A key that identifies a point up to 1e-9 m (the precision of written CSV values)."""
     return (plate_id, round(x, 9), round(y, 9), *rest)
 
@@ -220,7 +208,7 @@ def read_probes(path, case):
     _, table = read_csv_table(path, "probe", columns)
     for number, row in table:
         if row is None:
-            problems.append(_too_many_cells(path, number, columns))
+            problems.append(too_many_cells(path, number, columns))
             continue
         plate_id = row["plate"]
         try:
@@ -228,7 +216,7 @@ def read_probes(path, case):
         except InputError as err:
             problems.extend(err.lines)
             continue
-        key = _point_key(plate_id, x, y)
+        key = point_key(plate_id, x, y)
         if key in seen:
             problems.append(f"{path}: row {number}: repeats the point of row {seen[key]} "
                             f"({plate_id}, {x:g}, {y:g}); remove one of the rows")

@@ -19,8 +19,10 @@ from solver import solve_case
 from updating.files import (
     InputError,
     parse_finite,
+    point_key,
     point_problem,
     read_csv_table,
+    too_many_cells,
     write_text_atomic,
 )
 
@@ -115,8 +117,7 @@ def read_measurements(path, case):
     problems, rows, seen = [], {}, {}
     for number, row in table:
         if row is None:
-            problems.append(f"{path}: row {number}: more cells than the header's columns; "
-                            "remove the extra cells, one point per row plate,x,y,re,im")
+            problems.append(too_many_cells(path, number, columns))
             continue
         pid = row["plate"]
         try:
@@ -140,7 +141,7 @@ def read_measurements(path, case):
                             f"a frequency of the description {list(case.frequencies)}; add it "
                             "there or remove the row")
             continue
-        key = (pid, round(x, 9), round(y, 9), match[0])
+        key = point_key(pid, x, y, match[0])
         if key in seen:
             problems.append(f"{path}: row {number}: repeats the point of row {seen[key]} "
                             f"({pid}, {x:g}, {y:g} at {match[0]:g} Hz); keep one row per "

@@ -41,7 +41,13 @@ from pathlib import Path
 
 import numpy as np
 
-from updating.cost import channel_parameters, cost_curve, log_grid
+from updating.cost import (
+    case_parameters,
+    cost_curve,
+    direct_interface,
+    joint_energies,
+    log_grid,
+)
 from updating.files import InputError, atomic_output
 
 __all__ = [
@@ -79,17 +85,11 @@ def require_matplotlib():
     return matplotlib
 
 
-def _case_parameters(case):
-    """``{joint: {log10_stiffness, loss_factor, mass}}`` of a description's joints."""
-    return {jid: {"log10_stiffness": j.log10_stiffness, "loss_factor": j.loss_factor,
-                  "mass": j.mass} for jid, j in case.joints.items()}
-
-
 def _true_parameters(case):
     """Joint parameters of ``[truth.joints]`` (None when the description has none)."""
     if not case.truth.joints:
         return None
-    return _case_parameters(case.true_case())
+    return case_parameters(case.true_case())
 
 
 def _true_log_k(case, joint):
@@ -98,16 +98,9 @@ def _true_log_k(case, joint):
 
 
 def _direct_amplitudes(system, parameters, alpha):
-    """Plate amplitudes of the model response (r = 0) for joint ``parameters``.
-
-    The same minimisation of the weighted interface error under admissibility as
-    :func:`solver.substructure.solve_assembly`, on an already built system.
-    """
-    from solver.substructure import joint_energy_matrices, solve_reduced
-
-    energies = joint_energy_matrices(system, channel_parameters(parameters, system.omega))
-    cost = sum(alpha[jid] * q for jid, q in energies.items())
-    return system.plate_amplitudes(solve_reduced(system, cost))
+    """Plate amplitudes of the model response (r = 0) for joint ``parameters``."""
+    return system.plate_amplitudes(
+        direct_interface(system, joint_energies(system, parameters), alpha))
 
 
 def _plate_w(system, amplitudes, plate_id, points):

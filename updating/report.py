@@ -16,31 +16,29 @@ def _label(step):
 
 
 def _identified(result, bounds):
-    """``{joint: (value, interval, note)}`` of every corrected joint, at the end of the run.
+    """``{joint: (value, (low, high), bound)}`` of every corrected joint, at the end of the run.
 
-    The note is ``>= a`` when the cost stays within 1 % of its minimum up to the upper bound
-    (a stiff joint: only a lower bound is identifiable), ``<= b`` for the lower bound (a
-    near-hinge: only an upper bound), empty otherwise.
+    ``bound`` is ``"lower"`` when the cost stays within 1 % of its minimum up to the upper
+    bound (a stiff joint: only a lower bound, ``low``, is identifiable), ``"upper"`` for the
+    lower bound (a near-hinge: only ``high``), None otherwise.
     """
     out = {}
     for joint, (low, high) in result.intervals.items():
-        note = ""
-        if high >= bounds[1] - 1e-9 and low > bounds[0] + 1e-9:
-            note = f">= {low:.2f}"
-        elif low <= bounds[0] + 1e-9 and high < bounds[1] - 1e-9:
-            note = f"<= {high:.2f}"
-        out[joint] = (result.parameters[joint]["log10_stiffness"], (low, high), note)
+        at_low, at_high = low <= bounds[0] + 1e-9, high >= bounds[1] - 1e-9
+        bound = "lower" if at_high and not at_low else "upper" if at_low and not at_high else None
+        out[joint] = (result.parameters[joint]["log10_stiffness"], (low, high), bound)
     return out
 
 
 def identified_lines(result, bounds, truth=None):
     """One line per corrected joint: value, interval within 1 % of the optimum, bound notes."""
     lines = []
-    for joint, (value, (low, high), note) in sorted(_identified(result, bounds).items()):
+    for joint, (value, (low, high), bound) in sorted(_identified(result, bounds).items()):
         text = f"{joint}: log10 k = {value:.2f}, within 1 % of the optimum on [{low:.2f}, {high:.2f}]"
-        if note:
-            text += f"; only {'a lower' if note.startswith('>') else 'an upper'} bound is " \
-                    f"identifiable: {note}"
+        if bound == "lower":
+            text += f"; only a lower bound is identifiable: >= {low:.2f}"
+        elif bound == "upper":
+            text += f"; only an upper bound is identifiable: <= {high:.2f}"
         if truth and joint in truth:
             text += f" (true {truth[joint]:.2f})"
         lines.append(text)
@@ -82,8 +80,8 @@ def result_json(result, extra=None, bounds=None):
     if bounds is not None:
         out["identified"] = {
             joint: {"log10_stiffness": value, "interval": list(interval),
-                    "only": {">": "lower bound", "<": "upper bound"}.get(note[:1])}
-            for joint, (value, interval, note) in _identified(result, bounds).items()}
+                    "only": bound and f"{bound} bound"}
+            for joint, (value, interval, bound) in _identified(result, bounds).items()}
     out.update(extra or {})
     return out
 

@@ -37,7 +37,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import optimize
 
-from updating.cost import log_grid
+from updating.cost import cost_curve, log_grid, with_joint
 
 __all__ = ["Step", "UpdateResult", "TERMINATION_MESSAGES", "correct_joint", "update_joints",
            "localise", "flat_interval", "identification_intervals"]
@@ -171,43 +171,38 @@ def correct_joint(problem, parameters, joint, bounds, identify=("stiffness",)):
     ``interval`` is the log10 k range that cannot be told from the optimum: the scanned values
     whose cost is within :data:`FLAT` of the minimum (:func:`flat_interval`).
     """
-
-    def with_value(**values):
-        trial = {j: dict(p) for j, p in parameters.items()}
-        trial[joint].update(values)
-        return trial
-
     value, minimum, grid, costs, best = _minimise_on_log_scale(
-        lambda v: problem.cost(with_value(log10_stiffness=v)), bounds, SCAN_POINTS)
+        lambda v: problem.cost(with_joint(parameters, joint, log10_stiffness=v)), bounds,
+        SCAN_POINTS)
     low, high = flat_interval(grid, costs, best, value, minimum)
-    updated = with_value(log10_stiffness=value)
+    updated = with_joint(parameters, joint, log10_stiffness=value)
     extra = [name for name in ("damping", "mass") if name in identify]
     if extra:
         updated = _optimise_more(problem, updated, joint, bounds, extra)
     return updated, (low, high)
 
 
+# optimisation variable of each joint parameter: (name, to variable, from variable, bounds);
+# the line mass is optimised on a log scale, as the stiffness (its bounds are the updating
+# bounds, given per call)
+_EXTRA_VARIABLES = {
+    "damping": ("loss_factor", float, float, (0.0, 10.0)),
+    "mass": ("mass", lambda m: np.log10(max(m, 1e-6)), lambda x: float(10.0**x), (-6.0, 1.0)),
+}
+
+
 def _optimise_more(problem, parameters, joint, bounds, extra):
     """Joint optimisation of log10 k with the loss factor and/or the log of the line mass."""
-    names = ["log10_stiffness"] + [{"damping": "loss_factor", "mass": "mass"}[e] for e in extra]
-    start, limits = [], []
-    for name in names:
-        value = parameters[joint][name]
-        if name == "log10_stiffness":
-            start.append(value), limits.append(tuple(bounds))
-        elif name == "loss_factor":
-            start.append(value), limits.append((0.0, 10.0))
-        else:
-            start.append(np.log10(max(value, 1e-6))), limits.append((-6.0, 1.0))
+    variables = [("log10_stiffness", float, float, tuple(bounds))]
+    variables += [_EXTRA_VARIABLES[e] for e in extra]
+    start = np.array([to_x(parameters[joint][name]) for name, to_x, _, _ in variables])
 
     def unpack(x):
-        trial = {j: dict(p) for j, p in parameters.items()}
-        for name, v in zip(names, x):
-            trial[joint][name] = float(10.0**v) if name == "mass" else float(v)
-        return trial
+        return with_joint(parameters, joint, **{
+            name: from_x(v) for (name, _, from_x, _), v in zip(variables, x)})
 
-    result = optimize.minimize(lambda x: problem.cost(unpack(x)), np.array(start),
-                               method="L-BFGS-B", bounds=limits)
+    result = optimize.minimize(lambda x: problem.cost(unpack(x)), start, method="L-BFGS-B",
+                               bounds=[limits for *_, limits in variables])
     return unpack(result.x)
 
 
@@ -285,17 +280,12 @@ def identification_intervals(problem, parameters, joints, bounds):
     corrected is stale once its neighbours have moved (a joint corrected while the others were
     wrong looks sharply identified at a biased value).
     """
+    grid = log_grid(bounds, SCAN_POINTS)
+    final = problem.cost(parameters)
     out = {}
     for joint in joints:
-        value = parameters[joint]["log10_stiffness"]
-
-        def cost(v, joint=joint):
-            trial = {j: dict(p) for j, p in parameters.items()}
-            trial[joint]["log10_stiffness"] = v
-            return problem.cost(trial)
-
-        grid = log_grid(bounds, SCAN_POINTS)
-        costs = np.array([cost(float(v)) for v in grid])
+        costs = np.array([row[1] for row in cost_curve(problem, parameters, joint, grid)])
         best = int(np.argmin(costs))
-        out[joint] = flat_interval(grid, costs, best, value, min(cost(value), float(costs[best])))
+        out[joint] = flat_interval(grid, costs, best, parameters[joint]["log10_stiffness"],
+                                   min(final, float(costs[best])))
     return out
