@@ -49,13 +49,14 @@ parameters, :math:`\tfrac12\omega^2\sum_i\rho_ih_i\int_{\Omega_i}|w_i|^2dA`, so 
 :math:`E_\Gamma^2` is dimensionless and unchanged by the unit system or the load level.
 
 Every residual sample is affine in :math:`S` and in the parameter :math:`c` (:math:`k^*` or
-:math:`\omega^2\mu`): :math:`r = (L S + l) - c\,(R S + \rho)`. With :math:`z = [S; 1]`, a channel's
-energy is :math:`z^H(G_{LL} - cG_{LR} - \bar cG_{RL} + |c|^2G_{RR})z / (2\,\mathrm{Re}\,c)`, where
-the Gram matrices :math:`G_{XY} = X^H\mathrm{diag}(\omega_q)Y` of the augmented samples are
-computed once. Assembling the cost for new parameters is a few scalar multiplications.
+:math:`\omega^2\mu`): :math:`r = (L S + l) - c\,(R S + \rho)`, and its samples involve only the
+interface unknowns that the joint's two plates see (their transfer operators :math:`T_i` span
+the unknowns of their own joints and corners). The samples (times the square roots of the
+Gauss weights) are stored per channel, so that memory grows linearly with the assembly;
+a cost for new parameters is a weighted sum of them (:meth:`Channel.block`).
 
 **Direct problem (r = 0).** Minimise :math:`E_{int}^2` subject to the constraints
-:math:`GS = g`: the KKT system :math:`[H\ G^H; G\ 0][S;\lambda] = [h; g]`. Its minimum is zero
+:math:`GS = g`, a sparse constrained least-squares problem (:mod:`solver.interface`). Its minimum is zero
 for the exact solution, so the minimiser is the assembly's forced response and the minimum is
 the discretisation floor.
 """
@@ -64,11 +65,10 @@ from __future__ import annotations
 
 import math
 import time
-import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
-import scipy.linalg
+import scipy.sparse
 
 from solver.plate import (
     PlateSolution,
@@ -79,6 +79,7 @@ from solver.plate import (
     evaluate_field,
     factorise_dense,
 )
+from solver.interface import Block, factorise_interface
 from solver.problems import plate_basis, plate_problem
 from solver.rays import EDGES
 
@@ -87,7 +88,8 @@ __all__ = [
     "AssemblySystem",
     "build_assembly_system",
     "joint_parameters",
-    "solve_reduced",
+    "channel_blocks",
+    "solve_interface",
     "solve_assembly",
     "interface_function_count",
 ]
@@ -113,45 +115,70 @@ def legendre_values(sigma, length, n):
 
 @dataclass(frozen=True)
 class Channel:
-    """One residual channel of one joint, as augmented Gram matrices.
+    r"""One residual channel of one joint, sampled at Gauss points of the joint line.
+
+    The residual is :math:`r = (LS + l) - c\,(RS + \rho)`; both parts are
+    :class:`solver.interface.Block` samples multiplied by :math:`\sqrt{\omega_q}` (the Gauss
+    weights), so that the channel's energy is :math:`\|r\|^2 / (2\,\mathrm{Re}\,c)`.
 
     Attributes
     ----------
     joint : str
     kind : {"rotation", "mass"}
-    gram : dict of str to ndarray of complex, shape (n_s + 1, n_s + 1)
-        ``"LL"``, ``"LR"``, ``"RR"`` (``"RL"`` is the adjoint of ``"LR"``).
+    load : Block
+        :math:`W^{1/2}(LS + l)`, over the joint's own load unknowns.
+    kinematic : Block
+        :math:`W^{1/2}(RS + \rho)`, over the interface unknowns its two plates see.
     """
 
     joint: str
     kind: str
-    gram: dict
+    load: Block
+    kinematic: Block
 
-    def energy_matrix(self, c):
-        r"""Augmented matrix :math:`Q(c)` with :math:`e^2 = z^HQz`, for parameter ``c``."""
-        g = self.gram
-        return (g["LL"] - c * g["LR"] - np.conj(c) * g["LR"].conj().T
-                + abs(c) ** 2 * g["RR"]) / (2.0 * c.real)
+    def samples(self, s, c):
+        """Weighted residual samples :math:`W^{1/2}r` at interface unknowns ``s``."""
+        return self.load.residual(s) - c * self.kinematic.residual(s)
+
+    def energy(self, s, c):
+        r""":math:`e^2 = \int|r|^2\,d\sigma / (2\,\mathrm{Re}\,c)` (J)."""
+        r = self.samples(s, c)
+        return float(np.vdot(r, r).real) / (2.0 * c.real)
+
+    def block(self, c, kappa):
+        r"""The rows :math:`\sqrt{\kappa/(2\mathrm{Re}\,c)}\,W^{1/2}r` as one Block over
+        :attr:`kinematic` ``.index`` (the load unknowns are a subset of it)."""
+        scale = math.sqrt(kappa / (2.0 * c.real))
+        matrix = -c * self.kinematic.matrix
+        matrix[:, np.searchsorted(self.kinematic.index, self.load.index)] += self.load.matrix
+        return Block(self.kinematic.index, scale * matrix,
+                     scale * (self.load.offset - c * self.kinematic.offset))
 
 
 @dataclass
 class AssemblySystem:
     """Everything about an assembly at one frequency that does not depend on the joint laws.
 
+    Data live where the physics lives: a plate's transfer operator spans the interface
+    unknowns of its own joints and corners, a channel's samples the unknowns its two plates
+    see; the size of each piece does not grow with the assembly.
+
     Attributes
     ----------
     frequency : float
         Hz.
     problems, bases : dict of str to PlateProblem / RayBasis
+    unknowns : dict of str to ndarray of int
+        Per plate, the (sorted) interface unknowns it sees.
     u0 : dict of str to ndarray, shape (n_i,)
         Plate amplitudes for ``S = 0``.
-    transfer : dict of str to ndarray, shape (n_i, n_s)
-        :math:`T_i`: plate amplitudes per unit interface unknown.
+    transfer : dict of str to ndarray, shape (n_i, len(unknowns[plate]))
+        :math:`T_i`: plate amplitudes per unit interface unknown of the plate.
     n_s : int
         Number of interface unknowns.
     layout : dict of str to dict of str to slice
         Position of each joint's unknown functions (``"C"``, ``"F"``, ``"FA"``, ``"FB"``) in S.
-    constraints : (ndarray, ndarray)
+    constraints : (scipy.sparse.csr_matrix, ndarray)
         :math:`G` (n_g, n_s) and :math:`g` (n_g,).
     channels : list of Channel
     rcond : dict of str to float
@@ -164,6 +191,7 @@ class AssemblySystem:
     frequency: float
     problems: dict
     bases: dict
+    unknowns: dict
     u0: dict
     transfer: dict
     n_s: int
@@ -180,11 +208,14 @@ class AssemblySystem:
 
     def plate_amplitudes(self, s):
         """Ray amplitudes of every plate for interface unknowns ``s``."""
-        return {pid: self.u0[pid] + self.transfer[pid] @ s for pid in self.problems}
+        return {pid: self.u0[pid] + self.transfer[pid] @ s[self.unknowns[pid]]
+                for pid in self.problems}
 
     def affine_plate_operator(self, plate_id, values, particular):
-        r"""A plate quantity :math:`XU_i + x_p` as an affine map of S: ``(X T_i, X U_i^0 + x_p)``."""
-        return values @ self.transfer[plate_id], values @ self.u0[plate_id] + particular
+        r"""A plate quantity :math:`XU_i + x_p` as a :class:`Block` over the plate's unknowns:
+        ``(X T_i, X U_i^0 + x_p)``."""
+        return Block(self.unknowns[plate_id], values @ self.transfer[plate_id],
+                     values @ self.u0[plate_id] + particular)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -251,11 +282,44 @@ def _junctions(case, problems):
     return junctions
 
 
+def _plate_unknowns(case, layout, corner_columns):
+    """Per plate, the sorted interface unknowns of its joints and of its junction corners."""
+    seen = {pid: [] for pid in case.plates}
+    for jid, joint in case.joints.items():
+        columns = np.concatenate([np.arange(sl.start, sl.stop) for sl in layout[jid].values()])
+        for side in joint.sides:
+            seen[side.plate].append(columns)
+    for (pid, _), column in corner_columns.items():
+        seen[pid].append(np.array([column]))
+    return {pid: np.unique(np.concatenate(cols)) if cols else np.zeros(0, dtype=int)
+            for pid, cols in seen.items()}
+
+
+def _local(index, columns):
+    """Positions of the global unknowns ``columns`` within the sorted ``index``."""
+    return np.searchsorted(index, columns)
+
+
+def _union(*blocks):
+    """Sum of Blocks as one Block over the union of their unknowns."""
+    index = np.unique(np.concatenate([b.index for b in blocks]))
+    matrix = np.zeros((blocks[0].matrix.shape[0], len(index)), dtype=complex)
+    for b in blocks:
+        matrix[:, _local(index, b.index)] += b.matrix
+    return Block(index, matrix, sum(b.offset for b in blocks))
+
+
+def _scaled(block, factor):
+    """A Block with its rows multiplied by ``factor`` (a scalar or one value per row)."""
+    factor = np.asarray(factor)
+    return Block(block.index, (factor.T * block.matrix.T).T, factor * block.offset)
+
+
 def build_assembly_system(case, frequency, resolution=None) -> AssemblySystem:
     """Plate admissibility blocks, interface layout, constraints and residual channels.
 
     Everything here is independent of the joint parameters and is computed once per
-    frequency.
+    frequency; every piece spans one plate's or one joint's unknowns only.
     """
     t0 = time.perf_counter()
     scale = case.discretisation.resolution if resolution is None else resolution
@@ -278,25 +342,31 @@ def build_assembly_system(case, frequency, resolution=None) -> AssemblySystem:
             if not kinematic:
                 corner_columns[(pid, c)] = n_s
                 n_s += 1
+    unknowns = _plate_unknowns(case, layout, corner_columns)
 
-    # load operators B_i (plate equations: K_i U_i = F_i + B_i S)
-    loads = {pid: np.zeros((bases[pid].n_dof, n_s), dtype=complex) for pid in case.plates}
+    # load operators B_i over the plate's own unknowns (plate equations: K_i U_i = F_i + B_i S)
+    loads = {pid: np.zeros((bases[pid].n_dof, len(unknowns[pid])), dtype=complex)
+             for pid in case.plates}
+
+    def add_load(pid, columns, values):
+        loads[pid][:, _local(unknowns[pid], columns)] += values
+
     for jid, joint in case.joints.items():
         length = case.edge_length(joint.sides[0])
+        slots = {name: np.arange(sl.start, sl.stop) for name, sl in layout[jid].items()}
         for side_index, side in enumerate(joint.sides):
             traces = boundaries[side.plate].edges[side.edge]
             sigma = traces.s if side_index == 0 else length - traces.s
             psi = legendre_values(sigma, length, counts[jid])
-            slots = layout[jid]
-            loads[side.plate][:, slots["C"]] += edge_projection(traces, "moment", psi)
+            add_load(side.plate, slots["C"], edge_projection(traces, "moment", psi))
             if "F" in slots:
                 sign = 1.0 if side_index == 0 else -1.0
-                loads[side.plate][:, slots["F"]] += sign * edge_projection(traces, "shear", psi)
+                add_load(side.plate, slots["F"], sign * edge_projection(traces, "shear", psi))
             elif "FA" in slots:
                 key = "FA" if side_index == 0 else "FB"
-                loads[side.plate][:, slots[key]] += edge_projection(traces, "shear", psi)
+                add_load(side.plate, slots[key], edge_projection(traces, "shear", psi))
     for (pid, c), column in corner_columns.items():
-        loads[pid][:, column] += boundaries[pid].corner_w[c].conj()
+        add_load(pid, [column], boundaries[pid].corner_w[c].conj()[:, None])
 
     u0, transfer, rcond = {}, {}, {}
     for pid in case.plates:
@@ -306,14 +376,14 @@ def build_assembly_system(case, frequency, resolution=None) -> AssemblySystem:
         u0[pid], transfer[pid] = solution[:, 0], solution[:, 1:]
     t1 = time.perf_counter()
 
-    system = AssemblySystem(frequency, problems, bases, u0, transfer, n_s, layout,
-                            (np.zeros((0, n_s), dtype=complex), np.zeros(0, dtype=complex)),
-                            [], rcond)
-    rows, rhs, channels = [], [], []
+    system = AssemblySystem(frequency, problems, bases, unknowns, u0, transfer, n_s, layout,
+                            None, [], rcond)
+    rows, rhs, channels = [], [], []  # constraint rows as Blocks of one or more rows
     for jid, joint in case.joints.items():
         a, b = joint.sides
         length = case.edge_length(a)
         sigma, wq = _joint_gauss(length, max(k_max[a.plate], k_max[b.plate]))
+        root_w = np.sqrt(wq)
         psi = legendre_values(sigma, length, counts[jid])
         traces = {}
         for side, s in ((a, sigma), (b, length - sigma)):
@@ -324,54 +394,59 @@ def build_assembly_system(case, frequency, resolution=None) -> AssemblySystem:
         ta, tb = traces[a.plate, a.edge], traces[b.plate, b.edge]
         slots = layout[jid]
 
-        def unknown(name):
-            matrix = np.zeros((len(sigma), n_s), dtype=complex)
-            matrix[:, slots[name]] = psi
-            return matrix, np.zeros(len(sigma), dtype=complex)
+        def unknown(*names):
+            columns = np.concatenate([np.arange(slots[n].start, slots[n].stop) for n in names])
+            return Block(columns, root_w[:, None] * np.hstack([psi] * len(names)),
+                         np.zeros(len(sigma), dtype=complex))
 
-        rotation_jump = (ta["slope"][0] + tb["slope"][0], ta["slope"][1] + tb["slope"][1])
-        channels.append(Channel(jid, "rotation", _gram(unknown("C"), rotation_jump, wq)))
+        rotation_jump = _scaled(_union(ta["slope"], tb["slope"]), root_w)
+        channels.append(Channel(jid, "rotation", unknown("C"), rotation_jump))
         if "FA" in slots:
-            (fa, _), (fb, zero) = unknown("FA"), unknown("FB")
-            mean_w = (0.5 * (ta["w"][0] + tb["w"][0]), 0.5 * (ta["w"][1] + tb["w"][1]))
-            channels.append(Channel(jid, "mass", _gram((fa + fb, zero), mean_w, wq)))
+            mean_w = _scaled(_union(ta["w"], tb["w"]), 0.5 * root_w)
+            channels.append(Channel(jid, "mass", unknown("FA", "FB"), mean_w))
         if joint.kind == "coplanar":
+            gap = _union(ta["w"], _scaled(tb["w"], -1.0))
             weighted = psi.T * wq
-            rows.append(weighted @ (ta["w"][0] - tb["w"][0]))
-            rhs.append(-(weighted @ (ta["w"][1] - tb["w"][1])))
+            rows.append(Block(gap.index, weighted @ gap.matrix, -(weighted @ gap.offset)))
 
     for flags in junctions:
-        values = {(pid, c): system.affine_plate_operator(pid, boundaries[pid].corner_w[c],
-                                                          boundaries[pid].corner_w_p[c])
+        values = {(pid, c): system.affine_plate_operator(pid, boundaries[pid].corner_w[c][None, :],
+                                                          boundaries[pid].corner_w_p[c:c + 1])
                   for (pid, c), _ in flags}
         static = [corner for corner, kinematic in flags if not kinematic]
         kinematic = [corner for corner, kin in flags if kin]
         if kinematic:
             for corner in static:
-                rows.append(values[corner][0][None, :])
-                rhs.append(-np.atleast_1d(values[corner][1]))
+                rows.append(Block(values[corner].index, values[corner].matrix,
+                                  -values[corner].offset))
         else:
-            reference = static[0]
+            reference = values[static[0]]
             for corner in static[1:]:
-                rows.append((values[corner][0] - values[reference][0])[None, :])
-                rhs.append(-np.atleast_1d(values[corner][1] - values[reference][1]))
-            balance = np.zeros((1, n_s), dtype=complex)
-            balance[0, [corner_columns[corner] for corner in static]] = 1.0
-            rows.append(balance)
-            rhs.append(np.zeros(1, dtype=complex))
-    if rows:
-        system.constraints = (np.vstack(rows), np.concatenate(rhs))
+                gap = _union(values[corner], _scaled(reference, -1.0))
+                rows.append(Block(gap.index, gap.matrix, -gap.offset))
+            columns = np.array(sorted(corner_columns[corner] for corner in static))
+            rows.append(Block(columns, np.ones((1, len(columns)), dtype=complex),
+                              np.zeros(1, dtype=complex)))
+    system.constraints = _constraint_matrix(rows, n_s)
     system.channels = channels
     system.timings = {"plates": t1 - t0, "interface": time.perf_counter() - t1}
     return system
 
 
-def _gram(left, right, weights):
-    """Augmented Gram matrices of a channel ``r = (L S + l) - c (R S + rho)``."""
-    x = np.column_stack([left[0], left[1]])
-    y = np.column_stack([right[0], right[1]])
-    wx, wy = weights[:, None] * x, weights[:, None] * y
-    return {"LL": x.conj().T @ wx, "LR": x.conj().T @ wy, "RR": y.conj().T @ wy}
+def _constraint_matrix(rows, n_s):
+    """Stack constraint Blocks (``matrix S_I = offset``) into a sparse :math:`G` and :math:`g`."""
+    if not rows:
+        return scipy.sparse.csr_matrix((0, n_s), dtype=complex), np.zeros(0, dtype=complex)
+    r, c, v, start = [], [], [], 0
+    for block in rows:
+        n_rows, m = block.matrix.shape
+        r.append(np.repeat(np.arange(start, start + n_rows), m))
+        c.append(np.tile(block.index, n_rows))
+        v.append(block.matrix.ravel())
+        start += n_rows
+    g_mat = scipy.sparse.csr_matrix((np.concatenate(v), (np.concatenate(r), np.concatenate(c))),
+                                    shape=(start, n_s))
+    return g_mat, np.concatenate([b.offset for b in rows])
 
 
 # ----------------------------------------------------------------------------------------------
@@ -388,49 +463,29 @@ def joint_parameters(case, omega):
     return params
 
 
-def joint_energy_matrices(system, params):
-    """Per joint, the augmented matrix of :math:`e_\\Gamma^2` (J) for channel parameters."""
-    out = {}
+def channel_blocks(system, params, weights):
+    r"""Least-squares Blocks of the joint term :math:`\sum_\Gamma w_\Gamma e_\Gamma^2`.
+
+    Parameters
+    ----------
+    params : dict
+        ``{(joint, kind): c}`` (:func:`joint_parameters`).
+    weights : dict of str to float
+        Per joint, the weight :math:`w_\Gamma` of its energy (J^-1 for a dimensionless cost).
+    """
+    blocks = []
     for channel in system.channels:
         c = params[channel.joint, channel.kind]
         if channel.kind == "mass" and c.real <= 0.0:
             raise ValueError(f"joint {channel.joint}: the mass channel needs a line mass > 0")
-        q = channel.energy_matrix(c)
-        out[channel.joint] = out.get(channel.joint, 0.0) + q
-    return out
+        if weights[channel.joint] > 0.0:
+            blocks.append(channel.block(c, weights[channel.joint]))
+    return blocks
 
 
-def solve_reduced(system, cost):
-    r"""Minimise :math:`z^H Q z` (:math:`z = [S; 1]`) subject to :math:`GS = g`.
-
-    Parameters
-    ----------
-    cost : ndarray of complex, shape (n_s + 1, n_s + 1)
-        Hermitian augmented cost matrix.
-
-    Returns
-    -------
-    ndarray of complex, shape (n_s,)
-    """
-    n = system.n_s
-    g_mat, g_rhs = system.constraints
-    m = g_mat.shape[0]
-    kkt = np.zeros((n + m, n + m), dtype=complex)
-    kkt[:n, :n] = cost[:n, :n]
-    kkt[:n, n:] = g_mat.conj().T
-    kkt[n:, :n] = g_mat
-    rhs = np.concatenate([-cost[:n, n], g_rhs])
-    # equilibrate rows and columns: the blocks mix energies per force^2 and displacements
-    scale = 1.0 / np.sqrt(np.maximum(np.abs(kkt).max(axis=1), np.finfo(float).tiny))
-    # The transfer operators of enriched Trefftz bases make this matrix as ill-conditioned as
-    # the plate blocks (rcond 1e-16 is common while the fields are accurate, the notes'
-    # pitfall 1): LU with partial pivoting is backward stable, and accuracy is judged on the
-    # fields and energies, whose plate-level condition estimates are reported by the solves.
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", scipy.linalg.LinAlgWarning)
-        solution = scipy.linalg.solve(kkt * scale[:, None] * scale[None, :], rhs * scale,
-                                      check_finite=False)
-    return (solution * scale)[:n]
+def solve_interface(system, blocks):
+    """Minimise the sum of the Blocks' squares under the constraints; an InterfaceFactor."""
+    return factorise_interface(system.n_s, blocks, system.constraints)
 
 
 def reference_energy(system, amplitudes, n_min=12):
@@ -452,9 +507,11 @@ def reference_energy(system, amplitudes, n_min=12):
 
 def joint_residuals(system, params, s):
     """``{joint: E_Gamma^2}`` (dimensionless) at interface unknowns ``s``."""
-    z = np.append(s, 1.0)
-    return {jid: float((z.conj() @ q @ z).real) / system.e_ref
-            for jid, q in joint_energy_matrices(system, params).items()}
+    out = {}
+    for channel in system.channels:
+        energy = channel.energy(s, params[channel.joint, channel.kind])
+        out[channel.joint] = out.get(channel.joint, 0.0) + energy / system.e_ref
+    return out
 
 
 @dataclass(frozen=True)
@@ -495,9 +552,7 @@ def solve_assembly(case, frequency, resolution=None, system=None) -> AssemblySol
     system = system or build_assembly_system(case, frequency, resolution)
     t0 = time.perf_counter()
     params = joint_parameters(case, system.omega)
-    energies = joint_energy_matrices(system, params)
-    cost = sum(case.updating.alpha[jid] * q for jid, q in energies.items())
-    s = solve_reduced(system, cost)
+    s = solve_interface(system, channel_blocks(system, params, case.updating.alpha)).s
     amplitudes = system.plate_amplitudes(s)
     if system.e_ref is None:
         system.e_ref = reference_energy(system, amplitudes)

@@ -8,15 +8,18 @@ For each measured frequency (``vtcr-formulation.md`` sections 6.3 and 7):
     E_{mes}^2 = \frac{\sum_n|\Pi_n u(S) - \tilde u_n|^2}{\sum_n|\tilde u_n|^2},
 
 where the plate fields are :math:`u_i = \Phi_i(U_i^0 + T_iS) + w_{p,i}` (admissibility holds
-exactly for every S). Both terms are quadratic in :math:`z = [S; 1]`; the measurement term has
-the linear part that the paper's printed eq. 30 omits. With several frequencies the costs are
-summed, each with its own fixed normalisation (its :math:`E_{ref}` and :math:`\|\tilde u\|^2`).
+exactly for every S). Both terms are sums of squares of residual samples affine in S; the
+measurement term has the linear part that the paper's printed eq. 30 omits. With several
+frequencies the costs are summed, each with its own fixed normalisation (its :math:`E_{ref}`
+and :math:`\|\tilde u\|^2`).
 
-Everything that does not depend on p — plate factorisations, transfer operators, residual Gram
-matrices, the measurement operator and :math:`E_{ref}` (fixed at the initial parameters) — is
-built once in :class:`ModifiedProblem`; one evaluation assembles
-:math:`Q(p) = \frac{1-r}{E_{ref}}\sum\alpha_\Gamma Q_\Gamma(p) + rQ_{mes}` with a few scalar
-multiplications and solves the small KKT system of :func:`solver.substructure.solve_reduced`.
+Everything that does not depend on p — plate factorisations, transfer operators, residual
+samples of each joint channel, the measurement operator of each plate and :math:`E_{ref}`
+(fixed at the initial parameters) — is built once in :class:`ModifiedProblem`, each piece over
+the interface unknowns of its own plates. One evaluation weighs the channel samples by the
+parameters and factorises the sparse interface problem (:mod:`solver.interface`). While one
+joint is corrected, :class:`JointCorrection` condenses the problem on that joint's residual
+samples once, and each cost evaluation is then a dense solve of their size.
 """
 
 from __future__ import annotations
@@ -27,18 +30,20 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from solver.interface import Block, JointCondensation
 from solver.plate import evaluate_field
-from solver.vtcr import NumericalError
 from solver.rays import ray_field
 from solver.substructure import (
     build_assembly_system,
-    joint_energy_matrices,
+    channel_blocks,
+    joint_residuals,
     solve_assembly,
-    solve_reduced,
+    solve_interface,
 )
+from solver.vtcr import NumericalError
 
-__all__ = ["ModifiedProblem", "Evaluation", "channel_parameters", "case_parameters",
-           "with_joint", "direct_interface", "joint_energies", "PARAMETER_NAMES"]
+__all__ = ["ModifiedProblem", "JointCorrection", "Evaluation", "channel_parameters",
+           "case_parameters", "with_joint", "direct_interface", "PARAMETER_NAMES"]
 
 PARAMETER_NAMES = ("log10_stiffness", "loss_factor", "mass")
 
@@ -56,18 +61,6 @@ def with_joint(parameters, joint, **values):
     return trial
 
 
-def direct_interface(system, energies, alpha):
-    r"""Interface unknowns S of the model response (r = 0): minimise the weighted joint error
-    :math:`\sum\alpha_\Gamma z^HQ_\Gamma z` under admissibility, as
-    :func:`solver.substructure.solve_assembly` does, on an already built system."""
-    return solve_reduced(system, sum(alpha[jid] * q for jid, q in energies.items()))
-
-
-def joint_energies(system, parameters):
-    """``{joint: Q_Gamma}`` of one frequency's system at ``parameters``."""
-    return joint_energy_matrices(system, channel_parameters(parameters, system.omega))
-
-
 def channel_parameters(parameters, omega):
     """``{(joint, channel): c}`` from ``{joint: {log10_stiffness, loss_factor, mass}}``."""
     out = {}
@@ -75,6 +68,14 @@ def channel_parameters(parameters, omega):
         out[jid, "rotation"] = 10.0 ** p["log10_stiffness"] * (1.0 + 1j * p["loss_factor"])
         out[jid, "mass"] = omega**2 * p["mass"] + 0j
     return out
+
+
+def direct_interface(system, parameters, alpha):
+    r"""Interface unknowns S of the model response (r = 0): minimise the weighted joint error
+    :math:`\sum\alpha_\Gamma e_\Gamma^2` under admissibility, as
+    :func:`solver.substructure.solve_assembly` does, on an already built system."""
+    params = channel_parameters(parameters, system.omega)
+    return solve_interface(system, channel_blocks(system, params, alpha)).s
 
 
 @dataclass(frozen=True)
@@ -88,18 +89,28 @@ class Evaluation:
     interface: dict  # frequency -> S
 
 
+def _norm2(values):
+    return sum(float(np.vdot(v, v).real) for v in values)
+
+
 @dataclass
 class _Frequency:
+    """One measured frequency: its assembly system and, per measured plate, the measured
+    ``w`` as a Block over the plate's interface unknowns with the measured values."""
+
     system: object
-    operator: np.ndarray  # (n_meas, n_s): measured w per unit S
-    offset: np.ndarray  # (n_meas,): measured w at S = 0
-    measured: np.ndarray  # (n_meas,)
-    gram: np.ndarray  # (n_s + 1, n_s + 1): E_mes^2 = z^H gram z
+    operators: list  # Block per measured plate: w at its points per unit S, and at S = 0
+    data: list  # measured values per measured plate
 
+    def blocks(self, data, r):
+        r"""The measurement term :math:`r E_{mes}^2` as Blocks, for measured values ``data``."""
+        scale = math.sqrt(r / _norm2(data))
+        return [Block(op.index, scale * op.matrix, scale * (op.offset - v))
+                for op, v in zip(self.operators, data)]
 
-def _measurement_gram(operator, offset, measured):
-    x = np.column_stack([operator, offset - measured])
-    return x.conj().T @ x / float(np.vdot(measured, measured).real)
+    def misfit(self, s, data):
+        """:math:`E_{mes}^2` at interface unknowns ``s`` for measured values ``data``."""
+        return _norm2([op.residual(s) - v for op, v in zip(self.operators, data)]) / _norm2(data)
 
 
 class ModifiedProblem:
@@ -122,59 +133,48 @@ class ModifiedProblem:
         self.alpha = dict(case.updating.alpha)
         self.joints = tuple(case.joints)
         self.frequencies = {}
+        self._last = None  # (parameters, {frequency: InterfaceFactor}) of the last evaluation
         for frequency in measurements.frequencies:
             system = build_assembly_system(case, frequency, resolution)
             solve_assembly(case, frequency, system=system)  # fixes E_ref at p0
-            rows, offsets, values = [], [], []
+            operators, data = [], []
             for pid, (points, measured) in measurements.data[frequency].items():
                 problem, basis = system.problems[pid], system.bases[pid]
                 rays = ray_field(basis, points)["w"]
                 particular = evaluate_field(problem, basis, np.zeros(basis.n_dof), points)["w"]
-                op, off = system.affine_plate_operator(pid, rays, particular)
-                rows.append(op)
-                offsets.append(off)
-                values.append(measured)
-            operator, offset = np.vstack(rows), np.concatenate(offsets)
-            measured = np.concatenate(values)
-            self.frequencies[frequency] = _Frequency(
-                system, operator, offset, measured, _measurement_gram(operator, offset, measured))
+                operators.append(system.affine_plate_operator(pid, rays, particular))
+                data.append(np.asarray(measured))
+            self.frequencies[frequency] = _Frequency(system, operators, data)
 
     def initial_parameters(self):
         """``{joint: {log10_stiffness, loss_factor, mass}}`` of the model."""
         return case_parameters(self.case)
 
-    def _energies(self, parameters):
-        """``{frequency: {joint: Q_Gamma}}`` at ``parameters``."""
-        return {f: joint_energies(d.system, parameters) for f, d in self.frequencies.items()}
+    def joint_weights(self, system):
+        """Per joint, the weight of its energy (J) in E_mod^2: alpha (1 - r) / E_ref."""
+        return {jid: (1.0 - self.r) * a / system.e_ref for jid, a in self.alpha.items()}
 
-    def _solve(self, data, energies, gram):
-        system = data.system
-        interface = sum(self.alpha[jid] * q for jid, q in energies.items()) / system.e_ref
-        cost = (1.0 - self.r) * interface + self.r * gram
-        s = solve_reduced(system, cost)
-        z = np.append(s, 1.0)
-        residuals = {jid: float((z.conj() @ q @ z).real) / system.e_ref
-                     for jid, q in energies.items()}
-        return s, residuals, float((z.conj() @ gram @ z).real)
-
-    def evaluate(self, parameters, grams=None) -> Evaluation:
+    def evaluate(self, parameters, data=None) -> Evaluation:
         """:math:`E_{mod}^2`, :math:`E_{int}^2`, :math:`E_{mes}^2` and every :math:`E_\\Gamma^2`.
 
-        ``grams`` (``{frequency: gram}``, see :meth:`synthetic_grams`) replaces the measured
-        data by other data on the same points.
+        ``data`` (``{frequency: [values per measured plate]}``, see :meth:`synthetic_data`)
+        replaces the measured data by other data on the same points.
         """
-        return self._evaluate(parameters, self._energies(parameters), grams)
-
-    def _evaluate(self, parameters, energies, grams=None):
         residuals = dict.fromkeys(self.joints, 0.0)
-        e_mes, interfaces = 0.0, {}
-        for frequency, data in self.frequencies.items():
-            gram = data.gram if grams is None else grams[frequency]
-            s, res, mes = self._solve(data, energies[frequency], gram)
-            interfaces[frequency] = s
-            e_mes += mes
-            for jid, value in res.items():
+        e_mes, interfaces, factors = 0.0, {}, {}
+        for frequency, freq in self.frequencies.items():
+            values = freq.data if data is None else data[frequency]
+            system = freq.system
+            params = channel_parameters(parameters, system.omega)
+            blocks = channel_blocks(system, params, self.joint_weights(system))
+            factor = solve_interface(system, blocks + freq.blocks(values, self.r))
+            factors[frequency] = factor
+            interfaces[frequency] = factor.s
+            e_mes += freq.misfit(factor.s, values)
+            for jid, value in joint_residuals(system, params, factor.s).items():
                 residuals[jid] += value
+        if data is None:
+            self._last = ({j: dict(p) for j, p in parameters.items()}, factors)
         e_int = sum(self.alpha[jid] * value for jid, value in residuals.items())
         e_mod = (1.0 - self.r) * e_int + self.r * e_mes
         if not math.isfinite(e_mod):  # an optimiser fed NaN would wander silently
@@ -184,42 +184,45 @@ class ModifiedProblem:
                 + f" (residuals {residuals}, E_mes^2 {e_mes})")
         return Evaluation(e_mod, e_int, e_mes, residuals, interfaces)
 
-    def cost(self, parameters, grams=None) -> float:
+    def cost(self, parameters, data=None) -> float:
         """:math:`E_{mod}^2(p)` (the reduced cost function)."""
-        return self.evaluate(parameters, grams).e_mod
+        return self.evaluate(parameters, data).e_mod
 
-    def synthetic_grams(self, parameters, noise, seed=0, realisations=4):
-        r"""Measurement Gram matrices of synthetic experiments on the measured points.
+    def correction(self, parameters, joint):
+        """:math:`E_{mod}^2` as a function of one joint's parameters, the others at
+        ``parameters``: a :class:`JointCorrection`, condensed once on that joint (it reuses the
+        factorisations of the last evaluation when it was at ``parameters``)."""
+        if self._last is None or self._last[0] != parameters:
+            self.evaluate(parameters)
+        return JointCorrection(self, parameters, joint, self._last[1])
+
+    def synthetic_data(self, parameters, noise, seed=0, realisations=4):
+        r"""Measured values of synthetic experiments on the measured points.
 
         The data are the model's own prediction at ``parameters`` (the interface solution of
         :math:`E_{int}^2` alone) times :math:`1 + e`, :math:`e\sim U[-noise, noise]`: what the
         measurements would be if the model were right and only the stated noise were at work.
-        Returns ``realisations`` dicts ``{frequency: gram}``.
+        Returns ``realisations`` dicts ``{frequency: [values per measured plate]}``.
         """
-        return self._synthetic_grams(self._energies(parameters), noise, seed, realisations)
-
-    def _synthetic_grams(self, energies, noise, seed, realisations):
         rng = np.random.default_rng(seed)
-        predictions = {
-            f: d.operator @ direct_interface(d.system, energies[f], self.alpha) + d.offset
-            for f, d in self.frequencies.items()}
-        return [{f: _measurement_gram(self.frequencies[f].operator, self.frequencies[f].offset,
-                                      w * (1.0 + rng.uniform(-noise, noise, w.shape)))
-                 for f, w in predictions.items()}
+        predictions = {}
+        for f, freq in self.frequencies.items():
+            s = direct_interface(freq.system, parameters, self.alpha)
+            predictions[f] = [op.residual(s) for op in freq.operators]
+        return [{f: [w * (1.0 + rng.uniform(-noise, noise, w.shape)) for w in plates]
+                 for f, plates in predictions.items()}
                 for _ in range(realisations)]
 
     def noise_floor(self, parameters, noise, seed=0, realisations=4):
         """What a correct model would show under measurement noise alone.
 
-        Means over :meth:`synthetic_grams` realisations: ``({joint: E_Gamma^2}, E_mod^2)``, the
+        Means over :meth:`synthetic_data` realisations: ``({joint: E_Gamma^2}, E_mod^2)``, the
         levels below which a joint's residual, and the cost, cannot be told from noise and
-        discretisation error. The joint energies at ``parameters`` are built once and serve
-        every realisation.
+        discretisation error.
         """
-        energies = self._energies(parameters)
         floors, e_mod = dict.fromkeys(self.joints, 0.0), 0.0
-        for grams in self._synthetic_grams(energies, noise, seed, realisations):
-            evaluation = self._evaluate(parameters, energies, grams)
+        for data in self.synthetic_data(parameters, noise, seed, realisations):
+            evaluation = self.evaluate(parameters, data)
             e_mod += evaluation.e_mod / realisations
             for jid, value in evaluation.residuals.items():
                 floors[jid] += value / realisations
@@ -262,6 +265,42 @@ class ModifiedProblem:
         data = next(iter(self.frequencies.values()))
         n_rays = sum(b.n_dof for b in data.system.bases.values())
         return n_rays, data.system.n_s, data.system.constraints[0].shape[0]
+
+
+class JointCorrection:
+    """:math:`E_{mod}^2` as a function of one joint's parameters (the others fixed).
+
+    Built once per correction from the factorisations at the current parameters: per
+    frequency, a :class:`solver.interface.JointCondensation` on the joint's residual samples,
+    so that each :meth:`cost` is a dense solve of that size, whatever the size of the
+    structure.
+    """
+
+    def __init__(self, problem, parameters, joint, factors):
+        self.joint = joint
+        self.parameters = {j: dict(p) for j, p in parameters.items()}
+        self._frequencies = []
+        for frequency, freq in problem.frequencies.items():
+            system = freq.system
+            kappa = problem.joint_weights(system)[joint]
+            params = channel_parameters(parameters, system.omega)
+            channels = [ch for ch in system.channels if ch.joint == joint]
+            condensation = JointCondensation(
+                factors[frequency],
+                [(ch.load, ch.kinematic, kappa, params[joint, ch.kind]) for ch in channels])
+            self._frequencies.append((system.omega, [ch.kind for ch in channels], condensation))
+
+    def cost(self, **values):
+        """:math:`E_{mod}^2` with the joint's ``log10_stiffness`` / ``loss_factor`` / ``mass``
+        set to ``values`` (the others as in the base parameters)."""
+        trial = with_joint(self.parameters, self.joint, **values)[self.joint]
+        total = 0.0
+        for omega, kinds, condensation in self._frequencies:
+            params = channel_parameters({self.joint: trial}, omega)
+            total += condensation.cost([params[self.joint, kind] for kind in kinds])
+        if not math.isfinite(total):
+            raise NumericalError(f"E_mod^2 is not finite at joint {self.joint} {values}")
+        return total
 
 
 def log_grid(bounds, n):

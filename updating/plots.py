@@ -45,7 +45,6 @@ from updating.cost import (
     case_parameters,
     cost_curve,
     direct_interface,
-    joint_energies,
     log_grid,
 )
 from updating.files import InputError, atomic_output
@@ -100,7 +99,7 @@ def _true_log_k(case, joint):
 def _direct_amplitudes(system, parameters, alpha):
     """Plate amplitudes of the model response (r = 0) for joint ``parameters``."""
     return system.plate_amplitudes(
-        direct_interface(system, joint_energies(system, parameters), alpha))
+        direct_interface(system, parameters, alpha))
 
 
 def _plate_w(system, amplitudes, plate_id, points):

@@ -37,7 +37,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import optimize
 
-from updating.cost import cost_curve, log_grid, with_joint
+from updating.cost import log_grid, with_joint
 
 __all__ = ["Step", "UpdateResult", "TERMINATION_MESSAGES", "correct_joint", "update_joints",
            "localise", "flat_interval", "identification_intervals"]
@@ -168,17 +168,19 @@ def _minimise_on_log_scale(cost, bounds, n_scan):
 def correct_joint(problem, parameters, joint, bounds, identify=("stiffness",)):
     """Optimise one joint's parameters, the others fixed; returns ``(parameters, interval)``.
 
-    ``interval`` is the log10 k range that cannot be told from the optimum: the scanned values
-    whose cost is within :data:`FLAT` of the minimum (:func:`flat_interval`).
+    The cost is condensed once on the joint (:meth:`ModifiedProblem.correction`), so each
+    evaluation is a small dense solve whatever the size of the structure. ``interval`` is the
+    log10 k range that cannot be told from the optimum: the scanned values whose cost is
+    within :data:`FLAT` of the minimum (:func:`flat_interval`).
     """
+    local = problem.correction(parameters, joint)
     value, minimum, grid, costs, best = _minimise_on_log_scale(
-        lambda v: problem.cost(with_joint(parameters, joint, log10_stiffness=v)), bounds,
-        SCAN_POINTS)
+        lambda v: local.cost(log10_stiffness=v), bounds, SCAN_POINTS)
     low, high = flat_interval(grid, costs, best, value, minimum)
     updated = with_joint(parameters, joint, log10_stiffness=value)
     extra = [name for name in ("damping", "mass") if name in identify]
     if extra:
-        updated = _optimise_more(problem, updated, joint, bounds, extra)
+        updated = _optimise_more(local, updated, joint, bounds, extra)
     return updated, (low, high)
 
 
@@ -191,19 +193,19 @@ _EXTRA_VARIABLES = {
 }
 
 
-def _optimise_more(problem, parameters, joint, bounds, extra):
-    """Joint optimisation of log10 k with the loss factor and/or the log of the line mass."""
+def _optimise_more(local, parameters, joint, bounds, extra):
+    """Joint optimisation of log10 k with the loss factor and/or the log of the line mass
+    (``local``: the joint's :class:`updating.cost.JointCorrection`)."""
     variables = [("log10_stiffness", float, float, tuple(bounds))]
     variables += [_EXTRA_VARIABLES[e] for e in extra]
     start = np.array([to_x(parameters[joint][name]) for name, to_x, _, _ in variables])
 
-    def unpack(x):
-        return with_joint(parameters, joint, **{
-            name: from_x(v) for (name, _, from_x, _), v in zip(variables, x)})
+    def values(x):
+        return {name: from_x(v) for (name, _, from_x, _), v in zip(variables, x)}
 
-    result = optimize.minimize(lambda x: problem.cost(unpack(x)), start, method="L-BFGS-B",
+    result = optimize.minimize(lambda x: local.cost(**values(x)), start, method="L-BFGS-B",
                                bounds=[limits for *_, limits in variables])
-    return unpack(result.x)
+    return with_joint(parameters, joint, **values(result.x))
 
 
 def _candidates(step, settings, corrected, exhausted):
@@ -281,11 +283,11 @@ def identification_intervals(problem, parameters, joints, bounds):
     wrong looks sharply identified at a biased value).
     """
     grid = log_grid(bounds, SCAN_POINTS)
-    final = problem.cost(parameters)
     out = {}
     for joint in joints:
-        costs = np.array([row[1] for row in cost_curve(problem, parameters, joint, grid)])
+        local = problem.correction(parameters, joint)
+        costs = np.array([local.cost(log10_stiffness=float(v)) for v in grid])
         best = int(np.argmin(costs))
         out[joint] = flat_interval(grid, costs, best, parameters[joint]["log10_stiffness"],
-                                   min(final, float(costs[best])))
+                                   min(local.cost(), float(costs[best])))
     return out

@@ -1,0 +1,252 @@
+r"""Sparse solve of the interface problem of a jointed assembly, and its condensation.
+
+Every interface problem of the substructured VTCR — the direct problem (r = 0), the modified
+problem of the updating (r > 0), a synthetic experiment — is a constrained linear least-squares
+problem in the interface unknowns :math:`S` (``vtcr-formulation.md`` section 7):
+
+.. math::
+    \min_S \sum_b \|A_b S_{I_b} + a_b\|^2 \quad\text{subject to}\quad GS = g ,
+
+where each *block* :math:`b` — the weighted residual samples of one joint channel, or the
+weighted misfit at the measured points of one plate — acts only on the interface unknowns
+:math:`I_b` that its plates see. The blocks are solved in augmented form, with their residuals
+:math:`\rho_b = A_bS_{I_b} + a_b` as unknowns:
+
+.. math::
+    \begin{bmatrix} -I & A & 0\\ A^H & 0 & G^H\\ 0 & G & 0\end{bmatrix}
+    \begin{bmatrix}\rho\\ S\\ \lambda\end{bmatrix} =
+    \begin{bmatrix}-a\\ 0\\ g\end{bmatrix} ,
+
+(eliminating :math:`\rho` gives the KKT system of the normal equations,
+:math:`[A^HA\ G^H; G\ 0]`). The matrix is Hermitian, sparse, with
+:math:`2\sum_b \mathrm{rows}_b|I_b| + 2\,\mathrm{nnz}(G)` entries besides the identity: linear in the
+number of joints, where the Gram matrices :math:`A_b^HA_b` would be quadratic in the size of
+each neighbourhood, and the condition number is that of :math:`A`, not its square. It is
+factorised by SuperLU (``scipy.sparse.linalg.splu``) after a symmetric equilibration.
+
+**Condensation on one joint** (:class:`JointCondensation`). While one joint's parameters
+:math:`c` vary, only its residual rows change: its residual samples are
+:math:`r(c) = y_L - c\,y_R` with :math:`y = PS + p` (:math:`P` the sampled load and kinematic
+operators, weights :math:`W^{1/2}` folded in), and its energy is :math:`y^HM(c)y` with the
+:math:`2n_q\times2n_q` matrix
+
+.. math:: M(c) = \frac{\kappa}{2\,\mathrm{Re}\,c}\begin{bmatrix} I & -cI\\ -\bar cI & |c|^2I
+          \end{bmatrix},\qquad \kappa = \alpha_\Gamma(1-r)/E_{ref}.
+
+From the factorisation :math:`K_0` at :math:`c_0`, with :math:`X = K_0^{-1}P^H` (S-part; it
+satisfies :math:`GX = 0`), :math:`Z = PX` (Hermitian, positive semidefinite) and
+:math:`y_0 = PS_0 + p`, the Sherman–Morrison–Woodbury identity gives the minimiser at :math:`c`
+as :math:`S = S_0 - X\,\Delta M\,y` with
+
+.. math:: (I + Z\,\Delta M)\,y = y_0,\qquad \Delta M = M(c) - M(c_0),
+
+and, because :math:`X` lies in the null space of :math:`G` (the first-order term vanishes at the
+constrained minimum), the cost
+
+.. math:: E(c) = E(c_0) + t^HZt + y^H\Delta M\,y,\qquad t = \Delta M\,y .
+
+One evaluation is a dense solve of size :math:`2n_q` (the joint's residual samples): its cost
+does not depend on the size of the structure.
+"""
+
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse
+import scipy.sparse.linalg
+
+__all__ = ["Block", "InterfaceFactor", "factorise_interface", "JointCondensation"]
+
+
+@dataclass(frozen=True)
+class Block:
+    """Rows of the least-squares objective acting on a few interface unknowns.
+
+    Attributes
+    ----------
+    index : ndarray of int, shape (m,)
+        Interface unknowns the rows act on.
+    matrix : ndarray of complex, shape (rows, m)
+    offset : ndarray of complex, shape (rows,)
+    """
+
+    index: np.ndarray
+    matrix: np.ndarray
+    offset: np.ndarray
+
+    def residual(self, s):
+        """:math:`A_bS_{I_b} + a_b` for interface unknowns ``s``."""
+        return self.matrix @ s[self.index] + self.offset
+
+
+def _augmented_matrix(n_s, blocks, g_mat):
+    """The Hermitian augmented matrix ``[-I A 0; A^H 0 G^H; 0 G 0]`` in CSC form."""
+    rows, cols, vals = [], [], []
+    start = 0
+    for block in blocks:
+        n_rows, m = block.matrix.shape
+        r = np.repeat(np.arange(start, start + n_rows), m)
+        c = np.tile(block.index, n_rows)
+        rows.append(r)
+        cols.append(c)
+        vals.append(block.matrix.ravel())
+        start += n_rows
+    n_rho = start
+    a_rows = np.concatenate(rows) if rows else np.zeros(0, dtype=int)
+    a_cols = np.concatenate(cols) + n_rho if cols else np.zeros(0, dtype=int)
+    a_vals = np.concatenate(vals) if vals else np.zeros(0, dtype=complex)
+    g = g_mat.tocoo()
+    g_rows = g.row + n_rho + n_s
+    g_cols = g.col + n_rho
+    diag = np.arange(n_rho)
+    n = n_rho + n_s + g_mat.shape[0]
+    matrix = scipy.sparse.coo_matrix(
+        (np.concatenate([-np.ones(n_rho), a_vals, a_vals.conj(), g.data, g.data.conj()]),
+         (np.concatenate([diag, a_rows, a_cols, g_rows, g_cols]),
+          np.concatenate([diag, a_cols, a_rows, g_cols, g_rows]))),
+        shape=(n, n), dtype=complex)
+    return matrix.tocsc(), n_rho
+
+
+@dataclass
+class InterfaceFactor:
+    """A factorised interface problem: its solution and solves with other right-hand sides.
+
+    Attributes
+    ----------
+    s : ndarray of complex, shape (n_s,)
+        The minimiser.
+    residuals : list of ndarray
+        :math:`\\rho_b` of each block at the minimiser.
+    """
+
+    lu: object
+    scale: np.ndarray
+    n_rho: int
+    n_s: int
+    s: np.ndarray
+    residuals: list
+
+    def solve_interface(self, rhs):
+        """S-part of the augmented solve with ``rhs`` (n_s, k) in the S rows, zero elsewhere.
+
+        This is :math:`[A^HA\\ G^H; G\\ 0]^{-1}[rhs; 0]` restricted to S.
+        """
+        rhs = np.asarray(rhs, dtype=complex).reshape(self.n_s, -1)
+        full = np.zeros((len(self.scale), rhs.shape[1]), dtype=complex)
+        full[self.n_rho:self.n_rho + self.n_s] = rhs
+        x = self.lu.solve(full * self.scale[:, None]) * self.scale[:, None]
+        return x[self.n_rho:self.n_rho + self.n_s]
+
+    @property
+    def cost(self) -> float:
+        """:math:`\\sum_b\\|\\rho_b\\|^2` at the minimiser."""
+        return float(sum(np.vdot(r, r).real for r in self.residuals))
+
+
+def factorise_interface(n_s, blocks, constraints):
+    """Factorise and solve :math:`\\min\\sum_b\\|A_bS_{I_b}+a_b\\|^2` s.t. :math:`GS = g`.
+
+    Parameters
+    ----------
+    n_s : int
+        Number of interface unknowns.
+    blocks : sequence of Block
+    constraints : (scipy.sparse matrix (n_g, n_s), ndarray (n_g,))
+
+    Returns
+    -------
+    InterfaceFactor
+    """
+    g_mat, g_rhs = constraints
+    matrix, n_rho = _augmented_matrix(n_s, blocks, scipy.sparse.csr_matrix(g_mat))
+    rhs = np.concatenate([-np.concatenate([b.offset for b in blocks]) if blocks
+                          else np.zeros(0, dtype=complex),
+                          np.zeros(n_s, dtype=complex), np.asarray(g_rhs, dtype=complex)])
+    # symmetric equilibration: the rows mix residuals, energies per unit load and displacements
+    row_max = abs(matrix).max(axis=1).toarray().ravel()
+    scale = 1.0 / np.sqrt(np.maximum(row_max, np.finfo(float).tiny))
+    scaled = scipy.sparse.diags(scale) @ matrix @ scipy.sparse.diags(scale)
+    # The transfer operators of enriched Trefftz bases make this system as ill-conditioned as
+    # the plate blocks (formulation notes, pitfall 1); LU with partial pivoting is backward
+    # stable, and accuracy is judged on fields and energies.
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", scipy.sparse.linalg.MatrixRankWarning)
+        lu = scipy.sparse.linalg.splu(scaled.tocsc(), permc_spec="MMD_AT_PLUS_A",
+                                      diag_pivot_thresh=0.1)
+    x = lu.solve(rhs * scale) * scale
+    s = x[n_rho:n_rho + n_s]
+    return InterfaceFactor(lu, scale, n_rho, n_s, s, [b.residual(s) for b in blocks])
+
+
+class JointCondensation:
+    r"""The cost of the interface problem as a function of one joint's channel parameters.
+
+    See the module docstring: built once from the factorisation at the current parameters
+    :math:`c_0`, each :meth:`cost` is a dense solve of the size of the joint's residual samples.
+
+    Parameters
+    ----------
+    factor : InterfaceFactor
+        Factorisation at the base parameters.
+    channels : sequence of (Block, Block, float, complex)
+        Per channel of the joint: its load samples :math:`W^{1/2}(LS + l)`, its kinematic
+        samples :math:`W^{1/2}(RS + \rho)` (blocks over interface unknowns, unweighted by the
+        channel parameter), the weight :math:`\kappa` and the base parameter :math:`c_0`.
+    """
+
+    def __init__(self, factor, channels):
+        n_s = factor.n_s
+        operators, offsets = [], []
+        for load, kinematic, _, _ in channels:
+            for block in (load, kinematic):
+                rows = np.zeros((block.matrix.shape[0], n_s), dtype=complex)
+                rows[:, block.index] = block.matrix
+                operators.append(rows)
+                offsets.append(block.offset)
+        p_mat = np.vstack(operators)
+        self.sizes = [load.matrix.shape[0] for load, _, _, _ in channels]
+        self.weights = [kappa for _, _, kappa, _ in channels]
+        self.base = [c0 for *_, c0 in channels]
+        self.x = factor.solve_interface(p_mat.conj().T)  # X = K0^{-1} P^H, S-part
+        z = p_mat @ self.x
+        self.z = 0.5 * (z + z.conj().T)
+        self.y0 = p_mat @ factor.s + np.concatenate(offsets)
+        self.s0 = factor.s
+        self.e0 = factor.cost
+        self._m0 = self._energy_matrix(self.base)
+
+    def _energy_matrix(self, params):
+        """Block-diagonal :math:`M(c)` over the channels (``[[I, -c], [-c*, |c|^2]]`` form)."""
+        n = len(self.y0)
+        m = np.zeros((n, n), dtype=complex)
+        start = 0
+        for size, kappa, c in zip(self.sizes, self.weights, params):
+            factor = kappa / (2.0 * c.real)
+            i = np.arange(start, start + size)
+            j = i + size
+            m[i, i] = factor
+            m[i, j] = -c * factor
+            m[j, i] = -np.conj(c) * factor
+            m[j, j] = abs(c) ** 2 * factor
+            start += 2 * size
+        return m
+
+    def _solve(self, params):
+        delta = self._energy_matrix(params) - self._m0
+        y = np.linalg.solve(np.eye(len(self.y0)) + self.z @ delta, self.y0)
+        return y, delta
+
+    def cost(self, params):
+        """Cost of the interface problem with the joint's channel parameters ``params``."""
+        y, delta = self._solve(params)
+        t = delta @ y
+        return float(self.e0 + np.vdot(t, self.z @ t).real + np.vdot(y, t).real)
+
+    def interface(self, params):
+        """Minimiser S at ``params``."""
+        y, delta = self._solve(params)
+        return self.s0 - self.x @ (delta @ y)

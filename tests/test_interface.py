@@ -1,0 +1,163 @@
+"""The sparse, joint-local interface solve against a dense reference, and the condensation.
+
+The dense reference assembles the normal-equations KKT system
+``[sum A^H A, G^H; G, 0] [S; lambda] = [-sum A^H a; g]`` over all interface unknowns from the same
+residual rows and solves it with LAPACK; the sparse path solves the augmented form with SuperLU,
+and the condensation on one joint (Sherman-Morrison-Woodbury on its residual samples) must give
+the cost of a full re-solve. These systems inherit the Trefftz bases' ill-conditioning
+(condition estimates 1e9-1e16): the interface unknowns themselves may differ far beyond
+round-off between two stable algorithms, so fields, residuals and costs are compared, which are
+well determined.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+import scipy.linalg
+from test_assemblies import chain_description, grid
+
+from assembly import load_case, parse_case
+from solver.substructure import (
+    build_assembly_system,
+    channel_blocks,
+    joint_parameters,
+    joint_residuals,
+    solve_assembly,
+)
+from updating.cost import ModifiedProblem, channel_parameters, with_joint
+from updating.measurements import simulate_measurements
+
+CASES = Path(__file__).resolve().parents[1] / "cases"
+
+
+def dense_interface(system, blocks):
+    """Minimiser of sum ||A_b S_I + a_b||^2 s.t. G S = g, from the dense normal equations."""
+    n = system.n_s
+    h, rhs = np.zeros((n, n), dtype=complex), np.zeros(n, dtype=complex)
+    for b in blocks:
+        h[np.ix_(b.index, b.index)] += b.matrix.conj().T @ b.matrix
+        rhs[b.index] -= b.matrix.conj().T @ b.offset
+    g_mat, g = system.constraints
+    g_mat = g_mat.toarray()
+    m = g_mat.shape[0]
+    kkt = np.block([[h, g_mat.conj().T], [g_mat, np.zeros((m, m))]])
+    scale = 1.0 / np.sqrt(np.abs(kkt).max(axis=1))
+    x = scipy.linalg.solve(kkt * scale[:, None] * scale[None, :], np.concatenate([rhs, g]) * scale)
+    return (x * scale)[:n]
+
+
+def field_difference(system, s, t):
+    """Relative L2 difference of the plate fields of interface unknowns ``s`` and ``t``."""
+    from solver.plate import evaluate_field
+
+    a, b = system.plate_amplitudes(s), system.plate_amplitudes(t)
+    num = den = 0.0
+    for pid, problem in system.problems.items():
+        points = grid(*problem.size)
+        wa = evaluate_field(problem, system.bases[pid], a[pid], points)["w"]
+        wb = evaluate_field(problem, system.bases[pid], b[pid], points)["w"]
+        num += np.sum(np.abs(wa - wb) ** 2)
+        den += np.sum(np.abs(wb) ** 2)
+    return float(np.sqrt(num / den))
+
+
+def mixed_chain():
+    """Three plates: damped coplanar joint with a line mass (two shear unknowns), then a hinge;
+    free outer edges, so that junction corner forces appear at the joint ends."""
+    joints = [{"kind": "coplanar", "log10_stiffness": 1.5, "loss_factor": 0.1, "mass": 0.05},
+              {"kind": "hinge", "log10_stiffness": 3.5}]
+    return parse_case(chain_description(joints, left="free", force=(1, 0.2, 0.17)))
+
+
+@pytest.mark.parametrize("case", [mixed_chain(), load_case(CASES / "four_plates.toml")],
+                         ids=["chain", "four_plates"])
+def test_direct_problem_matches_the_dense_reference(case):
+    frequency = case.frequencies[0]
+    system = build_assembly_system(case, frequency)
+    solution = solve_assembly(case, frequency, system=system)
+    params = joint_parameters(case, system.omega)
+    blocks = channel_blocks(system, params, case.updating.alpha)
+    reference = dense_interface(system, blocks)
+    # measured: 1e-10 (chain) and 4e-12 (four plates); both are far below the discretisation
+    # error (1e-4..1e-3), and a wrong assembly (a misplaced block) shows at order 1
+    assert field_difference(system, solution.interface, reference) < 1e-8
+    dense_residuals = joint_residuals(system, params, reference)
+    for jid, value in solution.residuals.items():
+        assert value == pytest.approx(dense_residuals[jid], rel=1e-6, abs=1e-14)
+
+
+@pytest.fixture(scope="module")
+def four_plates():
+    case = load_case(CASES / "four_plates.toml")
+    return ModifiedProblem(case, simulate_measurements(case))
+
+
+def test_modified_problem_matches_the_dense_reference(four_plates):
+    problem = four_plates
+    parameters = with_joint(problem.initial_parameters(), "G2", log10_stiffness=3.3)
+    evaluation = problem.evaluate(parameters)
+    e_mod = 0.0
+    for frequency, freq in problem.frequencies.items():
+        system = freq.system
+        params = channel_parameters(parameters, system.omega)
+        blocks = (channel_blocks(system, params, problem.joint_weights(system))
+                  + freq.blocks(freq.data, problem.r))
+        reference = dense_interface(system, blocks)
+        # measured up to 2e-8 (309.4 Hz): the reference's normal equations square the
+        # condition number; still four decades below the discretisation error of the fields
+        assert field_difference(system, evaluation.interface[frequency], reference) < 1e-6
+        e_mod += sum(np.linalg.norm(b.residual(reference)) ** 2 for b in blocks)
+    assert evaluation.e_mod == pytest.approx(e_mod, rel=1e-10)
+
+
+@pytest.mark.parametrize("joint", ["G1", "G2"])
+def test_condensed_cost_equals_a_full_solve(four_plates, joint):
+    """Over 16 decades of k, with damping, and at the base point (to round-off there)."""
+    problem = four_plates
+    base = problem.initial_parameters()
+    local = problem.correction(base, joint)
+    assert local.cost() == pytest.approx(problem.cost(base), rel=1e-12)
+    for values in ({"log10_stiffness": -3.0}, {"log10_stiffness": 0.5},
+                   {"log10_stiffness": 4.5}, {"log10_stiffness": 12.0},
+                   {"log10_stiffness": 1.0, "loss_factor": 0.3}):
+        full = problem.cost(with_joint(base, joint, **values))
+        # measured 1e-12..1e-9 (the stiff end loses digits to the condition of the system)
+        assert local.cost(**values) == pytest.approx(full, rel=1e-7), values
+
+
+def test_data_live_with_their_plates_and_joints():
+    """A plate's transfer operator and a joint's samples span its neighbourhood only: the same
+    sizes for the corner plate of a 2 x 2 and of a 3 x 3 arrangement."""
+    def sizes(n):
+        plates = {f"P{i}{j}": {"material": "steel", "thickness": 0.001, "size": [0.5, 0.4],
+                               "origin": [0.5 * i, 0.4 * j]} for i in range(n) for j in range(n)}
+        joints = {}
+        for i in range(n):
+            for j in range(n):
+                if i + 1 < n:
+                    joints[f"H{i}{j}"] = {"between": [f"P{i}{j}.right", f"P{i + 1}{j}.left"],
+                                          "kind": "coplanar", "log10_stiffness": 2.0}
+                if j + 1 < n:
+                    joints[f"V{i}{j}"] = {"between": [f"P{i}{j}.top", f"P{i}{j + 1}.bottom"],
+                                          "kind": "coplanar", "log10_stiffness": 2.0}
+        case = parse_case({
+            "name": "grid", "frequency": 250.0,
+            "materials": {"steel": {"young_modulus": 210e9, "poisson_ratio": 0.3,
+                                    "density": 7800.0, "loss_factor": 0.01}},
+            "plates": plates, "joints": joints,
+            "loads": [{"kind": "point_force", "plate": "P00", "at": [0.17, 0.13],
+                       "amplitude": 1.0}]})
+        system = build_assembly_system(case, 250.0)
+        channel = next(ch for ch in system.channels if ch.joint == "H00")
+        return system.n_s, system.transfer["P00"].shape, channel.kinematic.matrix.shape
+
+    (n_small, transfer_small, channel_small) = sizes(2)
+    (n_large, transfer_large, channel_large) = sizes(3)
+    assert n_large > 2 * n_small
+    assert transfer_small == transfer_large
+    # H00's plates see one more joint each in the 3 x 3 grid (P10 gains H10): the channel
+    # grows by that joint's unknowns only, not with the number of interface unknowns
+    assert channel_large[1] - channel_small[1] < n_small // 2
