@@ -155,3 +155,41 @@ def _to_toml(data, prefix=""):
         for item in items:
             text += f"[[{prefix}{key}]]\n" + _to_toml(item)
     return text
+
+
+def test_twelve_plate_chain_corrects_every_wrong_joint_and_no_right_one():
+    """A chain of 12 plates (11 joints, three wrong), measured fields from the exact Levy series
+    (no noise) at one resonance-free frequency: every wrong joint is corrected to within 0.1
+    decade, no right joint is ever selected, each correction judged by the cost of the joint's
+    neighbourhood (its two plates and their joints)."""
+    n = 12
+    lengths = tuple(0.3 + 0.05 * (i % 3) for i in range(n))
+    truth = {"G3": 3.5, "G6": 0.8, "G9": 3.2}
+    joints = [{"kind": "coplanar", "log10_stiffness": 2.0, "loss_factor": 0.05}] * (n - 1)
+    description = chain_description(joints, 1.0, force=(0, 0.12, 0.31), lengths=lengths,
+                                    frequency=300.0)
+    description["measurement"] = {"spacing": 0.08, "noise": 0.0}
+    description["updating"] = {"bounds": [-1.0, 6.0]}
+    case = parse_case(description)
+    d = complex_rigidity(E, H, NU, ETA)
+    true_joints = [coplanar(10 ** truth.get(f"G{i + 1}", 2.0), 0.05) for i in range(n - 1)]
+    exact = levy_chain([Section(lx, d, NU, RHO * H) for lx in lengths], 0.5,
+                       2 * np.pi * case.frequencies[0], joints=true_joints,
+                       left="simply_supported", right="clamped",
+                       point_forces=[(0, 0.12, 0.31, 1.0)])
+    layout = {}
+    for plate, x, y in case.measurement_points():
+        layout.setdefault(plate, []).append((x, y))
+    data = {}
+    for plate, points in sorted(layout.items()):
+        points = np.array(points)
+        data[plate] = (points, exact.w(points[:, 0], points[:, 1], plate=int(plate[1:]) - 1))
+    problem = ModifiedProblem(case, Measurements({case.frequencies[0]: data}))
+    result = update_joints(problem, case.updating, noise=0.0)
+    assert problem.neighbourhood("G6") == (["G5", "G6", "G7"], ["P6", "P7"])
+    selected = {step.selected for step in result.steps[1:]}
+    assert selected == set(truth), [(s.selected, s.e_mod) for s in result.steps]
+    for joint, value in truth.items():
+        assert abs(result.parameters[joint]["log10_stiffness"] - value) < 0.1, result.parameters
+    for joint in set(case.joints) - set(truth):
+        assert result.parameters[joint]["log10_stiffness"] == 2.0

@@ -87,6 +87,7 @@ class Evaluation:
     e_mes: float
     residuals: dict  # joint -> E_Gamma^2
     interface: dict  # frequency -> S
+    misfits: dict  # measured plate -> its part of E_mes^2
 
 
 def _norm2(values):
@@ -99,6 +100,7 @@ class _Frequency:
     ``w`` as a Block over the plate's interface unknowns with the measured values."""
 
     system: object
+    plates: list  # measured plates
     operators: list  # Block per measured plate: w at its points per unit S, and at S = 0
     data: list  # measured values per measured plate
 
@@ -108,9 +110,12 @@ class _Frequency:
         return [Block(op.index, scale * op.matrix, scale * (op.offset - v))
                 for op, v in zip(self.operators, data)]
 
-    def misfit(self, s, data):
-        """:math:`E_{mes}^2` at interface unknowns ``s`` for measured values ``data``."""
-        return _norm2([op.residual(s) - v for op, v in zip(self.operators, data)]) / _norm2(data)
+    def misfits(self, s, data):
+        """Per measured plate, its part of :math:`E_{mes}^2` at interface unknowns ``s`` for
+        measured values ``data`` (normalised by all the data of the frequency)."""
+        norm = _norm2(data)
+        return {pid: _norm2([op.residual(s) - v]) / norm
+                for pid, op, v in zip(self.plates, self.operators, data)}
 
 
 class ModifiedProblem:
@@ -137,14 +142,15 @@ class ModifiedProblem:
         for frequency in measurements.frequencies:
             system = build_assembly_system(case, frequency, resolution)
             solve_assembly(case, frequency, system=system)  # fixes E_ref at p0
-            operators, data = [], []
+            plates, operators, data = [], [], []
             for pid, (points, measured) in measurements.data[frequency].items():
                 problem, basis = system.problems[pid], system.bases[pid]
                 rays = ray_field(basis, points)["w"]
                 particular = evaluate_field(problem, basis, np.zeros(basis.n_dof), points)["w"]
+                plates.append(pid)
                 operators.append(system.affine_plate_operator(pid, rays, particular))
                 data.append(np.asarray(measured))
-            self.frequencies[frequency] = _Frequency(system, operators, data)
+            self.frequencies[frequency] = _Frequency(system, plates, operators, data)
 
     def initial_parameters(self):
         """``{joint: {log10_stiffness, loss_factor, mass}}`` of the model."""
@@ -161,7 +167,7 @@ class ModifiedProblem:
         replaces the measured data by other data on the same points.
         """
         residuals = dict.fromkeys(self.joints, 0.0)
-        e_mes, interfaces, factors = 0.0, {}, {}
+        misfits, interfaces, factors = {}, {}, {}
         for frequency, freq in self.frequencies.items():
             values = freq.data if data is None else data[frequency]
             system = freq.system
@@ -170,23 +176,41 @@ class ModifiedProblem:
             factor = solve_interface(system, blocks + freq.blocks(values, self.r))
             factors[frequency] = factor
             interfaces[frequency] = factor.s
-            e_mes += freq.misfit(factor.s, values)
+            for pid, value in freq.misfits(factor.s, values).items():
+                misfits[pid] = misfits.get(pid, 0.0) + value
             for jid, value in joint_residuals(system, params, factor.s).items():
                 residuals[jid] += value
         if data is None:
             self._last = ({j: dict(p) for j, p in parameters.items()}, factors)
         e_int = sum(self.alpha[jid] * value for jid, value in residuals.items())
+        e_mes = sum(misfits.values())
         e_mod = (1.0 - self.r) * e_int + self.r * e_mes
         if not math.isfinite(e_mod):  # an optimiser fed NaN would wander silently
             raise NumericalError(
                 "E_mod^2 is not finite at " + ", ".join(
                     f"{j} log10 k {p['log10_stiffness']:.3g}" for j, p in parameters.items())
                 + f" (residuals {residuals}, E_mes^2 {e_mes})")
-        return Evaluation(e_mod, e_int, e_mes, residuals, interfaces)
+        return Evaluation(e_mod, e_int, e_mes, residuals, interfaces, misfits)
 
     def cost(self, parameters, data=None) -> float:
         """:math:`E_{mod}^2(p)` (the reduced cost function)."""
         return self.evaluate(parameters, data).e_mod
+
+    def neighbourhood(self, joint):
+        """``(joints, plates)`` around ``joint``: its two plates and every joint of theirs."""
+        plates = {side.plate for side in self.case.joints[joint].sides}
+        joints = [jid for jid, j in self.case.joints.items()
+                  if any(side.plate in plates for side in j.sides)]
+        return joints, sorted(plates)
+
+    def neighbourhood_cost(self, joint, residuals, misfits):
+        r"""The part of :math:`E_{mod}^2` that lives around ``joint``:
+        :math:`(1-r)\sum_{\Gamma\in N}\alpha_\Gamma E_\Gamma^2 + r\sum_{i\in N}E_{mes,i}^2` over
+        the joints and plates of :meth:`neighbourhood`, from per-joint residuals and per-plate
+        misfits (an :class:`Evaluation`'s, or a localisation step's)."""
+        joints, plates = self.neighbourhood(joint)
+        return ((1.0 - self.r) * sum(self.alpha[j] * residuals[j] for j in joints)
+                + self.r * sum(misfits.get(p, 0.0) for p in plates))
 
     def correction(self, parameters, joint):
         """:math:`E_{mod}^2` as a function of one joint's parameters, the others at

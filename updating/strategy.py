@@ -10,18 +10,24 @@ Rule (configurable in ``[updating]``):
    (:math:`E_\\Gamma^2 >` ``stop_ratio`` x floor) and that are not *exhausted*.
 3. **Correct** only that joint: a bounded optimisation of its log10 k (a scan over
    ``bounds`` then Brent's method around the best point), with its loss factor and line mass
-   too when ``identify`` asks for them.
-4. If the correction lowered :math:`E_{mod}^2` by less than ``min_decrease`` (relative), the
-   joint is exhausted until another joint changes, and the step is undone.
+   too when ``identify`` asks for them. The cost is condensed once on the joint
+   (:meth:`ModifiedProblem.correction`): an evaluation does not grow with the structure.
+4. **Judge it locally.** If the correction lowered the cost of the joint's *neighbourhood*
+   (its two plates' measurement misfit and the residuals of every joint on those plates,
+   :meth:`ModifiedProblem.neighbourhood_cost`) by less than ``min_decrease`` of that cost,
+   the joint is exhausted until another joint changes, and the step is undone. A fraction of
+   the global :math:`E_{mod}^2` would be diluted by the size of the structure: in a 20-plate
+   chain one wrong joint is a few per cent of it. The neighbourhood's cost is bounded below by
+   its noise floor, so near the floor the threshold is a fraction of the noise level.
 5. **Re-correct** when no joint stands out any more: a joint corrected while other joints were
    still wrong has compensated for them, and its residual can sit near the floor while its
    value is biased (the paper's Table 4 re-corrects Γ1 and Γ2 for this reason). The joints
    corrected so far are tried again, largest residual-to-floor ratio first, under the same
    ``min_decrease`` rule; an accepted re-correction starts a new localisation.
 
-The loop stops when no joint stands out and no re-correction lowers :math:`E_{mod}^2`
-(status 0), when joints stand out but no correction lowers :math:`E_{mod}^2` (status 1), or
-after ``max_steps`` accepted corrections (status 2).
+The loop stops when no joint stands out and no re-correction lowers its neighbourhood's cost
+(status 0), when joints stand out but no correction lowers its neighbourhood's cost
+(status 1), or after ``max_steps`` accepted corrections (status 2).
 
 A joint is reported as *bounded below* when its cost curve stays within 1 % of the minimum up
 to the upper bound: a joint much stiffer than the plates around it moves nothing, and only a
@@ -44,8 +50,8 @@ __all__ = ["Step", "UpdateResult", "TERMINATION_MESSAGES", "correct_joint", "upd
 
 TERMINATION_MESSAGES = {
     0: "no joint's residual stands out of the noise and discretisation floor, and re-correcting "
-       "the corrected joints no longer lowers E_mod^2",
-    1: "no correction lowers E_mod^2 any more",
+       "the corrected joints no longer lowers the cost around them",
+    1: "no correction lowers the cost around its joint any more",
     2: "the maximum number of correction steps was reached",
 }
 
@@ -68,6 +74,7 @@ class Step:
     interval: tuple | None = None  # log10 k range within 1 % of the optimum (selected joint)
     recorrection: bool = False  # selected to be corrected again, not for standing out
     e_mod_floor: float = 0.0  # E_mod^2 a correct model shows under the stated noise
+    misfits: dict = field(default_factory=dict)  # measured plate -> its part of E_mes^2
 
     def to_record(self):
         """Every field at full precision (JSON floats round-trip exactly), for run files."""
@@ -129,7 +136,7 @@ def localise(problem, parameters, step=0, selected=None, interval=None, noise=0.
                                               realisations=4 if noise > 0 else 1)
     return Step(step, selected, {j: dict(p) for j, p in parameters.items()}, evaluation.residuals,
                 floors, evaluation.e_mod, evaluation.e_int, evaluation.e_mes, interval,
-                recorrection, e_mod_floor)
+                recorrection, e_mod_floor, evaluation.misfits)
 
 
 def flat_interval(grid, costs, best, value, best_cost):
@@ -261,7 +268,9 @@ def update_joints(problem, settings, noise=0.0, start=None, on_step=None, on_cor
         parameters, interval = correct_joint(problem, current.parameters, joint,
                                              settings.bounds, settings.identify)
         step = localise(problem, parameters, len(steps), joint, interval, noise, recorrection)
-        if current.e_mod - step.e_mod < settings.min_decrease * current.e_mod:
+        before = problem.neighbourhood_cost(joint, current.residuals, current.misfits)
+        after = problem.neighbourhood_cost(joint, step.residuals, step.misfits)
+        if before - after < settings.min_decrease * before:
             exhausted.add(joint)
             continue
         exhausted.clear()
