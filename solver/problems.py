@@ -301,7 +301,25 @@ def description_issues(case, frequencies=None, need_loads=False):
                          f"resolution {settings.resolution:g} gives {where} "
                          f"{counts_text(counts, rule, families)} ray sectors: expect errors of a "
                          "few per cent near a resonance; 1.0 is the rule"))
+    if case.joints and not errors:
+        errors += _memory_issues(case, f, f_loc)
     return errors, warnings
+
+
+def _memory_issues(case, frequency, loc):
+    """An error if the estimated memory of a solve exceeds the memory available now."""
+    from solver.sizing import available_memory, estimate_size
+
+    estimate = estimate_size(case, frequency)
+    available = available_memory()
+    if available is None or estimate.solve_bytes <= available:
+        return []
+    return [(loc, f"at {frequency:g} Hz the VTCR problem has {estimate.interface_unknowns} "
+             f"interface unknowns and {estimate.ray_unknowns} ray amplitudes in "
+             f"{estimate.plates} plates; its solve needs about {estimate.solve_bytes / 1e9:.2g} GB, "
+             f"more than the {available / 1e9:.2g} GB available (vtcr check prints the "
+             "estimate); lower the frequency or [discretisation] resolution, or study a part "
+             "of the structure")]
 
 
 def check_description(case, source, frequencies=None, need_loads=False):

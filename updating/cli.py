@@ -46,9 +46,14 @@ def _frequencies(case, args):
 
 def cmd_check(args):
     from assembly import summarise
+    from solver.sizing import estimate_size
 
     case = _load(args)
-    _console(args).print(summarise(case))
+    console = _console(args)
+    console.print(summarise(case))
+    if case.joints:
+        for line in estimate_size(case).lines():
+            console.print(line)
     return 0
 
 

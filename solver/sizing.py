@@ -1,0 +1,176 @@
+r"""Sizes of an assembly's VTCR problem and the memory and time its solves take, before any work.
+
+Everything is counted from the description, without building a matrix: ray unknowns per
+plate (the resolution rule), interface unknowns per joint (:func:`interface_function_count`)
+and junction corner, residual samples per joint (its Gauss rule), and from them the entries of
+the sparse augmented interface matrix (:mod:`solver.interface`):
+
+.. math:: \mathrm{nnz} = \sum_b \mathrm{rows}_b\,|I_b|\ (\times 2) + 2\,\mathrm{nnz}(G) + n_\rho ,
+
+where :math:`I_b` are the interface unknowns a block's plates see. The LU factors of that matrix
+are the dominant cost. Their fill was measured with SuperLU (COLAMD ordering) on
+:math:`N\times N` grids of plates (:math:`P = N^2`): fill / nnz = 1.6, 3.8, 5.6, 10.1 for
+N = 2, 4, 6, 10, i.e. about :math:`\sqrt P` (the separators of a plate grid grow like its side);
+the estimate uses :math:`\mathrm{fill} = \mathrm{nnz}\,\sqrt P`, pessimistic for chains. Peak memory
+was 48 bytes per factor entry (complex factors, SuperLU's work space and the matrix copies:
+3.2 GB for 6.8e7 entries at N = 10), and the factorisation time grew like
+:math:`\mathrm{fill}^{1.22}` (0.52 s for 2.8e6 entries, 25.6 s for 6.8e7, one core of the
+2-core reference machine). These are estimates to a factor of about two, for deciding before a
+run whether it fits, not measurements.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from dataclasses import dataclass
+
+import numpy as np
+
+from solver.problems import plate_basis, plate_problem
+
+__all__ = ["SizeEstimate", "estimate_size", "available_memory"]
+
+BYTES_PER_FACTOR_ENTRY = 48.0
+FACTOR_SECONDS = (0.52, 2.8e6, 1.22)  # seconds for a fill, and the exponent of the growth
+PLATE_SECONDS = 0.02  # rays, traces, dense plate solve and transfer operator, per plate
+LOCALISATION_SOLVES = 6  # per frequency: modified problem, direct model, four noise draws
+
+
+@dataclass(frozen=True)
+class SizeEstimate:
+    """Unknown counts of one frequency and the estimated cost of ``solve`` and ``update``."""
+
+    frequency: float
+    plates: int
+    joints: int
+    ray_unknowns: int
+    interface_unknowns: int
+    constraints: int
+    residual_samples: int
+    matrix_entries: int
+    factor_entries: float
+    frequencies: int
+    max_steps: int
+
+    @property
+    def solve_bytes(self) -> float:
+        return BYTES_PER_FACTOR_ENTRY * self.factor_entries + 16.0 * 4 * self.matrix_entries
+
+    @property
+    def factorisation_seconds(self) -> float:
+        t, fill, power = FACTOR_SECONDS
+        return t * (self.factor_entries / fill) ** power
+
+    @property
+    def solve_seconds(self) -> float:
+        return PLATE_SECONDS * self.plates + self.factorisation_seconds
+
+    @property
+    def update_seconds(self) -> float:
+        """At most ``2 max_steps + 1`` localisations (accepted or undone corrections)."""
+        localisations = 2 * self.max_steps + 1
+        return self.frequencies * (self.solve_seconds + localisations * LOCALISATION_SOLVES
+                                   * self.factorisation_seconds)
+
+    def lines(self):
+        """Human-readable lines for ``vtcr check``."""
+        gb = self.solve_bytes / 1e9
+        return [
+            f"unknowns at {self.frequency:g} Hz: {self.ray_unknowns} ray amplitudes in "
+            f"{self.plates} plates, {self.interface_unknowns} interface unknowns, "
+            f"{self.constraints} constraints, {self.residual_samples} residual samples",
+            f"estimated: solve about {gb:.2g} GB and {self.solve_seconds:.2g} s per frequency "
+            f"(sparse interface matrix {self.matrix_entries:.3g} entries, LU factors about "
+            f"{self.factor_entries:.2g}); update at most about "
+            f"{self.update_seconds:.2g} s ({self.frequencies} frequencies, "
+            f"{LOCALISATION_SOLVES} factorisations per localisation, at most "
+            f"{2 * self.max_steps + 1} localisations)",
+        ]
+
+
+def estimate_size(case, frequency=None, resolution=None) -> SizeEstimate:
+    """Count the unknowns of ``case`` at ``frequency`` (default its highest) and estimate costs.
+
+    Parameters
+    ----------
+    case : assembly.Case
+    frequency : float, optional
+        Hz; the ray counts grow with it, so the highest frequency is the largest problem.
+    resolution : float, optional
+        Overrides ``[discretisation] resolution``.
+
+    Returns
+    -------
+    SizeEstimate
+    """
+    from solver.substructure import (
+        _joint_gauss,
+        _junctions,
+        _layout,
+        _plate_unknowns,
+        interface_function_count,
+    )
+
+    frequency = max(case.frequencies) if frequency is None else float(frequency)
+    scale = case.discretisation.resolution if resolution is None else resolution
+    problems = {pid: plate_problem(case, pid, frequency) for pid in case.plates}
+    bases = {pid: plate_basis(case, pid, problems[pid], resolution) for pid in case.plates}
+    k_max = {pid: float(np.max(np.abs(b.k))) for pid, b in bases.items()}
+    counts = {}
+    for jid, joint in case.joints.items():
+        a, b = joint.sides
+        kappa0 = max(problems[a.plate].kappa.real, problems[b.plate].kappa.real)
+        counts[jid] = (case.discretisation.interface_functions
+                       or interface_function_count(kappa0, case.edge_length(a), scale))
+    layout, n_s = _layout(case, counts)
+    corners = {}
+    for flags in _junctions(case, problems):
+        static = [corner for corner, kinematic in flags if not kinematic]
+        for corner in static:
+            corners[corner] = n_s
+            n_s += 1
+    unknowns = _plate_unknowns(case, layout, corners)
+
+    entries = samples = constraints = 0
+    for jid, joint in case.joints.items():
+        a, b = joint.sides
+        seen = len(np.union1d(unknowns[a.plate], unknowns[b.plate]))
+        n_q = len(_joint_gauss(case.edge_length(a), max(k_max[a.plate], k_max[b.plate]))[0])
+        channels = 2 if "FA" in layout[jid] else 1
+        samples += channels * n_q
+        entries += channels * n_q * seen
+        if joint.kind == "coplanar":
+            constraints += counts[jid]
+            entries += counts[jid] * seen
+    for pid, points in _measured_points(case).items():
+        samples += points
+        entries += points * len(unknowns[pid])
+    constraints += len(corners)
+    matrix_entries = 2 * entries + samples
+    return SizeEstimate(frequency, len(case.plates), len(case.joints),
+                        sum(b.n_dof for b in bases.values()), n_s, constraints, samples,
+                        matrix_entries, matrix_entries * math.sqrt(len(case.plates)),
+                        len(case.frequencies), case.updating.max_steps)
+
+
+def _measured_points(case):
+    counts = {}
+    for plate, _, _ in case.measurement_points():
+        counts[plate] = counts.get(plate, 0) + 1
+    return counts
+
+
+def available_memory():
+    """Bytes of memory available to a new computation (``MemAvailable``), or None."""
+    try:
+        with open("/proc/meminfo") as meminfo:
+            for line in meminfo:
+                if line.startswith("MemAvailable:"):
+                    return 1024.0 * float(line.split()[1])
+    except OSError:
+        pass
+    try:
+        return float(os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
+    except (AttributeError, ValueError, OSError):
+        return None

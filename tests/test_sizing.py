@@ -1,0 +1,47 @@
+"""Sizes counted from the description equal the built system's; too big is refused up front."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from test_interface import mixed_chain
+
+from assembly import load_case
+from solver import interface
+from solver.sizing import estimate_size
+from solver.substructure import build_assembly_system, channel_blocks, joint_parameters
+from updating.cli import main
+
+CASES = Path(__file__).resolve().parents[1] / "cases"
+
+
+@pytest.mark.parametrize("case", [mixed_chain(), load_case(CASES / "four_plates.toml")],
+                         ids=["chain", "four_plates"])
+def test_counts_match_the_built_system(case):
+    frequency = max(case.frequencies)
+    estimate = estimate_size(case, frequency)
+    system = build_assembly_system(case, frequency)
+    assert estimate.interface_unknowns == system.n_s
+    assert estimate.constraints == system.constraints[0].shape[0]
+    assert estimate.ray_unknowns == sum(b.n_dof for b in system.bases.values())
+    blocks = channel_blocks(system, joint_parameters(case, system.omega),
+                            dict.fromkeys(case.joints, 1.0))
+    matrix, n_rho = interface._augmented_matrix(system.n_s, blocks, system.constraints[0])
+    n_measured = len(case.measurement_points())
+    # the estimate also counts the measurement rows of an update
+    assert estimate.residual_samples == n_rho + n_measured
+    assert estimate.matrix_entries >= matrix.nnz
+
+
+def test_a_problem_too_big_for_the_memory_stops_before_any_work(monkeypatch, capsys):
+    monkeypatch.setattr("solver.sizing.available_memory", lambda: 1e6)
+    assert main(["solve", str(CASES / "four_plates.toml")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "GB available" in err and "frequency" in err, err
+
+
+def test_check_prints_the_estimate(capsys):
+    assert main(["check", str(CASES / "four_plates.toml")]) == 0
+    out = capsys.readouterr().out
+    assert "192 interface unknowns" in out and "estimated: solve about" in out
