@@ -175,7 +175,7 @@ def factorise_interface(n_s, blocks, constraints):
     # stable, and accuracy is judged on fields and energies.
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", scipy.sparse.linalg.MatrixRankWarning)
-        lu = scipy.sparse.linalg.splu(scaled.tocsc(), permc_spec="MMD_AT_PLUS_A",
+        lu = scipy.sparse.linalg.splu(scaled.tocsc(), permc_spec="COLAMD",
                                       diag_pivot_thresh=0.1)
     x = lu.solve(rhs * scale) * scale
     s = x[n_rho:n_rho + n_s]

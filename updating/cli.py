@@ -347,11 +347,14 @@ def cmd_update(args):
                   f"set-up {t1 - t0:.2f} s, updating {t2 - t1:.2f} s; run file {run.path}")
     factorisations = problem.factorisation_seconds
     n_f = len(factorisations)
-    console.print(f"one E_mod^2(p) evaluation ({n_f} frequenc{'ies' if n_f > 1 else 'y'}): "
-                  f"{1e3 * problem.evaluation_seconds(result.parameters):.1f} ms; one "
-                  f"factorisation of the admissibility system: "
-                  f"{1e3 * sum(factorisations.values()) / n_f:.1f} ms per "
-                  "frequency")
+    joint = next((s.selected for s in reversed(result.steps) if s.selected), case.joints and
+                 next(iter(case.joints)))
+    console.print(f"one E_mod^2(p) solve ({n_f} frequenc{'ies' if n_f > 1 else 'y'}): "
+                  f"{1e3 * problem.evaluation_seconds(result.parameters):.1f} ms, during a "
+                  f"correction of {joint}: "
+                  f"{1e3 * problem.evaluation_seconds(result.parameters, joint):.2f} ms; "
+                  f"plate blocks and transfer operators: "
+                  f"{1e3 * sum(factorisations.values()) / n_f:.1f} ms per frequency")
     if args.json:
         write_json_atomic(args.json, result_json(result, {"case": case.name}, bounds))
     if args.report:

@@ -256,12 +256,20 @@ class ModifiedProblem:
         """Plate amplitudes for interface unknowns S (to plot or export the updated field)."""
         return self.frequencies[frequency].system.plate_amplitudes(interface)
 
-    def evaluation_seconds(self, parameters, repeats=5):
-        """Best wall time of one :meth:`cost` evaluation at ``parameters`` (all frequencies)."""
+    def evaluation_seconds(self, parameters, joint=None, repeats=5):
+        """Best wall time of one :meth:`cost` evaluation at ``parameters`` (all frequencies,
+        a sparse factorisation each), or with ``joint``, of one evaluation of its condensed
+        :class:`JointCorrection` (built once, untimed), as during a correction."""
+        if joint is None:
+            run = lambda: self.cost(parameters)  # noqa: E731
+        else:
+            local = self.correction(parameters, joint)
+            value = parameters[joint]["log10_stiffness"] + 0.1
+            run = lambda: local.cost(log10_stiffness=value)  # noqa: E731
         best = math.inf
         for _ in range(repeats):
             t0 = time.perf_counter()
-            self.cost(parameters)
+            run()
             best = min(best, time.perf_counter() - t0)
         return best
 
