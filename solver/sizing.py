@@ -104,33 +104,14 @@ def estimate_size(case, frequency=None, resolution=None) -> SizeEstimate:
     -------
     SizeEstimate
     """
-    from solver.substructure import (
-        _joint_gauss,
-        _junctions,
-        _layout,
-        _plate_unknowns,
-        interface_function_count,
-    )
+    from solver.substructure import _joint_gauss, interface_layout
 
     frequency = max(case.frequencies) if frequency is None else float(frequency)
     scale = case.discretisation.resolution if resolution is None else resolution
     problems = {pid: plate_problem(case, pid, frequency) for pid in case.plates}
     bases = {pid: plate_basis(case, pid, problems[pid], resolution) for pid in case.plates}
     k_max = {pid: float(np.max(np.abs(b.k))) for pid, b in bases.items()}
-    counts = {}
-    for jid, joint in case.joints.items():
-        a, b = joint.sides
-        kappa0 = max(problems[a.plate].kappa.real, problems[b.plate].kappa.real)
-        counts[jid] = (case.discretisation.interface_functions
-                       or interface_function_count(kappa0, case.edge_length(a), scale))
-    layout, n_s = _layout(case, counts)
-    corners = {}
-    for flags in _junctions(case, problems):
-        static = [corner for corner, kinematic in flags if not kinematic]
-        for corner in static:
-            corners[corner] = n_s
-            n_s += 1
-    unknowns = _plate_unknowns(case, layout, corners)
+    counts, layout, _, corners, n_s, unknowns = interface_layout(case, problems, scale)
 
     entries = samples = constraints = 0
     for jid, joint in case.joints.items():

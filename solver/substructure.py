@@ -315,6 +315,41 @@ def _scaled(block, factor):
     return Block(block.index, (factor.T * block.matrix.T).T, factor * block.offset)
 
 
+def interface_layout(case, problems, scale):
+    """The interface unknowns of an assembly, counted from its description.
+
+    Returns
+    -------
+    counts : dict of str to int
+        Legendre functions per unknown function of each joint.
+    layout : dict
+        Slices of each joint's unknown functions in S (:func:`_layout`).
+    junctions : list
+        Corner groups at joint ends (:func:`_junctions`).
+    corner_columns : dict of (str, int) to int
+        Position in S of the unknown corner force of each static junction corner.
+    n_s : int
+    unknowns : dict of str to ndarray of int
+        Per plate, the interface unknowns it sees.
+    """
+    counts = {}
+    for jid, joint in case.joints.items():
+        a, b = joint.sides
+        kappa0 = max(problems[a.plate].kappa.real, problems[b.plate].kappa.real)
+        counts[jid] = (case.discretisation.interface_functions
+                       or interface_function_count(kappa0, case.edge_length(a), scale))
+    layout, n_s = _layout(case, counts)
+    junctions = _junctions(case, problems)
+    corner_columns = {}
+    for flags in junctions:
+        for corner, kinematic in flags:
+            if not kinematic:
+                corner_columns[corner] = n_s
+                n_s += 1
+    return (counts, layout, junctions, corner_columns, n_s,
+            _plate_unknowns(case, layout, corner_columns))
+
+
 def build_assembly_system(case, frequency, resolution=None) -> AssemblySystem:
     """Plate admissibility blocks, interface layout, constraints and residual channels.
 
@@ -328,21 +363,8 @@ def build_assembly_system(case, frequency, resolution=None) -> AssemblySystem:
     boundaries = {pid: boundary_traces(problems[pid], bases[pid]) for pid in case.plates}
     k_max = {pid: float(np.max(np.abs(b.k))) for pid, b in bases.items()}
 
-    counts = {}
-    for jid, joint in case.joints.items():
-        a, b = joint.sides
-        kappa0 = max(problems[a.plate].kappa.real, problems[b.plate].kappa.real)
-        counts[jid] = (case.discretisation.interface_functions
-                       or interface_function_count(kappa0, case.edge_length(a), scale))
-    layout, n_joint_unknowns = _layout(case, counts)
-    junctions = _junctions(case, problems)
-    corner_columns, n_s = {}, n_joint_unknowns
-    for flags in junctions:
-        for (pid, c), kinematic in flags:
-            if not kinematic:
-                corner_columns[(pid, c)] = n_s
-                n_s += 1
-    unknowns = _plate_unknowns(case, layout, corner_columns)
+    counts, layout, junctions, corner_columns, n_s, unknowns = interface_layout(
+        case, problems, scale)
 
     # load operators B_i over the plate's own unknowns (plate equations: K_i U_i = F_i + B_i S)
     loads = {pid: np.zeros((bases[pid].n_dof, len(unknowns[pid])), dtype=complex)

@@ -64,6 +64,34 @@ def field_difference(system, s, t):
     return float(np.sqrt(num / den))
 
 
+def grid_description(n, log10_stiffness, frequency, supported, force, size=(0.5, 0.4)):
+    """An n x n grid of steel plates ``P{i}_{j}`` (column i, row j) joined by coplanar joints
+    ``H{i}_{j}`` / ``V{i}_{j}``, outer edges simply supported or free, one unit point force
+    ``force = (i, j, x, y)``."""
+    plates, joints, boundaries = {}, {}, []
+    for i in range(n):
+        for j in range(n):
+            plates[f"P{i}_{j}"] = {"material": "steel", "thickness": 0.001, "size": list(size),
+                                   "origin": [size[0] * i, size[1] * j]}
+            if i + 1 < n:
+                joints[f"H{i}_{j}"] = {"between": [f"P{i}_{j}.right", f"P{i + 1}_{j}.left"],
+                                       "kind": "coplanar", "log10_stiffness": log10_stiffness}
+            if j + 1 < n:
+                joints[f"V{i}_{j}"] = {"between": [f"P{i}_{j}.top", f"P{i}_{j + 1}.bottom"],
+                                       "kind": "coplanar", "log10_stiffness": log10_stiffness}
+            edges = [e for e, outer in (("left", i == 0), ("right", i == n - 1),
+                                        ("bottom", j == 0), ("top", j == n - 1)) if outer]
+            boundaries += [{"edge": f"P{i}_{j}.{e}", "condition": "simply_supported"}
+                           for e in edges if supported]
+    return {
+        "name": "grid", "frequency": frequency,
+        "materials": {"steel": {"young_modulus": 210e9, "poisson_ratio": 0.3, "density": 7800.0,
+                                "loss_factor": 0.01}},
+        "plates": plates, "joints": joints, "boundaries": boundaries,
+        "loads": [{"kind": "point_force", "plate": f"P{force[0]}_{force[1]}",
+                   "at": list(force[2:]), "amplitude": 1.0}]}
+
+
 def mixed_chain():
     """Three plates: damped coplanar joint with a line mass (two shear unknowns), then a hinge;
     free outer edges, so that junction corner forces appear at the joint ends."""
@@ -130,35 +158,18 @@ def test_condensed_cost_equals_a_full_solve(four_plates, joint):
 
 def test_data_live_with_their_plates_and_joints():
     """A plate's transfer operator and a joint's samples span its neighbourhood only: the same
-    sizes for the corner plate of a 2 x 2 and of a 3 x 3 arrangement."""
+    sizes for the corner plate of a 2 x 2 and of a 3 x 3 arrangement (free outer edges)."""
     def sizes(n):
-        plates = {f"P{i}{j}": {"material": "steel", "thickness": 0.001, "size": [0.5, 0.4],
-                               "origin": [0.5 * i, 0.4 * j]} for i in range(n) for j in range(n)}
-        joints = {}
-        for i in range(n):
-            for j in range(n):
-                if i + 1 < n:
-                    joints[f"H{i}{j}"] = {"between": [f"P{i}{j}.right", f"P{i + 1}{j}.left"],
-                                          "kind": "coplanar", "log10_stiffness": 2.0}
-                if j + 1 < n:
-                    joints[f"V{i}{j}"] = {"between": [f"P{i}{j}.top", f"P{i}{j + 1}.bottom"],
-                                          "kind": "coplanar", "log10_stiffness": 2.0}
-        case = parse_case({
-            "name": "grid", "frequency": 250.0,
-            "materials": {"steel": {"young_modulus": 210e9, "poisson_ratio": 0.3,
-                                    "density": 7800.0, "loss_factor": 0.01}},
-            "plates": plates, "joints": joints,
-            "loads": [{"kind": "point_force", "plate": "P00", "at": [0.17, 0.13],
-                       "amplitude": 1.0}]})
+        case = parse_case(grid_description(n, 2.0, 250.0, False, (0, 0, 0.17, 0.13)))
         system = build_assembly_system(case, 250.0)
-        channel = next(ch for ch in system.channels if ch.joint == "H00")
-        return system.n_s, system.transfer["P00"].shape, channel.kinematic.matrix.shape
+        channel = next(ch for ch in system.channels if ch.joint == "H0_0")
+        return system.n_s, system.transfer["P0_0"].shape, channel.kinematic.matrix.shape
 
     (n_small, transfer_small, channel_small) = sizes(2)
     (n_large, transfer_large, channel_large) = sizes(3)
     assert n_large > 2 * n_small
     assert transfer_small == transfer_large
-    # H00's plates see one more joint each in the 3 x 3 grid (P10 gains H10): the channel
+    # H0_0's plates see one more joint in the 3 x 3 grid (P1_0 gains H1_0): the channel
     # grows by that joint's unknowns only, not with the number of interface unknowns
     assert channel_large[1] - channel_small[1] < n_small // 2
 
@@ -171,32 +182,11 @@ def test_six_by_six_stiff_grid_is_the_single_plate_of_navier():
     unknowns with 25 four-plate junction points."""
     from exact import complex_rigidity, navier_point_force
 
-    n, size, frequency = 6, (0.5, 0.4), 140.0
-    plates, joints, boundaries = {}, {}, []
-    for i in range(n):
-        for j in range(n):
-            plates[f"P{i}_{j}"] = {"material": "steel", "thickness": 0.001, "size": list(size),
-                                   "origin": [size[0] * i, size[1] * j]}
-            if i + 1 < n:
-                joints[f"H{i}_{j}"] = {"between": [f"P{i}_{j}.right", f"P{i + 1}_{j}.left"],
-                                       "kind": "coplanar", "log10_stiffness": 6.0}
-            if j + 1 < n:
-                joints[f"V{i}_{j}"] = {"between": [f"P{i}_{j}.top", f"P{i}_{j + 1}.bottom"],
-                                       "kind": "coplanar", "log10_stiffness": 6.0}
-            edges = [e for e, outer in (("left", i == 0), ("right", i == n - 1),
-                                        ("bottom", j == 0), ("top", j == n - 1)) if outer]
-            boundaries += [{"edge": f"P{i}_{j}.{e}", "condition": "simply_supported"}
-                           for e in edges]
-    force = (1, 2, 0.17, 0.13)  # plate P1_2, plate-local position
-    case = parse_case({
-        "name": "grid", "frequency": frequency,
-        "materials": {"steel": {"young_modulus": 210e9, "poisson_ratio": 0.3, "density": 7800.0,
-                                "loss_factor": 0.01}},
-        "plates": plates, "joints": joints, "boundaries": boundaries,
-        "loads": [{"kind": "point_force", "plate": f"P{force[0]}_{force[1]}",
-                   "at": list(force[2:]), "amplitude": 1.0}]})
     from solver import solve_case
 
+    n, size, frequency = 6, (0.5, 0.4), 140.0
+    force = (1, 2, 0.17, 0.13)  # plate P1_2, plate-local position
+    case = parse_case(grid_description(n, 6.0, frequency, supported=True, force=force))
     solution = solve_case(case)
     d = complex_rigidity(210e9, 0.001, 0.3, 0.01)
     x0, y0 = size[0] * force[0] + force[2], size[1] * force[1] + force[3]

@@ -62,6 +62,20 @@ def test_two_plate_cost_minimum_with_20_percent_noise():
     assert 0.5 * 0.2**2 / 3 < evaluation.e_mes < 2 * 0.2**2 / 3
 
 
+def exact_measurements(case, exact, noise=0.0, rng=None):
+    """Measurements at the case's grid from a Levy chain solution (plate ``Pi`` is section
+    ``i - 1``), times ``1 + U(-noise, noise)``."""
+    layout = {}
+    for plate, x, y in case.measurement_points():
+        layout.setdefault(plate, []).append((x, y))
+    data = {}
+    for plate, points in sorted(layout.items()):
+        points = np.array(points)
+        values = exact.w(points[:, 0], points[:, 1], plate=int(plate[1:]) - 1)
+        data[plate] = (points, add_noise(values, noise, rng) if noise else values)
+    return Measurements({case.frequencies[0]: data})
+
+
 def test_identification_from_exact_levy_measurements():
     """Three-plate chain, two joints (true log k 2.0 and 3.0), measurements from the exact
     Levy series with ±10 % noise, model starting at log k = 2.5 for both: the loop recovers
@@ -79,16 +93,7 @@ def test_identification_from_exact_levy_measurements():
                        joints=[coplanar(10 ** truth["G1"], 0.05), coplanar(10 ** truth["G2"], 0.05)],
                        left="simply_supported", right="clamped",
                        point_forces=[(0, 0.12, 0.31, 1.0)])
-    rng = np.random.default_rng(7)
-    layout = {}
-    for plate, x, y in case.measurement_points():
-        layout.setdefault(plate, []).append((x, y))
-    data = {}
-    for plate, points in sorted(layout.items()):
-        points = np.array(points)
-        values = exact.w(points[:, 0], points[:, 1], plate=int(plate[1:]) - 1)
-        data[plate] = (points, add_noise(values, 0.1, rng))
-    problem = ModifiedProblem(case, Measurements({case.frequencies[0]: data}))
+    problem = ModifiedProblem(case, exact_measurements(case, exact, 0.1, np.random.default_rng(7)))
     result = update_joints(problem, case.updating, noise=0.1)
     final = result.parameters
     for joint, value in truth.items():
@@ -177,14 +182,7 @@ def test_twelve_plate_chain_corrects_every_wrong_joint_and_no_right_one():
                        2 * np.pi * case.frequencies[0], joints=true_joints,
                        left="simply_supported", right="clamped",
                        point_forces=[(0, 0.12, 0.31, 1.0)])
-    layout = {}
-    for plate, x, y in case.measurement_points():
-        layout.setdefault(plate, []).append((x, y))
-    data = {}
-    for plate, points in sorted(layout.items()):
-        points = np.array(points)
-        data[plate] = (points, exact.w(points[:, 0], points[:, 1], plate=int(plate[1:]) - 1))
-    problem = ModifiedProblem(case, Measurements({case.frequencies[0]: data}))
+    problem = ModifiedProblem(case, exact_measurements(case, exact))
     result = update_joints(problem, case.updating, noise=0.0)
     assert problem.neighbourhood("G6") == (["G5", "G6", "G7"], ["P6", "P7"])
     selected = {step.selected for step in result.steps[1:]}
