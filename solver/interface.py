@@ -129,6 +129,7 @@ class InterfaceFactor:
     n_s: int
     s: np.ndarray
     residuals: list
+    constraint_rhs: np.ndarray
 
     def solve_interface(self, rhs):
         """S-part of the augmented solve with ``rhs`` (n_s, k) in the S rows, zero elsewhere.
@@ -140,6 +141,24 @@ class InterfaceFactor:
         full[self.n_rho:self.n_rho + self.n_s] = rhs
         x = self.lu.solve(full * self.scale[:, None]) * self.scale[:, None]
         return x[self.n_rho:self.n_rho + self.n_s]
+
+    def resolve(self, offsets):
+        """Minimisers for other block offsets :math:`a_b` (same matrices, same constraints).
+
+        Parameters
+        ----------
+        offsets : sequence of sequences of ndarray
+            For each problem, the offsets of every block, in the order of the factorisation.
+
+        Returns
+        -------
+        ndarray of complex, shape (len(offsets), n_s)
+        """
+        rhs = np.column_stack([
+            np.concatenate([-np.concatenate(list(problem)), np.zeros(self.n_s, dtype=complex),
+                            self.constraint_rhs]) for problem in offsets])
+        x = self.lu.solve(rhs * self.scale[:, None]) * self.scale[:, None]
+        return x[self.n_rho:self.n_rho + self.n_s].T
 
     @property
     def cost(self) -> float:
@@ -179,7 +198,8 @@ def factorise_interface(n_s, blocks, constraints):
                                       diag_pivot_thresh=0.1)
     x = lu.solve(rhs * scale) * scale
     s = x[n_rho:n_rho + n_s]
-    return InterfaceFactor(lu, scale, n_rho, n_s, s, [b.residual(s) for b in blocks])
+    return InterfaceFactor(lu, scale, n_rho, n_s, s, [b.residual(s) for b in blocks],
+                           np.asarray(g_rhs, dtype=complex))
 
 
 class JointCondensation:

@@ -104,16 +104,17 @@ class _Frequency:
     operators: list  # Block per measured plate: w at its points per unit S, and at S = 0
     data: list  # measured values per measured plate
 
-    def blocks(self, data, r):
-        r"""The measurement term :math:`r E_{mes}^2` as Blocks, for measured values ``data``."""
-        scale = math.sqrt(r / _norm2(data))
+    def blocks(self, data, r, norm=None):
+        r"""The measurement term :math:`r E_{mes}^2` as Blocks, for measured values ``data``
+        normalised by ``norm`` (default theirs, :math:`\|\tilde u\|^2`)."""
+        scale = math.sqrt(r / (_norm2(data) if norm is None else norm))
         return [Block(op.index, scale * op.matrix, scale * (op.offset - v))
                 for op, v in zip(self.operators, data)]
 
-    def misfits(self, s, data):
+    def misfits(self, s, data, norm=None):
         """Per measured plate, its part of :math:`E_{mes}^2` at interface unknowns ``s`` for
-        measured values ``data`` (normalised by all the data of the frequency)."""
-        norm = _norm2(data)
+        measured values ``data`` (normalised by ``norm``, default all the data's)."""
+        norm = _norm2(data) if norm is None else norm
         return {pid: _norm2([op.residual(s) - v]) / norm
                 for pid, op, v in zip(self.plates, self.operators, data)}
 
@@ -238,18 +239,33 @@ class ModifiedProblem:
                 for _ in range(realisations)]
 
     def noise_floor(self, parameters, noise, seed=0, realisations=4):
-        """What a correct model would show under measurement noise alone.
+        r"""What a correct model would show under measurement noise alone.
 
         Means over :meth:`synthetic_data` realisations: ``({joint: E_Gamma^2}, E_mod^2)``, the
         levels below which a joint's residual, and the cost, cannot be told from noise and
-        discretisation error.
+        discretisation error. The draws of one frequency are normalised by the mean of their
+        norms :math:`\|\tilde u_k\|^2` (which differ by about noise / sqrt(points)) rather
+        than each by its own, so that one factorisation of the interface problem serves them
+        all.
         """
+        draws = self.synthetic_data(parameters, noise, seed, realisations)
         floors, e_mod = dict.fromkeys(self.joints, 0.0), 0.0
-        for data in self.synthetic_data(parameters, noise, seed, realisations):
-            evaluation = self.evaluate(parameters, data)
-            e_mod += evaluation.e_mod / realisations
-            for jid, value in evaluation.residuals.items():
-                floors[jid] += value / realisations
+        for frequency, freq in self.frequencies.items():
+            system = freq.system
+            data = [draw[frequency] for draw in draws]
+            norm = float(np.mean([_norm2(values) for values in data]))
+            params = channel_parameters(parameters, system.omega)
+            blocks = channel_blocks(system, params, self.joint_weights(system))
+            factor = solve_interface(system, blocks + freq.blocks(data[0], self.r, norm))
+            offsets = [[b.offset for b in blocks + freq.blocks(values, self.r, norm)]
+                       for values in data]
+            for s, values in zip(factor.resolve(offsets), data):
+                residuals = joint_residuals(system, params, s)
+                e_mes = sum(freq.misfits(s, values, norm).values())
+                e_int = sum(self.alpha[jid] * value for jid, value in residuals.items())
+                e_mod += ((1.0 - self.r) * e_int + self.r * e_mes) / realisations
+                for jid, value in residuals.items():
+                    floors[jid] += value / realisations
         return floors, e_mod
 
     def field(self, frequency, interface):
