@@ -564,10 +564,14 @@ class AssemblySolution:
         return self.plates[plate_id].field(points)["w"]
 
 
-def solve_assembly(case, frequency, resolution=None, system=None) -> AssemblySolution:
+def solve_assembly(case, frequency, resolution=None, system=None,
+                   residuals=True) -> AssemblySolution:
     """Direct problem of a jointed assembly: minimise :math:`E_{int}^2` under admissibility.
 
-    The reference energy is fixed by this solve if the system has none yet.
+    The reference energy is fixed by this solve if the system has none yet. With
+    ``residuals=False`` only the field is wanted (a simulated experiment): neither the
+    reference energy (a field quadrature over every plate) nor the residuals are computed,
+    and ``residuals`` is empty.
     """
     from solver.vtcr import _condition_warnings
 
@@ -576,10 +580,10 @@ def solve_assembly(case, frequency, resolution=None, system=None) -> AssemblySol
     params = joint_parameters(case, system.omega)
     s = solve_interface(system, channel_blocks(system, params, case.updating.alpha)).s
     amplitudes = system.plate_amplitudes(s)
-    if system.e_ref is None:
+    if system.e_ref is None and residuals:
         system.e_ref = reference_energy(system, amplitudes)
     plates = {pid: PlateSolution(system.problems[pid], system.bases[pid], amplitudes[pid],
                                  system.rcond[pid]) for pid in system.problems}
     timings = dict(system.timings, reduced=time.perf_counter() - t0)
     return AssemblySolution(frequency, plates, timings, _condition_warnings(plates),
-                            joint_residuals(system, params, s), s, system)
+                            joint_residuals(system, params, s) if residuals else {}, s, system)

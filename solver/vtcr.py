@@ -133,7 +133,7 @@ def check_finite(solution):
     return solution
 
 
-def solve_case(case, frequency=None, resolution=None) -> CaseSolution:
+def solve_case(case, frequency=None, resolution=None, residuals=True) -> CaseSolution:
     """Solve the forced response of ``case`` at one frequency.
 
     Parameters
@@ -144,6 +144,9 @@ def solve_case(case, frequency=None, resolution=None) -> CaseSolution:
         Hz; default the description's first frequency.
     resolution : float, optional
         Overrides ``[discretisation] resolution`` (multiplier on the ray-count rule).
+    residuals : bool, optional
+        For an assembly, compute the joint residuals (and the reference energy that
+        normalises them); False when only the field is wanted.
 
     Returns
     -------
@@ -169,7 +172,7 @@ def solve_case(case, frequency=None, resolution=None) -> CaseSolution:
             raise ValueError(
                 "the assembly has no loads: its response is zero and the joint residuals, "
                 "relative to its energy, are undefined; add a [[loads]] table")
-        return check_finite(solve_assembly(case, frequency, resolution))
+        return check_finite(solve_assembly(case, frequency, resolution, residuals=residuals))
     solutions, timings = {}, {"assembly": 0.0, "solve": 0.0}
     for plate_id in case.plates:
         t0 = time.perf_counter()

@@ -167,22 +167,31 @@ class ModifiedProblem:
         ``data`` (``{frequency: [values per measured plate]}``, see :meth:`synthetic_data`)
         replaces the measured data by other data on the same points.
         """
-        residuals = dict.fromkeys(self.joints, 0.0)
-        misfits, interfaces, factors = {}, {}, {}
+        interfaces, factors = {}, {}
         for frequency, freq in self.frequencies.items():
             values = freq.data if data is None else data[frequency]
             system = freq.system
             params = channel_parameters(parameters, system.omega)
             blocks = channel_blocks(system, params, self.joint_weights(system))
-            factor = solve_interface(system, blocks + freq.blocks(values, self.r))
-            factors[frequency] = factor
-            interfaces[frequency] = factor.s
-            for pid, value in freq.misfits(factor.s, values).items():
-                misfits[pid] = misfits.get(pid, 0.0) + value
-            for jid, value in joint_residuals(system, params, factor.s).items():
-                residuals[jid] += value
+            factors[frequency] = solve_interface(system, blocks + freq.blocks(values, self.r))
+            interfaces[frequency] = factors[frequency].s
         if data is None:
             self._last = ({j: dict(p) for j, p in parameters.items()}, factors)
+        return self.evaluation_at(parameters, interfaces, data)
+
+    def evaluation_at(self, parameters, interfaces, data=None) -> Evaluation:
+        """The :class:`Evaluation` of given interface unknowns ``{frequency: S}`` (for instance
+        a :class:`JointCorrection`'s minimisers): residuals, misfits and costs, no solve."""
+        residuals = dict.fromkeys(self.joints, 0.0)
+        misfits = {}
+        for frequency, freq in self.frequencies.items():
+            values = freq.data if data is None else data[frequency]
+            s = interfaces[frequency]
+            params = channel_parameters(parameters, freq.system.omega)
+            for pid, value in freq.misfits(s, values).items():
+                misfits[pid] = misfits.get(pid, 0.0) + value
+            for jid, value in joint_residuals(freq.system, params, s).items():
+                residuals[jid] += value
         e_int = sum(self.alpha[jid] * value for jid, value in residuals.items())
         e_mes = sum(misfits.values())
         e_mod = (1.0 - self.r) * e_int + self.r * e_mes
@@ -272,7 +281,7 @@ class ModifiedProblem:
         """Plate amplitudes for interface unknowns S (to plot or export the updated field)."""
         return self.frequencies[frequency].system.plate_amplitudes(interface)
 
-    def evaluation_seconds(self, parameters, joint=None, repeats=5):
+    def evaluation_seconds(self, parameters, joint=None, repeats=3):
         """Best wall time of one :meth:`cost` evaluation at ``parameters`` (all frequencies,
         a sparse factorisation each), or with ``joint``, of one evaluation of its condensed
         :class:`JointCorrection` (built once, untimed), as during a correction."""
@@ -325,9 +334,10 @@ class JointCorrection:
     """
 
     def __init__(self, problem, parameters, joint, factors):
+        self.problem = problem
         self.joint = joint
         self.parameters = {j: dict(p) for j, p in parameters.items()}
-        self._frequencies = []
+        self._frequencies = {}
         for frequency, freq in problem.frequencies.items():
             system = freq.system
             kappa = problem.joint_weights(system)[joint]
@@ -336,19 +346,31 @@ class JointCorrection:
             condensation = JointCondensation(
                 factors[frequency],
                 [(ch.load, ch.kinematic, kappa, params[joint, ch.kind]) for ch in channels])
-            self._frequencies.append((system.omega, [ch.kind for ch in channels], condensation))
+            self._frequencies[frequency] = (system.omega, [ch.kind for ch in channels],
+                                            condensation)
+
+    def _channels(self, values):
+        """Per frequency, the joint's channel parameters with ``values`` set."""
+        trial = with_joint(self.parameters, self.joint, **values)
+        for frequency, (omega, kinds, condensation) in self._frequencies.items():
+            params = channel_parameters({self.joint: trial[self.joint]}, omega)
+            yield frequency, condensation, [params[self.joint, kind] for kind in kinds]
 
     def cost(self, **values):
         """:math:`E_{mod}^2` with the joint's ``log10_stiffness`` / ``loss_factor`` / ``mass``
         set to ``values`` (the others as in the base parameters)."""
-        trial = with_joint(self.parameters, self.joint, **values)[self.joint]
-        total = 0.0
-        for omega, kinds, condensation in self._frequencies:
-            params = channel_parameters({self.joint: trial}, omega)
-            total += condensation.cost([params[self.joint, kind] for kind in kinds])
+        total = sum(condensation.cost(params) for _, condensation, params in self._channels(values))
         if not math.isfinite(total):
             raise NumericalError(f"E_mod^2 is not finite at joint {self.joint} {values}")
         return total
+
+    def evaluate(self, **values) -> Evaluation:
+        """Every residual and misfit at the joint's ``values``, from the condensed minimisers
+        (no factorisation): what a localisation would find there, without its noise floors."""
+        interfaces = {f: condensation.interface(params)
+                      for f, condensation, params in self._channels(values)}
+        return self.problem.evaluation_at(
+            with_joint(self.parameters, self.joint, **values), interfaces)
 
 
 def log_grid(bounds, n):

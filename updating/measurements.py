@@ -78,7 +78,7 @@ def simulate_measurements(case, noise=None, seed=None, resolution=None):
     rng = np.random.default_rng(seed)
     data = {}
     for frequency in case.frequencies:
-        solution = solve_case(truth, frequency, resolution=scale)
+        solution = solve_case(truth, frequency, resolution=scale, residuals=False)
         data[frequency] = {pid: (points, add_noise(solution.w(pid, points), noise, rng))
                            for pid, points in layout.items()}
     return Measurements(data)

@@ -173,7 +173,10 @@ def _minimise_on_log_scale(cost, bounds, n_scan):
 
 
 def correct_joint(problem, parameters, joint, bounds, identify=("stiffness",)):
-    """Optimise one joint's parameters, the others fixed; returns ``(parameters, interval)``.
+    """Optimise one joint's parameters, the others fixed.
+
+    Returns ``(parameters, interval, evaluation)``: the evaluation (residuals and misfits) at
+    the optimum comes from the condensed minimiser, without a new factorisation.
 
     The cost is condensed once on the joint (:meth:`ModifiedProblem.correction`), so each
     evaluation is a small dense solve whatever the size of the structure. ``interval`` is the
@@ -188,7 +191,7 @@ def correct_joint(problem, parameters, joint, bounds, identify=("stiffness",)):
     extra = [name for name in ("damping", "mass") if name in identify]
     if extra:
         updated = _optimise_more(local, updated, joint, bounds, extra)
-    return updated, (low, high)
+    return updated, (low, high), local.evaluate(**updated[joint])
 
 
 # optimisation variable of each joint parameter: (name, to variable, from variable, bounds);
@@ -265,14 +268,14 @@ def update_joints(problem, settings, noise=0.0, start=None, on_step=None, on_cor
         joint = candidates[0]
         if on_correct:
             on_correct(len(steps), joint, recorrection)
-        parameters, interval = correct_joint(problem, current.parameters, joint,
-                                             settings.bounds, settings.identify)
-        step = localise(problem, parameters, len(steps), joint, interval, noise, recorrection)
+        parameters, interval, trial = correct_joint(problem, current.parameters, joint,
+                                                    settings.bounds, settings.identify)
         before = problem.neighbourhood_cost(joint, current.residuals, current.misfits)
-        after = problem.neighbourhood_cost(joint, step.residuals, step.misfits)
+        after = problem.neighbourhood_cost(joint, trial.residuals, trial.misfits)
         if before - after < settings.min_decrease * before:
             exhausted.add(joint)
             continue
+        step = localise(problem, parameters, len(steps), joint, interval, noise, recorrection)
         exhausted.clear()
         corrected.add(joint)
         steps.append(step)
