@@ -237,36 +237,44 @@ class JointCondensation:
         self.y0 = p_mat @ factor.s + np.concatenate(offsets)
         self.s0 = factor.s
         self.e0 = factor.cost
-        self._m0 = self._energy_matrix(self.base)
+        starts = np.cumsum([0] + [2 * n for n in self.sizes])
+        self._slices = [(slice(a, a + n), slice(a + n, a + 2 * n))
+                        for a, n in zip(starts, self.sizes)]
 
-    def _energy_matrix(self, params):
-        """Block-diagonal :math:`M(c)` over the channels (``[[I, -c], [-c*, |c|^2]]`` form)."""
-        n = len(self.y0)
-        m = np.zeros((n, n), dtype=complex)
-        start = 0
-        for size, kappa, c in zip(self.sizes, self.weights, params):
-            factor = kappa / (2.0 * c.real)
-            i = np.arange(start, start + size)
-            j = i + size
-            m[i, i] = factor
-            m[i, j] = -c * factor
-            m[j, i] = -np.conj(c) * factor
-            m[j, j] = abs(c) ** 2 * factor
-            start += 2 * size
-        return m
+    @staticmethod
+    def _coefficients(kappa, c):
+        """The 2 x 2 matrix of :math:`M(c)` per sample: ``kappa/(2 Re c) [[1, -c], [-c*, |c|^2]]``."""
+        factor = kappa / (2.0 * c.real)
+        return factor * np.array([[1.0, -c], [-np.conj(c), abs(c) ** 2]])
+
+    def _deltas(self, params):
+        return [self._coefficients(k, c) - self._coefficients(k, c0)
+                for k, c, c0 in zip(self.weights, params, self.base)]
+
+    def _apply(self, deltas, v):
+        r""":math:`\Delta M\,v` for ``v`` of shape (2 n_q,) (block-diagonal, scalar blocks)."""
+        out = np.empty_like(v)
+        for d, (left, right) in zip(deltas, self._slices):
+            out[left] = d[0, 0] * v[left] + d[0, 1] * v[right]
+            out[right] = d[1, 0] * v[left] + d[1, 1] * v[right]
+        return out
 
     def _solve(self, params):
-        delta = self._energy_matrix(params) - self._m0
-        y = np.linalg.solve(np.eye(len(self.y0)) + self.z @ delta, self.y0)
-        return y, delta
+        deltas = self._deltas(params)
+        z_delta = np.empty_like(self.z)  # Z dM by columns: dM's blocks are multiples of I
+        for d, (left, right) in zip(deltas, self._slices):
+            z_delta[:, left] = self.z[:, left] * d[0, 0] + self.z[:, right] * d[1, 0]
+            z_delta[:, right] = self.z[:, left] * d[0, 1] + self.z[:, right] * d[1, 1]
+        z_delta[np.diag_indices_from(z_delta)] += 1.0
+        y = np.linalg.solve(z_delta, self.y0)
+        return y, self._apply(deltas, y)
 
     def cost(self, params):
         """Cost of the interface problem with the joint's channel parameters ``params``."""
-        y, delta = self._solve(params)
-        t = delta @ y
+        y, t = self._solve(params)
         return float(self.e0 + np.vdot(t, self.z @ t).real + np.vdot(y, t).real)
 
     def interface(self, params):
         """Minimiser S at ``params``."""
-        y, delta = self._solve(params)
-        return self.s0 - self.x @ (delta @ y)
+        _, t = self._solve(params)
+        return self.s0 - self.x @ t
