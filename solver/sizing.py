@@ -34,7 +34,7 @@ __all__ = ["SizeEstimate", "estimate_size", "available_memory"]
 BYTES_PER_FACTOR_ENTRY = 48.0
 FACTOR_SECONDS = (0.52, 2.8e6, 1.22)  # seconds for a fill, and the exponent of the growth
 PLATE_SECONDS = 0.02  # rays, traces, dense plate solve and transfer operator, per plate
-LOCALISATION_SOLVES = 6  # per frequency: modified problem, direct model, four noise draws
+LOCALISATION_SOLVES = 3  # per frequency: modified problem, direct model, the noise draws (one)
 
 
 @dataclass(frozen=True)
