@@ -44,9 +44,8 @@ def _steps(run_json):
              {j: v["log10_stiffness"] for j, v in s["joints"].items()}) for s in run_json["steps"]]
 
 
-def test_resume_after_an_interruption_ends_like_an_uninterrupted_run(
-        one_frequency_case, uninterrupted, tmp_path, monkeypatch, capsys):
-    assert len(uninterrupted["steps"]) >= 3  # something is left to resume after step 1
+def _interrupted_after_step_1(case, tmp_path, monkeypatch):
+    """Run ``update`` with a Ctrl-C right after step 1 is saved; returns the run file."""
     run = tmp_path / "run.json"
     save_step = runfile.RunFile.save_step
 
@@ -55,19 +54,40 @@ def test_resume_after_an_interruption_ends_like_an_uninterrupted_run(
         if step.step == 1:
             raise KeyboardInterrupt
 
-    monkeypatch.setattr(runfile.RunFile, "save_step", save_then_interrupt)
-    assert main(["update", str(one_frequency_case), "--run", str(run), "--quiet"]) == 130
+    with monkeypatch.context() as patch:
+        patch.setattr(runfile.RunFile, "save_step", save_then_interrupt)
+        assert main(["update", str(case), "--run", str(run), "--quiet"]) == 130
+    return run
+
+
+def test_resume_after_an_interruption_ends_like_an_uninterrupted_run(
+        one_frequency_case, uninterrupted, tmp_path, monkeypatch, capsys):
+    assert len(uninterrupted["steps"]) >= 3  # something is left to resume after step 1
+    run = _interrupted_after_step_1(one_frequency_case, tmp_path, monkeypatch)
     assert "--resume" in capsys.readouterr().err
     saved = json.loads(run.read_text())
     assert saved["finished"] is False and [s["step"] for s in saved["steps"]] == [0, 1]
-
-    monkeypatch.setattr(runfile.RunFile, "save_step", save_step)
     resumed = tmp_path / "resumed.json"
     assert main(["update", str(one_frequency_case), "--resume", str(run), "--json",
                  str(resumed), "--quiet"]) == 0
     # the loop's state is its finished steps: the resumed run repeats the same arithmetic
     assert _steps(json.loads(resumed.read_text())) == _steps(uninterrupted)
     assert json.loads(run.read_text())["finished"] is True
+
+
+def test_resume_of_a_run_file_without_plate_misfits(one_frequency_case, uninterrupted,
+                                                   tmp_path, monkeypatch):
+    """Run files written before steps carried per-plate misfits (needed by the neighbourhood
+    rule) resume to the same end: the last finished step's misfits are recomputed."""
+    run = _interrupted_after_step_1(one_frequency_case, tmp_path, monkeypatch)
+    saved = json.loads(run.read_text())
+    for step in saved["steps"]:
+        del step["misfits"]
+    run.write_text(json.dumps(saved))
+    resumed = tmp_path / "resumed.json"
+    assert main(["update", str(one_frequency_case), "--resume", str(run), "--json",
+                 str(resumed), "--quiet"]) == 0
+    assert _steps(json.loads(resumed.read_text())) == _steps(uninterrupted)
 
 
 def test_ctrl_c_leaves_a_valid_run_file(one_frequency_case, tmp_path, uninterrupted):

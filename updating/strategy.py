@@ -256,6 +256,9 @@ def update_joints(problem, settings, noise=0.0, start=None, on_step=None, on_cor
         steps.append(localise(problem, problem.initial_parameters(), noise=noise))
         if on_step:
             on_step(steps[-1])
+    if not steps[-1].misfits:  # a run file written before steps carried per-plate misfits
+        misfits = problem.evaluate(steps[-1].parameters).misfits
+        steps[-1] = dataclasses.replace(steps[-1], misfits=misfits)
     corrected = {s.selected for s in steps if s.selected is not None}
     exhausted = set()
     status = 2
