@@ -11,9 +11,10 @@ where :math:`I_b` are the interface unknowns a block's plates see. The LU factor
 are the dominant cost. Their fill was measured with SuperLU (COLAMD ordering) on
 :math:`N\times N` grids of plates (:math:`P = N^2`): fill / nnz = 1.6, 3.8, 5.6, 10.1 for
 N = 2, 4, 6, 10, i.e. about :math:`\sqrt P` (the separators of a plate grid grow like its side);
-the estimate uses :math:`\mathrm{fill} = \mathrm{nnz}\,\sqrt P`, pessimistic for chains. Peak memory
-was 48 bytes per factor entry (complex factors, SuperLU's work space and the matrix copies:
-3.2 GB for 6.8e7 entries at N = 10), and the factorisation time grew like
+the estimate uses :math:`\mathrm{fill} = \mathrm{nnz}\,\sqrt P`, pessimistic for chains.
+The peak memory of ``vtcr solve`` was about 30 bytes per factor entry (complex factors,
+SuperLU's work space, the matrix and the plate data: 2.0 GB for 6.8e7 entries at N = 10), and
+the factorisation time grew like
 :math:`\mathrm{fill}^{1.22}` (0.52 s for 2.8e6 entries, 25.6 s for 6.8e7, one core of the
 2-core reference machine). These are estimates to a factor of about two, for deciding before a
 run whether it fits, not measurements.
@@ -31,7 +32,7 @@ from solver.problems import plate_basis, plate_problem
 
 __all__ = ["SizeEstimate", "estimate_size", "available_memory"]
 
-BYTES_PER_FACTOR_ENTRY = 48.0
+BYTES_PER_FACTOR_ENTRY = 30.0
 FACTOR_SECONDS = (0.52, 2.8e6, 1.22)  # seconds for a fill, and the exponent of the growth
 PLATE_SECONDS = 0.02  # rays, traces, dense plate solve and transfer operator, per plate
 LOCALISATION_SOLVES = 3  # per frequency: modified problem, direct model, the noise draws (one)
@@ -55,7 +56,7 @@ class SizeEstimate:
 
     @property
     def solve_bytes(self) -> float:
-        return BYTES_PER_FACTOR_ENTRY * self.factor_entries + 16.0 * 4 * self.matrix_entries
+        return BYTES_PER_FACTOR_ENTRY * self.factor_entries
 
     @property
     def factorisation_seconds(self) -> float:
