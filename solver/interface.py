@@ -19,10 +19,11 @@ weighted misfit at the measured points of one plate — acts only on the interfa
 
 (eliminating :math:`\rho` gives the KKT system of the normal equations,
 :math:`[A^HA\ G^H; G\ 0]`). The matrix is Hermitian, sparse, with
-:math:`2\sum_b \mathrm{rows}_b|I_b| + 2\,\mathrm{nnz}(G)` entries besides the identity: linear in the
-number of joints, where the Gram matrices :math:`A_b^HA_b` would be quadratic in the size of
-each neighbourhood, and the condition number is that of :math:`A`, not its square. It is
-factorised by SuperLU (``scipy.sparse.linalg.splu``) after a symmetric equilibration.
+:math:`2\sum_b \mathrm{rows}_b|I_b| + 2\,\mathrm{nnz}(G)` entries besides the identity:
+linear in the number of joints, where the Gram matrices :math:`A_b^HA_b` would be quadratic
+in the size of each neighbourhood, and the condition number is that of :math:`A`, not its
+square. It is factorised by SuperLU (``scipy.sparse.linalg.splu``, COLAMD ordering) after a
+symmetric equilibration; ``bench/bench_interface.py`` compares the alternatives.
 
 **Condensation on one joint** (:class:`JointCondensation`). While one joint's parameters
 :math:`c` vary, only its residual rows change: its residual samples are
@@ -243,7 +244,8 @@ class JointCondensation:
 
     @staticmethod
     def _coefficients(kappa, c):
-        """The 2 x 2 matrix of :math:`M(c)` per sample: ``kappa/(2 Re c) [[1, -c], [-c*, |c|^2]]``."""
+        """The 2 x 2 matrix of :math:`M(c)` per sample:
+        ``kappa/(2 Re c) [[1, -c], [-c*, |c|^2]]``."""
         factor = kappa / (2.0 * c.real)
         return factor * np.array([[1.0, -c], [-np.conj(c), abs(c) ** 2]])
 

@@ -316,7 +316,8 @@ def _memory_issues(case, frequency, loc):
         return []
     return [(loc, f"at {frequency:g} Hz the VTCR problem has {estimate.interface_unknowns} "
              f"interface unknowns and {estimate.ray_unknowns} ray amplitudes in "
-             f"{estimate.plates} plates; its solve needs about {estimate.solve_bytes / 1e9:.2g} GB, "
+             f"{estimate.plates} plates; its solve needs about "
+             f"{estimate.solve_bytes / 1e9:.2g} GB, "
              f"more than the {available / 1e9:.2g} GB available (vtcr check prints the "
              "estimate); lower the frequency or [discretisation] resolution, or study a part "
              "of the structure")]

@@ -56,9 +56,9 @@ Gauss weights) are stored per channel, so that memory grows linearly with the as
 a cost for new parameters is a weighted sum of them (:meth:`Channel.block`).
 
 **Direct problem (r = 0).** Minimise :math:`E_{int}^2` subject to the constraints
-:math:`GS = g`, a sparse constrained least-squares problem (:mod:`solver.interface`). Its minimum is zero
-for the exact solution, so the minimiser is the assembly's forced response and the minimum is
-the discretisation floor.
+:math:`GS = g`, a sparse constrained least-squares problem (:mod:`solver.interface`). Its
+minimum is zero for the exact solution, so the minimiser is the assembly's forced response and
+the minimum is the discretisation floor.
 """
 
 from __future__ import annotations
