@@ -16,6 +16,8 @@ build_graph, joint_ids
     The assembly as a ``networkx.MultiGraph`` (plates = nodes, joints = keyed edges).
 summarise
     A summary for ``vtcr check``.
+generate.plate_grid, generate.description_toml
+    Descriptions built by program (N x M grids and chains of plates) and their TOML text.
 AssemblyError, DescriptionError
     Exceptions.
 """
