@@ -350,7 +350,8 @@ def cmd_update(args):
     joint = next((s.selected for s in reversed(result.steps) if s.selected), case.joints and
                  next(iter(case.joints)))
     console.print(f"one E_mod^2(p) solve ({n_f} frequenc{'ies' if n_f > 1 else 'y'}): "
-                  f"{1e3 * problem.evaluation_seconds(result.parameters):.1f} ms, during a "
+                  f"{1e3 * problem.evaluation_seconds(result.parameters, repeats=1):.1f} ms, "
+                  "during a "
                   f"correction of {joint}: "
                   f"{1e3 * problem.evaluation_seconds(result.parameters, joint):.2f} ms; "
                   f"plate blocks and transfer operators: "
