@@ -6,8 +6,11 @@ Rule (configurable in ``[updating]``):
    :math:`E_\\Gamma^2`. The *floor* of each joint is the residual it would show if the model
    were right and only the measurement noise (``[measurement] noise``) and the discretisation
    were at work (:meth:`ModifiedProblem.noise_floor`).
-2. **Select** the worst joint among those whose residual stands out of its floor
-   (:math:`E_\\Gamma^2 >` ``stop_ratio`` x floor) and that are not *exhausted*.
+2. **Select** among the joints whose residual stands out of its floor
+   (:math:`E_\\Gamma^2 >` ``stop_ratio`` x floor) and that are not *exhausted* the one that
+   stands out most (largest residual-to-floor ratio: in a large structure the floors differ
+   by an order of magnitude between the loaded region and the rest, and the largest residual
+   is often a noisy joint near the load, not the most significant one).
 3. **Correct** only that joint: a bounded optimisation of its log10 k (a scan over
    ``bounds`` then Brent's method around the best point), with its loss factor and line mass
    too when ``identify`` asks for them. The cost is condensed once on the joint
@@ -15,7 +18,9 @@ Rule (configurable in ``[updating]``):
 4. **Judge it locally.** If the correction lowered the cost of the joint's *neighbourhood*
    (its two plates' measurement misfit and the residuals of every joint on those plates,
    :meth:`ModifiedProblem.neighbourhood_cost`) by less than ``min_decrease`` of that cost,
-   the joint is exhausted until another joint changes, and the step is undone. A fraction of
+   or if it raised the joint's own residual (it then bought a lower misfit of a few plates
+   with a worse joint law: it fits the measurement noise), the joint is exhausted until
+   another joint changes, and the step is undone. A fraction of
    the global :math:`E_{mod}^2` would be diluted by the size of the structure: in a 20-plate
    chain one wrong joint is a few per cent of it. The neighbourhood's cost is bounded below by
    its noise floor, so near the floor the threshold is a fraction of the noise level.
@@ -220,12 +225,12 @@ def _optimise_more(local, parameters, joint, bounds, extra):
 
 def _candidates(step, settings, corrected, exhausted):
     """Joints to try next and whether they are re-corrections (rule steps 2 and 5)."""
-    by_residual = sorted(step.residuals, key=step.residuals.get, reverse=True)
-    standing = [j for j in by_residual if step.residuals[j] > settings.stop_ratio * step.floors[j]]
+    ratio = {j: step.residuals[j] / max(step.floors[j], 1e-300) for j in step.residuals}
+    by_ratio = sorted(step.residuals, key=ratio.get, reverse=True)
+    standing = [j for j in by_ratio if ratio[j] > settings.stop_ratio]
     if standing:
         return [j for j in standing if j not in exhausted], False
-    ratio = {j: step.residuals[j] / max(step.floors[j], 1e-300) for j in corrected}
-    return [j for j in sorted(corrected, key=ratio.get, reverse=True) if j not in exhausted], True
+    return [j for j in by_ratio if j in corrected and j not in exhausted], True
 
 
 def update_joints(problem, settings, noise=0.0, start=None, on_step=None, on_correct=None):
@@ -275,7 +280,10 @@ def update_joints(problem, settings, noise=0.0, start=None, on_step=None, on_cor
                                                     settings.bounds, settings.identify)
         before = problem.neighbourhood_cost(joint, current.residuals, current.misfits)
         after = problem.neighbourhood_cost(joint, trial.residuals, trial.misfits)
-        if before - after < settings.min_decrease * before:
+        # a correction that buys a lower misfit with a larger residual of the joint's own law
+        # fits the measurement noise of a few plates, not a modelling error
+        fits_noise = trial.residuals[joint] >= current.residuals[joint]
+        if before - after < settings.min_decrease * before or fits_noise:
             exhausted.add(joint)
             continue
         step = localise(problem, parameters, len(steps), joint, interval, noise, recorrection)
