@@ -180,9 +180,12 @@ def cmd_solve(args):
             for pid, i in order
         ]
         residuals = getattr(solution, "residuals", {})
+        system = getattr(solution, "system", None)
         results.append({
             "frequency": frequency,
             "unknowns": solution.n_unknowns,
+            "interface_unknowns": system.n_s if system is not None else 0,
+            "timings": {phase: float(t) for phase, t in solution.timings.items()},
             "condition_estimate": solution.condition_estimate,
             "warnings": list(solution.warnings),
             "joint_residuals": residuals,
@@ -345,19 +348,21 @@ def cmd_update(args):
     n_rays, n_s, n_g = problem.size
     console.print(f"{n_rays} ray unknowns, {n_s} interface unknowns, {n_g} constraints; "
                   f"set-up {t1 - t0:.2f} s, updating {t2 - t1:.2f} s; run file {run.path}")
-    factorisations = problem.factorisation_seconds
-    n_f = len(factorisations)
+    n_f = len(problem.frequencies)
     joint = next((s.selected for s in reversed(result.steps) if s.selected), case.joints and
                  next(iter(case.joints)))
+    timings = {"setup": t1 - t0, "updating": t2 - t1,
+               "global_solve": problem.evaluation_seconds(result.parameters, repeats=1),
+               "correction_evaluation": problem.evaluation_seconds(result.parameters, joint),
+               "plates_per_frequency": sum(problem.factorisation_seconds.values()) / n_f}
     console.print(f"one E_mod^2(p) solve ({n_f} frequenc{'ies' if n_f > 1 else 'y'}): "
-                  f"{1e3 * problem.evaluation_seconds(result.parameters, repeats=1):.1f} ms, "
-                  "during a "
-                  f"correction of {joint}: "
-                  f"{1e3 * problem.evaluation_seconds(result.parameters, joint):.2f} ms; "
-                  f"plate blocks and transfer operators: "
-                  f"{1e3 * sum(factorisations.values()) / n_f:.1f} ms per frequency")
+                  f"{1e3 * timings['global_solve']:.1f} ms, during a correction of {joint}: "
+                  f"{1e3 * timings['correction_evaluation']:.2f} ms; plate blocks and transfer "
+                  f"operators: {1e3 * timings['plates_per_frequency']:.1f} ms per frequency")
     if args.json:
-        write_json_atomic(args.json, result_json(result, {"case": case.name}, bounds))
+        sizes = dict(zip(("ray_unknowns", "interface_unknowns", "constraints"), problem.size))
+        write_json_atomic(args.json, result_json(
+            result, {"case": case.name, "sizes": sizes, "timings_s": timings}, bounds))
     if args.report:
         write_text_atomic(args.report, result_markdown(result, case.name, bounds, _truth(case, args)))
     if args.plot:
