@@ -241,6 +241,7 @@ class JointCondensation:
         starts = np.cumsum([0] + [2 * n for n in self.sizes])
         self._slices = [(slice(a, a + n), slice(a + n, a + 2 * n))
                         for a, n in zip(starts, self.sizes)]
+        self._solved = {}
 
     @staticmethod
     def _coefficients(kappa, c):
@@ -262,6 +263,14 @@ class JointCondensation:
         return out
 
     def _solve(self, params):
+        # the scans of a correction evaluate the same parameters for the cost and for the
+        # neighbourhood's residuals: solve each once
+        key = tuple(complex(c) for c in params)
+        if key not in self._solved:
+            self._solved[key] = self._solve_new(params)
+        return self._solved[key]
+
+    def _solve_new(self, params):
         deltas = self._deltas(params)
         z_delta = np.empty_like(self.z)  # Z dM by columns: dM's blocks are multiples of I
         for d, (left, right) in zip(deltas, self._slices):
@@ -276,7 +285,12 @@ class JointCondensation:
         y, t = self._solve(params)
         return float(self.e0 + np.vdot(t, self.z @ t).real + np.vdot(y, t).real)
 
-    def interface(self, params):
-        """Minimiser S at ``params``."""
+    def interface(self, params, index=None):
+        """Minimiser S at ``params``; with ``index``, only those entries are updated (the others
+        keep their values at :math:`c_0`), at a cost proportional to ``len(index)``."""
         _, t = self._solve(params)
-        return self.s0 - self.x @ t
+        if index is None:
+            return self.s0 - self.x @ t
+        s = self.s0.copy()
+        s[index] -= self.x[index] @ t
+        return s

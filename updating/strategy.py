@@ -34,8 +34,9 @@ The loop stops when no joint stands out and no re-correction lowers its neighbou
 (status 0), when joints stand out but no correction lowers its neighbourhood's cost
 (status 1), or after ``max_steps`` accepted corrections (status 2).
 
-A joint is reported as *bounded below* when its cost curve stays within 1 % of the minimum up
-to the upper bound: a joint much stiffer than the plates around it moves nothing, and only a
+Each corrected joint is reported with the log10 k range whose neighbourhood cost is within 1 %
+of its minimum (:func:`identification_intervals`). A joint is reported as *bounded below* when
+that cost stays within 1 % of the minimum up to the upper bound: a joint much stiffer than the plates around it moves nothing, and only a
 lower bound of its stiffness can be identified. Symmetrically, a joint much softer than the
 plates acts as a moment-free line and only an upper bound is identifiable.
 """
@@ -185,13 +186,13 @@ def correct_joint(problem, parameters, joint, bounds, identify=("stiffness",)):
 
     The cost is condensed once on the joint (:meth:`ModifiedProblem.correction`), so each
     evaluation is a small dense solve whatever the size of the structure. ``interval`` is the
-    log10 k range that cannot be told from the optimum: the scanned values whose cost is
-    within :data:`FLAT` of the minimum (:func:`flat_interval`).
+    log10 k range that cannot be told from the optimum: the scanned values whose neighbourhood
+    cost is within :data:`FLAT` of its minimum (:func:`_neighbourhood_interval`).
     """
     local = problem.correction(parameters, joint)
-    value, minimum, grid, costs, best = _minimise_on_log_scale(
+    value, _, grid, _, _ = _minimise_on_log_scale(
         lambda v: local.cost(log10_stiffness=v), bounds, SCAN_POINTS)
-    low, high = flat_interval(grid, costs, best, value, minimum)
+    low, high = _neighbourhood_interval(local, grid, value)
     updated = with_joint(parameters, joint, log10_stiffness=value)
     extra = [name for name in ("damping", "mass") if name in identify]
     if extra:
@@ -299,18 +300,27 @@ def update_joints(problem, settings, noise=0.0, start=None, on_step=None, on_cor
 
 
 def identification_intervals(problem, parameters, joints, bounds):
-    """``{joint: (low, high)}``: the log10 k range each joint's cost cannot tell from its value.
+    """``{joint: (low, high)}``: the log10 k range each joint's neighbourhood cost cannot tell
+    from its value (:func:`_neighbourhood_interval`).
 
     Scanned with every other joint at its final value: the interval recorded when a joint was
     corrected is stale once its neighbours have moved (a joint corrected while the others were
     wrong looks sharply identified at a biased value).
     """
     grid = log_grid(bounds, SCAN_POINTS)
-    out = {}
-    for joint in joints:
-        local = problem.correction(parameters, joint)
-        costs = np.array([local.cost(log10_stiffness=float(v)) for v in grid])
-        best = int(np.argmin(costs))
-        out[joint] = flat_interval(grid, costs, best, parameters[joint]["log10_stiffness"],
-                                   min(local.cost(), float(costs[best])))
-    return out
+    return {joint: _neighbourhood_interval(problem.correction(parameters, joint), grid,
+                                           parameters[joint]["log10_stiffness"])
+            for joint in joints}
+
+
+def _neighbourhood_interval(local, grid, value):
+    """The scanned log10 k whose *neighbourhood* cost is within :data:`FLAT` of its minimum
+    (:func:`flat_interval`; ``local`` is the joint's :class:`updating.cost.JointCorrection`).
+
+    The joint's neighbourhood, not the global :math:`E_{mod}^2`: in a large structure one
+    joint's change is a small fraction of the global cost, and a range judged against it
+    spans decades however sensitive the joint is."""
+    costs = np.array([local.neighbourhood_cost(log10_stiffness=float(v)) for v in grid])
+    best = int(np.argmin(costs))
+    at_value = local.neighbourhood_cost(log10_stiffness=value)
+    return flat_interval(grid, costs, best, value, min(at_value, float(costs[best])))
