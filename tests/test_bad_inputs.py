@@ -13,6 +13,9 @@ from __future__ import annotations
 
 import json
 import math
+import os
+import stat
+import threading
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -235,6 +238,22 @@ CATALOGUE: list[Bad] = [
            "also an input", id="opt-output-overwrites-input", output="none"),
     option(["update", "{dir}/case.toml", "--report", "{dir}/case.toml/r.md"], "--report",
            "not a directory", id="opt-report-under-a-file", output="none"),
+    option(["update", "{dir}/case.toml", "--run", "{dir}/x.json", "--json", "{dir}/x.json"],
+           "--json and --run name the same file", id="opt-run-is-json", output="x.json"),
+    option(["update", "{dir}/case.toml", "--report", "{dir}/x.md", "--json", "{dir}/x.md"],
+           "--json and --report name the same file", id="opt-report-is-json", output="x.md"),
+    option(["update", "{dir}/case.toml", "--resume", "{dir}/r.json", "--json", "{dir}/r.json"],
+           "--json and --resume name the same file", id="opt-resume-is-json", output="r.json"),
+    option(["update", "{dir}/case.toml", "--report", "{dir}/r.md", "--json",
+            "{dir}/r.run.json"], "--json and the run file name the same file", "r.run.json",
+           id="opt-default-run-file-is-json", output="r.run.json"),
+    option(["update", "{dir}/case.toml", "--json", "{dir}/../{base}/p.json", "--report",
+            "{dir}/p.json"], "--json and --report name the same file",
+           id="opt-same-file-two-ways", output="p.json"),
+    option(["update", "{dir}/case.toml", "--plot", "{dir}/case.toml/figures"], "--plot",
+           "case.toml is a file", id="opt-plot-under-a-file", output="none"),
+    option(["update", "{dir}/case.toml", "--plot", "{dir}/case.toml"], "--plot", "is a file",
+           id="opt-plot-is-a-file", output="none"),
     # ---------------------------------------------------------------- physical sanity
     described(TWO + "\n[discretisation.plates.P1]\ninterior = 4\n",
               "discretisation.plates.P1.interior", "155 Hz", "asks 24", "interior = 24",
@@ -301,7 +320,8 @@ def test_bad_input(bad: Bad, tmp_path: Path, capsys) -> None:
         else:
             target.write_text(content)
     before = set(tmp_path.iterdir())
-    args = [a.replace("{dir}", str(tmp_path)) for a in bad.args]
+    args = [a.replace("{dir}", str(tmp_path)).replace("{base}", tmp_path.name)
+            for a in bad.args]
     status, lines, out = _run(args, capsys)
     text = "\n".join(lines)
     assert status == 2, (status, text, out)
@@ -533,3 +553,57 @@ def test_schema_rejects_bad_descriptions(old: str, new: str) -> None:
 
     validator = jsonschema.Draft202012Validator(case_json_schema())
     assert not validator.is_valid(tomllib.loads(_replace(old, new)))
+
+
+def _solve_json(tmp_path: Path, target: str, capsys) -> tuple[int, list[str]]:
+    (tmp_path / "case.toml").write_text(TWO)
+    status, lines, _ = _run(["solve", str(tmp_path / "case.toml"), "--quiet", "--json", target],
+                            capsys)
+    return status, lines
+
+
+def test_output_through_a_symlink_keeps_the_link(tmp_path: Path, capsys) -> None:
+    (tmp_path / "real.json").write_text("old")
+    (tmp_path / "link.json").symlink_to("real.json")
+    status, lines = _solve_json(tmp_path, str(tmp_path / "link.json"), capsys)
+    assert status == 0, lines
+    assert (tmp_path / "link.json").is_symlink()
+    assert json.loads((tmp_path / "real.json").read_text())["frequency"] == 155.0
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["case.toml", "link.json", "real.json"]
+
+
+@pytest.mark.skipif(not Path("/dev/null").is_char_device(), reason="needs /dev/null")
+def test_output_to_a_device_is_written_through(tmp_path: Path, capsys) -> None:
+    status, lines = _solve_json(tmp_path, "/dev/null", capsys)
+    assert status == 0, lines
+    assert Path("/dev/null").is_char_device()
+
+
+@pytest.mark.skipif(not Path("/dev/full").exists(), reason="needs /dev/full")
+def test_write_error_is_one_line_with_status_2(tmp_path: Path, capsys) -> None:
+    status, lines = _solve_json(tmp_path, "/dev/full", capsys)
+    assert status == 2
+    assert lines == ["vtcr: /dev/full: No space left on device; free space or give another "
+                     "path"]
+
+
+def test_version(capsys) -> None:
+    from importlib.metadata import version
+
+    status, _, out = _run(["--version"], capsys)
+    assert status == 0
+    assert out.strip() == f"vtcr {version('vtcr')}"
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="needs named pipes")
+def test_output_to_a_named_pipe_is_written_through(tmp_path: Path, capsys) -> None:
+    pipe = tmp_path / "pipe"
+    os.mkfifo(pipe)
+    received = []
+    reader = threading.Thread(target=lambda: received.append(pipe.read_text()))
+    reader.start()
+    status, lines = _solve_json(tmp_path, str(pipe), capsys)
+    reader.join(timeout=30)
+    assert status == 0, lines
+    assert json.loads(received[0])["frequency"] == 155.0
+    assert stat.S_ISFIFO(pipe.stat().st_mode)

@@ -79,7 +79,7 @@ def _option_problems(args):
     """One line per bad option value, naming the option and the fix (before any work)."""
     import math
 
-    from updating.files import output_path_problem
+    from updating.files import output_collisions, output_path_problem, plot_directory_problem
 
     problems = []
     frequency, noise = getattr(args, "frequency", None), getattr(args, "noise", None)
@@ -105,6 +105,15 @@ def _option_problems(args):
         if getattr(args, name, None) is not None:
             problem = output_path_problem(getattr(args, name), flag, inputs)
             problems += [problem] if problem else []
+    outputs = [(flag, getattr(args, name, None)) for name, flag in (
+        ("out", "--out"), ("json", "--json"), ("csv", "--csv"), ("report", "--report"))]
+    if args.command == "update":  # the run file is written after every step
+        outputs.append(("--resume", args.resume) if args.resume else
+                       ("--run" if args.run_file else "the run file", _run_path(args)))
+    problems += output_collisions(outputs)
+    if getattr(args, "plot", None) is not None:
+        problem = plot_directory_problem(args.plot)
+        problems += [problem] if problem else []
     return problems
 
 
@@ -439,10 +448,20 @@ def cmd_schema(args):
     return 0
 
 
+def _version():
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("vtcr")
+    except PackageNotFoundError:  # run from a checkout that was not installed
+        return "unknown"
+
+
 def build_parser():
     parser = _Parser(
         prog="vtcr",
         description="Localise and correct badly modelled joints of plate assemblies (VTCR).")
+    parser.add_argument("--version", action="version", version=f"vtcr {_version()}")
     sub = parser.add_subparsers(dest="command", required=True)
 
     check = sub.add_parser("check", help="validate and summarise an assembly description")
@@ -527,6 +546,11 @@ def main(argv=None):
     except NumericalError as err:
         print(f"vtcr: numerical failure: {err}", file=sys.stderr)
         return 1
+    except OSError as err:  # an output that cannot be written after all: full disk, device
+        where = f"{err.filename}: " if err.filename else ""
+        print(f"vtcr: {where}{err.strerror or err}; free space or give another path",
+              file=sys.stderr)
+        return 2
     except KeyboardInterrupt:
         print("vtcr: interrupted", file=sys.stderr)
         return 130

@@ -20,15 +20,17 @@ import json
 import math
 import os
 import secrets
+import stat
 from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-__all__ = ["InputError", "Probes", "atomic_output", "output_path_problem", "parse_finite",
-           "plate_point", "point_key", "point_problem", "read_csv_table", "read_probes",
-           "too_many_cells", "write_json_atomic", "write_text_atomic"]
+__all__ = ["InputError", "Probes", "atomic_output", "output_collisions", "output_path_problem",
+           "parse_finite", "plate_point", "plot_directory_problem", "point_key", "point_problem",
+           "read_csv_table", "read_probes", "too_many_cells", "write_json_atomic",
+           "write_text_atomic"]
 
 
 class InputError(ValueError):
@@ -272,15 +274,65 @@ def output_path_problem(path, option, inputs=()):
     return None
 
 
+def output_collisions(outputs):
+    """One line per pair of outputs that name the same file (through symlinks too), or none.
+
+    Parameters
+    ----------
+    outputs : iterable of (str, str or path-like or None)
+        ``(option, path)``; ``None`` paths are skipped.
+    """
+    seen, problems = {}, []
+    for option, path in outputs:
+        if path is None:
+            continue
+        key = os.path.realpath(path)
+        if key in seen:
+            problems.append(f"{seen[key]} and {option} name the same file {path}; give each "
+                            "output its own file")
+        else:
+            seen[key] = option
+    return problems
+
+
+def plot_directory_problem(path, option="--plot"):
+    """Why figures cannot be written into directory ``path``, or None.
+
+    The directory and its missing parents are created by the run; the nearest existing
+    ancestor must be a writable directory.
+    """
+    target = Path(path)
+    where = f"{option} {path}"
+    if target.exists() and not target.is_dir():
+        return f"{where}: is a file, not a directory; give a directory for the figures"
+    existing = target
+    while not existing.exists():
+        existing = existing.parent
+    if not existing.is_dir():
+        return f"{where}: {existing} is a file, not a directory; give a directory for the figures"
+    if not os.access(existing, os.W_OK | os.X_OK):
+        return f"{where}: directory {existing} is not writable; give a writable directory"
+    return None
+
+
 @contextmanager
 def atomic_output(path, binary=False):
     """Yield a handle on a temporary file beside ``path``, renamed onto it on success.
 
     A reader never sees a half-written file, and an interruption (Ctrl-C, crash) leaves the
     previous file, if any, intact. The temporary file is created with mode "x", so it gets the
-    usual permissions (umask), unlike :func:`tempfile.mkstemp`'s 0600.
+    usual permissions (umask), unlike :func:`tempfile.mkstemp`'s 0600. A symbolic link is
+    followed (the file it points to is replaced, the link kept); a target that exists and is
+    not a regular file (a device such as ``/dev/null``, a named pipe) is written through.
     """
-    path = Path(path)
+    if os.path.exists(path) and not stat.S_ISREG(os.stat(path).st_mode):
+        try:
+            with open(path, "wb" if binary else "w") as handle:
+                yield handle
+        except OSError as err:  # e.g. /dev/full: name the output in the message
+            raise OSError(err.errno, err.strerror, str(path)) from err
+        return
+    path = Path(os.path.realpath(path))
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.parent / f".{path.name}.{os.getpid()}.{secrets.token_hex(4)}.tmp"
     try:
