@@ -7,6 +7,7 @@ no traceback. The commands only format what the library returns.
 from __future__ import annotations
 
 import argparse
+import errno
 import os
 import sys
 
@@ -75,6 +76,9 @@ class _Parser(argparse.ArgumentParser):
         self.exit(2, f"vtcr: {message}; see `{self.prog} --help`\n")
 
 
+_OUTPUT_OPTIONS = (("out", "--out"), ("json", "--json"), ("csv", "--csv"), ("report", "--report"))
+
+
 def _option_problems(args):
     """One line per bad option value, naming the option and the fix (before any work)."""
     import math
@@ -100,13 +104,11 @@ def _option_problems(args):
         problems.append(f"--max-rows {max_rows}: must be >= 0 (0 shows no rows); give e.g. "
                         "--max-rows 20")
     inputs = [getattr(args, n, None) for n in ("case", "probes", "measurements", "uff_map")]
-    for name, flag in (("out", "--out"), ("json", "--json"), ("csv", "--csv"),
-                       ("report", "--report"), ("run_file", "--run")):
+    for name, flag in _OUTPUT_OPTIONS + (("run_file", "--run"),):
         if getattr(args, name, None) is not None:
             problem = output_path_problem(getattr(args, name), flag, inputs)
             problems += [problem] if problem else []
-    outputs = [(flag, getattr(args, name, None)) for name, flag in (
-        ("out", "--out"), ("json", "--json"), ("csv", "--csv"), ("report", "--report"))]
+    outputs = [(flag, getattr(args, name, None)) for name, flag in _OUTPUT_OPTIONS]
     if args.command == "update":  # the run file is written after every step
         outputs.append(("--resume", args.resume) if args.resume else
                        ("--run" if args.run_file else "the run file", _run_path(args)))
@@ -546,10 +548,10 @@ def main(argv=None):
     except NumericalError as err:
         print(f"vtcr: numerical failure: {err}", file=sys.stderr)
         return 1
-    except OSError as err:  # an output that cannot be written after all: full disk, device
-        where = f"{err.filename}: " if err.filename else ""
-        print(f"vtcr: {where}{err.strerror or err}; free space or give another path",
-              file=sys.stderr)
+    except OSError as err:  # an output that cannot be written after all (atomic_output)
+        fix = "free space or give another path" if err.errno == errno.ENOSPC else \
+            "give another path"
+        print(f"vtcr: {err.filename}: {err.strerror or err}; {fix}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         print("vtcr: interrupted", file=sys.stderr)

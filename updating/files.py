@@ -324,15 +324,25 @@ def atomic_output(path, binary=False):
     usual permissions (umask), unlike :func:`tempfile.mkstemp`'s 0600. A symbolic link is
     followed (the file it points to is replaced, the link kept); a target that exists and is
     not a regular file (a device such as ``/dev/null``, a named pipe) is written through.
+
+    Raises
+    ------
+    OSError
+        With ``filename`` the output ``path`` (not the temporary file), e.g. on a full disk.
     """
-    if os.path.exists(path) and not stat.S_ISREG(os.stat(path).st_mode):
-        try:
+    try:
+        if os.path.exists(path) and not stat.S_ISREG(os.stat(path).st_mode):
             with open(path, "wb" if binary else "w") as handle:
                 yield handle
-        except OSError as err:  # e.g. /dev/full: name the output in the message
-            raise OSError(err.errno, err.strerror, str(path)) from err
-        return
-    path = Path(os.path.realpath(path))
+        else:
+            with _replaced_atomically(Path(os.path.realpath(path)), binary) as handle:
+                yield handle
+    except OSError as err:
+        raise OSError(err.errno, err.strerror, str(path)) from err
+
+
+@contextmanager
+def _replaced_atomically(path, binary):
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.parent / f".{path.name}.{os.getpid()}.{secrets.token_hex(4)}.tmp"
     try:
