@@ -77,6 +77,7 @@ __all__ = [
     "assemble_plate",
     "edge_projection",
     "edge_values",
+    "edge_rule_size",
     "factorise_dense",
     "solve_dense",
     "PlateSolution",
@@ -192,7 +193,7 @@ class PlateBoundary:
     edge_end_w: np.ndarray  # (4, 2, n_dof): shape functions at the start/end of edge i
 
 
-def _edge_rule_size(length, k_max, sources, edge):
+def edge_rule_size(length, k_max, sources, edge):
     """Number of Gauss–Legendre points for one edge, sized to the wavelength and to sources.
 
     Bandwidth: products of traces oscillate or decay at rates up to :math:`2\\max|k|`; a
@@ -302,7 +303,7 @@ def boundary_traces(problem, basis: RayBasis) -> PlateBoundary:
             else _TRACE_KEYS for e in geometry]
     for pair in ((0, 2), (1, 3)):
         pair_edges = [geometry[i] for i in pair]
-        q = max(_edge_rule_size(e.length, k_max, sources, e) for e in pair_edges)
+        q = max(edge_rule_size(e.length, k_max, sources, e) for e in pair_edges)
         s, wq, pair_traces = _pair_traces(problem, basis, pair_edges, q, [keys[i] for i in pair])
         for i, traces in zip(pair, pair_traces):
             rules[i], rays[i] = (s, wq), traces

@@ -105,7 +105,7 @@ def estimate_size(case, frequency=None, resolution=None) -> SizeEstimate:
     -------
     SizeEstimate
     """
-    from solver.substructure import _joint_gauss, interface_layout
+    from solver.substructure import interface_layout, joint_gauss
 
     frequency = max(case.frequencies) if frequency is None else float(frequency)
     scale = case.discretisation.resolution if resolution is None else resolution
@@ -118,7 +118,7 @@ def estimate_size(case, frequency=None, resolution=None) -> SizeEstimate:
     for jid, joint in case.joints.items():
         a, b = joint.sides
         seen = len(np.union1d(unknowns[a.plate], unknowns[b.plate]))
-        n_q = len(_joint_gauss(case.edge_length(a), max(k_max[a.plate], k_max[b.plate]))[0])
+        n_q = len(joint_gauss(case.edge_length(a), max(k_max[a.plate], k_max[b.plate]))[0])
         channels = 2 if "FA" in layout[jid] else 1
         samples += channels * n_q
         entries += channels * n_q * seen

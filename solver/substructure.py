@@ -92,6 +92,8 @@ __all__ = [
     "solve_interface",
     "solve_assembly",
     "interface_function_count",
+    "joint_gauss",
+    "legendre_values",
 ]
 
 KINEMATIC_DEFLECTION = frozenset({"clamped", "simply_supported"})
@@ -222,7 +224,9 @@ class AssemblySystem:
 # building the parameter-independent system
 # ----------------------------------------------------------------------------------------------
 
-def _joint_gauss(length, k_max):
+def joint_gauss(length, k_max):
+    r"""Gauss points and weights on a joint line of ``length`` (m): :math:`\lceil k_{max}L\rceil + 16`
+    points, where :math:`k_{max}` is the largest ray wavenumber of the two plates."""
     x, w = np.polynomial.legendre.leggauss(math.ceil(k_max * length) + 16)
     return 0.5 * length * (x + 1.0), 0.5 * length * w
 
@@ -404,7 +408,7 @@ def build_assembly_system(case, frequency, resolution=None) -> AssemblySystem:
     for jid, joint in case.joints.items():
         a, b = joint.sides
         length = case.edge_length(a)
-        sigma, wq = _joint_gauss(length, max(k_max[a.plate], k_max[b.plate]))
+        sigma, wq = joint_gauss(length, max(k_max[a.plate], k_max[b.plate]))
         root_w = np.sqrt(wq)
         psi = legendre_values(sigma, length, counts[jid])
         traces = {}

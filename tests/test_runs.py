@@ -95,7 +95,10 @@ def test_ctrl_c_leaves_a_valid_run_file(one_frequency_case, tmp_path, uninterrup
     env = dict(os.environ, OPENBLAS_NUM_THREADS="1")
     process = subprocess.Popen(
         [sys.executable, "-m", "updating", "update", str(one_frequency_case), "--run", str(run),
-         "--quiet"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
+         "--quiet"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env,
+        # a user's shell starts vtcr with Ctrl-C at its default; pytest itself may have SIGINT
+        # ignored (a shell starts background jobs so), and an ignored SIGINT is inherited
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     deadline = time.monotonic() + 120
     while time.monotonic() < deadline and process.poll() is None:
         if run.exists() and len(json.loads(run.read_text())["steps"]) >= 2:

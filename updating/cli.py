@@ -103,6 +103,8 @@ def _option_problems(args):
     if max_rows is not None and max_rows < 0:
         problems.append(f"--max-rows {max_rows}: must be >= 0 (0 shows no rows); give e.g. "
                         "--max-rows 20")
+    if args.command == "frf":
+        problems += _sweep_option_problems(args)
     inputs = [getattr(args, n, None) for n in ("case", "probes", "measurements", "uff_map")]
     for name, flag in _OUTPUT_OPTIONS + (("run_file", "--run"),):
         if getattr(args, name, None) is not None:
@@ -119,6 +121,32 @@ def _option_problems(args):
     return problems
 
 
+def _sweep_option_problems(args):
+    """Bad values of ``vtcr frf``'s sweep options, one line each."""
+    import math
+
+    problems = []
+    low, high = args.band
+    if not (math.isfinite(low) and math.isfinite(high) and 0 < low < high):
+        problems.append(f"--band {low:g} {high:g}: must be two finite frequencies "
+                        "0 < F1 < F2 in Hz; give e.g. --band 200 260")
+    if args.step is not None and not (math.isfinite(args.step) and args.step > 0):
+        problems.append(f"--step {args.step}: must be a finite step > 0 in Hz; give e.g. "
+                        "--step 1")
+    if args.sweep_points < 2:
+        problems.append(f"--points {args.sweep_points}: a sweep needs at least 2 "
+                        "frequencies; give e.g. --points 41")
+    if not 0 < args.tolerance <= 1:
+        problems.append(f"--tolerance {args.tolerance}: must be a fraction in (0, 1]; give "
+                        "e.g. --tolerance 0.1")
+    if args.max_points < 2:
+        problems.append(f"--max-points {args.max_points}: must be at least 2; give e.g. "
+                        "--max-points 2000")
+    if args.workers < 1:
+        problems.append(f"--workers {args.workers}: must be at least 1; give e.g. --workers 2")
+    return problems
+
+
 def _check_description(args):
     """Physical and numerical sanity of the description, before any work; prints warnings."""
     from solver.problems import check_description
@@ -126,8 +154,10 @@ def _check_description(args):
     if not getattr(args, "case", None):
         return
     frequency = getattr(args, "frequency", None)
-    for line in check_description(_load(args), args.case,
-                                  None if frequency is None else (frequency,),
+    frequencies = None if frequency is None else (frequency,)
+    if args.command == "frf":  # the band's ends bound every frequency of the sweep
+        frequencies = tuple(args.band)
+    for line in check_description(_load(args), args.case, frequencies,
                                   need_loads=args.command != "check"):
         _warn(_console(args), line)
 
@@ -431,6 +461,91 @@ def cmd_curve(args):
     return 0
 
 
+def cmd_frf(args):
+    from solver import field_grid
+    from updating.executor import Executor
+    from updating.files import read_probes, write_json_atomic
+    from updating.measurements import write_measurements
+    from updating.progress import progress_bar
+    from updating.sweep import BALANCE_TOLERANCE, frequency_sweep
+
+    case = _load(args)
+    console = _console(args)
+    probes = read_probes(args.probes, case) if args.probes else None
+    if probes is None:
+        points = {pid: field_grid(case, pid, case.measurement.spacing) for pid in case.plates}
+        order = [(pid, i) for pid in case.plates for i in range(len(points[pid]))]
+    else:
+        points, order = probes.by_plate, list(probes.order)
+    count = None if args.step is not None else args.sweep_points
+    with Executor(args.workers, args.scheduler) as executor, \
+            progress_bar(console, f"sweep on {executor.description}", None) as advance:
+        sweep = frequency_sweep(case, tuple(args.band), points, step=args.step, count=count,
+                                tolerance=args.tolerance, max_points=args.max_points,
+                                executor=executor,
+                                on_round=lambda n: advance(f"{n} frequencies solved", 0))
+    _print_sweep(console, case, sweep, len(order))
+    if args.csv:
+        write_measurements(args.csv, sweep.measurements())
+    if args.json:
+        write_json_atomic(args.json, sweep.to_json(order))
+    flagged = int(np.sum(sweep.imbalances > BALANCE_TOLERANCE))
+    if flagged:
+        _warn(console, f"the power balance misses by more than {BALANCE_TOLERANCE:.0%} at "
+                       f"{flagged} frequencies: raise [discretisation] resolution")
+    return 0
+
+
+def _print_sweep(console, case, sweep, n_points):
+    """Sampling, resonance peaks and the power flow at the strongest one."""
+    s = sweep.sampling
+    requested = (f"step {s['requested']['step']:g} Hz" if s["requested"]["step"] is not None
+                 else f"{s['requested']['points']} points")
+    console.print(
+        f"{case.name}: {s['final']} frequencies over {sweep.frequencies[0]:g}-"
+        f"{sweep.frequencies[-1]:g} Hz at {n_points} points: {s['initial']} requested "
+        f"({requested}), refined in {s['rounds']} rounds until neighbouring responses differ by "
+        f"less than {s['tolerance']:.0%} or the step is below {s['fraction']:g} eta f "
+        f"(eta = {s['loss_factor']:g}, the half-power bandwidth of the lightest-damped plate)"
+        + ("" if s["resolved"] else f"; stopped at --max-points {s['final']}, some peaks may "
+                                    "be under-sampled"))
+    rms = sweep.spatial_rms()
+    peaks = [i for i in range(len(rms)) if (i == 0 or rms[i] >= rms[i - 1])
+             and (i == len(rms) - 1 or rms[i] >= rms[i + 1])]
+    peaks = sorted(sorted(peaks, key=lambda i: -rms[i])[:10])
+    table = Table(title="response peaks (largest 10)")
+    for column in ("f [Hz]", "RMS |w| [m]", "injected [W]", "plates [W]", "joints [W]",
+                   "imbalance"):
+        table.add_column(column, justify="right")
+    for i in peaks:
+        p = sweep.powers[i]
+        table.add_row(f"{sweep.frequencies[i]:.3f}", f"{rms[i]:.3e}", f"{p.total_injected:.3e}",
+                      f"{sum(p.dissipated.values()):.3e}",
+                      f"{sum(p.joint_dissipated.values()):.3e}", f"{p.imbalance:.1e}")
+    console.print(table)
+    top = max(peaks, key=lambda i: rms[i])
+    power = sweep.powers[top]
+    table = Table(title=f"power flow at {sweep.frequencies[top]:.3f} Hz (time-averaged)")
+    for column in ("plate", "injected [W]", "dissipated [W]", "kinetic energy [J]"):
+        table.add_column(column, justify="right")
+    for pid in power.injected:
+        table.add_row(pid, f"{power.injected[pid]:.3e}", f"{power.dissipated[pid]:.3e}",
+                      f"{power.kinetic[pid]:.3e}")
+    console.print(table)
+    if power.transmitted:
+        table = Table(title="joints: transmitted from the first plate of `between` to the "
+                            "second, and dissipated")
+        for column in ("joint", "transmitted [W]", "dissipated [W]"):
+            table.add_column(column, justify="right")
+        for jid in power.transmitted:
+            table.add_row(jid, f"{power.transmitted[jid]:.3e}",
+                          f"{power.joint_dissipated[jid]:.3e}")
+        console.print(table)
+    worst = int(np.argmax(sweep.imbalances))
+    console.print(f"power balance (injected against dissipated in plates and joints): largest "
+                  f"imbalance {sweep.imbalances[worst]:.1e} at {sweep.frequencies[worst]:g} Hz")
+
+
 def cmd_schema(args):
     import json
 
@@ -515,11 +630,34 @@ def build_parser():
                        help="write the curve as DIR/cost_JOINT.png (needs the extra vtcr[plot])")
     curve.set_defaults(run=cmd_curve)
 
+    frf = sub.add_parser("frf", help="frequency response and power flow over a band")
+    frf.add_argument("case", help="assembly description (TOML)")
+    frf.add_argument("--band", nargs=2, type=float, required=True, metavar=("F1", "F2"),
+                     help="frequency band (Hz)")
+    grid = frf.add_mutually_exclusive_group()
+    grid.add_argument("--step", type=float, help="initial frequency step (Hz)")
+    grid.add_argument("--points", dest="sweep_points", type=int, default=41,
+                      help="initial number of frequencies (default 41)")
+    frf.add_argument("--tolerance", type=float, default=0.1,
+                     help="refine where neighbouring responses differ by more than this "
+                          "fraction (default 0.1)")
+    frf.add_argument("--max-points", type=int, default=2000,
+                     help="most frequencies of the refined sweep (default 2000)")
+    frf.add_argument("--probes", help="CSV with header plate,x,y (default: the measurement grid)")
+    frf.add_argument("--csv", help="write the response as plate,x,y,re,im,frequency")
+    frf.add_argument("--json", help="write the sweep, the power flows and the sampling")
+    frf.add_argument("--workers", type=int, default=1,
+                     help="local worker processes (default 1: this process)")
+    frf.add_argument("--scheduler", metavar="ADDRESS",
+                     help="a running Dask scheduler, e.g. tcp://host:8786 (needs "
+                          "vtcr[distributed])")
+    frf.set_defaults(run=cmd_frf)
+
     schema = sub.add_parser("schema", help="JSON Schema of the description (editor completion)")
     schema.add_argument("--out", help="write it to this file (default: standard output)")
     schema.set_defaults(run=cmd_schema)
 
-    for p in (check, solve, simulate, localise, update, curve, schema):
+    for p in (check, solve, simulate, localise, update, curve, frf, schema):
         p.add_argument("--quiet", action="store_true", help="print nothing but errors")
     return parser
 

@@ -1,0 +1,223 @@
+r"""Where the power goes: energies and powers of a solved plate or assembly, and their balance.
+
+Time-averaged quantities with the convention :math:`e^{+j\omega t}` (``vtcr-formulation.md``
+sections 1, 2 and 6.2): a force :math:`F` on a displacement :math:`w` delivers
+:math:`\tfrac12\mathrm{Re}[F\,(j\omega w)^*] = \tfrac12\omega\,\mathrm{Im}(F\bar w)`.
+
+* **Injected** by the loads of plate :math:`i`:
+  :math:`P_{in,i} = \tfrac12\omega\,\mathrm{Im}\big[\sum_f F_f\bar w(\mathbf x_f)
+  + \int_{\partial\Omega_i}(T\bar w - M\,\partial_n\bar w)\,ds\big]` (point forces, edge shear
+  :math:`T` and edge moment :math:`M`).
+* **Kinetic energy** of plate :math:`i`: :math:`T_i = \tfrac14\omega^2\rho_ih_i\int|w|^2dA`.
+* **Dissipated** in plate :math:`i` (hysteretic :math:`D^* = D(1+j\eta)`):
+  :math:`P_{d,i} = \tfrac12\omega\,\mathrm{Im}(D^*)\,a(w,\bar w)`,
+  :math:`a = \int\big[|w_{,xx}|^2 + |w_{,yy}|^2 + 2\nu\,\mathrm{Re}(w_{,xx}\bar w_{,yy})
+  + 2(1-\nu)|w_{,xy}|^2\big]dA`. The field solves the plate equation exactly, so the Green
+  identity (formulation notes eq. 2.1 with :math:`v = \bar w`) turns this domain integral into
+  what the point forces and the boundary tractions deliver: :math:`P_{d,i} =
+  \tfrac12\omega\,\mathrm{Im}[\sum_fF_f\bar w(\mathbf x_f) + \oint(Q_n\bar w -
+  M_{nt}\partial_s\bar w - M_n\partial_n\bar w)\,ds]` (the corner forces folded into the
+  :math:`M_{nt}` term by parts; edge loads are tractions, already in the pairing). Edge Gauss rules of the VTCR's own
+  size integrate it to round-off, where a domain rule would need grading at the point forces
+  (log-singular curvatures) and a hundred times the points.
+* **Dissipated** in a joint, from its law: :math:`\tfrac12\omega\sum_c\mathrm{Im}(c)
+  \int_\Gamma|[q_c]|^2ds` over its channels (rotation spring :math:`c = k(1+j\zeta)`; the line
+  mass is conservative).
+* **Transmitted** across a joint from its first plate to its second: the mean of the power
+  leaving the first plate and the power entering the second through the joint line,
+  :math:`P_{\to i} = \tfrac12\omega\,\mathrm{Im}\int_\Gamma(K_i\bar w_i - M_i\,\partial_n\bar w_i)\,ds`
+  with the joint's loads :math:`K_i, M_i` on plate :math:`i` (the interface unknowns) and the
+  plate's traces. Corner forces at junction corners are not attributed to a joint.
+
+**Balance.** For the exact field, :math:`\sum_iP_{in,i} = \sum_iP_{d,i} + \sum_\Gamma P_{d,\Gamma}`:
+the outer boundaries absorb nothing and every joint law holds. The two sides are computed from
+different ingredients: the plates' dissipation is what their own boundary tractions deliver,
+the joints' is their law applied to the trace jumps. Their difference is the power the outer
+edges absorb (zero for exact supports) plus, on each joint line, the mismatch between the
+plates' tractions and the joint law: what the discretisation leaves unsatisfied of the
+conditions the VTCR imposes weakly.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from solver.kirchhoff import point_force_derivatives, wave_edge_factors
+from solver.plate import edge_rule_size, edge_values, evaluate_field
+from solver.rays import node_exponentials, plate_edges
+
+__all__ = ["PowerFlow", "power_flow", "plate_powers", "kinetic_energy"]
+
+
+@dataclass(frozen=True)
+class PowerFlow:
+    """Energies and powers of one solution (W and J, time-averaged).
+
+    ``injected``, ``kinetic`` and ``dissipated`` are per plate; ``joint_dissipated`` and
+    ``transmitted`` (from the joint's first plate to its second) per joint.
+    """
+
+    frequency: float
+    injected: dict
+    kinetic: dict
+    dissipated: dict
+    joint_dissipated: dict
+    transmitted: dict
+
+    @property
+    def total_injected(self) -> float:
+        return float(sum(self.injected.values()))
+
+    @property
+    def total_dissipated(self) -> float:
+        """Dissipated in the plates and the joints."""
+        return float(sum(self.dissipated.values()) + sum(self.joint_dissipated.values()))
+
+    @property
+    def imbalance(self) -> float:
+        """``|injected - dissipated| / injected`` (0 for an exact field)."""
+        injected = self.total_injected
+        if injected == 0.0:
+            return 0.0 if self.total_dissipated == 0.0 else math.inf
+        return abs(injected - self.total_dissipated) / abs(injected)
+
+    def to_json(self):
+        return {"frequency": self.frequency, "injected": self.total_injected,
+                "dissipated": self.total_dissipated, "imbalance": self.imbalance,
+                "plates": {pid: {"injected": self.injected[pid], "kinetic_energy": self.kinetic[pid],
+                                 "dissipated": self.dissipated[pid]} for pid in self.injected},
+                "joints": {jid: {"transmitted": self.transmitted[jid],
+                                 "dissipated": self.joint_dissipated[jid]}
+                           for jid in self.transmitted}}
+
+
+def _edge_field(problem, basis, amplitudes, edge, s):
+    """Field quantities on an edge at arc lengths ``s``: ``w``, ``slope`` (outward
+    :math:`\\partial_nw`), ``tangential`` (:math:`\\partial_sw`), ``moment`` (:math:`M_n`),
+    ``twist`` (:math:`M_{nt}`) and ``shear_q`` (:math:`Q_n`)."""
+    points = edge.start + np.asarray(s)[:, None] * edge.tangent
+    factors = wave_edge_factors(basis.k, edge.normal, edge.tangent, problem.bending_stiffness,
+                                problem.poisson_ratio)
+    factors["w"] = np.ones(len(basis.k))
+    factors["shear_q"] = factors["shear"] - factors["tangential"] * factors["twist"]
+    keys = ("w", "slope", "tangential", "moment", "twist", "shear_q")
+    rays = basis.sector_means(node_exponentials(basis, points),
+                              np.array([factors[key] for key in keys]))
+    out = {key: values @ amplitudes for key, values in zip(keys, rays)}
+    d, nu = problem.bending_stiffness, problem.poisson_ratio
+    for force in problem.point_forces:
+        f = point_force_derivatives(points, force.position, problem.kappa, d, force.amplitude)
+        hess = f["hess"]
+        w_nn, w_tt, w_nt = (edge.normal @ hess @ edge.normal, edge.tangent @ hess @ edge.tangent,
+                            edge.normal @ hess @ edge.tangent)
+        out["w"] = out["w"] + f["w"]
+        out["slope"] = out["slope"] + f["grad"] @ edge.normal
+        out["tangential"] = out["tangential"] + f["grad"] @ edge.tangent
+        out["moment"] = out["moment"] - d * (w_nn + nu * w_tt)
+        out["twist"] = out["twist"] - d * (1.0 - nu) * w_nt
+        out["shear_q"] = out["shear_q"] + f["shear_force"] @ edge.normal
+    return out
+
+
+def plate_powers(problem, basis, amplitudes):
+    """``(injected, dissipated)`` power of one plate (W): its loads' and, by the Green identity,
+    its bending dissipation (module docstring)."""
+    k_max = float(np.max(np.abs(basis.k)))
+    sources = [f.position for f in problem.point_forces]
+    forces, edge_loads, boundary = 0j, 0j, 0j
+    for force in problem.point_forces:
+        w = evaluate_field(problem, basis, amplitudes, np.array([force.position]))["w"][0]
+        forces += force.amplitude * np.conj(w)
+    for edge in plate_edges(problem.size):
+        x, wq = np.polynomial.legendre.leggauss(edge_rule_size(edge.length, k_max, sources, edge))
+        s, wq = 0.5 * edge.length * (x + 1.0), 0.5 * edge.length * wq
+        field = _edge_field(problem, basis, amplitudes, edge, s)
+        boundary += wq @ (field["shear_q"] * np.conj(field["w"])
+                          - field["twist"] * np.conj(field["tangential"])
+                          - field["moment"] * np.conj(field["slope"]))
+        condition = problem.condition(edge.name)
+        if condition.shear is not None:
+            edge_loads += wq @ (condition.shear.values(s, edge.length) * np.conj(field["w"]))
+        if condition.moment is not None:
+            edge_loads -= wq @ (condition.moment.values(s, edge.length) * np.conj(field["slope"]))
+    # an edge load is a boundary traction: the boundary pairing already holds its power
+    half_omega = 0.5 * problem.omega
+    return (half_omega * float((forces + edge_loads).imag),
+            half_omega * float((forces + boundary).imag))
+
+
+def kinetic_energy(problem, basis, amplitudes, n_min=12):
+    r""":math:`\tfrac14\omega^2\rho h\int|w|^2dA` (J), tensor Gauss rule of
+    :math:`\kappa_0L + 12` points per side (the rule of the reference energy)."""
+    rules = []
+    for length in problem.size:
+        x, w = np.polynomial.legendre.leggauss(max(n_min, math.ceil(abs(problem.kappa) * length) + 12))
+        rules.append((0.5 * length * (x + 1.0), 0.5 * length * w))
+    (x, wx), (y, wy) = rules
+    X, Y = np.meshgrid(x, y, indexing="ij")
+    w = evaluate_field(problem, basis, amplitudes, np.c_[X.ravel(), Y.ravel()])["w"]
+    return 0.25 * problem.omega**2 * problem.mass_per_area * float(np.outer(wx, wy).ravel()
+                                                                    @ np.abs(w) ** 2)
+
+
+def _side_powers(case, system, jid, amplitudes, s):
+    """Power the joint ``jid`` delivers to each of its two plates (W), from its loads (interface
+    unknowns ``s``) and the plates' traces on the joint line."""
+    from solver.substructure import joint_gauss, legendre_values
+
+    joint = case.joints[jid]
+    length = case.edge_length(joint.sides[0])
+    k_max = max(float(np.max(np.abs(system.bases[side.plate].k))) for side in joint.sides)
+    sigma, wq = joint_gauss(length, k_max)
+    slots = system.layout[jid]
+    psi = legendre_values(sigma, length, slots["C"].stop - slots["C"].start)
+    moment = psi @ s[slots["C"]]
+    shears = ((psi @ s[slots["F"]], -(psi @ s[slots["F"]])) if "F" in slots
+              else (psi @ s[slots["FA"]], psi @ s[slots["FB"]]) if "FA" in slots
+              else (None, None))
+    powers = []
+    for side, arc, shear in zip(joint.sides, (sigma, length - sigma), shears):
+        rays, part = edge_values(system.problems[side.plate], system.bases[side.plate],
+                                 side.edge, arc)
+        w = rays["w"] @ amplitudes[side.plate] + part["w"]
+        slope = rays["slope"] @ amplitudes[side.plate] + part["slope"]
+        pairing = -(wq @ (moment * np.conj(slope)))
+        if shear is not None:
+            pairing += wq @ (shear * np.conj(w))
+        powers.append(0.5 * system.omega * float(pairing.imag))
+    return powers
+
+
+def power_flow(case, solution) -> PowerFlow:
+    """The :class:`PowerFlow` of a solution of ``case`` (:func:`solver.solve_case`'s result).
+
+    Joint quantities need the assembly's interface solution
+    (:class:`solver.substructure.AssemblySolution`); a plate without joints has none.
+    """
+    omega = 2.0 * math.pi * solution.frequency
+    injected, kinetic, dissipated = {}, {}, {}
+    for pid, plate in solution.plates.items():
+        problem, basis, x = plate.problem, plate.basis, plate.amplitudes
+        injected[pid], dissipated[pid] = plate_powers(problem, basis, x)
+        kinetic[pid] = kinetic_energy(problem, basis, x)
+    joint_dissipated, transmitted = {}, {}
+    system = getattr(solution, "system", None)
+    if case.joints and system is not None:
+        from solver.substructure import joint_parameters
+
+        s = solution.interface
+        params = joint_parameters(case, omega)
+        amplitudes = {pid: p.amplitudes for pid, p in solution.plates.items()}
+        joint_dissipated = dict.fromkeys(case.joints, 0.0)
+        for channel in system.channels:
+            jump = channel.kinematic.residual(s)  # Gauss weights folded in: int |[q]|^2 ds
+            c = params[channel.joint, channel.kind]
+            joint_dissipated[channel.joint] += 0.5 * omega * c.imag * float(np.vdot(jump, jump).real)
+        for jid in case.joints:
+            to_first, to_second = _side_powers(case, system, jid, amplitudes, s)
+            transmitted[jid] = 0.5 * (to_second - to_first)
+    return PowerFlow(solution.frequency, injected, kinetic, dissipated, joint_dissipated,
+                     transmitted)

@@ -1,0 +1,91 @@
+"""One way to run independent tasks: in this process, in local worker processes, or on a Dask
+cluster.
+
+Every executor maps a picklable top-level function over a list of items and returns the results
+in the items' order, so the numbers do not depend on which executor ran them (each task is a
+deterministic solve with one BLAS thread). Items are sent in chunks — a few per worker — so that
+each task is well above the per-task overhead of process pools and schedulers; the function and
+its bound arguments (a description, a few points) are what travels, never large arrays.
+
+* ``workers=1`` (default): in this process.
+* ``workers=N``: ``N`` local processes (``spawn``: a fresh interpreter each, which inherits the
+  one-thread BLAS settings of :mod:`updating.cli`).
+* ``scheduler="tcp://host:8786"``: a running ``dask.distributed`` scheduler (the
+  ``distributed`` extra); its workers need vtcr installed.
+"""
+
+from __future__ import annotations
+
+import math
+import multiprocessing
+from concurrent.futures import ProcessPoolExecutor
+
+__all__ = ["Executor", "CHUNKS_PER_WORKER"]
+
+CHUNKS_PER_WORKER = 4
+"""Chunks per worker and per map: enough to balance uneven tasks, few enough that each chunk
+holds several solves."""
+
+
+def _run_chunk(function, chunk):
+    return [function(item) for item in chunk]
+
+
+def _chunks(items, count):
+    size = max(1, math.ceil(len(items) / max(count, 1)))
+    return [items[i:i + size] for i in range(0, len(items), size)]
+
+
+class Executor:
+    """``map(function, items) -> list`` on one of the three back-ends (see the module docstring).
+
+    Use as a context manager: the worker processes or the cluster connection are closed on exit.
+    """
+
+    def __init__(self, workers=1, scheduler=None):
+        if workers < 1:
+            raise ValueError(f"workers must be at least 1, got {workers}")
+        self.workers, self.scheduler = workers, scheduler
+        self._pool = self._client = None
+
+    def __enter__(self):
+        if self.scheduler is not None:
+            try:
+                from distributed import Client
+            except ImportError:
+                raise ImportError("--scheduler needs dask.distributed: "
+                                  "pip install 'vtcr[distributed]'") from None
+            self._client = Client(self.scheduler)
+            self.workers = max(1, len(self._client.scheduler_info()["workers"]))
+        elif self.workers > 1:
+            self._pool = ProcessPoolExecutor(self.workers,
+                                             mp_context=multiprocessing.get_context("spawn"))
+        return self
+
+    def __exit__(self, *exc):
+        if self._pool is not None:
+            self._pool.shutdown(cancel_futures=True)
+        if self._client is not None:
+            self._client.close()
+        self._pool = self._client = None
+        return False
+
+    @property
+    def description(self) -> str:
+        if self.scheduler is not None:
+            return f"Dask scheduler {self.scheduler} ({self.workers} workers)"
+        return f"{self.workers} local processes" if self.workers > 1 else "this process"
+
+    def map(self, function, items):
+        """``[function(item) for item in items]``, possibly in parallel, in order."""
+        items = list(items)
+        if self._pool is None and self._client is None or len(items) <= 1:
+            return [function(item) for item in items]
+        chunks = _chunks(items, CHUNKS_PER_WORKER * self.workers)
+        if self._client is not None:
+            futures = self._client.map(_run_chunk, [function] * len(chunks), chunks, pure=False)
+            results = self._client.gather(futures)
+        else:
+            results = list(self._pool.map(_run_chunk, [function] * len(chunks), chunks))
+        return [value for chunk in results for value in chunk]
+
