@@ -78,6 +78,7 @@ __all__ = [
     "edge_projection",
     "edge_values",
     "edge_rule_size",
+    "particular_traces",
     "factorise_dense",
     "solve_dense",
     "PlateSolution",
@@ -216,14 +217,15 @@ def _gauss_legendre(n):
     return np.polynomial.legendre.leggauss(n)
 
 
-def _particular_traces(problem, points, normal, tangent):
+def particular_traces(problem, points, normal, tangent):
     """Edge quantities of the point-force particular solution at ``points``.
 
     ``normal`` and ``tangent`` are one unit vector each, shape (2,), or one per point.
     """
     n = len(points)
     normal, tangent = np.broadcast_to(normal, points.shape), np.broadcast_to(tangent, points.shape)
-    out = {key: np.zeros(n, dtype=complex) for key in ("w", "slope", "moment", "twist", "shear_q")}
+    out = {key: np.zeros(n, dtype=complex)
+           for key in ("w", "slope", "tangential", "moment", "twist", "shear_q")}
     for force in problem.point_forces:
         f = point_force_derivatives(points, force.position, problem.kappa,
                                     problem.bending_stiffness, force.amplitude)
@@ -234,6 +236,7 @@ def _particular_traces(problem, points, normal, tangent):
         d, nu = problem.bending_stiffness, problem.poisson_ratio
         out["w"] += f["w"]
         out["slope"] += np.einsum("ni,ni->n", f["grad"], normal)
+        out["tangential"] += np.einsum("ni,ni->n", f["grad"], tangent)
         out["moment"] += -d * (w_nn + nu * w_tt)
         out["twist"] += -d * (1.0 - nu) * w_nt
         out["shear_q"] += np.einsum("ni,ni->n", f["shear_force"], normal)
@@ -310,7 +313,7 @@ def boundary_traces(problem, basis: RayBasis) -> PlateBoundary:
     # every edge's points: its start, its Gauss points, its end
     arcs = [np.concatenate([[0.0], s, [edge.length]]) for (s, _), edge in zip(rules, geometry)]
     sizes = [len(arc) for arc in arcs]
-    part = _particular_traces(
+    part = particular_traces(
         problem, np.concatenate([e.start + a[:, None] * e.tangent for e, a in zip(geometry, arcs)]),
         np.repeat([e.normal for e in geometry], sizes, axis=0),
         np.repeat([e.tangent for e in geometry], sizes, axis=0))
@@ -356,7 +359,7 @@ def edge_values(problem, basis, edge_name, s):
     points = edge.start + np.asarray(s)[:, None] * edge.tangent
     nodal = node_exponentials(basis, points)
     w, slope = basis.sector_means(nodal, _trace_factors(problem, basis, edge, ("w", "slope")))
-    part = _particular_traces(problem, points, edge.normal, edge.tangent)
+    part = particular_traces(problem, points, edge.normal, edge.tangent)
     return {"w": w, "slope": slope}, {"w": part["w"], "slope": part["slope"]}
 
 

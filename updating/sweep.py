@@ -60,8 +60,9 @@ class Sweep:
 
     def spatial_rms(self):
         """Per frequency, the RMS of |w| over the points (m)."""
-        return np.array([np.sqrt(np.mean(np.abs(np.concatenate(list(v.values()))) ** 2))
-                         for v in self.values])
+        from updating.plots import spatial_rms
+
+        return np.array([spatial_rms(v.values()) for v in self.values])
 
     def measurements(self):
         """The sweep as :class:`updating.measurements.Measurements` (one set per frequency)."""
