@@ -34,6 +34,7 @@ from .errors import DescriptionError, Issue, format_path
 from .models import (
     Boundary,
     Case,
+    Compute,
     CoplanarJoint,
     CrossReferenceError,
     Discretisation,
@@ -81,6 +82,7 @@ _MODELS: dict[str, type[BaseModel]] = {
     "measurement": Measurement,
     "measurement.points[]": PointMeasurement,
     "updating": Updating,
+    "compute": Compute,
     "truth": Truth,
     "truth.joints.*": JointTruth,
 }
@@ -155,6 +157,9 @@ _EXAMPLES: dict[str, str] = {
     "updating.bounds": "bounds = [-3.0, 7.0] (log10 k)",
     "updating.bounds[]": "bounds = [-3.0, 7.0] (log10 k)",
     "updating.identify": 'identify = ["stiffness", "damping", "mass"]',
+    "compute": "a [compute] table",
+    "compute.workers": "workers = 2 (local processes, >= 1)",
+    "compute.scheduler": 'scheduler = "tcp://node1:8786" (a Dask scheduler)',
     "updating.identify[]": 'identify = ["stiffness", "damping", "mass"]',
     "updating.max_steps": "max_steps = 8 (>= 1)",
     "updating.stop_ratio": "stop_ratio = 3.0 (> 1)",

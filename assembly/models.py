@@ -21,6 +21,7 @@ The top-level model is :class:`Case`, one TOML description (see
 ``[discretisation]``      :class:`Discretisation` (ray counts)
 ``[measurement]``         :class:`Measurement` (simulated or real measurement grid)
 ``[updating]``            :class:`Updating` (localisation--correction settings)
+``[compute]``             :class:`Compute` (where independent tasks run)
 ``[truth.joints.ID]``     :class:`JointTruth` ("true" joint parameters of a simulated test)
 ========================  ===================================================================
 
@@ -61,6 +62,7 @@ __all__ = [
     "EDGE_NAMES",
     "Boundary",
     "Case",
+    "Compute",
     "CoplanarJoint",
     "Discretisation",
     "EdgeId",
@@ -945,6 +947,24 @@ class Updating(_Model):
     min_decrease: Annotated[float, Strict(), Field(ge=0, lt=1)] = 0.01
 
 
+class Compute(_Model):
+    """Where independent tasks (frequencies, noise realisations) run (``[compute]``).
+
+    The command-line options ``--workers`` and ``--scheduler`` override these.
+
+    Parameters
+    ----------
+    workers : int, optional
+        Local worker processes (>= 1), one BLAS thread each.  Default 1: this process.
+    scheduler : str, optional
+        Address of a running Dask distributed scheduler, e.g. ``"tcp://node1:8786"`` (the
+        ``distributed`` extra); its workers run the tasks and ``workers`` is ignored.
+    """
+
+    workers: Annotated[int, Strict(), Field(ge=1)] = 1
+    scheduler: Annotated[str, Field(min_length=1)] | None = None
+
+
 class JointTruth(_Model):
     """The "true" parameters of one joint, used to simulate an experiment.
 
@@ -1408,6 +1428,8 @@ class Case(_Model):
     measurement : Measurement, optional
     updating : Updating, optional
         After validation ``updating.alpha`` holds every joint's weight, normalised to sum 1.
+    compute : Compute, optional
+        Where independent tasks run (local processes or a Dask scheduler).
     truth : Truth, optional
         True joint parameters of a simulated experiment.
 
@@ -1440,6 +1462,7 @@ class Case(_Model):
     discretisation: Discretisation = Field(default_factory=Discretisation)
     measurement: Measurement = Field(default_factory=Measurement)
     updating: Updating = Field(default_factory=Updating)
+    compute: Compute = Field(default_factory=Compute)
     truth: Truth = Field(default_factory=Truth)
 
     # ---------------------------------------------------------------- validation

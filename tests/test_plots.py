@@ -218,7 +218,8 @@ def test_cost_curve_data_sorts_and_marks_the_minimum(run):
 
 
 def test_frequency_response_equals_direct_solves(run):
-    """A system shared by the parameter sets gives the field of ``solve_case``.
+    """A system shared by the parameter sets gives the field of ``solve_case``, at the
+    requested frequencies and at those the refinement added between them.
 
     One system per frequency, then a reduced solve per parameter set: the same field as
     solving the description with those joints.
@@ -227,13 +228,27 @@ def test_frequency_response_equals_direct_solves(run):
     frequency = case.frequencies[0]
     points = {pid: p for pid, (p, _) in measurements.data[frequency].items()}
     sets = {"initial": problem.initial_parameters(), "updated": result.parameters}
-    frequencies = [0.9 * frequency, frequency]
-    data = frequency_response_data(case, sets, frequencies, points)
+    requested = [0.97 * frequency, frequency]
+    data = frequency_response_data(case, sets, requested, points)
+    assert set(requested) < set(data.frequencies) and np.all(np.diff(data.frequencies) > 0)
     for label, parameters in sets.items():
-        for i, f in enumerate(frequencies):
+        for i, f in enumerate(data.frequencies):
             solution = solve_case(case.with_joint_parameters(parameters), f)
             expected = spatial_rms(solution.w(pid, p) for pid, p in points.items())
             np.testing.assert_allclose(data.curves[label][i], expected, rtol=1e-8)
+
+
+def test_frf_plot_writes_the_response_and_the_power_flow(tmp_path):
+    """``vtcr frf --plot DIR`` writes ``frf.png`` and ``power.png``."""
+    pytest.importorskip("matplotlib")
+    case_file = tmp_path / "small.toml"
+    case_file.write_text(SMALL)
+    out = tmp_path / "sweep"
+    assert main(["frf", str(case_file), "--band", "110", "130", "--points", "5", "--tolerance",
+                 "0.5", "--plot", str(out), "--quiet"]) == 0
+    assert sorted(p.name for p in out.iterdir()) == ["frf.png", "power.png"]
+    for name in ("frf.png", "power.png"):
+        _check_png(out / name)
 
 
 def test_frequency_band_contains_the_analysed_frequencies():
@@ -263,7 +278,8 @@ def test_core_does_not_import_matplotlib():
     assert done.stdout.strip() == "False"
 
 
-@pytest.mark.parametrize("command", [["update"], ["curve", "--joint", "G1"]])
+@pytest.mark.parametrize("command", [["update"], ["curve", "--joint", "G1"],
+                                     ["frf", "--band", "150", "160"]])
 def test_plot_without_matplotlib_is_a_one_line_error(tmp_path, command):
     """``--plot`` without matplotlib: exit 2, one line, before any work and any file."""
     done = _python(f"""

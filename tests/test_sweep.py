@@ -10,18 +10,21 @@ rotation jumps, so it is independent of the Green identity and the loads ``solve
 
 import csv
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
 from exact import EdgeLoad, Section, levy_chain
 from test_assemblies import D, H, LENGTHS, LY, NU, RHO, chain_description, exact_joint
 
-from assembly import parse_case
+from assembly import load_case, parse_case
 from solver import solve_case
 from solver.power import power_flow
 from solver.sweep import initial_frequencies, refine_frequencies
 from updating.cli import main
 from updating.sweep import frequency_sweep
+
+CASES = Path(__file__).resolve().parents[1] / "cases"
 
 JOINTS = [{"kind": "coplanar", "log10_stiffness": 1.5, "loss_factor": 0.3},
           {"kind": "hinge", "log10_stiffness": 2.0, "loss_factor": 0.5}]
@@ -263,3 +266,106 @@ def test_frf_on_a_dask_scheduler_and_two_workers_started_by_hand(tmp_path):
                 process.wait(timeout=20)
             except subprocess.TimeoutExpired:
                 process.kill()
+
+
+@pytest.mark.parametrize("suffix, rtol", [(".uff", 1e-11), (".58b", 1e-14)],
+                         ids=["ascii58", "binary58b"])
+def test_uff_export_reads_back_through_the_uff_reader(tmp_path, suffix, rtol):
+    """``vtcr frf --uff`` read back by :func:`updating.uff.read_uff` with the probe file as its
+    node map: the same w at every swept frequency. ASCII keeps 12 significant digits
+    (E20.12: each part rounded by 5e-12 of itself), 58b IEEE doubles. A 1 N point force makes
+    the datasets FRFs (type 4, per newton) referenced to the drive point's node."""
+    pyuff = pytest.importorskip("pyuff")
+    from updating.uff import read_uff
+
+    case_file = _write_chain(tmp_path)
+    probes = tmp_path / "map.csv"  # a UFF node map is a probe file; 31 is the drive point
+    probes.write_text("node,plate,x,y\n7,P1,0.3,0.2\n31,P1,0.12,0.31\n12,P2,0.25,0.15\n")
+    out_uff, out_json = tmp_path / f"sweep{suffix}", tmp_path / "sweep.json"
+    assert main(["frf", str(case_file), "--band", "445", "450", "--points", "3",
+                 "--tolerance", "0.5", "--probes", str(probes), "--uff", str(out_uff),
+                 "--json", str(out_json), "--quiet"]) == 0
+    data = json.loads(out_json.read_text())
+    assert [p["node"] for p in data["probes"]] == [7, 31, 12]
+    swept = [point["frequency"] for point in data["frequencies"]]
+
+    uff = pyuff.UFF(str(out_uff))
+    types = list(uff.get_set_types())
+    assert types == [164, 15] + [58] * 3
+    units, geometry = uff.read_sets(0), uff.read_sets(1)
+    assert (units["length"], units["force"]) == (1.0, 1.0)
+    np.testing.assert_allclose(geometry["x"], [0.3, 0.12, 0.5 + 0.25])  # P2 starts at x = 0.5
+    for index in (2, 3, 4):
+        header = uff.read_sets(index)
+        assert (header["func_type"], header["ref_node"], header["ref_dir"]) == (4, 31, 3)
+
+    text = case_file.read_text().replace("frequency = 450.0",
+                                         f"frequencies = {[float(f) for f in swept]}")
+    assert text != case_file.read_text()
+    read_case = tmp_path / "read.toml"
+    read_case.write_text(text)
+    measured = read_uff(out_uff, load_case(read_case), probes)
+    assert measured.frequencies == tuple(swept)
+    for frequency, point in zip(swept, data["frequencies"]):
+        expected = np.array([complex(*w) for w in point["w"]])
+        got = np.concatenate([measured.data[frequency][pid][1] for pid in ("P1", "P2")])
+        np.testing.assert_allclose(got, expected, rtol=rtol, atol=0)
+
+
+def test_uff_datasets_are_frfs_per_newton_only_under_a_single_point_force():
+    """A 2 N force gives H = w / 2 (type 4, per newton); a second load makes them response
+    spectra of w in metres (type 12, no denominator), which is what the loads produced."""
+    pytest.importorskip("pyuff")
+    from test_assemblies import chain_description
+
+    from updating.uff_export import sweep_datasets
+
+    points = {"P1": np.array([[0.3, 0.2]])}
+    single = chain_description(JOINTS[:1], frequency=450.0)
+    single["loads"][0]["amplitude"] = 2.0
+    double = chain_description(JOINTS[:1], frequency=450.0,
+                               edge_loads=[{"kind": "point_force", "plate": "P2",
+                                            "at": [0.2, 0.1], "amplitude": 1.0}])
+    for description, func_type, scale in ((single, 4, 0.5), (double, 12, 1.0)):
+        case = parse_case(description)
+        sweep = frequency_sweep(case, (445.0, 450.0), points, count=2, tolerance=1.0)
+        (dataset,) = sweep_datasets(case, sweep, [("P1", 0)])[2:]
+        assert dataset["func_type"] == func_type
+        assert dataset["orddenom_spec_data_type"] == (13 if func_type == 4 else 0)
+        w = np.array([v["P1"][0] for v in sweep.values])
+        np.testing.assert_allclose(dataset["data"], scale * w, rtol=1e-15)
+
+
+def test_localise_on_the_compute_table_workers_gives_the_serial_numbers(tmp_path, monkeypatch):
+    """``[compute] workers = 2`` builds the three frequencies of the four-plate case (and
+    simulates its experiment) in two processes: the JSON equals the serial run's, bit for bit
+    (the noise is drawn in the parent, in frequency order)."""
+    monkeypatch.chdir(tmp_path)
+    text = (CASES / "four_plates.toml").read_text()
+    parallel = tmp_path / "parallel.toml"
+    parallel.write_text(text + "\n[compute]\nworkers = 2\n")
+    outputs = []
+    for case_file in (CASES / "four_plates.toml", parallel):
+        out = tmp_path / f"{case_file.stem}.json"
+        assert main(["localise", str(case_file), "--json", str(out), "--quiet"]) == 0
+        outputs.append(out.read_text())
+    assert outputs[0] == outputs[1]
+
+
+def test_an_unreachable_scheduler_is_one_line_and_exit_2(tmp_path, capsys, monkeypatch):
+    pytest.importorskip("distributed")
+    import socket
+
+    import updating.executor
+
+    monkeypatch.setattr(updating.executor, "CONNECT_TIMEOUT", "2s")
+    with socket.socket() as probe:  # a free port: nothing listens there
+        probe.bind(("127.0.0.1", 0))
+        port = probe.getsockname()[1]
+    case = _write_chain(tmp_path)
+    out = tmp_path / "frf.json"
+    assert main(["frf", str(case), "--band", "445", "450", "--scheduler",
+                 f"tcp://127.0.0.1:{port}", "--json", str(out)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and f"scheduler tcp://127.0.0.1:{port}: cannot connect" in err[0]
+    assert not out.exists()

@@ -7,6 +7,7 @@ no traceback. The commands only format what the library returns.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import errno
 import os
 import sys
@@ -76,7 +77,8 @@ class _Parser(argparse.ArgumentParser):
         self.exit(2, f"vtcr: {message}; see `{self.prog} --help`\n")
 
 
-_OUTPUT_OPTIONS = (("out", "--out"), ("json", "--json"), ("csv", "--csv"), ("report", "--report"))
+_OUTPUT_OPTIONS = (("out", "--out"), ("json", "--json"), ("csv", "--csv"), ("report", "--report"),
+                   ("uff", "--uff"))
 
 
 def _option_problems(args):
@@ -103,6 +105,9 @@ def _option_problems(args):
     if max_rows is not None and max_rows < 0:
         problems.append(f"--max-rows {max_rows}: must be >= 0 (0 shows no rows); give e.g. "
                         "--max-rows 20")
+    workers = getattr(args, "workers", None)
+    if workers is not None and workers < 1:
+        problems.append(f"--workers {workers}: must be at least 1; give e.g. --workers 2")
     if args.command == "frf":
         problems += _sweep_option_problems(args)
     inputs = [getattr(args, n, None) for n in ("case", "probes", "measurements", "uff_map")]
@@ -142,8 +147,12 @@ def _sweep_option_problems(args):
     if args.max_points < 2:
         problems.append(f"--max-points {args.max_points}: must be at least 2; give e.g. "
                         "--max-points 2000")
-    if args.workers < 1:
-        problems.append(f"--workers {args.workers}: must be at least 1; give e.g. --workers 2")
+    if args.uff is not None:
+        try:
+            import pyuff  # noqa: F401
+        except ImportError:
+            problems.append(f"--uff {args.uff}: writing UFF needs pyuff; install it with "
+                            "pip install 'vtcr[uff]'")
     return problems
 
 
@@ -265,7 +274,7 @@ def _measurements(case, args):
                          f"({', '.join(UFF_SUFFIXES)}); got --measurements {path or '(none)'}")
     if path:
         return read_measurements(path, case)
-    return simulate_measurements(case)
+    return simulate_measurements(case, executor=_executor(args, case))
 
 
 def _measurement_options(parser):
@@ -282,7 +291,8 @@ def cmd_simulate(args):
     from updating.measurements import simulate_measurements, write_measurements
 
     case = _load(args)
-    measurements = simulate_measurements(case, noise=args.noise, seed=args.seed)
+    measurements = simulate_measurements(case, noise=args.noise, seed=args.seed,
+                                         executor=_executor(args, case))
     write_measurements(args.out, measurements)
     _console(args).print(f"{measurements.count()} simulated values at "
                          f"{', '.join(f'{f:g}' for f in measurements.frequencies)} Hz "
@@ -296,7 +306,7 @@ def _modified_problem(case, args, measurements=None):
 
     if measurements is None:
         measurements = _checked_measurements(case, args)
-    problem = ModifiedProblem(case, measurements)
+    problem = ModifiedProblem(case, measurements, executor=_executor(args, case))
     _problem_warnings(args, problem)
     return problem
 
@@ -412,7 +422,8 @@ def cmd_update(args):
         t3 = time.perf_counter()
         with progress_bar(console, "figures", None) as advance:
             paths = write_update_figures(case, problem, measurements, result, args.plot,
-                                         on_work=lambda label: advance(label))
+                                         on_work=lambda label: advance(label),
+                                         executor=_executor(args, case))
         console.print(f"{len(paths)} figures written to {args.plot} "
                       f"({time.perf_counter() - t3:.1f} s): {', '.join(p.name for p in paths)}")
     return 0
@@ -471,15 +482,19 @@ def cmd_frf(args):
 
     case = _load(args)
     console = _console(args)
+    if args.plot:
+        from updating.plots import require_matplotlib
+
+        require_matplotlib()  # fail before the sweep, not after it
     probes = read_probes(args.probes, case) if args.probes else None
     if probes is None:
         points = {pid: field_grid(case, pid, case.measurement.spacing) for pid in case.plates}
-        order = [(pid, i) for pid in case.plates for i in range(len(points[pid]))]
+        order, nodes = [(pid, i) for pid in case.plates for i in range(len(points[pid]))], None
     else:
-        points, order = probes.by_plate, list(probes.order)
+        points, order, nodes = probes.by_plate, list(probes.order), probes.nodes
     count = None if args.step is not None else args.sweep_points
-    with Executor(args.workers, args.scheduler) as executor, \
-            progress_bar(console, f"sweep on {executor.description}", None) as advance:
+    executor = _executor(args, case)
+    with progress_bar(console, f"sweep on {executor.description}", None) as advance:
         sweep = frequency_sweep(case, tuple(args.band), points, step=args.step, count=count,
                                 tolerance=args.tolerance, max_points=args.max_points,
                                 executor=executor,
@@ -488,7 +503,17 @@ def cmd_frf(args):
     if args.csv:
         write_measurements(args.csv, sweep.measurements())
     if args.json:
-        write_json_atomic(args.json, sweep.to_json(order))
+        write_json_atomic(args.json, sweep.to_json(order, nodes))
+    if args.uff:
+        from updating.uff_export import write_uff
+
+        write_uff(args.uff, case, sweep, order, nodes)
+    if args.plot:
+        from updating.plots import write_sweep_figures
+
+        paths = write_sweep_figures(case, sweep, args.plot)
+        console.print(f"{len(paths)} figures written to {args.plot}: "
+                      f"{', '.join(p.name for p in paths)}")
     flagged = int(np.sum(sweep.imbalances > BALANCE_TOLERANCE))
     if flagged:
         _warn(console, f"the power balance misses by more than {BALANCE_TOLERANCE:.0%} at "
@@ -574,6 +599,31 @@ def _version():
         return "unknown"
 
 
+def _compute_options(parser):
+    parser.add_argument("--workers", type=int, metavar="N",
+                        help="local worker processes for independent tasks (default [compute] "
+                             "workers, else 1: this process)")
+    parser.add_argument("--scheduler", metavar="ADDRESS",
+                        help="a running Dask scheduler, e.g. tcp://host:8786 (default [compute] "
+                             "scheduler; needs vtcr[distributed])")
+
+
+def _executor(args, case):
+    """The command's executor, started once and closed when the command ends (``main``).
+
+    Command-line options win over the description's ``[compute]`` table; ``--workers`` alone
+    means local processes even when the description names a scheduler.
+    """
+    from updating.executor import Executor
+
+    if getattr(args, "executor", None) is None:
+        workers, scheduler = getattr(args, "workers", None), getattr(args, "scheduler", None)
+        if workers is None and scheduler is None:
+            workers, scheduler = case.compute.workers, case.compute.scheduler
+        args.executor = args.resources.enter_context(Executor(workers or 1, scheduler))
+    return args.executor
+
+
 def build_parser():
     parser = _Parser(
         prog="vtcr",
@@ -598,12 +648,14 @@ def build_parser():
     simulate.add_argument("--out", required=True, help="measurement CSV to write")
     simulate.add_argument("--noise", type=float, help="uniform noise fraction (default [measurement] noise)")
     simulate.add_argument("--seed", type=int, help="noise seed (default [measurement] seed)")
+    _compute_options(simulate)
     simulate.set_defaults(run=cmd_simulate)
 
     localise = sub.add_parser("localise", help="per-joint residuals at the model's parameters")
     localise.add_argument("case")
     _measurement_options(localise)
     localise.add_argument("--json")
+    _compute_options(localise)
     localise.set_defaults(run=cmd_localise)
 
     update = sub.add_parser("update", help="localisation-correction loop")
@@ -618,6 +670,7 @@ def build_parser():
                              "--json, else CASE.run.json in the current directory)")
     update.add_argument("--resume", metavar="RUN",
                         help="continue the run saved in RUN from its last finished step")
+    _compute_options(update)
     update.set_defaults(run=cmd_update)
 
     curve = sub.add_parser("curve", help="E_mod^2, E_int^2, E_mes^2 against one joint's log10 k")
@@ -628,6 +681,7 @@ def build_parser():
     curve.add_argument("--points", type=int, default=41)
     curve.add_argument("--plot", metavar="DIR",
                        help="write the curve as DIR/cost_JOINT.png (needs the extra vtcr[plot])")
+    _compute_options(curve)
     curve.set_defaults(run=cmd_curve)
 
     frf = sub.add_parser("frf", help="frequency response and power flow over a band")
@@ -646,11 +700,13 @@ def build_parser():
     frf.add_argument("--probes", help="CSV with header plate,x,y (default: the measurement grid)")
     frf.add_argument("--csv", help="write the response as plate,x,y,re,im,frequency")
     frf.add_argument("--json", help="write the sweep, the power flows and the sampling")
-    frf.add_argument("--workers", type=int, default=1,
-                     help="local worker processes (default 1: this process)")
-    frf.add_argument("--scheduler", metavar="ADDRESS",
-                     help="a running Dask scheduler, e.g. tcp://host:8786 (needs "
-                          "vtcr[distributed])")
+    frf.add_argument("--uff", metavar="OUT.uff",
+                     help="write the response at the probes as UFF datasets 58 (FRFs per newton "
+                          "under a single point force), with units (164) and nodes (15); needs "
+                          "vtcr[uff]")
+    frf.add_argument("--plot", metavar="DIR",
+                     help="write frf.png and power.png into DIR (needs the extra vtcr[plot])")
+    _compute_options(frf)
     frf.set_defaults(run=cmd_frf)
 
     schema = sub.add_parser("schema", help="JSON Schema of the description (editor completion)")
@@ -677,8 +733,9 @@ def main(argv=None):
     if problems:
         return 2
     try:
-        _check_description(args)
-        return args.run(args)
+        with contextlib.ExitStack() as args.resources:  # the executor's processes, if any
+            _check_description(args)
+            return args.run(args)
     except (DescriptionError, InputError) as err:
         for line in str(err).splitlines():
             print(f"vtcr: {line}", file=sys.stderr)

@@ -24,6 +24,7 @@ samples once, and each cost evaluation is then a dense solve of their size.
 
 from __future__ import annotations
 
+import functools
 import math
 import time
 from dataclasses import dataclass
@@ -119,6 +120,23 @@ class _Frequency:
                 for pid, op, v in zip(self.plates, self.operators, data)}
 
 
+def _frequency_data(case, resolution, task):
+    """One measured frequency's :class:`_Frequency` (a task of :class:`ModifiedProblem`'s
+    executor): its system, :math:`E_{ref}` at p0 and the measurement operators."""
+    frequency, measured_plates = task
+    system = build_assembly_system(case, frequency, resolution)
+    solve_assembly(case, frequency, system=system)  # fixes E_ref at p0
+    plates, operators, data = [], [], []
+    for pid, (points, measured) in measured_plates.items():
+        problem, basis = system.problems[pid], system.bases[pid]
+        rays = ray_field(basis, points)["w"]
+        particular = evaluate_field(problem, basis, np.zeros(basis.n_dof), points)["w"]
+        plates.append(pid)
+        operators.append(system.affine_plate_operator(pid, rays, particular))
+        data.append(np.asarray(measured))
+    return _Frequency(system, plates, operators, data)
+
+
 class ModifiedProblem:
     """The parameter-independent part of the updating problem, built once.
 
@@ -131,27 +149,21 @@ class ModifiedProblem:
         Weight of the measurement term (default ``[updating] r``).
     resolution : float, optional
         Discretisation resolution (default ``[discretisation] resolution``).
+    executor : updating.executor.Executor, optional
+        Builds the frequencies in parallel (default: one after the other, in this process).
     """
 
-    def __init__(self, case, measurements, r=None, resolution=None):
+    def __init__(self, case, measurements, r=None, resolution=None, executor=None):
         self.case = case
         self.r = case.updating.r if r is None else r
         self.alpha = dict(case.updating.alpha)
         self.joints = tuple(case.joints)
-        self.frequencies = {}
         self._last = None  # (parameters, {frequency: InterfaceFactor}) of the last evaluation
-        for frequency in measurements.frequencies:
-            system = build_assembly_system(case, frequency, resolution)
-            solve_assembly(case, frequency, system=system)  # fixes E_ref at p0
-            plates, operators, data = [], [], []
-            for pid, (points, measured) in measurements.data[frequency].items():
-                problem, basis = system.problems[pid], system.bases[pid]
-                rays = ray_field(basis, points)["w"]
-                particular = evaluate_field(problem, basis, np.zeros(basis.n_dof), points)["w"]
-                plates.append(pid)
-                operators.append(system.affine_plate_operator(pid, rays, particular))
-                data.append(np.asarray(measured))
-            self.frequencies[frequency] = _Frequency(system, plates, operators, data)
+        tasks = [(frequency, measurements.data[frequency])
+                 for frequency in measurements.frequencies]
+        build = functools.partial(_frequency_data, case, resolution)
+        built = executor.map(build, tasks) if executor else [build(task) for task in tasks]
+        self.frequencies = {frequency: data for (frequency, _), data in zip(tasks, built)}
 
     def initial_parameters(self):
         """``{joint: {log10_stiffness, loss_factor, mass}}`` of the model."""

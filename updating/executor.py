@@ -20,7 +20,12 @@ import math
 import multiprocessing
 from concurrent.futures import ProcessPoolExecutor
 
+from updating.files import InputError
+
 __all__ = ["Executor", "CHUNKS_PER_WORKER"]
+
+CONNECT_TIMEOUT = "20s"
+"""How long to try reaching a scheduler before saying it cannot be reached."""
 
 CHUNKS_PER_WORKER = 4
 """Chunks per worker and per map: enough to balance uneven tasks, few enough that each chunk
@@ -53,9 +58,14 @@ class Executor:
             try:
                 from distributed import Client
             except ImportError:
-                raise ImportError("--scheduler needs dask.distributed: "
-                                  "pip install 'vtcr[distributed]'") from None
-            self._client = Client(self.scheduler)
+                raise InputError(f"scheduler {self.scheduler}: a Dask scheduler needs "
+                                 "dask.distributed: pip install 'vtcr[distributed]'") from None
+            try:
+                self._client = Client(self.scheduler, timeout=CONNECT_TIMEOUT)
+            except (OSError, TimeoutError, ValueError) as err:
+                raise InputError(f"scheduler {self.scheduler}: cannot connect ({err}); start "
+                                 "a scheduler there (dask scheduler) or give the address it "
+                                 "prints, e.g. tcp://node1:8786") from None
             self.workers = max(1, len(self._client.scheduler_info()["workers"]))
         elif self.workers > 1:
             self._pool = ProcessPoolExecutor(self.workers,

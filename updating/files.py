@@ -47,6 +47,7 @@ class Probes:
 
     by_plate: dict
     order: tuple  # ((plate_id, index_in_plate), ...)
+    nodes: tuple | None = None  # the optional ``node`` column, in row order (UFF node numbers)
 
 
 def parse_finite(path, row_number, column, text, what):
@@ -198,19 +199,25 @@ def point_key(plate_id, x, y, *rest):
 def read_probes(path, case):
     """Read a probe CSV (header ``plate,x,y``, plate-local metres) and check it against ``case``.
 
+    An optional ``node`` column numbers the points (whole numbers >= 1, each once): the UFF
+    node numbers of ``vtcr frf --uff``, so that a UFF node map ``node,plate,x,y`` is also a
+    probe file.
+
     Raises
     ------
     InputError
         Missing, empty or non-UTF-8 file, wrong header or separator, unknown plate,
-        non-numeric or non-finite coordinate, a point outside its plate, a point given twice,
-        or no rows; every bad row is reported.
+        non-numeric or non-finite coordinate, a point outside its plate, a point or node given
+        twice, a node that is not a whole number >= 1, or no rows; every bad row is reported.
     """
     columns = ("plate", "x", "y")
-    problems, rows, seen = [], [], {}
-    _, table = read_csv_table(path, "probe", columns)
+    problems, rows, seen, seen_nodes = [], [], {}, {}
+    present, table = read_csv_table(path, "probe", columns, optional=("node",))
+    numbered = "node" in present
     for number, row in table:
         if row is None:
-            problems.append(too_many_cells(path, number, columns))
+            problems.append(too_many_cells(path, number, columns + (("node",) if numbered
+                                                                    else ())))
             continue
         plate_id = row["plate"]
         try:
@@ -224,16 +231,30 @@ def read_probes(path, case):
                             f"({plate_id}, {x:g}, {y:g}); remove one of the rows")
             continue
         seen[key] = number
-        rows.append((plate_id, x, y))
+        node = None
+        if numbered:
+            text = row["node"]
+            if not (text.isascii() and text.isdigit()) or int(text) < 1 or int(text) >= 2**31:
+                problems.append(f"{path}: row {number}, column 'node': {text!r} is not a node "
+                                "number; give a whole number from 1 to 2147483647")
+                continue
+            node = int(text)
+            if node in seen_nodes:
+                problems.append(f"{path}: row {number}, column 'node': node {node} is already "
+                                f"on row {seen_nodes[node]}; give each point its own node")
+                continue
+            seen_nodes[node] = number
+        rows.append((plate_id, x, y, node))
     if not rows and not problems:
         problems.append(f"{path}: no probe rows; add at least one line plate,x,y")
     if problems:
         raise InputError(problems)
     by_plate, order = {}, []
-    for plate_id, x, y in rows:
+    for plate_id, x, y, _ in rows:
         by_plate.setdefault(plate_id, []).append((x, y))
         order.append((plate_id, len(by_plate[plate_id]) - 1))
-    return Probes({k: np.array(v) for k, v in by_plate.items()}, tuple(order))
+    nodes = tuple(node for *_, node in rows) if numbered else None
+    return Probes({k: np.array(v) for k, v in by_plate.items()}, tuple(order), nodes)
 
 
 def output_path_problem(path, option, inputs=()):

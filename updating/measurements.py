@@ -10,6 +10,7 @@ in ``[-noise, noise]`` (seeded): the paper's noise acts on the magnitudes (secti
 from __future__ import annotations
 
 import csv
+import functools
 import io
 from dataclasses import dataclass
 
@@ -58,7 +59,13 @@ def add_noise(values, noise, rng):
     return values * (1.0 + rng.uniform(-noise, noise, size=values.shape))
 
 
-def simulate_measurements(case, noise=None, seed=None, resolution=None):
+def _true_response(truth, scale, layout, frequency):
+    """``{plate: w at its layout points}`` of the true structure (an executor task)."""
+    solution = solve_case(truth, frequency, resolution=scale, residuals=False)
+    return {pid: solution.w(pid, points) for pid, points in layout.items()}
+
+
+def simulate_measurements(case, noise=None, seed=None, resolution=None, executor=None):
     """Simulated experiment on the description's measurement layout.
 
     Parameters
@@ -67,6 +74,9 @@ def simulate_measurements(case, noise=None, seed=None, resolution=None):
         The description; its ``true_case()`` is solved.
     noise, seed, resolution : optional
         Override ``[measurement] noise``, ``seed`` and ``resolution``.
+    executor : updating.executor.Executor, optional
+        Solves the frequencies in parallel; the noise is drawn here afterwards, in frequency
+        order, so the data do not depend on the executor.
     """
     settings = case.measurement
     noise = settings.noise if noise is None else noise
@@ -75,12 +85,13 @@ def simulate_measurements(case, noise=None, seed=None, resolution=None):
     truth = case.true_case()
     scale = truth.discretisation.resolution * resolution
     layout = measurement_layout(case)
+    task = functools.partial(_true_response, truth, scale, layout)
+    frequencies = list(case.frequencies)
+    responses = executor.map(task, frequencies) if executor else [task(f) for f in frequencies]
     rng = np.random.default_rng(seed)
-    data = {}
-    for frequency in case.frequencies:
-        solution = solve_case(truth, frequency, resolution=scale, residuals=False)
-        data[frequency] = {pid: (points, add_noise(solution.w(pid, points), noise, rng))
-                           for pid, points in layout.items()}
+    data = {frequency: {pid: (layout[pid], add_noise(values[pid], noise, rng))
+                        for pid in layout}
+            for frequency, values in zip(frequencies, responses)}
     return Measurements(data)
 
 

@@ -10,7 +10,12 @@ r"""Figures of an updating run (optional extra ``vtcr[plot]``: matplotlib, Agg b
 * ``residuals.png`` — :math:`E_{\Gamma_i}^2` per joint and :math:`E_{mod}^2` per step
   (Table 4);
 * ``frf.png`` — spatial RMS of :math:`|w|` over the measurement points against frequency, for
-  the initial, updated (and true) joints, around the analysed frequencies (Fig. 11 right).
+  the initial, updated (and true) joints, around the analysed frequencies (Fig. 11 right),
+  sampled as ``vtcr frf`` samples (refined until the resonance peaks are resolved).
+
+``vtcr frf CASE.toml --band F1 F2 --plot DIR`` writes ``frf.png`` (the sweep's spatial RMS, each
+solved frequency marked) and ``power.png`` (injected power, power dissipated in the plates and
+in the joints, and the power transmitted by the joints that carry the most).
 
 The module is split in two layers: ``*_data`` functions compute what is drawn (numpy arrays,
 no matplotlib; tested on their own), ``draw_*`` functions turn those into a
@@ -59,6 +64,7 @@ __all__ = [
     "draw_cost_curve",
     "draw_field_maps",
     "draw_frequency_response",
+    "draw_power_flow",
     "draw_residual_bars",
     "field_map_data",
     "frequency_band",
@@ -67,6 +73,7 @@ __all__ = [
     "residual_bars_data",
     "save_figure_atomic",
     "write_curve_figure",
+    "write_sweep_figures",
     "write_update_figures",
 ]
 
@@ -436,14 +443,34 @@ def spatial_rms(values):
     return float(np.sqrt(np.mean(np.abs(flat) ** 2)))
 
 
+def _set_responses(case, parameter_sets, points, resolution, frequency):
+    """The response vector of every parameter set at ``points`` and their spatial RMS at one
+    frequency, from one shared system (a task of :func:`frequency_response_data`)."""
+    from solver.substructure import build_assembly_system
+
+    system = build_assembly_system(case, float(frequency), resolution)
+    alpha = dict(case.updating.alpha)
+    values = []
+    for parameters in parameter_sets.values():
+        amplitudes = _direct_amplitudes(system, parameters, alpha)
+        values.append(np.concatenate([_plate_w(system, amplitudes, pid, pts)
+                                      for pid, pts in points.items()]))
+    return np.concatenate(values), [spatial_rms([v]) for v in values]
+
+
 def frequency_response_data(case, parameter_sets, frequencies, points, measured=None,
-                            analysed=(), resolution=None, on_frequency=None):
+                            analysed=(), resolution=None, on_round=None, tolerance=0.1,
+                            max_points=400, executor=None):
     """Spatial RMS of the model response at ``points`` for several joint parameter sets.
 
     One parameter-independent system per frequency
     (:func:`solver.substructure.build_assembly_system`) is shared by the parameter sets: the
     direct problem at each set is a small reduced solve. The result equals
-    ``solver.solve_case(case.with_joint_parameters(p), f)`` sampled at ``points``.
+    ``solver.solve_case(case.with_joint_parameters(p), f)`` sampled at ``points``. The
+    frequencies are refined as ``vtcr frf`` refines them
+    (:func:`solver.sweep.refine_frequencies`: bisection where a curve changes by more than
+    ``tolerance`` between neighbours, down to a quarter of the half-power bandwidth), so that
+    every resonance peak of every curve is drawn at its height.
 
     Parameters
     ----------
@@ -452,7 +479,7 @@ def frequency_response_data(case, parameter_sets, frequencies, points, measured=
     parameter_sets : dict of str to dict
         ``{label: {joint: {log10_stiffness, loss_factor, mass}}}``.
     frequencies : array_like of float, shape (n,)
-        Hz.
+        The initial grid (Hz), increasing.
     points : dict of str to ndarray, shape (m, 2)
         Plate-local points per plate.
     measured : array_like of float, optional
@@ -461,8 +488,12 @@ def frequency_response_data(case, parameter_sets, frequencies, points, measured=
         The measured frequencies (Hz), marked on the figure.
     resolution : float, optional
         Discretisation resolution (default the description's).
-    on_frequency : callable, optional
-        Called with each frequency once it is done (progress display).
+    on_round : callable, optional
+        Called with the number of frequencies solved so far after each round (progress).
+    tolerance, max_points :
+        Refinement rule (:func:`solver.sweep.refine_frequencies`).
+    executor : updating.executor.Executor, optional
+        Solves each round's frequencies in parallel.
 
     Returns
     -------
@@ -470,21 +501,29 @@ def frequency_response_data(case, parameter_sets, frequencies, points, measured=
 
     Notes
     -----
-    Cost: one system build per frequency (about 0.1 s for ``cases/four_plates.toml``).
+    Cost: one system build per frequency (about 0.1 s for ``cases/four_plates.toml``; the
+    response curve of its update takes about 300 frequencies).
     """
-    from solver.substructure import build_assembly_system
+    import functools
 
-    frequencies = np.asarray(frequencies, dtype=float)
-    alpha = dict(case.updating.alpha)
-    curves = {label: np.empty(len(frequencies)) for label in parameter_sets}
-    for i, frequency in enumerate(frequencies):
-        system = build_assembly_system(case, float(frequency), resolution)
-        for label, parameters in parameter_sets.items():
-            amplitudes = _direct_amplitudes(system, parameters, alpha)
-            curves[label][i] = spatial_rms(_plate_w(system, amplitudes, pid, pts)
-                                           for pid, pts in points.items())
-        if on_frequency:
-            on_frequency(float(frequency))
+    from solver.sweep import refine_frequencies
+    from updating.sweep import smallest_loss_factor
+
+    task = functools.partial(_set_responses, case, parameter_sets, points, resolution)
+    solved = [0]
+
+    def evaluate(wanted):
+        results = executor.map(task, wanted) if executor else [task(f) for f in wanted]
+        solved[0] += len(results)
+        if on_round:
+            on_round(solved[0])
+        return results
+
+    frequencies, results, _ = refine_frequencies(
+        evaluate, np.asarray(frequencies, dtype=float), smallest_loss_factor(case), tolerance,
+        max_points=max_points)
+    curves = {label: np.array([rms[k] for _, rms in results])
+              for k, label in enumerate(parameter_sets)}
     measured = np.asarray([] if measured is None else measured, dtype=float)
     return FrequencyResponseData(frequencies, curves, tuple(analysed), measured)
 
@@ -709,7 +748,9 @@ def draw_frequency_response(data, title=""):
     ax = figure.add_subplot()
     styles = {"initial": {"color": "tab:blue", "lw": 1.4, "ls": "--", "label": "initial model"},
               "updated": {"color": "tab:red", "lw": 1.8, "label": "updated model"},
-              "true": {"color": "black", "lw": 1.0, "ls": ":", "label": "true structure ([truth])"}}
+              "true": {"color": "black", "lw": 1.0, "ls": ":", "label": "true structure ([truth])"},
+              "sweep": {"color": "tab:blue", "lw": 1.2, "marker": ".", "ms": 3,
+                        "label": "model (dots: solved frequencies)"}}
     for label, values in data.curves.items():
         style = styles.get(label, {"label": label})
         ax.plot(data.frequencies, _positive(values), **style)
@@ -722,7 +763,7 @@ def draw_frequency_response(data, title=""):
     ax.set_yscale("log")
     ax.set_xlim(data.frequencies.min(), data.frequencies.max())
     ax.set_xlabel("frequency [Hz]")
-    ax.set_ylabel("spatial RMS of |w| over the measurement points [m]")
+    ax.set_ylabel("spatial RMS of |w| [m]")
     ax.grid(True, which="major", alpha=0.4)
     ax.grid(True, which="minor", alpha=0.12)
     ax.set_title(title or "frequency response")
@@ -756,7 +797,7 @@ def _corrected_joints(result):
 
 def write_update_figures(case, problem, measurements, result, directory, curve_points=41,
                          frf_points=40, frf_width=0.1, quantity="abs", field_source="direct",
-                         on_work=None):
+                         on_work=None, executor=None):
     """Write the figures of an updating run into ``directory`` (created if needed).
 
     Parameters
@@ -769,14 +810,17 @@ def write_update_figures(case, problem, measurements, result, directory, curve_p
     curve_points : int
         Points of each cost curve over ``[updating] bounds``.
     frf_points : int
-        Frequencies of the response curve over ``(1 -/+ frf_width)`` times the analysed band.
+        Initial frequencies of the response curve over ``(1 -/+ frf_width)`` times the
+        analysed band, refined until the resonances are resolved (at most 400 frequencies).
     quantity : {"abs", "real"}
         Field maps of ``|w|`` or ``Re w``.
     field_source : {"direct", "modified"}
         See :func:`field_map_data`.
     on_work : callable, optional
-        Called with a label before each cost curve and after each response-curve frequency
-        (progress display).
+        Called with a label before each cost curve and after each round of response-curve
+        frequencies (progress display).
+    executor : updating.executor.Executor, optional
+        Solves the response curve's frequencies in parallel.
 
     Returns
     -------
@@ -836,12 +880,63 @@ def write_update_figures(case, problem, measurements, result, directory, curve_p
     measured_rms = [spatial_rms(v for _, v in measurements.data[f].values()) for f in analysed]
     frf = frequency_response_data(
         case, sets, frequency_band(analysed, frf_width, frf_points), points, measured_rms,
-        analysed, on_frequency=lambda f: on_work(f"response curve: {f:.1f} Hz") if on_work
-        else None)
+        analysed, executor=executor,
+        on_round=lambda n: on_work(f"response curve: {n} frequencies") if on_work else None)
     written.append(save_figure_atomic(
         draw_frequency_response(frf, f"{name}: spatial RMS of |w| over the measurement points"),
         directory / "frf.png"))
     return written
+
+
+def draw_power_flow(sweep, title="", joints_shown=8):
+    """Power against frequency of an :class:`updating.sweep.Sweep`: injected, dissipated in
+    the plates and in the joints (top), transmitted by the ``joints_shown`` joints that carry
+    the most (bottom, absolute values)."""
+    figure = _figure(figsize=(8.0, 7.0))
+    top, bottom = figure.subplots(2, 1, sharex=True)
+    f = sweep.frequencies
+    injected = [p.total_injected for p in sweep.powers]
+    plates = [sum(p.dissipated.values()) for p in sweep.powers]
+    joints = [sum(p.joint_dissipated.values()) for p in sweep.powers]
+    top.plot(f, _positive(injected), color="black", lw=1.6, label="injected")
+    top.plot(f, _positive(plates), color="tab:blue", lw=1.2, ls="--",
+             label="dissipated in the plates")
+    if sweep.powers and sweep.powers[0].joint_dissipated:
+        top.plot(f, _positive(joints), color="tab:red", lw=1.2, ls=":",
+                 label="dissipated in the joints")
+    top.set_yscale("log")
+    top.set_ylabel("time-averaged power [W]")
+    top.set_title(title or "power flow")
+    top.legend(fontsize="small", loc="best", framealpha=0.9)
+    names = list(sweep.powers[0].transmitted) if sweep.powers else []
+    carried = {j: np.abs([p.transmitted[j] for p in sweep.powers]) for j in names}
+    shown = sorted(names, key=lambda j: -carried[j].max())[:joints_shown]
+    for joint in shown:
+        bottom.plot(f, _positive(carried[joint]), lw=1.0, label=joint)
+    if shown:
+        bottom.set_yscale("log")
+        bottom.legend(fontsize="small", loc="best", framealpha=0.9,
+                      ncol=2 if len(shown) > 4 else 1)
+    bottom.set_ylabel("|power transmitted| [W]")
+    bottom.set_xlabel("frequency [Hz]")
+    for ax in (top, bottom):
+        ax.grid(True, which="major", alpha=0.4)
+        ax.set_xlim(f.min(), f.max())
+    return figure
+
+
+def write_sweep_figures(case, sweep, directory):
+    """Write ``frf.png`` and ``power.png`` of a ``vtcr frf`` sweep into ``directory``."""
+    require_matplotlib()
+    directory = Path(directory)
+    data = FrequencyResponseData(sweep.frequencies, {"sweep": sweep.spatial_rms()}, (),
+                                 np.zeros(0))
+    response = draw_frequency_response(
+        data, f"{case.name}: spatial RMS of |w| over the probes, "
+              f"{len(sweep.frequencies)} frequencies")
+    return [save_figure_atomic(response, directory / "frf.png"),
+            save_figure_atomic(draw_power_flow(sweep, f"{case.name}: power flow"),
+                               directory / "power.png")]
 
 
 def write_curve_figure(case, rows, joint, directory, parameters_note="other joints at their "

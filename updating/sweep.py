@@ -72,15 +72,18 @@ class Sweep:
                                         for pid in self.points}
                              for f, values in zip(self.frequencies, self.values)})
 
-    def to_json(self, order):
-        """JSON: sampling report, probe points in ``order`` ((plate, index) pairs), and per
-        frequency ``w`` at the probes ([re, im]) and the power flow."""
+    def to_json(self, order, nodes=None):
+        """JSON: sampling report, probe points in ``order`` ((plate, index) pairs) with their
+        UFF node numbers (``nodes``, default 1, 2, ...), and per frequency ``w`` at the probes
+        ([re, im]) and the power flow."""
+        nodes = range(1, len(order) + 1) if nodes is None else nodes
         return {
             "band": [float(self.frequencies[0]), float(self.frequencies[-1])],
             "sampling": self.sampling,
             "balance_tolerance": BALANCE_TOLERANCE,
             "probes": [{"plate": pid, "x": float(self.points[pid][i, 0]),
-                        "y": float(self.points[pid][i, 1])} for pid, i in order],
+                        "y": float(self.points[pid][i, 1]), "node": int(node)}
+                       for (pid, i), node in zip(order, nodes)],
             "frequencies": [
                 {"frequency": float(f),
                  "w": [[float(values[pid][i].real), float(values[pid][i].imag)]
