@@ -43,6 +43,23 @@ def overhead(executor, tasks):
     return (time.perf_counter() - t0) / tasks
 
 
+class _cluster_executor:
+    """An Executor on a LocalCluster of its own, both closed on exit."""
+
+    def __init__(self, local_cluster, workers):
+        self.cluster = local_cluster(n_workers=workers, threads_per_worker=1, processes=True,
+                                     dashboard_address=None)
+        self.executor = Executor(scheduler=self.cluster.scheduler_address)
+
+    def __enter__(self):
+        return self.executor.__enter__()
+
+    def __exit__(self, *exc):
+        self.executor.__exit__(*exc)
+        self.cluster.close()
+        return False
+
+
 def timed_sweep(case, points, band, count, executor):
     t0 = time.perf_counter()
     sweep = frequency_sweep(case, band, points, count=count, max_points=count, executor=executor)
@@ -64,29 +81,26 @@ def main(argv=None):
           f"{sum(len(p) for p in points.values())} probes, {os.cpu_count()} cores, "
           f"Python {sys.version.split()[0]}")
     rows, reference = [], None
-    runs = [("serial", Executor()), (f"{args.workers} local processes", Executor(args.workers))]
-    cluster = None
+    runs = [("serial", Executor), (f"{args.workers} local processes",
+                                    lambda: Executor(args.workers))]
     if not args.no_dask:
         try:
             from distributed import LocalCluster
-
-            cluster = LocalCluster(n_workers=args.workers, threads_per_worker=1, processes=True)
-            runs.append((f"Dask LocalCluster, {args.workers} workers",
-                         Executor(scheduler=cluster.scheduler_address)))
         except ImportError:
             print("distributed not installed: no Dask run (pip install 'vtcr[distributed]')")
-    try:
-        for name, executor in runs:
-            with executor:
-                cost = overhead(executor, args.overhead_tasks)
-                seconds, sweep = timed_sweep(case, points, tuple(args.band), args.points, executor)
-            values = np.concatenate([np.concatenate(list(v.values())) for v in sweep.values])
-            same = reference is None or np.array_equal(values, reference)
-            reference = values if reference is None else reference
-            rows.append((name, seconds, cost, same))
-    finally:
-        if cluster is not None:
-            cluster.close()
+        else:
+            runs.append((f"Dask LocalCluster, {args.workers} workers",
+                         lambda: _cluster_executor(LocalCluster, args.workers)))
+    for name, make in runs:
+        # each executor exists only during its own run: idle Dask workers beside the other
+        # runs cost them about 20 % of their speed here
+        with make() as executor:
+            cost = overhead(executor, args.overhead_tasks)
+            seconds, sweep = timed_sweep(case, points, tuple(args.band), args.points, executor)
+        values = np.concatenate([np.concatenate(list(v.values())) for v in sweep.values])
+        same = reference is None or np.array_equal(values, reference)
+        reference = values if reference is None else reference
+        rows.append((name, seconds, cost, same))
     serial = rows[0][1]
     print(f"{'executor':<34} {'wall s':>8} {'speed-up':>9} {'per-task overhead':>18} "
           f"{'same results':>13}")

@@ -104,6 +104,7 @@ class _Frequency:
     plates: list  # measured plates
     operators: list  # Block per measured plate: w at its points per unit S, and at S = 0
     data: list  # measured values per measured plate
+    initial_s: np.ndarray  # the model response's S at p0 (the E_ref solve)
 
     def blocks(self, data, r, norm=None):
         r"""The measurement term :math:`r E_{mes}^2` as Blocks, for measured values ``data``
@@ -125,7 +126,7 @@ def _frequency_data(case, resolution, task):
     executor): its system, :math:`E_{ref}` at p0 and the measurement operators."""
     frequency, measured_plates = task
     system = build_assembly_system(case, frequency, resolution)
-    solve_assembly(case, frequency, system=system)  # fixes E_ref at p0
+    initial = solve_assembly(case, frequency, system=system)  # fixes E_ref at p0
     plates, operators, data = [], [], []
     for pid, (points, measured) in measured_plates.items():
         problem, basis = system.problems[pid], system.bases[pid]
@@ -134,7 +135,7 @@ def _frequency_data(case, resolution, task):
         plates.append(pid)
         operators.append(system.affine_plate_operator(pid, rays, particular))
         data.append(np.asarray(measured))
-    return _Frequency(system, plates, operators, data)
+    return _Frequency(system, plates, operators, data, initial.interface)
 
 
 class ModifiedProblem:
@@ -252,8 +253,10 @@ class ModifiedProblem:
         """
         rng = np.random.default_rng(seed)
         predictions = {}
+        at_start = parameters == self.initial_parameters()  # solved in the set-up already
         for f, freq in self.frequencies.items():
-            s = direct_interface(freq.system, parameters, self.alpha)
+            s = (freq.initial_s if at_start else
+                 direct_interface(freq.system, parameters, self.alpha))
             predictions[f] = [op.residual(s) for op in freq.operators]
         return [{f: [w * (1.0 + rng.uniform(-noise, noise, w.shape)) for w in plates]
                  for f, plates in predictions.items()}
