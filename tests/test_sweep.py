@@ -161,7 +161,7 @@ def test_frf_command_writes_csv_and_json_that_agree(tmp_path, capsys):
     data = json.loads(out_json.read_text())
     with open(out_csv, newline="") as handle:
         rows = list(csv.DictReader(handle))
-    assert set(rows[0]) == {"plate", "x", "y", "re", "im", "frequency"}
+    assert list(rows[0]) == ["plate", "x", "y", "frequency", "re", "im"]
     n_f, n_p = len(data["frequencies"]), len(data["probes"])
     assert len(rows) == n_f * n_p and n_f == data["sampling"]["final"]
     first = data["frequencies"][0]

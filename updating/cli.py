@@ -501,7 +501,7 @@ def cmd_frf(args):
                                 on_round=lambda n: advance(f"{n} frequencies solved", 0))
     _print_sweep(console, case, sweep, len(order))
     if args.csv:
-        write_measurements(args.csv, sweep.measurements())
+        write_measurements(args.csv, sweep.measurements(), sweep=True)
     if args.json:
         write_json_atomic(args.json, sweep.to_json(order, nodes))
     if args.uff:
@@ -698,7 +698,7 @@ def build_parser():
     frf.add_argument("--max-points", type=int, default=2000,
                      help="most frequencies of the refined sweep (default 2000)")
     frf.add_argument("--probes", help="CSV with header plate,x,y (default: the measurement grid)")
-    frf.add_argument("--csv", help="write the response as plate,x,y,re,im,frequency")
+    frf.add_argument("--csv", help="write the response as plate,x,y,frequency,re,im")
     frf.add_argument("--json", help="write the sweep, the power flows and the sampling")
     frf.add_argument("--uff", metavar="OUT.uff",
                      help="write the response at the probes as UFF datasets 58 (FRFs per newton "

@@ -95,17 +95,27 @@ def simulate_measurements(case, noise=None, seed=None, resolution=None, executor
     return Measurements(data)
 
 
-def write_measurements(path, measurements):
-    """CSV ``plate,x,y,re,im[,frequency]`` (the frequency column when several), atomically."""
-    several = len(measurements.frequencies) > 1
+def write_measurements(path, measurements, sweep=False):
+    """CSV ``plate,x,y,re,im[,frequency]`` (the frequency column when several), atomically.
+
+    ``sweep=True`` writes the columns of a frequency sweep (``vtcr frf``),
+    ``plate,x,y,frequency,re,im``, with the frequency column always; the readers take the
+    columns by name, so both read back the same.
+    """
+    several = sweep or len(measurements.frequencies) > 1
     buffer = io.StringIO()
     writer = csv.writer(buffer, lineterminator="\n")
-    writer.writerow(["plate", "x", "y", "re", "im"] + (["frequency"] if several else []))
+    if sweep:
+        writer.writerow(["plate", "x", "y", "frequency", "re", "im"])
+    else:
+        writer.writerow(["plate", "x", "y", "re", "im"] + (["frequency"] if several else []))
     for frequency in measurements.frequencies:
         for pid, (points, values) in measurements.data[frequency].items():
             for (x, y), w in zip(points, values):
-                writer.writerow([pid, repr(float(x)), repr(float(y)), repr(float(w.real)),
-                                 repr(float(w.imag))] + ([repr(frequency)] if several else []))
+                place = [pid, repr(float(x)), repr(float(y))]
+                value = [repr(float(w.real)), repr(float(w.imag))]
+                writer.writerow(place + [repr(frequency)] + value if sweep else
+                                place + value + ([repr(frequency)] if several else []))
     write_text_atomic(path, buffer.getvalue())
 
 

@@ -790,8 +790,7 @@ def _frequency_name(frequency):
 def _corrected_joints(result):
     joints = []
     for step in result.steps:
-        if step.selected is not None and step.selected not in joints:
-            joints.append(step.selected)
+        joints += [joint for joint in step.corrected if joint not in joints]
     return joints
 
 

@@ -62,14 +62,14 @@ def steps_table(result, title, bounds=None):
         for step in result.steps:
             value = f"{step.parameters[joint]['log10_stiffness']:.2f}"
             residual = f"{100 * step.residuals[joint]:.2f}"
-            if step.selected == joint:
+            if joint in step.corrected:
                 value, residual = f"[bold]{value}[/]", f"[bold]{residual}[/]"
             cells += [value, residual]
         table.add_row(joint, *cells)
     table.add_row("E_mod² %", *[c for s in result.steps for c in ("", f"{100 * s.e_mod:.2f}")])
     table.add_row("floor %", *[c for s in result.steps
                                for c in ("", f"{100 * s.e_mod_floor:.2f}")])
-    table.caption = f"bold: corrected joint; *: re-correction. Stopped: {result.message}"
+    table.caption = f"bold: corrected joint(s); *: re-correction. Stopped: {result.message}"
     return table
 
 
@@ -96,13 +96,13 @@ def result_markdown(result, title, bounds, truth=None):
         for step in result.steps:
             text = (f"{step.parameters[joint]['log10_stiffness']:.2f} / "
                     f"{100 * step.residuals[joint]:.2f}")
-            cells.append(f"**{text}**" if step.selected == joint else text)
+            cells.append(f"**{text}**" if joint in step.corrected else text)
         lines.append(f"| {joint} | " + " | ".join(cells) + " |")
     lines.append("| E_mod² % | " + " | ".join(f"{100 * s.e_mod:.2f}" for s in result.steps)
                  + " |")
     lines.append("| noise floor % | " + " | ".join(f"{100 * s.e_mod_floor:.2f}"
                                                  for s in result.steps) + " |")
-    lines += ["", "Bold: the joint corrected in that step; *: a re-correction. "
+    lines += ["", "Bold: the joint(s) corrected in that step; *: a re-correction. "
               "The floor is E_mod² of a correct model under the stated measurement noise.", ""]
     lines += [f"- {line}" for line in identified_lines(result, bounds, truth)]
     lines += ["", f"Stopped: {result.message}.", ""]

@@ -15,12 +15,18 @@ Rule (configurable in ``[updating]``):
    ``bounds`` then Brent's method around the best point), with its loss factor and line mass
    too when ``identify`` asks for them. The cost is condensed once on the joint
    (:meth:`ModifiedProblem.correction`): an evaluation does not grow with the structure.
+   Other standing joints whose neighbourhoods share no joint with it (nor with each other)
+   are corrected in the same step, each on its own with the others at their current values
+   (:func:`_apart`): in a large structure wrong joints far apart do not see each other, and
+   one localisation then serves them all. On a 2 x 2 layout every neighbourhood overlaps, so
+   the paper's one-joint steps are unchanged.
 4. **Judge it locally.** If the correction lowered the cost of the joint's *neighbourhood*
    (its two plates' measurement misfit and the residuals of every joint on those plates,
    :meth:`ModifiedProblem.neighbourhood_cost`) by less than ``min_decrease`` of that cost,
    or if it raised the joint's own residual (it then bought a lower misfit of a few plates
    with a worse joint law: it fits the measurement noise), the joint is exhausted until
-   another joint changes, and the step is undone. A fraction of
+   another joint changes, and that correction is undone (the others of the step stand on
+   their own decisions). A fraction of
    the global :math:`E_{mod}^2` would be diluted by the size of the structure: in a 20-plate
    chain one wrong joint is a few per cent of it. The neighbourhood's cost is bounded below by
    its noise floor, so near the floor the threshold is a fraction of the noise level.
@@ -81,11 +87,18 @@ class Step:
     recorrection: bool = False  # selected to be corrected again, not for standing out
     e_mod_floor: float = 0.0  # E_mod^2 a correct model shows under the stated noise
     misfits: dict = field(default_factory=dict)  # measured plate -> its part of E_mes^2
+    also: dict = field(default_factory=dict)  # joint -> interval: corrected in the same step
+
+    @property
+    def corrected(self):
+        """Every joint corrected in this step: ``selected``, then those of ``also``."""
+        return ((self.selected,) if self.selected is not None else ()) + tuple(self.also)
 
     def to_record(self):
         """Every field at full precision (JSON floats round-trip exactly), for run files."""
         record = dataclasses.asdict(self)
         record["interval"] = list(self.interval) if self.interval is not None else None
+        record["also"] = {j: list(v) for j, v in self.also.items()}
         return record
 
     @classmethod
@@ -94,6 +107,7 @@ class Step:
         record = dict(record)
         if record.get("interval") is not None:
             record["interval"] = tuple(record["interval"])
+        record["also"] = {j: tuple(v) for j, v in record.get("also", {}).items()}
         return cls(**record)
 
     def to_json(self):
@@ -109,6 +123,9 @@ class Step:
                "e_mod_floor_percent": 100.0 * self.e_mod_floor, "joints": joints}
         if self.interval is not None:
             out["identified_interval"] = list(self.interval)
+        if self.also:
+            out["also_selected"] = {j: {"identified_interval": list(v)}
+                                    for j, v in self.also.items()}
         if self.recorrection:
             out["recorrection"] = True
         return out
@@ -134,7 +151,7 @@ class UpdateResult:
 
 
 def localise(problem, parameters, step=0, selected=None, interval=None, noise=0.0,
-             recorrection=False):
+             recorrection=False, also=None):
     """Evaluate the modified problem and the floors at ``parameters``; returns a :class:`Step`."""
     evaluation = problem.evaluate(parameters)
     # without noise the floor is deterministic (discretisation only): one realisation
@@ -142,7 +159,7 @@ def localise(problem, parameters, step=0, selected=None, interval=None, noise=0.
                                               realisations=4 if noise > 0 else 1)
     return Step(step, selected, {j: dict(p) for j, p in parameters.items()}, evaluation.residuals,
                 floors, evaluation.e_mod, evaluation.e_int, evaluation.e_mes, interval,
-                recorrection, e_mod_floor, evaluation.misfits)
+                recorrection, e_mod_floor, evaluation.misfits, dict(also or {}))
 
 
 def flat_interval(grid, costs, best, value, best_cost):
@@ -234,6 +251,19 @@ def _candidates(step, settings, corrected, exhausted):
     return [j for j in by_ratio if j in corrected and j not in exhausted], True
 
 
+def _apart(problem, candidates):
+    """The first candidate and, in order, every later one whose neighbourhood shares no joint
+    with the neighbourhoods already taken: corrections far enough apart not to see each other,
+    made in one step (each judged on its own neighbourhood) before one localisation."""
+    taken, covered = [], set()
+    for joint in candidates:
+        around = set(problem.neighbourhood(joint)[0])
+        if not taken or covered.isdisjoint(around):
+            taken.append(joint)
+            covered |= around
+    return taken
+
+
 def update_joints(problem, settings, noise=0.0, start=None, on_step=None, on_correct=None):
     """The localisation–correction loop (the rule in the module docstring).
 
@@ -265,7 +295,7 @@ def update_joints(problem, settings, noise=0.0, start=None, on_step=None, on_cor
     if not steps[-1].misfits:  # a run file written before steps carried per-plate misfits
         misfits = problem.evaluate(steps[-1].parameters).misfits
         steps[-1] = dataclasses.replace(steps[-1], misfits=misfits)
-    corrected = {s.selected for s in steps if s.selected is not None}
+    corrected = {j for s in steps for j in s.corrected}
     exhausted = set()
     status = 2
     while len(steps) - 1 < settings.max_steps:
@@ -274,22 +304,32 @@ def update_joints(problem, settings, noise=0.0, start=None, on_step=None, on_cor
         if not candidates:
             status = 0 if recorrection else 1
             break
-        joint = candidates[0]
-        if on_correct:
-            on_correct(len(steps), joint, recorrection)
-        parameters, interval, trial = correct_joint(problem, current.parameters, joint,
-                                                    settings.bounds, settings.identify)
-        before = problem.neighbourhood_cost(joint, current.residuals, current.misfits)
-        after = problem.neighbourhood_cost(joint, trial.residuals, trial.misfits)
-        # a correction that buys a lower misfit with a larger residual of the joint's own law
-        # fits the measurement noise of a few plates, not a modelling error
-        fits_noise = trial.residuals[joint] >= current.residuals[joint]
-        if before - after < settings.min_decrease * before or fits_noise:
-            exhausted.add(joint)
+        batch = candidates[:1] if recorrection else _apart(problem, candidates)
+        accepted = {}  # joint -> (its parameters, interval), in the batch's order
+        for joint in batch:
+            if on_correct:
+                on_correct(len(steps), joint, recorrection)
+            parameters, interval, trial = correct_joint(problem, current.parameters, joint,
+                                                        settings.bounds, settings.identify)
+            before = problem.neighbourhood_cost(joint, current.residuals, current.misfits)
+            after = problem.neighbourhood_cost(joint, trial.residuals, trial.misfits)
+            # a correction that buys a lower misfit with a larger residual of the joint's own
+            # law fits the measurement noise of a few plates, not a modelling error
+            fits_noise = trial.residuals[joint] >= current.residuals[joint]
+            if before - after < settings.min_decrease * before or fits_noise:
+                exhausted.add(joint)
+            else:
+                accepted[joint] = (parameters[joint], interval)
+        if not accepted:
             continue
-        step = localise(problem, parameters, len(steps), joint, interval, noise, recorrection)
+        parameters = {j: dict(p) for j, p in current.parameters.items()}
+        for joint, (values, _) in accepted.items():
+            parameters[joint] = dict(values)
+        first, *others = accepted
+        step = localise(problem, parameters, len(steps), first, accepted[first][1], noise,
+                        recorrection, {j: accepted[j][1] for j in others})
         exhausted.clear()
-        corrected.add(joint)
+        corrected.update(accepted)
         steps.append(step)
         if on_step:
             on_step(step)
