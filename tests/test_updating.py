@@ -233,3 +233,22 @@ def test_a_step_of_several_corrections_survives_the_run_file_and_the_json():
     out = step.to_json()
     assert out["selected"] == "G3"
     assert out["also_selected"] == {"G6": {"identified_interval": [0.7, 0.9]}}
+
+
+def test_a_loop_that_stops_without_converging_exits_3_with_its_outputs(tmp_path, capsys,
+                                                                      monkeypatch):
+    """``max_steps = 1`` on the four-plate case (three joints wrong): status 2 in the JSON,
+    the outputs written, one line on standard error, exit status 3."""
+    from pathlib import Path
+
+    monkeypatch.chdir(tmp_path)
+    text = (Path(__file__).resolve().parents[1] / "cases" / "four_plates.toml").read_text()
+    assert "[updating]\n" in text
+    case_file = tmp_path / "four.toml"
+    case_file.write_text(text.replace("[updating]\n", "[updating]\nmax_steps = 1\n", 1))
+    out = tmp_path / "out.json"
+    assert main(["update", str(case_file), "--json", str(out), "--quiet"]) == 3
+    result = json.loads(out.read_text())
+    assert result["status"] == 2 and len(result["steps"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "stopped without converging (status 2)" in err[0], err

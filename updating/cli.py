@@ -22,7 +22,12 @@ import numpy as np
 from rich.console import Console
 from rich.table import Table
 
-__all__ = ["main"]
+__all__ = ["main", "NOT_CONVERGED"]
+
+NOT_CONVERGED = 3
+"""Exit status of ``vtcr update`` when the loop stops without converging (status 1: joints
+still stand out but no correction helps; status 2: ``max_steps`` reached); its outputs are
+written all the same."""
 
 
 def _console(args):
@@ -426,6 +431,10 @@ def cmd_update(args):
                                          executor=_executor(args, case))
         console.print(f"{len(paths)} figures written to {args.plot} "
                       f"({time.perf_counter() - t3:.1f} s): {', '.join(p.name for p in paths)}")
+    if not result.status == 0:  # the outputs hold what was found; a script must see the rest
+        print(f"vtcr: the loop stopped without converging (status {result.status}): "
+              f"{result.message}; exit status {NOT_CONVERGED}", file=sys.stderr)
+        return NOT_CONVERGED
     return 0
 
 
