@@ -252,3 +252,24 @@ def test_a_loop_that_stops_without_converging_exits_3_with_its_outputs(tmp_path,
     assert result["status"] == 2 and len(result["steps"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "stopped without converging (status 2)" in err[0], err
+
+
+def test_dash_is_standard_output_and_the_tables_move_to_standard_error(tmp_path, capsys,
+                                                                       monkeypatch):
+    """``--json -`` writes the JSON, and only it, to standard output (the tables go to standard
+    error, so the output pipes); two outputs on ``-`` and a run file ``-`` are refused before
+    any work; no file named ``-`` appears."""
+    from pathlib import Path
+
+    monkeypatch.chdir(tmp_path)
+    case = Path(__file__).resolve().parents[1] / "cases" / "four_plates.toml"
+    assert main(["localise", str(case), "--json", "-"]) == 0
+    captured = capsys.readouterr()
+    step = json.loads(captured.out)
+    assert step["step"] == 0 and set(step["joints"]) == {"G1", "G2", "G3", "G4"}
+    assert "joint residuals" in captured.err
+    assert main(["frf", str(case), "--band", "200", "210", "--json", "-", "--csv", "-"]) == 2
+    assert "--json and --csv both write to standard output" in capsys.readouterr().err
+    assert main(["update", str(case), "--run", "-"]) == 2
+    assert "--run -: a run file is read back" in capsys.readouterr().err
+    assert not (tmp_path / "-").exists() and not list(tmp_path.glob("*.run.json"))

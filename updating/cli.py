@@ -31,9 +31,14 @@ written all the same."""
 
 
 def _console(args):
-    # a file or a pipe has no width: 120 columns keeps wide tables (Table 4) on one line
-    width = None if sys.stdout.isatty() else 120
-    return Console(quiet=getattr(args, "quiet", False), highlight=False, width=width)
+    # with an output on standard output (``--json -``) the tables go to standard error, so
+    # that the output can be piped; a file or a pipe has no width: 120 columns keeps wide
+    # tables (Table 4) on one line
+    to_stderr = any(str(getattr(args, name, None)) == "-" for name, _ in _OUTPUT_OPTIONS)
+    stream = sys.stderr if to_stderr else sys.stdout
+    width = None if stream.isatty() else 120
+    return Console(quiet=getattr(args, "quiet", False), highlight=False, width=width,
+                   stderr=to_stderr)
 
 
 def _load(args):
@@ -116,6 +121,10 @@ def _option_problems(args):
     if args.command == "frf":
         problems += _sweep_option_problems(args)
     inputs = [getattr(args, n, None) for n in ("case", "probes", "measurements", "uff_map")]
+    for name, flag in (("run_file", "--run"), ("resume", "--resume")):
+        if getattr(args, name, None) == "-":
+            problems.append(f"{flag} -: a run file is read back to resume a run; give a file "
+                            "name, e.g. {flag} four_plates.run.json".replace("{flag}", flag))
     for name, flag in _OUTPUT_OPTIONS + (("run_file", "--run"),):
         if getattr(args, name, None) is not None:
             problem = output_path_problem(getattr(args, name), flag, inputs)
@@ -350,7 +359,7 @@ def _run_path(args):
     if args.run_file:
         return Path(args.run_file)
     for output in (args.report, args.json):
-        if output:
+        if output and output != "-":
             return Path(output).with_suffix(".run.json")
     return Path(Path(args.case).stem + ".run.json")
 

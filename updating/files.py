@@ -21,6 +21,7 @@ import math
 import os
 import secrets
 import stat
+import sys
 from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
@@ -39,6 +40,10 @@ class InputError(ValueError):
     def __init__(self, lines):
         self.lines = [lines] if isinstance(lines, str) else list(lines)
         super().__init__("\n".join(self.lines))
+
+
+STDOUT = "-"
+"""An output path that means standard output."""
 
 
 @dataclass(frozen=True)
@@ -272,6 +277,8 @@ def output_path_problem(path, option, inputs=()):
     inputs : iterable of str or path-like, optional
         Files the command reads; writing over one of them is refused.
     """
+    if str(path) == STDOUT:
+        return None
     target = Path(path)
     where = f"{option} {path}"
     if str(path).strip() == "":
@@ -307,9 +314,11 @@ def output_collisions(outputs):
     for option, path in outputs:
         if path is None:
             continue
-        key = os.path.realpath(path)
+        key = STDOUT if str(path) == STDOUT else os.path.realpath(path)
         if key in seen:
-            problems.append(f"{seen[key]} and {option} name the same file {path}; give each "
+            problems.append(f"{seen[key]} and {option} both write to standard output; give "
+                            "one of them a file" if key == STDOUT else
+                            f"{seen[key]} and {option} name the same file {path}; give each "
                             "output its own file")
         else:
             seen[key] = option
@@ -346,11 +355,18 @@ def atomic_output(path, binary=False):
     followed (the file it points to is replaced, the link kept); a target that exists and is
     not a regular file (a device such as ``/dev/null``, a named pipe) is written through.
 
+    ``-`` (:data:`STDOUT`) is standard output.
+
     Raises
     ------
     OSError
         With ``filename`` the output ``path`` (not the temporary file), e.g. on a full disk.
     """
+    if str(path) == STDOUT:
+        stream = sys.stdout.buffer if binary else sys.stdout
+        yield stream
+        stream.flush()
+        return
     try:
         if os.path.exists(path) and not stat.S_ISREG(os.stat(path).st_mode):
             with open(path, "wb" if binary else "w") as handle:
