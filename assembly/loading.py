@@ -222,7 +222,7 @@ def load_case(path: str | os.PathLike[str]) -> Case:
             [Issue(source, "", f"cannot be read ({exc.strerror}); check the path and permissions")]
         ) from None
     try:
-        text = raw.decode("utf-8")
+        text = raw.decode("utf-8-sig")  # a byte-order mark, as some editors write, is not TOML
     except UnicodeDecodeError as exc:
         line = raw[: exc.start].count(b"\n") + 1
         raise DescriptionError(
@@ -260,9 +260,13 @@ def load_case_text(text: str, source: str = "<string>") -> Case:
     """
     try:
         data = tomllib.loads(text)
+        return parse_case(data, source=source)
     except tomllib.TOMLDecodeError as exc:
         raise DescriptionError([_toml_issue(exc, text, source)]) from None
-    return parse_case(data, source=source)
+    except RecursionError:  # arrays or inline tables nested thousands deep
+        raise DescriptionError([Issue(
+            source, "", "nests arrays or tables too deeply to be read; a description needs a "
+                        "few levels at most (e.g. size = [0.5, 0.4])")]) from None
 
 
 def parse_case(data: Mapping[str, Any], source: str = "<dict>") -> Case:

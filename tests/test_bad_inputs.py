@@ -289,6 +289,18 @@ CATALOGUE: list[Bad] = [
     # ---------------------------------------------------------------- updating runs
     described((CASES / "single_plate.toml").read_text(), "joints", "no joint",
               id="update-without-joints", command="update"),
+    described("a = " + "[" * 5000 + "]" * 5000 + "\n" + TWO, "nests arrays or tables too deeply",
+              id="toml-nested-arrays"),
+    described("a = " + "{b = " * 3000 + "1" + "}" * 3000 + "\n" + TWO,
+              "nests arrays or tables too deeply", id="toml-nested-tables"),
+    Bad("update-over-an-unfinished-run", ["update", "{dir}/case.toml", "--run", "{dir}/r.json",
+                                          "--json", "{dir}/out.json"],
+        ("run file", "r.json", "holds an unfinished run", "--resume", "--force"),
+        files={"case.toml": TWO, "r.json": '{"format": "vtcr-run/1", "finished": false}'}),
+    Bad("update-over-another-file", ["update", "{dir}/case.toml", "--run", "{dir}/notes.txt",
+                                     "--json", "{dir}/out.json"],
+        ("notes.txt", "holds a file that is not a vtcr run", "--force"),
+        files={"case.toml": TWO, "notes.txt": "my notes"}),
     Bad("resume-missing-run", ["update", "{dir}/case.toml", "--resume", "{dir}/none.json",
                                "--json", "{dir}/out.json"],
         ("--resume", "none.json", "cannot read the run file"), files={"case.toml": TWO}),
@@ -368,6 +380,13 @@ def test_csv_with_bom_spaces_and_blank_lines_is_read(tmp_path: Path) -> None:
         line + ",ok\n" for line in MEASUREMENTS.splitlines()[1:])).encode())
     data = read_measurements(meas, case)
     assert data.count() == 6 and data.frequencies == (155.0,)
+
+
+def test_toml_with_a_byte_order_mark_is_read(tmp_path: Path) -> None:
+    """Some Windows editors start UTF-8 files with a BOM; the CSV readers accept one too."""
+    path = tmp_path / "case.toml"
+    path.write_bytes("\ufeff".encode() + TWO.encode())
+    assert load_case(path) == load_case_text(TWO)
 
 
 def test_row_numbers_are_line_numbers(tmp_path: Path) -> None:
@@ -577,6 +596,24 @@ def test_output_to_a_device_is_written_through(tmp_path: Path, capsys) -> None:
     status, lines = _solve_json(tmp_path, "/dev/null", capsys)
     assert status == 0, lines
     assert Path("/dev/null").is_char_device()
+
+
+def test_a_temporary_file_left_by_a_killed_writer_is_removed(tmp_path: Path, capsys) -> None:
+    """kill -9 between writing the temporary file and renaming it leaves ``.NAME.PID.HEX.tmp``;
+    the next write of that output removes it, and leaves a live writer's alone."""
+    import subprocess
+    import sys
+
+    ended = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"],
+                           capture_output=True, text=True, check=True)
+    stale = tmp_path / f".out.json.{int(ended.stdout)}.0badc0de.tmp"
+    live = tmp_path / f".out.json.{os.getpid()}.0123abcd.tmp"
+    stale.write_text("{half")
+    live.write_text("{half")
+    status, lines = _solve_json(tmp_path, str(tmp_path / "out.json"), capsys)
+    assert status == 0, lines
+    assert not stale.exists() and live.exists()
+    assert json.loads((tmp_path / "out.json").read_text())["frequency"]
 
 
 @pytest.mark.skipif(not Path("/dev/full").exists(), reason="needs /dev/full")

@@ -140,6 +140,121 @@ def test_resume_rejects_bad_run_files(one_frequency_case, tmp_path, capsys, cont
     assert len(err) == 1 and message in err[0] and "--resume" in err[0]
 
 
+@pytest.fixture(scope="module")
+def finished_run(one_frequency_case, tmp_path_factory):
+    run = tmp_path_factory.mktemp("finished") / "run.json"
+    assert main(["update", str(one_frequency_case), "--run", str(run), "--quiet"]) == 0
+    return json.loads(run.read_text())
+
+
+def _set(path, value):
+    """A mutation of a run record: ``path`` of keys and indices, set to ``value``."""
+    def mutate(record):
+        for key in path[:-1]:
+            record = record[key]
+        record[path[-1]] = value
+    return mutate
+
+
+@pytest.mark.parametrize("mutate, message", [
+    (_set(["steps"], {}), "steps: Input should be a valid array"),
+    (_set(["steps", 1], "step"), "steps[1]: Input should be an object"),
+    (_set(["steps", 1, "residuals"], None), "steps[1].residuals: Input should be an object"),
+    (_set(["steps", 1, "e_mod"], "abc"), "steps[1].e_mod: Input should be a valid number"),
+    (_set(["steps", 1, "e_mod"], float("nan")), "steps[1].e_mod: must be a finite number"),
+    (_set(["steps", 1, "floors", "G1"], -1.0), "steps[1].floors.G1: Input should be greater"),
+    (_set(["steps", 1, "parameters"], {}), "steps[1].parameters: has joints []"),
+    (_set(["steps", 1, "parameters", "G2", "log10_stiffness"], 40.0),
+     "steps[1].parameters.G2.log10_stiffness: 40 is outside the bounds [-1, 6]"),
+    (_set(["steps", 0, "parameters", "G1", "log10_stiffness"], 3.0),
+     "steps[0].parameters: differ from the description's joints"),
+    (_set(["steps", 1, "step"], 5), "steps[1].step: is 5, the 1-th step must be step 1"),
+    (_set(["steps", 1, "selected"], "G9"), "corrects 'G9', which is not a joint"),
+    (_set(["steps", 1, "surprise"], 1), "steps[1].surprise: Extra inputs are not permitted"),
+    (_set(["status"], 7), "status: Input should be 0, 1 or 2"),
+])
+def test_a_hand_edited_run_file_is_refused_with_the_field_named(
+        one_frequency_case, finished_run, tmp_path, capsys, mutate, message):
+    """Each edit gives one line naming the field, exit 2, and nothing written."""
+    record = json.loads(json.dumps(finished_run))
+    assert record["steps"][1]["selected"] == "G2"  # the edits above aim at a correction step
+    mutate(record)
+    run = tmp_path / "run.json"
+    run.write_text(json.dumps(record))
+    before = run.read_text()
+    out = tmp_path / "out.json"
+    assert main(["update", str(one_frequency_case), "--resume", str(run), "--json", str(out),
+                 "--quiet"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and message in err[0] and str(run) in err[0], err
+    assert run.read_text() == before and not out.exists()
+
+
+def test_an_existing_run_file_is_replaced_only_with_force(one_frequency_case, finished_run,
+                                                         tmp_path, capsys):
+    run = tmp_path / "run.json"
+    unfinished = dict(finished_run, finished=False, status=None, message=None)
+    run.write_text(json.dumps(unfinished))
+    assert main(["update", str(one_frequency_case), "--run", str(run), "--quiet"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "holds an unfinished run" in err and "--resume" in err and "--force" in err
+    assert json.loads(run.read_text()) == unfinished
+    assert main(["update", str(one_frequency_case), "--run", str(run), "--quiet", "--force"]) == 0
+    assert json.loads(run.read_text())["steps"] == finished_run["steps"]
+
+
+def test_resuming_a_finished_run_reports_it_without_running_the_loop(
+        one_frequency_case, finished_run, tmp_path, capsys, monkeypatch, uninterrupted):
+    from updating import strategy  # cmd_update imports the loop from there at call time
+
+    run = tmp_path / "run.json"
+    run.write_text(json.dumps(finished_run))
+
+    def no_loop(*args, **kwargs):
+        raise AssertionError("the loop ran again")
+
+    monkeypatch.setattr(strategy, "update_joints", no_loop)
+    out = tmp_path / "out.json"
+    assert main(["update", str(one_frequency_case), "--resume", str(run), "--json",
+                 str(out)]) == 0
+    shown = " ".join(capsys.readouterr().out.split())  # the console wraps long lines
+    assert "finished: its result is reported without running the loop again" in shown
+    result = json.loads(out.read_text())
+    assert _steps(result) == _steps(uninterrupted)
+    assert result["identified"] == uninterrupted["identified"]
+
+
+def test_a_run_file_in_use_by_another_run_is_refused(one_frequency_case, tmp_path, capsys):
+    """A second update on the same run file while the first holds it: one line, exit 2, and
+    the lock is gone once its holder ends."""
+    run = tmp_path / "run.json"
+    with runfile.RunLock(run):
+        assert main(["update", str(one_frequency_case), "--run", str(run), "--quiet"]) == 2
+        assert "another vtcr update is writing it" in capsys.readouterr().err
+    assert not list(tmp_path.iterdir())  # nothing written, the lock file removed
+    assert main(["update", str(one_frequency_case), "--run", str(run), "--quiet"]) == 0
+
+
+def test_a_lock_dies_with_its_process(tmp_path):
+    """kill -9 of the holder: the system releases the lock, so a lock is never stale."""
+    run = tmp_path / "run.json"
+    code = (f"from updating.runfile import RunLock; import time\n"
+            f"with RunLock({str(run)!r}):\n    print('locked', flush=True); time.sleep(60)")
+    holder = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True)
+    try:
+        assert holder.stdout.readline().strip() == "locked"
+        with pytest.raises(runfile.InputError):
+            runfile.RunLock(run).__enter__()
+        holder.kill()
+        holder.wait()
+        with runfile.RunLock(run):
+            pass
+    finally:
+        holder.kill()
+        holder.wait()
+        holder.stdout.close()
+
+
 @pytest.mark.parametrize("terminal, quiet, shown", [
     (True, False, True), (False, False, False), (True, True, False)])
 def test_progress_shows_only_on_a_terminal_and_not_when_quiet(terminal, quiet, shown):

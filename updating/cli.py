@@ -370,8 +370,9 @@ def cmd_update(args):
     from updating.files import write_json_atomic, write_text_atomic
     from updating.progress import progress_bar
     from updating.report import identified_lines, result_json, result_markdown, steps_table
-    from updating.runfile import RunFile, fingerprint, load_run
-    from updating.strategy import update_joints
+    from updating.runfile import (RunFile, RunLock, fingerprint, load_run, read_run,
+                                  refuse_replacing)
+    from updating.strategy import finished_result, update_joints
 
     case = _load(args)
     console = _console(args)
@@ -380,12 +381,21 @@ def cmd_update(args):
 
         require_matplotlib()  # fail before the run, not after it
     t0 = time.perf_counter()
+    run_path = args.resume or _run_path(args)
+    if args.resume:
+        read_run(args.resume)  # a missing or foreign file is refused before any work
+    elif not args.force:
+        refuse_replacing(run_path)
+    args.resources.enter_context(RunLock(run_path))
     measurements = _checked_measurements(case, args)
     digests = fingerprint(case, measurements)
     if args.resume:
-        run = load_run(args.resume, case.name, digests)
+        run = load_run(args.resume, case, digests)
+        state = ("finished: its result is reported without running the loop again"
+                 if run.finished else f"resuming after step {run.steps[-1].step}")
+        console.print(f"run file {run.path}: {len(run.steps)} finished steps; {state}")
     else:
-        run = RunFile(_run_path(args), case.name, digests)
+        run = RunFile(run_path, case.name, digests)
     problem = _modified_problem(case, args, measurements)
     t1 = time.perf_counter()
     settings = case.updating
@@ -398,8 +408,11 @@ def cmd_update(args):
             advance(f"step {step.step} finished (E_mod^2 {100 * step.e_mod:.2f} %)")
 
         try:
-            result = update_joints(problem, settings, noise=case.measurement.noise,
-                                   start=run.steps, on_step=finished, on_correct=corrected)
+            if run.finished:
+                result = finished_result(problem, run.steps, run.finished[0], settings.bounds)
+            else:
+                result = update_joints(problem, settings, noise=case.measurement.noise,
+                                       start=run.steps, on_step=finished, on_correct=corrected)
         except KeyboardInterrupt:
             print(f"vtcr: interrupted; {len(run.steps)} finished steps are saved in {run.path}; "
                   f"continue with: vtcr update {args.case} --resume {run.path}", file=sys.stderr)
@@ -687,7 +700,11 @@ def build_parser():
                         help="run file saving every finished step (default: beside --report or "
                              "--json, else CASE.run.json in the current directory)")
     update.add_argument("--resume", metavar="RUN",
-                        help="continue the run saved in RUN from its last finished step")
+                        help="continue the run saved in RUN from its last finished step (a "
+                             "finished run is reported without running the loop again)")
+    update.add_argument("--force", action="store_true",
+                        help="replace an existing run file (default: refuse, so that no run "
+                             "is lost)")
     _compute_options(update)
     update.set_defaults(run=cmd_update)
 

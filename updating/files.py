@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import csv
 import difflib
+import glob
 import io
 import json
 import math
@@ -378,9 +379,30 @@ def atomic_output(path, binary=False):
         raise OSError(err.errno, err.strerror, str(path)) from err
 
 
+def _process_ended(pid):
+    """Whether no process ``pid`` runs any more (a live or foreign process counts as running)."""
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return True
+    except (PermissionError, OverflowError, ValueError):
+        return False
+    return False
+
+
+def _remove_stale_temporaries(path):
+    """Remove the temporary files of ``path`` left by writers that were killed between
+    writing and renaming (``.NAME.PID.HEX.tmp`` whose PID no longer runs)."""
+    for tmp in path.parent.glob(f".{glob.escape(path.name)}.*.tmp"):
+        pid = tmp.name[len(path.name) + 2:].split(".")[0]
+        if pid.isdigit() and _process_ended(int(pid)):
+            tmp.unlink(missing_ok=True)
+
+
 @contextmanager
 def _replaced_atomically(path, binary):
     path.parent.mkdir(parents=True, exist_ok=True)
+    _remove_stale_temporaries(path)
     tmp = path.parent / f".{path.name}.{os.getpid()}.{secrets.token_hex(4)}.tmp"
     try:
         with open(tmp, "xb" if binary else "x") as handle:

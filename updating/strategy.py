@@ -58,7 +58,7 @@ from scipy import optimize
 from updating.cost import log_grid, with_joint
 
 __all__ = ["Step", "UpdateResult", "TERMINATION_MESSAGES", "correct_joint", "update_joints",
-           "localise", "flat_interval", "identification_intervals"]
+           "localise", "flat_interval", "identification_intervals", "finished_result"]
 
 TERMINATION_MESSAGES = {
     0: "no joint's residual stands out of the noise and discretisation floor, and re-correcting "
@@ -333,10 +333,16 @@ def update_joints(problem, settings, noise=0.0, start=None, on_step=None, on_cor
         steps.append(step)
         if on_step:
             on_step(step)
+    return finished_result(problem, steps, status, settings.bounds)
+
+
+def finished_result(problem, steps, status, bounds):
+    """The :class:`UpdateResult` of a loop that ended with ``status`` after ``steps`` (also
+    of a finished run read back from its run file, without running the loop again)."""
     final = steps[-1].parameters
+    corrected = sorted({j for s in steps for j in s.corrected})
     return UpdateResult(tuple(steps), status, TERMINATION_MESSAGES[status], final,
-                        identification_intervals(problem, final, sorted(corrected),
-                                                 settings.bounds))
+                        identification_intervals(problem, final, corrected, bounds))
 
 
 def identification_intervals(problem, parameters, joints, bounds):
