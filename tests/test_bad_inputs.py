@@ -624,6 +624,22 @@ def test_write_error_is_one_line_with_status_2(tmp_path: Path, capsys) -> None:
                      "path"]
 
 
+def test_repeated_frequency_solves_each(tmp_path: Path, capsys) -> None:
+    """``--frequency 150 --frequency 160`` solves both (it used to keep only the last)."""
+    (tmp_path / "case.toml").write_text(TWO)
+    out = tmp_path / "out.json"
+    status, lines, _ = _run(["solve", str(tmp_path / "case.toml"), "--quiet", "--frequency",
+                             "150", "--frequency", "160", "--json", str(out)], capsys)
+    assert status == 0, lines
+    solved = json.loads(out.read_text())["frequencies"]
+    assert [f["frequency"] for f in solved] == [150.0, 160.0]
+    assert solved[0]["probes"] != solved[1]["probes"]
+    status, lines, _ = _run(["solve", str(tmp_path / "case.toml"), "--frequency", "150",
+                             "--frequency", "-1"], capsys)
+    assert status == 2 and lines == ["vtcr: --frequency -1.0: must be a finite frequency > 0 "
+                                     "in Hz; give e.g. --frequency 155"]
+
+
 def test_version(capsys) -> None:
     from importlib.metadata import version
 

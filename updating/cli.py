@@ -53,7 +53,7 @@ def _load(args):
 def _frequencies(case, args):
     if getattr(args, "frequency", None) is None:
         return case.frequencies
-    return (args.frequency,)
+    return tuple(args.frequency)
 
 
 def cmd_check(args):
@@ -98,12 +98,12 @@ def _option_problems(args):
     from updating.files import output_collisions, output_path_problem, plot_directory_problem
 
     problems = []
-    frequency, noise = getattr(args, "frequency", None), getattr(args, "noise", None)
+    frequencies, noise = getattr(args, "frequency", None) or (), getattr(args, "noise", None)
     seed, points = getattr(args, "seed", None), getattr(args, "points", None)
     max_rows = getattr(args, "max_rows", None)
-    if frequency is not None and not (math.isfinite(frequency) and frequency > 0):
-        problems.append(f"--frequency {frequency}: must be a finite frequency > 0 in Hz; give "
-                        "e.g. --frequency 155")
+    problems += [f"--frequency {frequency}: must be a finite frequency > 0 in Hz; give "
+                 "e.g. --frequency 155" for frequency in frequencies
+                 if not (math.isfinite(frequency) and frequency > 0)]
     if noise is not None and not 0 <= noise < 1:
         problems.append(f"--noise {noise}: must be a fraction in [0, 1); give e.g. --noise 0.1 "
                         "for +-10 %")
@@ -177,7 +177,7 @@ def _check_description(args):
     if not getattr(args, "case", None):
         return
     frequency = getattr(args, "frequency", None)
-    frequencies = None if frequency is None else (frequency,)
+    frequencies = None if frequency is None else tuple(frequency)
     if args.command == "frf":  # the band's ends bound every frequency of the sweep
         frequencies = tuple(args.band)
     for line in check_description(_load(args), args.case, frequencies,
@@ -670,7 +670,9 @@ def build_parser():
     solve.add_argument("case", help="assembly description (TOML)")
     solve.add_argument("--probes", help="CSV with header plate,x,y (plate-local metres)")
     solve.add_argument("--json", help="write the results to this JSON file")
-    solve.add_argument("--frequency", type=float, help="solve at this frequency (Hz) only")
+    solve.add_argument("--frequency", type=float, action="append",
+                       help="solve at this frequency in Hz instead of the description's; "
+                            "repeat for several (default: the description's frequencies)")
     solve.add_argument("--max-rows", type=int, default=20, help="rows shown in the terminal")
     solve.set_defaults(run=cmd_solve)
 
