@@ -272,6 +272,26 @@ def test_progress_shows_only_on_a_terminal_and_not_when_quiet(terminal, quiet, s
     assert ("correcting G7" in buffer.getvalue()) is shown
 
 
+@pytest.mark.parametrize("quiet, lines", [(False, 2), (True, 0)])
+def test_off_a_terminal_each_stage_is_one_line_on_standard_error(capsys, quiet, lines):
+    import io
+
+    from rich.console import Console
+
+    from updating.progress import progress_bar
+
+    buffer = io.StringIO()
+    console = Console(file=buffer, force_terminal=False, quiet=quiet, width=80)
+    with progress_bar(console, "localising", 3) as advance:
+        advance("step 1: correcting G7", amount=0)
+        advance()  # an unlabelled unit of work is not a stage
+        advance("step 1 finished")
+    err = capsys.readouterr().err.splitlines()
+    assert len(err) == lines and buffer.getvalue() == ""
+    if lines:
+        assert err[0].startswith("vtcr: step 1: correcting G7 (") and err[0].endswith(" s)")
+
+
 def test_outputs_get_the_usual_permissions_and_no_temporary_is_left(tmp_path):
     from updating.files import write_json_atomic
 

@@ -1,12 +1,16 @@
 """Progress display for long work (correction steps, cost curves, frequency sweeps).
 
-Shown only on an interactive terminal and never under ``--quiet``: a pipe, a log file or a CI
-job gets the results and nothing else. The display is transient (it disappears when the work
-ends) and goes to the same console as the results.
+On an interactive terminal, a transient bar (it disappears when the work ends) on the same
+console as the results. Elsewhere — a pipe, a log file, a CI job — each labelled stage (a
+correction step, a figure, a refinement round) is one line on standard error with the time
+elapsed, so that a long run is never silent and the results on standard output stay clean.
+Nothing under ``--quiet``.
 """
 
 from __future__ import annotations
 
+import sys
+import time
 from contextlib import contextmanager
 
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
@@ -18,6 +22,8 @@ __all__ = ["progress_bar"]
 def progress_bar(console, description, total):
     """Yield ``advance(description=None)``: one unit of work done, optionally relabelled."""
     shown = console.is_terminal and not console.quiet
+    logged = not console.is_terminal and not console.quiet
+    start = time.perf_counter()
     with Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(),
                   TimeElapsedColumn(), console=console, transient=True,
                   disable=not shown) as progress:
@@ -26,5 +32,8 @@ def progress_bar(console, description, total):
         def advance(label=None, amount=1):
             progress.update(task, advance=amount,
                             **({"description": label} if label is not None else {}))
+            if logged and label is not None:
+                print(f"vtcr: {label} ({time.perf_counter() - start:.1f} s)", file=sys.stderr,
+                      flush=True)
 
         yield advance
