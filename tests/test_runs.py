@@ -172,6 +172,7 @@ def _set(path, value):
     (_set(["steps", 1, "selected"], "G9"), "corrects 'G9', which is not a joint"),
     (_set(["steps", 1, "surprise"], 1), "steps[1].surprise: Extra inputs are not permitted"),
     (_set(["status"], 7), "status: Input should be 0, 1 or 2"),
+    (_set(["status"], None), "the file: a finished run has a status (0, 1 or 2)"),
 ])
 def test_a_hand_edited_run_file_is_refused_with_the_field_named(
         one_frequency_case, finished_run, tmp_path, capsys, mutate, message):

@@ -124,7 +124,7 @@ def _option_problems(args):
     for name, flag in (("run_file", "--run"), ("resume", "--resume")):
         if getattr(args, name, None) == "-":
             problems.append(f"{flag} -: a run file is read back to resume a run; give a file "
-                            "name, e.g. {flag} four_plates.run.json".replace("{flag}", flag))
+                            f"name, e.g. {flag} four_plates.run.json")
     for name, flag in _OUTPUT_OPTIONS + (("run_file", "--run"),):
         if getattr(args, name, None) is not None:
             problem = output_path_problem(getattr(args, name), flag, inputs)
@@ -417,7 +417,8 @@ def cmd_update(args):
             print(f"vtcr: interrupted; {len(run.steps)} finished steps are saved in {run.path}; "
                   f"continue with: vtcr update {args.case} --resume {run.path}", file=sys.stderr)
             return 130
-    run.finish(result)
+    if not run.finished:  # a finished run read back is reported as its file holds it
+        run.finish(result)
     t2 = time.perf_counter()
     bounds = settings.bounds
     console.print(steps_table(result, f"{case.name}: localisation and correction", bounds))
@@ -505,7 +506,6 @@ def cmd_curve(args):
 
 def cmd_frf(args):
     from solver import field_grid
-    from updating.executor import Executor
     from updating.files import read_probes, write_json_atomic
     from updating.measurements import write_measurements
     from updating.progress import progress_bar

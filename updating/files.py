@@ -386,7 +386,7 @@ def _process_ended(pid):
     except ProcessLookupError:
         return True
     except (PermissionError, OverflowError, ValueError):
-        return False
+        pass
     return False
 
 

@@ -102,20 +102,20 @@ def write_measurements(path, measurements, sweep=False):
     ``plate,x,y,frequency,re,im``, with the frequency column always; the readers take the
     columns by name, so both read back the same.
     """
-    several = sweep or len(measurements.frequencies) > 1
-    buffer = io.StringIO()
-    writer = csv.writer(buffer, lineterminator="\n")
     if sweep:
-        writer.writerow(["plate", "x", "y", "frequency", "re", "im"])
+        columns = ["plate", "x", "y", "frequency", "re", "im"]
     else:
-        writer.writerow(["plate", "x", "y", "re", "im"] + (["frequency"] if several else []))
+        several = len(measurements.frequencies) > 1
+        columns = ["plate", "x", "y", "re", "im"] + (["frequency"] if several else [])
+    buffer = io.StringIO()
+    writer = csv.DictWriter(buffer, columns, lineterminator="\n", extrasaction="ignore")
+    writer.writeheader()
     for frequency in measurements.frequencies:
         for pid, (points, values) in measurements.data[frequency].items():
             for (x, y), w in zip(points, values):
-                place = [pid, repr(float(x)), repr(float(y))]
-                value = [repr(float(w.real)), repr(float(w.imag))]
-                writer.writerow(place + [repr(frequency)] + value if sweep else
-                                place + value + ([repr(frequency)] if several else []))
+                writer.writerow({"plate": pid, "x": repr(float(x)), "y": repr(float(y)),
+                                 "frequency": repr(frequency), "re": repr(float(w.real)),
+                                 "im": repr(float(w.imag))})
     write_text_atomic(path, buffer.getvalue())
 
 

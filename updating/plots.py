@@ -507,18 +507,11 @@ def frequency_response_data(case, parameter_sets, frequencies, points, measured=
     import functools
 
     from solver.sweep import refine_frequencies
-    from updating.sweep import smallest_loss_factor
+    from updating.sweep import round_evaluator, smallest_loss_factor
 
-    task = functools.partial(_set_responses, case, parameter_sets, points, resolution)
-    solved = [0]
-
-    def evaluate(wanted):
-        results = executor.map(task, wanted) if executor else [task(f) for f in wanted]
-        solved[0] += len(results)
-        if on_round:
-            on_round(solved[0])
-        return results
-
+    evaluate = round_evaluator(
+        functools.partial(_set_responses, case, parameter_sets, points, resolution), executor,
+        on_round)
     frequencies, results, _ = refine_frequencies(
         evaluate, np.asarray(frequencies, dtype=float), smallest_loss_factor(case), tolerance,
         max_points=max_points)

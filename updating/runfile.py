@@ -62,12 +62,12 @@ def fingerprint(case, measurements):
 class RunFile:
     """The run file of one updating run; :meth:`save_step` is the loop's ``on_step`` hook."""
 
-    def __init__(self, path, case_name, digests, steps=()):
+    def __init__(self, path, case_name, digests, steps=(), finished=None):
         self.path = Path(path)
         self.case_name = case_name
         self.digests = digests
         self.steps = list(steps)
-        self.finished = None  # (status, message) of a finished run read back
+        self.finished = finished  # (status, message) of a finished run read back
 
     def _write(self, status=None, message=None):
         write_json_atomic(self.path, {
@@ -138,6 +138,13 @@ class _RunRecord(pydantic.BaseModel):
     status: Literal[0, 1, 2] | None
     message: str | None
     steps: list[_StepRecord]
+
+    @pydantic.model_validator(mode="after")
+    def _status_when_finished(self):
+        if self.finished != (self.status is not None):
+            raise ValueError("a finished run has a status (0, 1 or 2) and an unfinished one "
+                             "none")
+        return self
 
 
 def _first_problem(err: pydantic.ValidationError) -> str:
@@ -230,9 +237,8 @@ def load_run(path, case, digests):
     if problem:
         raise InputError(f"--resume {path}: damaged run file, {problem}; {_FIX}")
     steps = [Step.from_record(step.model_dump()) for step in record.steps]
-    run = RunFile(path, case.name, digests, steps)
-    run.finished = (record.status, record.message) if record.finished else None
-    return run
+    return RunFile(path, case.name, digests, steps,
+                   (record.status, record.message) if record.finished else None)
 
 
 def refuse_replacing(path):

@@ -18,7 +18,7 @@ from solver.power import power_flow
 from solver.sweep import initial_frequencies, refine_frequencies
 
 __all__ = ["Sweep", "sweep_point", "frequency_sweep", "smallest_loss_factor",
-           "BALANCE_TOLERANCE"]
+           "round_evaluator", "BALANCE_TOLERANCE"]
 
 BALANCE_TOLERANCE = 1e-2
 """Relative power imbalance above which a frequency is flagged. At the default resolution the
@@ -30,6 +30,23 @@ def smallest_loss_factor(case):
     """The smallest loss factor of the plates' materials: the narrowest half-power bandwidth
     of a resonance is this times its frequency (joint damping only widens it)."""
     return min(case.materials[plate.material].loss_factor for plate in case.plates.values())
+
+
+def round_evaluator(task, executor=None, on_round=None):
+    """``evaluate(frequencies) -> [task(f) for f in frequencies]`` for
+    :func:`solver.sweep.refine_frequencies`: each round of frequencies on ``executor`` (default
+    in this process), then ``on_round(number of frequencies solved so far)`` (progress)."""
+    solved = 0
+
+    def evaluate(frequencies):
+        nonlocal solved
+        results = executor.map(task, frequencies) if executor else [task(f) for f in frequencies]
+        solved += len(results)
+        if on_round:
+            on_round(solved)
+        return results
+
+    return evaluate
 
 
 def sweep_point(case, points, frequency):
@@ -112,16 +129,7 @@ def frequency_sweep(case, band, points, step=None, count=None, tolerance=0.1, fr
         Called with the number of frequencies solved so far after each round (progress).
     """
     grid = initial_frequencies(band[0], band[1], step=step, points=count)
-    task = functools.partial(sweep_point, case, points)
-    solved = [0]
-
-    def evaluate(frequencies):
-        results = executor.map(task, frequencies) if executor else [task(f) for f in frequencies]
-        solved[0] += len(results)
-        if on_round:
-            on_round(solved[0])
-        return results
-
+    evaluate = round_evaluator(functools.partial(sweep_point, case, points), executor, on_round)
     frequencies, results, report = refine_frequencies(
         evaluate, grid, smallest_loss_factor(case), tolerance, fraction, max_points)
     report = dict(report, requested={"band": [float(band[0]), float(band[1])],
