@@ -134,6 +134,7 @@ _EXAMPLES: dict[str, str] = {
     "discretisation.quadrature_per_sector": "quadrature_per_sector = 8 (>= 2)",
     "discretisation.edge_wavenumber_ratio": "edge_wavenumber_ratio = 2.5 (> 1)",
     "discretisation.interface_functions": "interface_functions = 16 (>= 1)",
+    "discretisation.tolerance": "tolerance = 1e-3 (0 < tolerance < 1)",
     "discretisation.plates": "[discretisation.plates.P1] tables",
     "discretisation.plates.*.interior": "interior = 48 (>= 4)",
     "discretisation.plates.*.edge_propagating": "edge_propagating = 10 (>= 0)",

@@ -843,6 +843,11 @@ class Discretisation(_Model):
         :math:`\\tau_{max} > 1`: edge rays span ``|beta| <= tau_max * kappa0``.  Default 2.5.
     interface_functions : int, optional
         Number of functions per interface unknown (>= 1); None (default) = automatic.
+    tolerance : float, optional
+        Largest accepted estimated relative L2 error of ``w`` (0 < tolerance < 1): ``solve``
+        raises the resolution until the a-posteriori estimate is below it, or stops naming
+        the plate that cannot reach it.  None (default): solve at ``resolution`` and report
+        the estimate.
     plates : mapping of str to PlateDiscretisation, optional
         Per-plate overrides, ``[discretisation.plates.P1]``.
     """
@@ -851,6 +856,7 @@ class Discretisation(_Model):
     quadrature_per_sector: Annotated[int, Strict(), Field(ge=2)] = 8
     edge_wavenumber_ratio: Annotated[float, Strict(), Field(gt=1)] = 2.5
     interface_functions: Annotated[int, Strict(), Field(ge=1)] | None = None
+    tolerance: Annotated[float, Strict(), Field(gt=0, lt=1)] | None = None
     plates: Annotated[dict[str, PlateDiscretisation], AfterValidator(_freeze)] = Field(
         default_factory=FrozenDict
     )

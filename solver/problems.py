@@ -111,19 +111,32 @@ def plate_problem(case, plate_id, frequency):
 
 
 def plate_ray_counts(case, plate_id, problem, resolution=None):
-    """Sector counts of one plate: the automatic rule, then the description's overrides."""
+    """Sector counts of one plate: the automatic rule, then the description's overrides.
+
+    The overrides are counts at the description's own resolution; a ``resolution`` other than
+    the description's scales them by the same ratio as the rule's counts (the enriched solve of
+    the error estimate refines every plate, overridden or not).
+    """
     settings = case.discretisation
     scale = settings.resolution if resolution is None else resolution
     counts = automatic_ray_counts(problem.kappa.real, problem.size, scale,
                                   settings.edge_wavenumber_ratio)
     override = settings.for_plate(plate_id)
+    ratio = scale / settings.resolution
+
+    def scaled(value, multiple=1):
+        if ratio == 1.0:
+            return value
+        return multiple * math.ceil(ratio * value / multiple - 1e-9)
+
     return RayCounts(
-        interior=override.interior if override.interior is not None else counts.interior,
+        interior=(scaled(override.interior, 4) if override.interior is not None
+                  else counts.interior),
         edge_propagating=(counts.edge_propagating if override.edge_propagating is None
-                          else (2 * (override.edge_propagating // 2),) * 4),
+                          else (scaled(2 * (override.edge_propagating // 2), 2),) * 4),
         edge_evanescent=(counts.edge_evanescent if override.edge_evanescent is None
-                         else (override.edge_evanescent,) * 4),
-        corner=override.corner if override.corner is not None else counts.corner,
+                         else (scaled(override.edge_evanescent),) * 4),
+        corner=scaled(override.corner) if override.corner is not None else counts.corner,
     )
 
 

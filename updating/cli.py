@@ -115,6 +115,10 @@ def _option_problems(args):
     if max_rows is not None and max_rows < 0:
         problems.append(f"--max-rows {max_rows}: must be >= 0 (0 shows no rows); give e.g. "
                         "--max-rows 20")
+    tolerance = getattr(args, "tolerance", None)
+    if tolerance is not None and not 0 < tolerance < 1:
+        problems.append(f"--tolerance {tolerance}: must be a relative error in (0, 1); give "
+                        "e.g. --tolerance 1e-3")
     workers = getattr(args, "workers", None)
     if workers is not None and workers < 1:
         problems.append(f"--workers {workers}: must be at least 1; give e.g. --workers 2")
@@ -221,16 +225,19 @@ def _problem_warnings(args, problem):
 
 
 def cmd_solve(args):
-    from solver import field_grid, solve_case
+    from solver import field_grid
     from updating.files import read_probes, write_json_atomic
 
     case = _load(args)
     probes = read_probes(args.probes, case) if args.probes else None
     console = _console(args)
+    tolerance = args.tolerance if args.tolerance is not None else case.discretisation.tolerance
     results = []
     for frequency in _frequencies(case, args):
-        solution = solve_case(case, frequency)
+        solution, estimate = _solve_with_estimate(case, frequency, tolerance,
+                                                  not args.no_estimate, args.case)
         _solution_warnings(console, solution)
+        _estimate_lines(console, estimate)
         if probes is None:
             spacing = case.measurement.spacing
             points = {pid: field_grid(case, pid, spacing) for pid in case.plates}
@@ -251,6 +258,7 @@ def cmd_solve(args):
             "interface_unknowns": system.n_s if system is not None else 0,
             "timings": {phase: float(t) for phase, t in solution.timings.items()},
             "condition_estimate": solution.condition_estimate,
+            "error_estimate": estimate.to_json() if estimate is not None else None,
             "warnings": list(solution.warnings),
             "joint_residuals": residuals,
             "probes": rows,
@@ -273,6 +281,40 @@ def cmd_solve(args):
     if args.json:
         write_json_atomic(args.json, results[0] if len(results) == 1 else {"frequencies": results})
     return 0
+
+
+# Estimated errors above this are flagged (the accuracy the tests hold the rule to).
+ESTIMATE_WARNING = 1e-2
+
+
+def _solve_with_estimate(case, frequency, tolerance, estimate, source):
+    """A solve and its error estimate: to ``tolerance`` if given, else at the description's
+    resolution (estimate None when not wanted)."""
+    from solver import solve_case
+    from solver.estimate import ToleranceError, estimate_error, solve_to_tolerance
+    from updating.files import InputError
+
+    if tolerance is not None:
+        try:
+            return solve_to_tolerance(case, frequency, tolerance)
+        except ToleranceError as err:
+            raise InputError(f"{source}: {err}") from None
+    solution = solve_case(case, frequency)
+    return solution, estimate_error(case, solution) if estimate else None
+
+
+def _estimate_lines(console, estimate):
+    if estimate is None:
+        return
+    plates = estimate.plates
+    worst = estimate.worst_plate()
+    detail = (f"; largest on plate {worst} ({plates[worst]:.1e})" if len(plates) > 1 else "")
+    console.print(f"estimated error of w (relative L2, against an enriched solve): "
+                  f"{estimate.total:.1e} at resolution {estimate.resolution:.3g}{detail}")
+    if estimate.total > ESTIMATE_WARNING:
+        _warn(console, f"the estimated error {estimate.total:.1e} exceeds "
+                       f"{ESTIMATE_WARNING:g}: raise [discretisation] resolution or give "
+                       "--tolerance")
 
 
 def _measurements(case, args):
@@ -674,6 +716,14 @@ def build_parser():
                        help="solve at this frequency in Hz instead of the description's; "
                             "repeat for several (default: the description's frequencies)")
     solve.add_argument("--max-rows", type=int, default=20, help="rows shown in the terminal")
+    solve.add_argument("--tolerance", type=float, metavar="TOL",
+                       help="raise the resolution until the estimated relative L2 error of w "
+                            "is below TOL, or exit 2 naming the plate that cannot reach it "
+                            "(default [discretisation] tolerance; none: solve at the "
+                            "description's resolution)")
+    solve.add_argument("--no-estimate", action="store_true",
+                       help="skip the a-posteriori error estimate (an enriched solve, about "
+                            "two to three times the cost of the solve itself)")
     solve.set_defaults(run=cmd_solve)
 
     simulate = sub.add_parser("simulate", help="simulated experiment from the true joints")

@@ -1,0 +1,202 @@
+r"""A-posteriori estimate of the discretisation error of a solve.
+
+**What is estimated.** The relative :math:`L^2` error of the deflection over the assembly, the
+norm the accuracy tests use,
+
+.. math:: \varepsilon = \Big(\sum_i\int_{\Omega_i}|w_i - w_{h,i}|^2\,dA\Big)^{1/2}
+          \Big/ \Big(\sum_i\int_{\Omega_i}|w_i|^2\,dA\Big)^{1/2},
+
+and per plate the same ratio over that plate alone.
+
+**Why it can be estimated.** Every ray and the particular solution satisfy the plate equation
+exactly, so the error :math:`e = w - w_h` of a plate is itself a Trefftz field: the response of
+the plate to the residuals of the boundary and interface conditions that the VTCR satisfies
+only weakly (:math:`q(e) = q_d - q(w_h)` on the kinematic components,
+:math:`g(e) = g_d - g(w_h)` on the static ones, and on the joints the residuals of the joint
+laws and of the translation and corner constraints). Those residuals vanish when tested with
+the rays of the basis — that is the VTCR equation — so the error problem has to be solved in a
+richer space. Solving it in the space of the enriched discretisation (every ray count and every
+interface function count of the rule multiplied by :data:`ENRICHMENT`) gives
+:math:`e^+ = w^+ - w_h`, where :math:`w^+` is the enriched solution: the residual functional
+tested with the enriched basis is linear in the residuals, so the enriched error problem and
+the enriched solve differ only by :math:`w_h`. The estimate is
+
+.. math:: \hat\varepsilon = \|w^+ - w_h\| / \|w^+\| .
+
+It is reliable when the enriched discretisation is markedly more accurate than the estimated
+one (the saturation assumption of hierarchical estimators): the ray bases converge
+exponentially with the counts, so one step of 1.5 lowers the error by one to three orders of
+magnitude wherever the rule converges (measured on the simply supported plate from 10 Hz to
+400 Hz). Where it does not — round-off at the floor of the Trefftz ill-conditioning — the two
+solutions differ by about their common floor and the estimate stays of the order of the error.
+Near the floor (about 1e-6) the estimate is dominated by round-off and only says "small".
+
+The :math:`L^2` integrals are tensor Gauss rules on each plate with
+:math:`\lceil\kappa_0L\rceil + 12` points per side (the kinetic energy's rule): on the simply
+supported plate from 1 Hz to 1 kHz, the estimates agree to 1e-2 of themselves with a rule of
+:math:`\lceil 2\kappa_0L\rceil + 16` points, at a third of the cost. The particular solutions
+of the point forces are identical in both fields and cancel in the difference.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from solver.rays import QUASI_STATIC_KAPPA_R
+
+__all__ = ["ENRICHMENT", "ErrorEstimate", "ToleranceError", "estimate_error", "plate_l2_rule",
+           "solve_to_tolerance"]
+
+ENRICHMENT = 1.5
+
+
+@dataclass(frozen=True)
+class ErrorEstimate:
+    """Estimated relative L2 error of ``w`` of one solve.
+
+    Attributes
+    ----------
+    total : float
+        Over the assembly.
+    plates : dict of str to float
+        Over each plate (relative to that plate's own norm).
+    resolution : float
+        Resolution factor of the estimated solve.
+    enriched_resolution : float
+        Resolution factor of the enriched solve the estimate compares with.
+    seconds : float
+        Cost of the estimate (the enriched solve and the integrals).
+    """
+
+    total: float
+    plates: dict
+    resolution: float
+    enriched_resolution: float
+    seconds: float
+
+    def worst_plate(self) -> str:
+        return max(self.plates, key=self.plates.get)
+
+    def to_json(self):
+        return {"total": self.total, "plates": dict(self.plates),
+                "resolution": self.resolution, "enriched_resolution": self.enriched_resolution,
+                "method": f"enriched solve (ray and interface counts x {ENRICHMENT:g})",
+                "seconds": self.seconds}
+
+
+def plate_l2_rule(problem):
+    r"""Tensor Gauss rule over a plate: points (n, 2) and weights (n,), with
+    :math:`\lceil\kappa_0L\rceil + 12` points per side."""
+    rules = []
+    for length in problem.size:
+        x, w = np.polynomial.legendre.leggauss(math.ceil(problem.kappa.real * length) + 12)
+        rules.append((0.5 * length * (x + 1.0), 0.5 * length * w))
+    (x, wx), (y, wy) = rules
+    X, Y = np.meshgrid(x, y, indexing="ij")
+    return np.c_[X.ravel(), Y.ravel()], np.outer(wx, wy).ravel()
+
+
+def relative_l2_errors(solution, enriched):
+    r"""Per plate :math:`(\int|w^+ - w_h|^2, \int|w^+|^2)` over the plate's Gauss rule."""
+    out = {}
+    for pid, plate in solution.plates.items():
+        points, weights = plate_l2_rule(plate.problem)
+        w_h = plate.field(points)["w"]
+        w_plus = enriched.plates[pid].field(points)["w"]
+        out[pid] = (float(weights @ np.abs(w_plus - w_h) ** 2),
+                    float(weights @ np.abs(w_plus) ** 2))
+    return out
+
+
+def estimate_error(case, solution, resolution=None) -> ErrorEstimate:
+    """Estimate the relative L2 error of ``w`` of ``solution`` (see the module docstring).
+
+    Parameters
+    ----------
+    case : assembly.Case
+    solution : solver.vtcr.CaseSolution or solver.substructure.AssemblySolution
+        A solve of ``case`` at ``solution.frequency``.
+    resolution : float, optional
+        The resolution factor ``solution`` was solved with (default: the description's).
+    """
+    from solver.vtcr import solve_case
+
+    t0 = time.perf_counter()
+    resolution = case.discretisation.resolution if resolution is None else float(resolution)
+    enriched = solve_case(case, solution.frequency, resolution=ENRICHMENT * resolution,
+                          residuals=False)
+    integrals = relative_l2_errors(solution, enriched)
+    error2 = sum(e for e, _ in integrals.values())
+    norm2 = sum(n for _, n in integrals.values())
+    plates = {pid: math.sqrt(e / n) if n > 0.0 else 0.0 for pid, (e, n) in integrals.items()}
+    total = math.sqrt(error2 / norm2) if norm2 > 0.0 else 0.0
+    return ErrorEstimate(total, plates, resolution, ENRICHMENT * resolution,
+                         time.perf_counter() - t0)
+
+
+class ToleranceError(ValueError):
+    """The requested tolerance cannot be reached; the message names the plate and the cause."""
+
+
+def solve_to_tolerance(case, frequency, tolerance, max_refinements=4):
+    r"""Solve, estimate, and raise the resolution until the estimate is below ``tolerance``.
+
+    Each refinement multiplies every ray and interface count by :data:`ENRICHMENT` (the
+    solution just used as the enriched reference becomes the next estimated one), starting
+    from the description's resolution.
+
+    Returns
+    -------
+    (solution, ErrorEstimate)
+        The first solution whose estimate is below ``tolerance``.
+
+    Raises
+    ------
+    ToleranceError
+        After ``max_refinements`` refinements, or as soon as a refinement no longer lowers the
+        estimate by half (the ray basis has met its round-off floor, or the plate is outside
+        what the basis converges for): the message names the plate with the largest estimated
+        error, its estimates at each resolution and its condition estimate.
+    """
+    from solver.vtcr import solve_case
+
+    resolution = case.discretisation.resolution
+    solution = solve_case(case, frequency, resolution=resolution)
+    history = []
+    for refinement in range(max_refinements + 1):
+        estimate = estimate_error(case, solution, resolution)
+        history.append(estimate)
+        if estimate.total <= tolerance:
+            return solution, estimate
+        stalled = len(history) > 1 and estimate.total > 0.5 * history[-2].total
+        if stalled or refinement == max_refinements:
+            raise ToleranceError(_tolerance_message(case, frequency, tolerance, history,
+                                                    solution, stalled))
+        resolution *= ENRICHMENT
+        solution = solve_case(case, frequency, resolution=resolution)
+    raise AssertionError("unreachable")
+
+
+def _tolerance_message(case, frequency, tolerance, history, solution, stalled):
+    plate = history[-1].worst_plate()
+    steps = ", ".join(f"{e.plates[plate]:.1e} at resolution {e.resolution:.3g}" for e in history)
+    problem = solution.plates[plate].problem
+    condition = solution.plates[plate].condition_estimate
+    spans = 0.5 * math.hypot(*problem.size) * problem.kappa.real
+    if not stalled:
+        cause = ("it still decreases; start from a higher [discretisation] resolution than "
+                 f"{case.discretisation.resolution:g}")
+    elif spans < QUASI_STATIC_KAPPA_R:
+        cause = (f"the plate is far below its first resonances (its half-diagonal is "
+                 f"{spans / (2 * math.pi):.2g} bending wavelength), where the ray basis converges "
+                 "slowly; raise the frequency or accept the estimated error")
+    else:
+        cause = (f"refinement no longer lowers it (condition estimate {condition:.1e}): the ray "
+                 "basis has reached its round-off floor; accept a tolerance above the "
+                 "estimate, or check for a load very close to an edge or extreme properties")
+    return (f"{frequency:g} Hz: the estimated error {history[-1].total:.1e} of w stays above the "
+            f"tolerance {tolerance:g}; plate {plate}: {steps}; {cause}")

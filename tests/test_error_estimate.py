@@ -1,0 +1,190 @@
+"""The a-posteriori error estimate (``solver.estimate``) against exact errors (issue 10).
+
+The true error is the relative L2 error of w over the plates against exact series (Navier for
+the simply supported plate, Levy chains for the jointed ones), integrated with the estimate's
+own Gauss rule; the estimate never sees the series. The issue asks for an effectivity
+(estimate / true error) within [0.3, 3] wherever the true error exceeds 1e-4; the rule is
+held to that band here, and the measured effectivities are 0.98–1.5 (printed on failure).
+"""
+
+import json
+import math
+
+import numpy as np
+import pytest
+from exact import Section, complex_rigidity, levy_chain, navier_point_force
+from test_assemblies import D, LENGTHS, LY, NU, OMEGA, RHO, H, chain_description, exact_joint
+
+from assembly import parse_case
+from solver import solve_case
+from solver.estimate import ToleranceError, estimate_error, plate_l2_rule, solve_to_tolerance
+from solver.problems import plate_problem, plate_ray_counts
+from updating.cli import main
+
+E, PLATE_NU, PLATE_RHO, PLATE_H = 210e9, 0.3, 7800.0, 1e-3
+SIZE = (0.5, 0.4)
+EFFECTIVITY = (0.3, 3.0)
+
+
+def plate_description(eta=0.01, at=(0.12, 0.31), resolution=1.0):
+    return {
+        "name": "ss-plate", "frequency": 155.0,
+        "materials": {"steel": {"young_modulus": E, "poisson_ratio": PLATE_NU,
+                                "density": PLATE_RHO, "loss_factor": eta}},
+        "plates": {"P1": {"material": "steel", "thickness": PLATE_H, "size": list(SIZE)}},
+        "boundaries": [{"edge": f"P1.{e}", "condition": "simply_supported"}
+                       for e in ("left", "right", "bottom", "top")],
+        "loads": [{"kind": "point_force", "plate": "P1", "at": list(at), "amplitude": 1.0}],
+        "discretisation": {"resolution": resolution},
+    }
+
+
+def plate_error(frequency, resolution, eta=0.01, at=(0.12, 0.31)):
+    """(true error, estimate) of the simply supported plate against the Navier series."""
+    case = parse_case(plate_description(eta, at, resolution))
+    solution = solve_case(case, frequency)
+    estimate = estimate_error(case, solution)
+    points, weights = plate_l2_rule(solution.plates["P1"].problem)
+    exact = navier_point_force(*SIZE, complex_rigidity(E, PLATE_H, PLATE_NU, eta),
+                               PLATE_RHO * PLATE_H, 2 * math.pi * frequency, *at, 1.0,
+                               points[:, 0], points[:, 1], n_terms=400)
+    w = solution.w("P1", points)
+    error = math.sqrt(weights @ abs(w - exact) ** 2 / (weights @ abs(exact) ** 2))
+    return error, estimate.total
+
+
+def first_resonance():
+    d = E * PLATE_H**3 / (12 * (1 - PLATE_NU**2))
+    return 0.5 * math.pi * math.sqrt(d / (PLATE_RHO * PLATE_H)) * sum(1 / s**2 for s in SIZE)
+
+
+@pytest.mark.parametrize("frequency, resolution, eta, at", [
+    (1.0, 1.0, 0.01, (0.12, 0.31)),          # quasi-static (was 18 % with 28 unknowns)
+    (0.1, 1.0, 0.01, (0.12, 0.31)),          # far below: large error, and the estimate says so
+    (60.0, 0.8, 0.01, (0.12, 0.31)),
+    (155.0, 0.6, 0.01, (0.12, 0.31)),
+    (155.0, 0.8, 0.01, (0.12, 0.31)),
+    (400.0, 0.8, 0.01, (0.12, 0.31)),
+    (155.0, 1.0, 0.01, (0.01, 0.2)),          # force 1 cm from an edge
+    (155.0, 1.0, 0.01, (0.001, 0.2)),         # force 1 mm from an edge (27 %)
+])
+def test_single_plate_effectivity(frequency, resolution, eta, at):
+    error, estimate = plate_error(frequency, resolution, eta, at)
+    assert error > 1e-4, "the case must sit where the issue's band applies"
+    assert EFFECTIVITY[0] <= estimate / error <= EFFECTIVITY[1], (error, estimate)
+
+
+@pytest.mark.parametrize("eta", [1e-4, 1e-6])
+def test_light_damping_at_the_first_resonance(eta):
+    """At the first resonance with eta down to 1e-6 the field stays accurate (the issue
+    measured 1.1 % and 73 % before the low-frequency sizing), and the estimate says so."""
+    error, estimate = plate_error(first_resonance(), 1.0, eta)
+    assert error < 1e-4 and estimate < 1e-4, (error, estimate)
+
+
+def test_estimate_decreases_with_the_error():
+    """Refining lowers the true error and the estimate together."""
+    pairs = [plate_error(155.0, r) for r in (0.6, 0.8, 1.0)]
+    errors, estimates = zip(*pairs)
+    assert errors[0] > errors[1] > errors[2]
+    assert estimates[0] > estimates[1] > estimates[2], pairs
+
+
+@pytest.mark.parametrize("joints, resolution", [
+    ([{"kind": "coplanar", "log10_stiffness": 1.5, "loss_factor": 0.1, "mass": 0.05}], 0.85),
+    ([{"kind": "coplanar", "log10_stiffness": 3.5}], 1.0),
+    ([{"kind": "hinge", "log10_stiffness": 2.5}], 1.0),
+    ([{"kind": "coplanar", "log10_stiffness": 1.5, "loss_factor": 0.1, "mass": 0.05},
+      {"kind": "hinge", "log10_stiffness": 3.5}], 0.85),
+], ids=["coplanar-damped-mass", "coplanar-stiff", "hinge", "three-plates"])
+def test_chain_effectivity(joints, resolution):
+    """Jointed chains against the Levy series: total and per-plate estimates."""
+    force = (0, 0.12, 0.31)
+    case = parse_case(chain_description(joints, resolution, force=force))
+    solution = solve_case(case)
+    estimate = estimate_error(case, solution)
+    n = len(joints) + 1
+    reference = levy_chain([Section(LENGTHS[i], D, NU, RHO * H) for i in range(n)], LY, OMEGA,
+                           joints=[exact_joint(j) for j in joints], left="simply_supported",
+                           right="clamped", point_forces=[(*force, 1.0)])
+    total_error = total_norm = 0.0
+    for i in range(n):
+        plate = f"P{i + 1}"
+        points, weights = plate_l2_rule(solution.plates[plate].problem)
+        w = solution.w(plate, points)
+        exact = reference.w(points[:, 0], points[:, 1], plate=i)
+        error, norm = weights @ abs(w - exact) ** 2, weights @ abs(exact) ** 2
+        total_error, total_norm = total_error + error, total_norm + norm
+        if math.sqrt(error / norm) > 1e-4:
+            ratio = estimate.plates[plate] / math.sqrt(error / norm)
+            assert EFFECTIVITY[0] <= ratio <= EFFECTIVITY[1], (plate, ratio)
+    error = math.sqrt(total_error / total_norm)
+    assert error > 1e-4
+    assert EFFECTIVITY[0] <= estimate.total / error <= EFFECTIVITY[1], (error, estimate.total)
+
+
+def test_tolerance_is_reached_and_true():
+    """solve_to_tolerance refines until the estimate is below the tolerance, and the true
+    error (Levy) is then below it too, within the effectivity band."""
+    joint = {"kind": "hinge", "log10_stiffness": 2.5}
+    case = parse_case(chain_description([joint], 0.85))
+    solution, estimate = solve_to_tolerance(case, case.frequencies[0], 1e-3)
+    assert estimate.total <= 1e-3 and estimate.resolution > 0.85
+    reference = levy_chain([Section(LENGTHS[i], D, NU, RHO * H) for i in range(2)], LY, OMEGA,
+                           joints=[exact_joint(joint)], left="simply_supported",
+                           right="clamped", point_forces=[(0, 0.12, 0.31, 1.0)])
+    num = den = 0.0
+    for i in range(2):
+        points, weights = plate_l2_rule(solution.plates[f"P{i + 1}"].problem)
+        exact = reference.w(points[:, 0], points[:, 1], plate=i)
+        num += weights @ abs(solution.w(f"P{i + 1}", points) - exact) ** 2
+        den += weights @ abs(exact) ** 2
+    assert math.sqrt(num / den) <= EFFECTIVITY[1] * 1e-3
+
+
+def test_unreachable_tolerance_names_the_plate_and_the_cause():
+    case = parse_case(plate_description())
+    with pytest.raises(ToleranceError, match=r"0.01 Hz.*plate P1.*far below its first resonances"):
+        solve_to_tolerance(case, 0.01, 1e-3)
+
+
+def test_overridden_ray_counts_are_refined_with_the_resolution():
+    """Per-plate overrides are counts at the description's resolution: kept as written there,
+    scaled with any other resolution (else the enriched solve would not enrich them)."""
+    data = plate_description(resolution=1.0)
+    data["discretisation"]["plates"] = {"P1": {"interior": 30, "edge_evanescent": 7}}
+    case = parse_case(data)
+    problem = plate_problem(case, "P1", 155.0)
+    own = plate_ray_counts(case, "P1", problem)
+    enriched = plate_ray_counts(case, "P1", problem, 1.5)
+    assert own.interior == 30 and own.edge_evanescent == (7,) * 4
+    assert enriched.interior == 48 and enriched.edge_evanescent == (11,) * 4
+
+
+def test_low_frequency_counts_grow_with_the_resolution():
+    """Below the first resonance the counts are sized from the plate, so refining refines."""
+    case = parse_case(plate_description())
+    problem = plate_problem(case, "P1", 1.0)
+    coarse, fine = (plate_ray_counts(case, "P1", problem, r).total for r in (1.0, 1.5))
+    assert fine > coarse
+
+
+def test_solve_reports_the_estimate(tmp_path, capsys):
+    path = tmp_path / "plate.toml"
+    from assembly.generate import description_toml
+
+    path.write_text(description_toml(plate_description(resolution=0.8)))
+    out = tmp_path / "out.json"
+    assert main(["solve", str(path), "--json", str(out), "--max-rows", "0"]) == 0
+    estimate = json.loads(out.read_text())["error_estimate"]
+    assert set(estimate["plates"]) == {"P1"} and estimate["total"] == estimate["plates"]["P1"]
+    error, _ = plate_error(155.0, 0.8)
+    assert EFFECTIVITY[0] <= estimate["total"] / error <= EFFECTIVITY[1]
+    assert "estimated error of w" in capsys.readouterr().out
+    assert main(["solve", str(path), "--tolerance", "1e-4", "--json", str(out),
+                 "--max-rows", "0"]) == 0
+    estimate = json.loads(out.read_text())["error_estimate"]
+    assert estimate["total"] <= 1e-4 and estimate["resolution"] > 0.8
+    assert main(["solve", str(path), "--frequency", "0.01", "--tolerance", "1e-3"]) == 2
+    assert "plate P1" in capsys.readouterr().err
+    assert np.isfinite(estimate["seconds"])
