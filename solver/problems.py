@@ -45,6 +45,21 @@ MAX_GRID_POINTS = 100_000
 vibrometer scan has hundreds to a few thousands; a finer grid is most likely a unit mistake
 (millimetres for metres) and would make simulating and sampling the field crawl."""
 
+LOG10_RANGE = 100.0
+"""Decades either side of 1 allowed for a plate's bending stiffness (N m) and mass per area
+(kg/m^2): steel sheet to concrete slab span 1e-3..1e9 and 1..1e3; beyond 1e100 the fourth
+powers and exponentials of the solve overflow."""
+
+LOW_FREQUENCY_KAPPA_R = 0.3
+r"""Smallest :math:`\kappa_0R_{max}` accepted (plate half-diagonal in radians of bending wave).
+On the simply supported 0.5 x 0.4 m plate the error is 4e-3 at 0.3 (0.3 Hz), 3-27 % at 0.2
+and 14 % at 0.1, whatever the resolution: the rays of a plate that small against the
+wavelength are nearly linearly dependent and cannot carry a quasi-static field."""
+
+HIGH_FREQUENCY_KAPPA_R = 1e4
+r"""Largest :math:`\kappa_0R_{max}` looked at further (the ray-count limit
+:data:`MAX_RAYS_PER_PLATE` refuses far smaller ones; this only keeps the counts finite)."""
+
 KIRCHHOFF_WAVELENGTH = 6.0
 """Kirchhoff (thin-plate) theory holds while the bending wavelength exceeds this many
 thicknesses (the usual lambda > 6 h); shorter waves feel shear and rotary inertia (Mindlin)."""
@@ -170,6 +185,56 @@ def _shown(counts, family):
     return str(values[0]) if len(set(values)) == 1 else "/".join(map(str, values))
 
 
+def _scale_issues(case, frequencies, location):
+    r"""Magnitudes a double-precision Trefftz solve cannot take, found before computing them.
+
+    Computed in logarithms, so that absurd inputs (a thickness of 1e300, a frequency of
+    1e-300) are reported rather than overflowing: the bending stiffness and the mass per area
+    must stay within :data:`LOG10_RANGE` decades of 1, and at every frequency each plate's
+    :math:`\kappa_0R_{max}` (half-diagonal in radians of bending wave) must lie between
+    :data:`LOW_FREQUENCY_KAPPA_R` and :data:`HIGH_FREQUENCY_KAPPA_R`. A plate thicker than a
+    tenth of its smaller side warns (thin-plate theory needs h much smaller than the plate).
+    """
+    errors, warnings = [], []
+    low, high = min(frequencies), max(frequencies)
+    for pid, plate in case.plates.items():
+        material = case.materials[plate.material]
+        log_d = (math.log10(material.young_modulus) + 3.0 * math.log10(plate.thickness)
+                 - math.log10(12.0 * (1.0 - material.poisson_ratio**2)))
+        log_mass = math.log10(material.density) + math.log10(plate.thickness)
+        if abs(log_d) > LOG10_RANGE or abs(log_mass) > LOG10_RANGE:
+            errors.append((("plates", pid, "thickness"),
+                           f"plate {pid}: bending stiffness E h^3 / (12 (1 - nu^2)) = "
+                           f"1e{log_d:.0f} N m and mass per area rho h = 1e{log_mass:.0f} "
+                           "kg/m^2 are beyond what a double-precision solve can take; give the "
+                           "thickness (m), young_modulus (Pa) and density (kg/m^3) in SI units"))
+            continue
+        r_max = 0.5 * math.hypot(*plate.size)
+        if plate.thickness > 0.1 * min(plate.size):
+            warnings.append((("plates", pid, "thickness"),
+                             f"plate {pid}: thickness {plate.thickness:g} m is more than a tenth "
+                             f"of its smaller side ({min(plate.size):g} m), beyond thin-plate "
+                             "(Kirchhoff) theory: shear and rotary inertia are neglected"))
+        for f in sorted({low, high}):
+            log_kr = (log_mass + 2.0 * math.log10(2.0 * math.pi * f) - log_d) / 4.0 \
+                + math.log10(r_max)
+            if log_kr < math.log10(LOW_FREQUENCY_KAPPA_R):
+                f_min = float(f"{f * (LOW_FREQUENCY_KAPPA_R / 10.0**log_kr) ** 2:.2g}")
+                errors.append((location(f),
+                               f"plate {pid} at {f:g} Hz: its half-diagonal is "
+                               f"{10.0**log_kr / (2 * math.pi):.1g} bending wavelength, far "
+                               "below its first resonance, where the ray basis does not "
+                               "converge (errors of 10 % and more on a simply supported plate); "
+                               f"results cannot be trusted below about {f_min:g} Hz for this "
+                               "plate: give frequencies above it"))
+            elif log_kr > math.log10(HIGH_FREQUENCY_KAPPA_R):
+                errors.append((location(f),
+                               f"plate {pid} at {f:g} Hz: its half-diagonal is "
+                               f"1e{log_kr - math.log10(2 * math.pi):.0f} bending wavelengths; "
+                               "lower the frequency (or check its unit: Hz)"))
+    return errors, warnings
+
+
 def description_issues(case, frequencies=None, need_loads=False):
     """Physical and numerical sanity of a valid description: ``(errors, warnings)``.
 
@@ -227,6 +292,14 @@ def description_issues(case, frequencies=None, need_loads=False):
             "frequencies", list(frequencies).index(f))
     else:
         f, f_loc = max(frequencies), ("--frequency",)
+    scale_errors, scale_warnings = _scale_issues(
+        case, frequencies, lambda g: f_loc if g == f else (
+            ("--frequency",) if f_loc == ("--frequency",) else
+            ("frequency",) if case.frequency is not None else
+            ("frequencies", list(frequencies).index(g))))
+    warnings += scale_warnings
+    if scale_errors:  # the quantities below would overflow or vanish
+        return errors + scale_errors, warnings
     settings = case.discretisation
     tau = settings.edge_wavenumber_ratio
     simulation = settings.resolution * case.measurement.resolution

@@ -188,3 +188,69 @@ def test_solve_reports_the_estimate(tmp_path, capsys):
     assert main(["solve", str(path), "--frequency", "0.01", "--tolerance", "1e-3"]) == 2
     assert "plate P1" in capsys.readouterr().err
     assert np.isfinite(estimate["seconds"])
+
+
+def _variant(change, frequency):
+    data = plate_description()
+    data["frequency"] = frequency
+    kind, value = change
+    if kind == "eta":
+        data["materials"]["steel"]["loss_factor"] = value
+    elif kind == "at":
+        data["loads"][0]["at"] = list(value)
+    elif kind == "width":
+        data["plates"]["P1"]["size"] = [value, 0.4]
+        data["loads"][0]["at"] = [0.5 * value, 0.2]
+    elif kind in ("young_modulus", "density"):
+        data["materials"]["steel"][kind] = value
+    elif kind == "thickness":
+        data["plates"]["P1"]["thickness"] = value
+    return data
+
+
+# The table of inputs that gave silent wrong fields or tracebacks, each with what vtcr
+# now does: "accurate" (exit 0, estimate below 1e-2 and no warning), "warned" (exit 0, the
+# estimated error printed and flagged, or a named physics warning) or "refused" (exit 2, one
+# line naming the field and the fix, nothing written).
+GUARD_RAILS = [
+    ("1 Hz", ("none", None), 1.0, "accurate", None),
+    ("1e-6 Hz", ("none", None), 1e-6, "refused", "below about 0.22 Hz"),
+    ("eta 1e-4 at resonance", ("eta", 1e-4), first_resonance(), "accurate", None),
+    ("eta 1e-12 at resonance", ("eta", 1e-12), first_resonance(), "warned", "estimated error"),
+    ("force 0.1 mm from an edge", ("at", (1e-4, 0.2)), 155.0, "warned", "estimated error"),
+    ("force 1 um from an edge", ("at", (1e-6, 0.2)), 155.0, "warned", "estimated error"),
+    ("plate 1 um wide", ("width", 1e-6), 155.0, "warned", "thin-plate"),
+    ("E 1e20", ("young_modulus", 1e20), 155.0, "refused", "far below its first resonance"),
+    ("density 1e-20", ("density", 1e-20), 155.0, "refused", "far below its first resonance"),
+    ("h 0.3 m", ("thickness", 0.3), 155.0, "warned", "thin-plate"),
+    ("h 1e300", ("thickness", 1e300), 155.0, "refused", "SI units"),
+    ("h 1e-300", ("thickness", 1e-300), 155.0, "refused", "SI units"),
+    ("f 1e-300", ("none", None), 1e-300, "refused", "below about"),
+    ("f 1e300", ("none", None), 1e300, "refused", "lower the frequency"),
+]
+
+
+@pytest.mark.parametrize("change, frequency, outcome, says",
+                         [row[1:] for row in GUARD_RAILS], ids=[row[0] for row in GUARD_RAILS])
+def test_guard_rails(tmp_path, capsys, change, frequency, outcome, says):
+    from assembly.generate import description_toml
+
+    path = tmp_path / "plate.toml"
+    path.write_text(description_toml(_variant(change, frequency)))
+    out = tmp_path / "out.json"
+    status = main(["solve", str(path), "--json", str(out), "--max-rows", "0"])
+    captured = capsys.readouterr()
+    text = captured.out + captured.err
+    assert "Traceback" not in text
+    if outcome == "refused":
+        assert status == 2 and not out.exists()
+        assert len(captured.err.strip().splitlines()) == 1 and says in captured.err
+        return
+    assert status == 0
+    estimate = json.loads(out.read_text())["error_estimate"]["total"]
+    if outcome == "accurate":
+        assert estimate < 1e-2 and "warning" not in text, text
+    else:
+        assert "warning" in text and says in text, text
+        if says == "estimated error":
+            assert estimate > 1e-2
