@@ -355,6 +355,47 @@ def interface_layout(case, problems, scale):
             _plate_unknowns(case, layout, corner_columns))
 
 
+def plate_loads(case, plate_id, boundary, counts, layout, corner_columns, unknowns):
+    r""":math:`B_i`: the plate's VTCR right-hand sides per unit interface unknown, over the
+    interface unknowns ``unknowns`` it sees (its joints' Legendre loads, its junction
+    corners' forces), with the signs of the formulation notes section 6.2."""
+    loads = np.zeros((boundary.corner_w.shape[1], len(unknowns)), dtype=complex)
+
+    def add(columns, values):
+        loads[:, _local(unknowns, columns)] += values
+
+    for jid, joint in case.joints.items():
+        length = case.edge_length(joint.sides[0])
+        slots = {name: np.arange(sl.start, sl.stop) for name, sl in layout[jid].items()}
+        for side_index, side in enumerate(joint.sides):
+            if side.plate != plate_id:
+                continue
+            traces = boundary.edges[side.edge]
+            sigma = traces.s if side_index == 0 else length - traces.s
+            psi = legendre_values(sigma, length, counts[jid])
+            add(slots["C"], edge_projection(traces, "moment", psi))
+            if "F" in slots:
+                sign = 1.0 if side_index == 0 else -1.0
+                add(slots["F"], sign * edge_projection(traces, "shear", psi))
+            elif "FA" in slots:
+                key = "FA" if side_index == 0 else "FB"
+                add(slots[key], edge_projection(traces, "shear", psi))
+    for (pid, c), column in corner_columns.items():
+        if pid == plate_id:
+            add([column], boundary.corner_w[c].conj()[:, None])
+    return loads
+
+
+def plate_transfer(case, plate_id, problem, boundary, counts, layout, corner_columns, unknowns):
+    r"""Admissibility of one plate: :math:`U_i^0 = K_i^{-1}F_i`, :math:`T_i = K_i^{-1}B_i` and
+    the reciprocal condition estimate of :math:`K_i`."""
+    K, F = assemble_plate(problem, boundary)
+    solve, rcond = factorise_dense(K)
+    loads = plate_loads(case, plate_id, boundary, counts, layout, corner_columns, unknowns)
+    solution = solve(np.column_stack([F, loads]))
+    return solution[:, 0], solution[:, 1:], rcond
+
+
 def build_assembly_system(case, frequency, resolution=None) -> AssemblySystem:
     """Plate admissibility blocks, interface layout, constraints and residual channels.
 
@@ -371,36 +412,11 @@ def build_assembly_system(case, frequency, resolution=None) -> AssemblySystem:
     counts, layout, junctions, corner_columns, n_s, unknowns = interface_layout(
         case, problems, scale)
 
-    # load operators B_i over the plate's own unknowns (plate equations: K_i U_i = F_i + B_i S)
-    loads = {pid: np.zeros((bases[pid].n_dof, len(unknowns[pid])), dtype=complex)
-             for pid in case.plates}
-
-    def add_load(pid, columns, values):
-        loads[pid][:, _local(unknowns[pid], columns)] += values
-
-    for jid, joint in case.joints.items():
-        length = case.edge_length(joint.sides[0])
-        slots = {name: np.arange(sl.start, sl.stop) for name, sl in layout[jid].items()}
-        for side_index, side in enumerate(joint.sides):
-            traces = boundaries[side.plate].edges[side.edge]
-            sigma = traces.s if side_index == 0 else length - traces.s
-            psi = legendre_values(sigma, length, counts[jid])
-            add_load(side.plate, slots["C"], edge_projection(traces, "moment", psi))
-            if "F" in slots:
-                sign = 1.0 if side_index == 0 else -1.0
-                add_load(side.plate, slots["F"], sign * edge_projection(traces, "shear", psi))
-            elif "FA" in slots:
-                key = "FA" if side_index == 0 else "FB"
-                add_load(side.plate, slots[key], edge_projection(traces, "shear", psi))
-    for (pid, c), column in corner_columns.items():
-        add_load(pid, [column], boundaries[pid].corner_w[c].conj()[:, None])
-
     u0, transfer, rcond = {}, {}, {}
     for pid in case.plates:
-        K, F = assemble_plate(problems[pid], boundaries[pid])
-        solve, rcond[pid] = factorise_dense(K)
-        solution = solve(np.column_stack([F, loads[pid]]))
-        u0[pid], transfer[pid] = solution[:, 0], solution[:, 1:]
+        u0[pid], transfer[pid], rcond[pid] = plate_transfer(
+            case, pid, problems[pid], boundaries[pid], counts, layout, corner_columns,
+            unknowns[pid])
     t1 = time.perf_counter()
 
     system = AssemblySystem(frequency, problems, bases, unknowns, u0, transfer, n_s, layout,

@@ -17,7 +17,13 @@ from test_assemblies import D, LENGTHS, LY, NU, OMEGA, RHO, H, chain_description
 
 from assembly import parse_case
 from solver import solve_case
-from solver.estimate import ToleranceError, estimate_error, plate_l2_rule, solve_to_tolerance
+from solver.estimate import (
+    ToleranceError,
+    estimate_error,
+    plate_l2_rule,
+    relative_l2_errors,
+    solve_to_tolerance,
+)
 from solver.problems import plate_problem, plate_ray_counts
 from updating.cli import main
 
@@ -254,3 +260,30 @@ def test_guard_rails(tmp_path, capsys, change, frequency, outcome, says):
         assert "warning" in text and says in text, text
         if says == "estimated error":
             assert estimate > 1e-2
+
+
+def test_grid_estimate_against_a_finer_solve():
+    """A 3 x 3 grid (junction corners, two joint directions): the estimate against the
+    difference from a solve at twice the resolution (converged to about 1e-6 there)."""
+    from assembly.generate import plate_grid
+
+    case = parse_case(plate_grid(3, 3))
+    solution = solve_case(case)
+    estimate = estimate_error(case, solution)
+    reference = solve_case(case, resolution=2.0, residuals=False)
+    integrals = relative_l2_errors(solution, reference.plates)
+    error = math.sqrt(sum(e for e, _ in integrals.values()) / sum(n for _, n in integrals.values()))
+    assert error > 1e-4
+    assert EFFECTIVITY[0] <= estimate.total / error <= EFFECTIVITY[1], (error, estimate.total)
+
+
+def test_unaffordable_estimate_is_skipped_with_its_reason(monkeypatch):
+    import solver.estimate
+
+    monkeypatch.setattr(solver.estimate, "ENRICHED_SOLVE_SECONDS", 0.0)
+    case = parse_case(chain_description([{"kind": "hinge", "log10_stiffness": 2.5}]))
+    estimate = estimate_error(case, solve_case(case))
+    assert estimate.total is None and estimate.method == "skipped"
+    assert "enriched solve" in estimate.reason
+    with pytest.raises(ToleranceError, match="cannot be checked"):
+        solve_to_tolerance(case, case.frequencies[0], 1e-3)

@@ -306,6 +306,10 @@ def _solve_with_estimate(case, frequency, tolerance, estimate, source):
 def _estimate_lines(console, estimate):
     if estimate is None:
         return
+    if estimate.total is None:
+        _warn(console, f"the discretisation error is not estimated: {estimate.reason}; give "
+                       "--no-estimate to skip it knowingly")
+        return
     plates = estimate.plates
     worst = estimate.worst_plate()
     detail = (f"; largest on plate {worst} ({plates[worst]:.1e})" if len(plates) > 1 else "")
