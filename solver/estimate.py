@@ -101,8 +101,7 @@ class ErrorEstimate:
     def to_json(self):
         return {"total": self.total, "plates": dict(self.plates),
                 "resolution": self.resolution, "enriched_resolution": self.enriched_resolution,
-                "method": self.method, "enrichment": ENRICHMENT, "reason": self.reason,
-                "seconds": self.seconds}
+                "method": self.method, "enrichment": ENRICHMENT, "reason": self.reason}
 
 
 def plate_l2_rule(problem):

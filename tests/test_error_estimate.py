@@ -193,7 +193,7 @@ def test_solve_reports_the_estimate(tmp_path, capsys):
     assert estimate["total"] <= 1e-4 and estimate["resolution"] > 0.8
     assert main(["solve", str(path), "--frequency", "0.01", "--tolerance", "1e-3"]) == 2
     assert "plate P1" in capsys.readouterr().err
-    assert np.isfinite(estimate["seconds"])
+    assert np.isfinite(json.loads(out.read_text())["timings"]["estimate"])
 
 
 def _variant(change, frequency):
@@ -287,3 +287,23 @@ def test_unaffordable_estimate_is_skipped_with_its_reason(monkeypatch):
     assert "enriched solve" in estimate.reason
     with pytest.raises(ToleranceError, match="cannot be checked"):
         solve_to_tolerance(case, case.frequencies[0], 1e-3)
+
+
+def test_localise_update_and_frf_report_the_estimate(tmp_path):
+    """localise and update estimate the model's response at its initial parameters (the same
+    number solve gives for it), frf at its strongest peak and its top frequency; --no-estimate
+    leaves it out."""
+    case = "cases/two_plates.toml"
+    solved, localised, updated, swept = (tmp_path / f"{n}.json" for n in "sluf")
+    assert main(["solve", case, "--json", str(solved), "--max-rows", "0"]) == 0
+    assert main(["localise", case, "--json", str(localised)]) == 0
+    expected = json.loads(solved.read_text())["error_estimate"]
+    estimate = json.loads(localised.read_text())["error_estimate"]
+    assert estimate["total"] == pytest.approx(expected["total"], rel=1e-6)
+    assert estimate["frequencies"]["155"]["plates"] == pytest.approx(expected["plates"], rel=1e-6)
+    assert main(["update", case, "--json", str(updated), "--run", str(tmp_path / "r.json"),
+                 "--no-estimate"]) in (0, 3)
+    assert json.loads(updated.read_text())["error_estimate"] is None
+    assert main(["frf", case, "--band", "150", "160", "--points", "3", "--json", str(swept)]) == 0
+    estimate = json.loads(swept.read_text())["error_estimate"]
+    assert "160" in estimate["frequencies"] and 0 < estimate["total"] < 1e-2

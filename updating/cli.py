@@ -256,7 +256,8 @@ def cmd_solve(args):
             "frequency": frequency,
             "unknowns": solution.n_unknowns,
             "interface_unknowns": system.n_s if system is not None else 0,
-            "timings": {phase: float(t) for phase, t in solution.timings.items()},
+            "timings": dict({phase: float(t) for phase, t in solution.timings.items()},
+                            **({"estimate": estimate.seconds} if estimate is not None else {})),
             "condition_estimate": solution.condition_estimate,
             "error_estimate": estimate.to_json() if estimate is not None else None,
             "warnings": list(solution.warnings),
@@ -337,6 +338,12 @@ def _measurements(case, args):
     return simulate_measurements(case, executor=_executor(args, case))
 
 
+def _estimate_option(parser):
+    parser.add_argument("--no-estimate", action="store_true",
+                        help="skip the a-posteriori estimate of the discretisation error (an "
+                             "enriched solve per frequency, two to three times a solve)")
+
+
 def _measurement_options(parser):
     parser.add_argument("--measurements", metavar="FILE",
                         help="measured field: CSV plate,x,y,re,im[,frequency], or a UFF file "
@@ -366,9 +373,46 @@ def _modified_problem(case, args, measurements=None):
 
     if measurements is None:
         measurements = _checked_measurements(case, args)
-    problem = ModifiedProblem(case, measurements, executor=_executor(args, case))
+    problem = ModifiedProblem(case, measurements, executor=_executor(args, case),
+                              estimate=not getattr(args, "no_estimate", True))
     _problem_warnings(args, problem)
+    _model_estimate_lines(_console(args), problem.error_estimates)
     return problem
+
+
+def _model_estimate_lines(console, estimates, what="of the model at its initial parameters"):
+    """One line: the estimated error of the model's response, per frequency."""
+    if not estimates:
+        return
+    skipped = [e for e in estimates.values() if e.total is None]
+    if skipped:
+        _warn(console, f"the discretisation error is not estimated: {skipped[0].reason}; give "
+                       "--no-estimate to skip it knowingly")
+        return
+    worst = max(estimates.values(), key=lambda e: e.total)
+    plate = worst.worst_plate()
+    console.print(f"estimated error of w {what} (relative L2): "
+                  + ", ".join(f"{e.total:.1e} at {f:g} Hz" for f, e in estimates.items())
+                  + (f"; largest on plate {plate} ({worst.plates[plate]:.1e})"
+                     if len(worst.plates) > 1 else ""))
+    if worst.total > ESTIMATE_WARNING:
+        _warn(console, f"the estimated error {worst.total:.1e} exceeds {ESTIMATE_WARNING:g}: "
+                       "raise [discretisation] resolution")
+
+
+def _estimates_json(estimates):
+    """``error_estimate`` of a multi-frequency JSON: the worst total and plate values over the
+    frequencies, and every frequency's estimate."""
+    if not estimates:
+        return None
+    values = list(estimates.values())
+    known = all(e.total is not None for e in values)
+    plates = {}
+    for e in values:
+        for pid, v in e.plates.items():
+            plates[pid] = max(plates.get(pid, 0.0), v)
+    return {"total": max(e.total for e in values) if known else None, "plates": plates,
+            "frequencies": {f"{f:g}": e.to_json() for f, e in estimates.items()}}
 
 
 def cmd_localise(args):
@@ -386,7 +430,8 @@ def cmd_localise(args):
                       f"{100 * step.residuals[joint]:.3f}", f"{100 * step.floors[joint]:.3f}")
     _console(args).print(table)
     if args.json:
-        write_json_atomic(args.json, step.to_json())
+        write_json_atomic(args.json, dict(step.to_json(),
+                                          error_estimate=_estimates_json(problem.error_estimates)))
     return 0
 
 
@@ -487,7 +532,8 @@ def cmd_update(args):
     if args.json:
         sizes = dict(zip(("ray_unknowns", "interface_unknowns", "constraints"), problem.size))
         write_json_atomic(args.json, result_json(
-            result, {"case": case.name, "sizes": sizes, "timings_s": timings}, bounds))
+            result, {"case": case.name, "sizes": sizes, "timings_s": timings,
+                     "error_estimate": _estimates_json(problem.error_estimates)}, bounds))
     if args.report:
         write_text_atomic(args.report, result_markdown(result, case.name, bounds, _truth(case, args)))
     if args.plot:
@@ -577,10 +623,13 @@ def cmd_frf(args):
                                 executor=executor,
                                 on_round=lambda n: advance(f"{n} frequencies solved", 0))
     _print_sweep(console, case, sweep, len(order))
+    estimates = {} if args.no_estimate else _sweep_estimates(case, sweep)
+    _model_estimate_lines(console, estimates, "of the sweep at its strongest peak and its top")
     if args.csv:
         write_measurements(args.csv, sweep.measurements(), sweep=True)
     if args.json:
-        write_json_atomic(args.json, sweep.to_json(order, nodes))
+        write_json_atomic(args.json, dict(sweep.to_json(order, nodes),
+                                          error_estimate=_estimates_json(estimates)))
     if args.uff:
         from updating.uff_export import write_uff
 
@@ -596,6 +645,18 @@ def cmd_frf(args):
         _warn(console, f"the power balance misses by more than {BALANCE_TOLERANCE:.0%} at "
                        f"{flagged} frequencies: raise [discretisation] resolution")
     return 0
+
+
+def _sweep_estimates(case, sweep):
+    """Error estimates at the sweep's strongest response peak and at its highest frequency
+    (where the ray counts of the rule are the tightest); two solves and two enriched solves,
+    not one per frequency of the sweep."""
+    from solver import solve_case
+    from solver.estimate import estimate_error
+
+    rms = sweep.spatial_rms()
+    chosen = sorted({float(sweep.frequencies[int(np.argmax(rms))]), float(sweep.frequencies[-1])})
+    return {f: estimate_error(case, solve_case(case, f, residuals=False)) for f in chosen}
 
 
 def _print_sweep(console, case, sweep, n_points):
@@ -725,9 +786,7 @@ def build_parser():
                             "is below TOL, or exit 2 naming the plate that cannot reach it "
                             "(default [discretisation] tolerance; none: solve at the "
                             "description's resolution)")
-    solve.add_argument("--no-estimate", action="store_true",
-                       help="skip the a-posteriori error estimate (an enriched solve, about "
-                            "two to three times the cost of the solve itself)")
+    _estimate_option(solve)
     solve.set_defaults(run=cmd_solve)
 
     simulate = sub.add_parser("simulate", help="simulated experiment from the true joints")
@@ -741,6 +800,7 @@ def build_parser():
     localise = sub.add_parser("localise", help="per-joint residuals at the model's parameters")
     localise.add_argument("case")
     _measurement_options(localise)
+    _estimate_option(localise)
     localise.add_argument("--json")
     _compute_options(localise)
     localise.set_defaults(run=cmd_localise)
@@ -748,6 +808,7 @@ def build_parser():
     update = sub.add_parser("update", help="localisation-correction loop")
     update.add_argument("case")
     _measurement_options(update)
+    _estimate_option(update)
     update.add_argument("--json")
     update.add_argument("--report", help="Markdown report to write")
     update.add_argument("--plot", metavar="DIR",
@@ -777,6 +838,7 @@ def build_parser():
 
     frf = sub.add_parser("frf", help="frequency response and power flow over a band")
     frf.add_argument("case", help="assembly description (TOML)")
+    _estimate_option(frf)
     frf.add_argument("--band", nargs=2, type=float, required=True, metavar=("F1", "F2"),
                      help="frequency band (Hz)")
     grid = frf.add_mutually_exclusive_group()

@@ -31,6 +31,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from solver.estimate import estimate_error
 from solver.interface import Block, JointCondensation
 from solver.plate import evaluate_field
 from solver.rays import ray_field
@@ -105,6 +106,7 @@ class _Frequency:
     operators: list  # Block per measured plate: w at its points per unit S, and at S = 0
     data: list  # measured values per measured plate
     initial_s: np.ndarray  # the model response's S at p0 (the E_ref solve)
+    estimate: object = None  # solver.estimate.ErrorEstimate of that response, if asked for
 
     def blocks(self, data, r, norm=None):
         r"""The measurement term :math:`r E_{mes}^2` as Blocks, for measured values ``data``
@@ -121,12 +123,14 @@ class _Frequency:
                 for pid, op, v in zip(self.plates, self.operators, data)}
 
 
-def _frequency_data(case, resolution, task):
+def _frequency_data(case, resolution, estimate, task):
     """One measured frequency's :class:`_Frequency` (a task of :class:`ModifiedProblem`'s
-    executor): its system, :math:`E_{ref}` at p0 and the measurement operators."""
+    executor): its system, :math:`E_{ref}` at p0, the measurement operators and, if
+    ``estimate``, the discretisation error estimate of the model's response at p0."""
     frequency, measured_plates = task
     system = build_assembly_system(case, frequency, resolution)
-    initial = solve_assembly(case, frequency, system=system)  # fixes E_ref at p0
+    initial = solve_assembly(case, frequency, resolution, system=system)  # fixes E_ref at p0
+    error = estimate_error(case, initial, resolution) if estimate else None
     plates, operators, data = [], [], []
     for pid, (points, measured) in measured_plates.items():
         problem, basis = system.problems[pid], system.bases[pid]
@@ -135,7 +139,7 @@ def _frequency_data(case, resolution, task):
         plates.append(pid)
         operators.append(system.affine_plate_operator(pid, rays, particular))
         data.append(np.asarray(measured))
-    return _Frequency(system, plates, operators, data, initial.interface)
+    return _Frequency(system, plates, operators, data, initial.interface, error)
 
 
 class ModifiedProblem:
@@ -152,9 +156,13 @@ class ModifiedProblem:
         Discretisation resolution (default ``[discretisation] resolution``).
     executor : updating.executor.Executor, optional
         Builds the frequencies in parallel (default: one after the other, in this process).
+    estimate : bool, optional
+        Estimate the discretisation error of the model's response at p0 at each frequency
+        (:attr:`error_estimates`; an enriched solve each).
     """
 
-    def __init__(self, case, measurements, r=None, resolution=None, executor=None):
+    def __init__(self, case, measurements, r=None, resolution=None, executor=None,
+                 estimate=False):
         self.case = case
         self.r = case.updating.r if r is None else r
         self.alpha = dict(case.updating.alpha)
@@ -162,9 +170,16 @@ class ModifiedProblem:
         self._last = None  # (parameters, {frequency: InterfaceFactor}) of the last evaluation
         tasks = [(frequency, measurements.data[frequency])
                  for frequency in measurements.frequencies]
-        build = functools.partial(_frequency_data, case, resolution)
+        build = functools.partial(_frequency_data, case, resolution, estimate)
         built = executor.map(build, tasks) if executor else [build(task) for task in tasks]
         self.frequencies = {frequency: data for (frequency, _), data in zip(tasks, built)}
+
+    @property
+    def error_estimates(self):
+        """``{frequency: ErrorEstimate}`` of the model's response at p0 (empty unless built
+        with ``estimate=True``)."""
+        return {f: data.estimate for f, data in self.frequencies.items()
+                if data.estimate is not None}
 
     def initial_parameters(self):
         """``{joint: {log10_stiffness, loss_factor, mass}}`` of the model."""
