@@ -79,7 +79,7 @@ from solver.plate import (
     evaluate_field,
     factorise_dense,
 )
-from solver.interface import Block, factorise_interface
+from solver.interface import Block, factorise_interface, residual_weight
 from solver.power import kinetic_energy
 from solver.problems import plate_basis, plate_problem
 from solver.rays import EDGES
@@ -98,6 +98,14 @@ __all__ = [
 ]
 
 KINEMATIC_DEFLECTION = frozenset({"clamped", "simply_supported"})
+
+RIGID_CROSSOVER = 1e3
+r"""Crossover of the joint residuals to compliance form, in units of the plates' own
+stiffness: :math:`10^3D\kappa_0` for rotation (N), :math:`10^3D\kappa_0^3` for a line mass
+(:math:`\omega^2\mu`, N/m^2). A rotational spring :math:`10^3` times stiffer than the plate's
+bending stiffness over a wavelength (log10 k = 5.8 for 1 mm steel at 250 Hz) makes a joint
+rigid to 1e-3 of the plates' rotations; above it the residual is measured in compliance form
+(:func:`solver.interface.residual_weight`), whose weight no longer grows with k."""
 
 
 def interface_function_count(kappa0, length, resolution=1.0):
@@ -138,20 +146,22 @@ class Channel:
     kind: str
     load: Block
     kinematic: Block
+    crossover: float = math.inf
 
     def samples(self, s, c):
         """Weighted residual samples :math:`W^{1/2}r` at interface unknowns ``s``."""
         return self.load.residual(s) - c * self.kinematic.residual(s)
 
     def energy(self, s, c):
-        r""":math:`e^2 = \int|r|^2\,d\sigma / (2\,\mathrm{Re}\,c)` (J)."""
+        r""":math:`e^2 = g(c)\int|r|^2\,d\sigma` (J), :math:`g = 1/(2\,\mathrm{Re}\,c)` below
+        the crossover (:func:`solver.interface.residual_weight`)."""
         r = self.samples(s, c)
-        return float(np.vdot(r, r).real) / (2.0 * c.real)
+        return float(np.vdot(r, r).real) * residual_weight(c, self.crossover)
 
     def block(self, c, kappa):
-        r"""The rows :math:`\sqrt{\kappa/(2\mathrm{Re}\,c)}\,W^{1/2}r` as one Block over
+        r"""The rows :math:`\sqrt{\kappa g(c)}\,W^{1/2}r` as one Block over
         :attr:`kinematic` ``.index`` (the load unknowns are a subset of it)."""
-        scale = math.sqrt(kappa / (2.0 * c.real))
+        scale = math.sqrt(kappa * residual_weight(c, self.crossover))
         matrix = -c * self.kinematic.matrix
         matrix[:, np.searchsorted(self.kinematic.index, self.load.index)] += self.load.matrix
         return Block(self.kinematic.index, scale * matrix,
@@ -443,10 +453,14 @@ def build_assembly_system(case, frequency, resolution=None) -> AssemblySystem:
                          np.zeros(len(sigma), dtype=complex))
 
         rotation_jump = _scaled(_union(ta["slope"], tb["slope"]), root_w)
-        channels.append(Channel(jid, "rotation", unknown("C"), rotation_jump))
+        stiffness, kappa0 = max((problems[p].bending_stiffness.real, problems[p].kappa.real)
+                                for p in (a.plate, b.plate))
+        channels.append(Channel(jid, "rotation", unknown("C"), rotation_jump,
+                                RIGID_CROSSOVER * stiffness * kappa0))
         if "FA" in slots:
             mean_w = _scaled(_union(ta["w"], tb["w"]), 0.5 * root_w)
-            channels.append(Channel(jid, "mass", unknown("FA", "FB"), mean_w))
+            channels.append(Channel(jid, "mass", unknown("FA", "FB"), mean_w,
+                                    RIGID_CROSSOVER * stiffness * kappa0**3))
         if joint.kind == "coplanar":
             gap = _union(ta["w"], _scaled(tb["w"], -1.0))
             weighted = psi.T * wq

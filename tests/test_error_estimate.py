@@ -307,3 +307,4 @@ def test_localise_update_and_frf_report_the_estimate(tmp_path):
     assert main(["frf", case, "--band", "150", "160", "--points", "3", "--json", str(swept)]) == 0
     estimate = json.loads(swept.read_text())["error_estimate"]
     assert "160" in estimate["frequencies"] and 0 < estimate["total"] < 1e-2
+

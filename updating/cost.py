@@ -375,7 +375,8 @@ class JointCorrection:
             channels = [ch for ch in system.channels if ch.joint == joint]
             condensation = JointCondensation(
                 factors[frequency],
-                [(ch.load, ch.kinematic, kappa, params[joint, ch.kind]) for ch in channels])
+                [(ch.load, ch.kinematic, kappa, params[joint, ch.kind], ch.crossover)
+                 for ch in channels])
             self._frequencies[frequency] = (system.omega, [ch.kind for ch in channels],
                                             condensation)
             self._neighbourhood[frequency] = self._local_data(freq, problem.neighbourhood(joint))
