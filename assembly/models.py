@@ -844,10 +844,10 @@ class Discretisation(_Model):
     interface_functions : int, optional
         Number of functions per interface unknown (>= 1); None (default) = automatic.
     tolerance : float, optional
-        Largest accepted estimated relative L2 error of ``w`` (0 < tolerance < 1): ``solve``
-        raises the resolution until the a-posteriori estimate is below it, or stops naming
-        the plate that cannot reach it.  None (default): solve at ``resolution`` and report
-        the estimate.
+        Largest accepted estimated relative L2 error of ``w`` (0 < tolerance < 1): ``solve``,
+        the updating commands and the simulated experiment (to 0.3 of it) raise the resolution
+        until the a-posteriori estimate is below it, or stop naming the plate that cannot
+        reach it.  None (default): solve at ``resolution`` and report the estimate.
     plates : mapping of str to PlateDiscretisation, optional
         Per-plate overrides, ``[discretisation.plates.P1]``.
     """

@@ -179,12 +179,12 @@ class ToleranceError(ValueError):
     """The requested tolerance cannot be reached; the message names the plate and the cause."""
 
 
-def solve_to_tolerance(case, frequency, tolerance, max_refinements=4):
+def solve_to_tolerance(case, frequency, tolerance, max_refinements=4, resolution=None):
     r"""Solve, estimate, and raise the resolution until the estimate is below ``tolerance``.
 
     Each refinement multiplies every ray and interface count by :data:`ENRICHMENT` (the
     solution just used as the enriched reference becomes the next estimated one), starting
-    from the description's resolution.
+    from ``resolution`` (default the description's).
 
     Returns
     -------
@@ -201,7 +201,7 @@ def solve_to_tolerance(case, frequency, tolerance, max_refinements=4):
     """
     from solver.vtcr import solve_case
 
-    resolution = case.discretisation.resolution
+    resolution = case.discretisation.resolution if resolution is None else resolution
     solution = solve_case(case, frequency, resolution=resolution)
     history = []
     for refinement in range(max_refinements + 1):
@@ -229,7 +229,7 @@ def _tolerance_message(case, frequency, tolerance, history, solution, stalled):
     spans = 0.5 * math.hypot(*problem.size) * problem.kappa.real
     if not stalled:
         cause = ("it still decreases; start from a higher [discretisation] resolution than "
-                 f"{case.discretisation.resolution:g}")
+                 f"{history[0].resolution:g}")
     elif spans < QUASI_STATIC_KAPPA_R:
         cause = (f"the plate is far below its first resonances (its half-diagonal is "
                  f"{spans / (2 * math.pi):.2g} bending wavelength), where the ray basis converges "

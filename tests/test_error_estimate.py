@@ -308,3 +308,29 @@ def test_localise_update_and_frf_report_the_estimate(tmp_path):
     estimate = json.loads(swept.read_text())["error_estimate"]
     assert "160" in estimate["frequencies"] and 0 < estimate["total"] < 1e-2
 
+
+
+def test_tolerance_drives_the_model_and_the_simulated_experiment(tmp_path, monkeypatch):
+    """[discretisation] tolerance: localise raises the model's resolution until its response
+    meets the tolerance at every frequency, and the simulated experiment is solved to a tighter
+    one (0.3 of it) from its own finer start."""
+    from pathlib import Path
+
+    import updating.measurements
+
+    targets = []
+    original = updating.measurements.solve_to_tolerance
+
+    def recording(case, frequency, tolerance, **kwargs):
+        targets.append((tolerance, kwargs["resolution"]))
+        return original(case, frequency, tolerance, **kwargs)
+
+    monkeypatch.setattr(updating.measurements, "solve_to_tolerance", recording)
+    path = tmp_path / "tolerance.toml"
+    path.write_text(Path("cases/two_plates.toml").read_text()
+                    + "\n[discretisation]\ntolerance = 1e-4\n")
+    out = tmp_path / "out.json"
+    assert main(["localise", str(path), "--json", str(out)]) == 0
+    estimate = json.loads(out.read_text())["error_estimate"]
+    assert estimate["total"] <= 1e-4 and estimate["frequencies"]["155"]["resolution"] > 1.0
+    assert targets and all(t == pytest.approx(3e-5) and r > 1.0 for t, r in targets)

@@ -235,7 +235,7 @@ def cmd_solve(args):
     results = []
     for frequency in _frequencies(case, args):
         solution, estimate = _solve_with_estimate(case, frequency, tolerance,
-                                                  not args.no_estimate, args.case)
+                                                  not args.no_estimate)
         _solution_warnings(console, solution)
         _estimate_lines(console, estimate)
         if probes is None:
@@ -288,18 +288,14 @@ def cmd_solve(args):
 ESTIMATE_WARNING = 1e-2
 
 
-def _solve_with_estimate(case, frequency, tolerance, estimate, source):
+def _solve_with_estimate(case, frequency, tolerance, estimate):
     """A solve and its error estimate: to ``tolerance`` if given, else at the description's
     resolution (estimate None when not wanted)."""
     from solver import solve_case
-    from solver.estimate import ToleranceError, estimate_error, solve_to_tolerance
-    from updating.files import InputError
+    from solver.estimate import estimate_error, solve_to_tolerance
 
     if tolerance is not None:
-        try:
-            return solve_to_tolerance(case, frequency, tolerance)
-        except ToleranceError as err:
-            raise InputError(f"{source}: {err}") from None
+        return solve_to_tolerance(case, frequency, tolerance)
     solution = solve_case(case, frequency)
     return solution, estimate_error(case, solution) if estimate else None
 
@@ -373,11 +369,28 @@ def _modified_problem(case, args, measurements=None):
 
     if measurements is None:
         measurements = _checked_measurements(case, args)
-    problem = ModifiedProblem(case, measurements, executor=_executor(args, case),
+    resolution = _resolution_for_tolerance(case, _console(args))
+    problem = ModifiedProblem(case, measurements, resolution=resolution,
+                              executor=_executor(args, case),
                               estimate=not getattr(args, "no_estimate", True))
     _problem_warnings(args, problem)
     _model_estimate_lines(_console(args), problem.error_estimates)
     return problem
+
+
+def _resolution_for_tolerance(case, console):
+    """With ``[discretisation] tolerance``: the resolution at which the model's response meets
+    it at every frequency (the highest any frequency needs); else None (the description's)."""
+    from solver.estimate import solve_to_tolerance
+
+    tolerance = case.discretisation.tolerance
+    if tolerance is None:
+        return None
+    resolution = max(solve_to_tolerance(case, f, tolerance)[1].resolution
+                     for f in case.frequencies)
+    console.print(f"resolution {resolution:.3g} meets the tolerance {tolerance:g} at every "
+                  "frequency (\\[discretisation] tolerance)")
+    return resolution
 
 
 def _model_estimate_lines(console, estimates, what="of the model at its initial parameters"):
@@ -876,6 +889,7 @@ def main(argv=None):
     from assembly import DescriptionError
     from updating.files import InputError
 
+    from solver.estimate import ToleranceError
     from solver.vtcr import NumericalError
 
     parser = build_parser()
@@ -892,6 +906,9 @@ def main(argv=None):
     except (DescriptionError, InputError) as err:
         for line in str(err).splitlines():
             print(f"vtcr: {line}", file=sys.stderr)
+        return 2
+    except ToleranceError as err:
+        print(f"vtcr: {args.case}: {err}", file=sys.stderr)
         return 2
     except NumericalError as err:
         print(f"vtcr: numerical failure: {err}", file=sys.stderr)

@@ -17,6 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from solver import solve_case
+from solver.estimate import ToleranceError, solve_to_tolerance
 from updating.files import (
     InputError,
     parse_finite,
@@ -59,9 +60,25 @@ def add_noise(values, noise, rng):
     return values * (1.0 + rng.uniform(-noise, noise, size=values.shape))
 
 
+# With [discretisation] tolerance, the simulated experiment is solved to this fraction of it,
+# so that the "measured" field is tighter than the model it is compared with.
+SIMULATION_TIGHTENING = 0.3
+
+
 def _true_response(truth, scale, layout, frequency):
-    """``{plate: w at its layout points}`` of the true structure (an executor task)."""
-    solution = solve_case(truth, frequency, resolution=scale, residuals=False)
+    """``{plate: w at its layout points}`` of the true structure (an executor task): at
+    ``scale``, or from there to :data:`SIMULATION_TIGHTENING` times the description's
+    tolerance; when the Trefftz round-off floor does not allow that, to the tolerance itself
+    (from the finer start, so still tighter than the model), else the error names the plate."""
+    tolerance = truth.discretisation.tolerance
+    if tolerance is None:
+        solution = solve_case(truth, frequency, resolution=scale, residuals=False)
+    else:
+        try:
+            solution, _ = solve_to_tolerance(truth, frequency,
+                                             SIMULATION_TIGHTENING * tolerance, resolution=scale)
+        except ToleranceError:
+            solution, _ = solve_to_tolerance(truth, frequency, tolerance, resolution=scale)
     return {pid: solution.w(pid, points) for pid, points in layout.items()}
 
 
