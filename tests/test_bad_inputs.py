@@ -187,6 +187,8 @@ CATALOGUE: list[Bad] = [
     solve_probes(b"plate,x,y\nP\xe9,0.1,0.1\n", "row 2", "UTF-8", id="probe-not-utf8"),
     # ---------------------------------------------------------------- measurement CSV
     localise_measurements("plate,x,y,re,im\n", "no measurement rows", id="meas-no-rows"),
+    localise_measurements("plate,x,y,re,im\nP1,0.1,0.1," + "1" * 200_000 + ",0\n", "row 2",
+                          "not readable as CSV", id="meas-200-kB-cell"),
     localise_measurements("plate,x,y,re\nP1,0.1,0.1,1e-6\n", "lacks im", "plate,x,y,re,im",
                           id="meas-header"),
     localise_measurements("plate,x,y,re,im\nP1,0.1,0.1,0,0\nP1,0.2,0.1,0,0\nP2,0.1,0.1,0,0\n",
@@ -301,6 +303,9 @@ CATALOGUE: list[Bad] = [
                                      "--json", "{dir}/out.json"],
         ("notes.txt", "holds a file that is not a vtcr run", "--force"),
         files={"case.toml": TWO, "notes.txt": "my notes"}),
+    described(TWO + "".join(f"unknown_key_{i} = 1\n" for i in range(200)),
+              "unknown_key_0", "and 150 more problems not shown", lines=51,
+              id="toml-200-unknown-keys", command="check"),
     Bad("resume-missing-run", ["update", "{dir}/case.toml", "--resume", "{dir}/none.json",
                                "--json", "{dir}/out.json"],
         ("--resume", "none.json", "cannot read the run file"), files={"case.toml": TWO}),

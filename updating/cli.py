@@ -284,6 +284,9 @@ def cmd_solve(args):
     return 0
 
 
+# Problems of one input printed at most (a generated file can hold a million bad keys).
+MAX_PROBLEM_LINES = 50
+
 # Estimated errors above this are flagged (the accuracy the tests hold the rule to).
 ESTIMATE_WARNING = 1e-2
 
@@ -904,8 +907,12 @@ def main(argv=None):
             _check_description(args)
             return args.run(args)
     except (DescriptionError, InputError) as err:
-        for line in str(err).splitlines():
+        lines = str(err).splitlines()
+        for line in lines[:MAX_PROBLEM_LINES]:
             print(f"vtcr: {line}", file=sys.stderr)
+        if len(lines) > MAX_PROBLEM_LINES:
+            print(f"vtcr: ... and {len(lines) - MAX_PROBLEM_LINES} more problems not shown; "
+                  "fix these first", file=sys.stderr)
         return 2
     except ToleranceError as err:
         print(f"vtcr: {args.case}: {err}", file=sys.stderr)

@@ -113,6 +113,20 @@ def _read_text(path, what, header):
                          "(comma delimited)") from None
 
 
+def _records(reader, path, header_text):
+    """The reader's rows; a row the csv module cannot read (a cell beyond its field limit of
+    131072 characters, a quote left open to the end of the file) is an :class:`InputError`."""
+    while True:
+        try:
+            cells = next(reader)
+        except StopIteration:
+            return
+        except csv.Error as err:
+            raise InputError(f"{path}: row {reader.line_num}: not readable as CSV ({err}); "
+                             f"one point per row {header_text}, numbers of a few characters")
+        yield cells
+
+
 def read_csv_table(path, what, columns, optional=()):
     """Check a CSV file and its header; return its columns and its rows.
 
@@ -144,7 +158,8 @@ def read_csv_table(path, what, columns, optional=()):
     """
     header_text = ",".join(columns)
     reader = csv.reader(io.StringIO(_read_text(path, what, header_text)))
-    first = next((cells for cells in reader if any(cell.strip() for cell in cells)), None)
+    records = _records(reader, path, header_text)
+    first = next((cells for cells in records if any(cell.strip() for cell in cells)), None)
     if first is None:
         raise InputError(f"{path}: the {what} file is empty; write the header {header_text} "
                          "and one row per point")
@@ -179,7 +194,7 @@ def read_csv_table(path, what, columns, optional=()):
     index = {h: i for i, h in enumerate(header) if h in known}
 
     def rows():
-        for cells in reader:
+        for cells in records:
             if not any(cell.strip() for cell in cells):
                 continue
             number = reader.line_num
