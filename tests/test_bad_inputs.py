@@ -179,8 +179,6 @@ CATALOGUE: list[Bad] = [
                  id="probe-unknown-plate"),
     solve_probes("plate,x,y\nP1,0.6,0.1\n", "row 2", "outside plate P1", "plate-local metres",
                  id="probe-outside-plate"),
-    solve_probes("plate,x,y\nP1,0.1,0.1\n\nP1,0.1,0.1\n", "row 4", "repeats the point of row 2",
-                 id="probe-duplicate"),
     solve_probes("plate,x,y\n", "no probe rows", id="probe-no-rows"),
     solve_probes("plate,x,y\nP1,nan,0.1\nP9,0.1,0.1\nP1,0.1,9\n", "row 2", "row 3", "row 4",
                  lines=3, id="probe-all-rows-reported"),
@@ -665,3 +663,14 @@ def test_output_to_a_named_pipe_is_written_through(tmp_path: Path, capsys) -> No
     assert status == 0, lines
     assert json.loads(received[0])["frequency"] == 155.0
     assert stat.S_ISFIFO(pipe.stat().st_mode)
+
+
+def test_repeated_probe_points_are_output_twice(tmp_path: Path) -> None:
+    """Probes are outputs: a point given twice is solved once per row, not refused."""
+    (tmp_path / "case.toml").write_text(TWO)
+    (tmp_path / "p.csv").write_text("plate,x,y\nP1,0.1,0.1\nP2,0.2,0.1\nP1,0.1,0.1\n")
+    out = tmp_path / "out.json"
+    assert main(["solve", str(tmp_path / "case.toml"), "--probes", str(tmp_path / "p.csv"),
+                 "--json", str(out), "--no-estimate", "--max-rows", "0"]) == 0
+    rows = json.loads(out.read_text())["probes"]
+    assert [r["plate"] for r in rows] == ["P1", "P2", "P1"] and rows[0] == rows[2]

@@ -247,12 +247,15 @@ def test_missing_pyuff_one_line(experiment, tmp_path):
 
 
 def test_bad_map_rows_all_reported(experiment, tmp_path, capsys):
-    """Unknown plate, point outside its plate, non-numeric coordinate, duplicate node, and a
-    node that the UFF file lacks: all reported in one run."""
+    """Unknown plate, point outside its plate, non-numeric coordinate, duplicate node, two
+    nodes at one point (which would weigh that point twice), and a node that the UFF file
+    lacks: all reported in one run."""
     path = experiment_file(experiment, "bad_map.uff")
     good = experiment["map"].read_text().splitlines()
     bad = good + ["102,P9,0.1,0.1", "555,P1,0.6,0.1", "556,P1,abc,0.1", "557,P2,0.1,0.1"]
     bad[2] = "101," + bad[2].split(",", 1)[1]  # node 101 twice
+    node_3 = bad[3].split(",", 1)[0]
+    bad[3] = node_3 + "," + bad[1].split(",", 1)[1]  # two nodes at one point
     map_file = tmp_path / "map.csv"
     map_file.write_text("\n".join(bad) + "\n")
     status, err = run(["localise", str(experiment["case_file"]), "--measurements", str(path),
@@ -264,7 +267,8 @@ def test_bad_map_rows_all_reported(experiment, tmp_path, capsys):
     assert "point (0.6, 0.1) is outside plate P1" in text
     assert "column 'x': 'abc' is not a number" in text
     assert "node 557 has no dataset 58 in direction +Z or -Z" in text
-    assert len(err) == 5, err
+    assert f"row 4: node {node_3} is placed at the point of node 101 (row 2" in text
+    assert len(err) == 6, err
     with pytest.raises(InputError, match="already placed"):
         read_uff_map(map_file, experiment["case"])
 

@@ -228,11 +228,12 @@ def read_probes(path, case):
     ------
     InputError
         Missing, empty or non-UTF-8 file, wrong header or separator, unknown plate,
-        non-numeric or non-finite coordinate, a point outside its plate, a point or node given
-        twice, a node that is not a whole number >= 1, or no rows; every bad row is reported.
+        non-numeric or non-finite coordinate, a point outside its plate, a node given twice,
+        a node that is not a whole number >= 1, or no rows; every bad row is reported. A point
+        given twice is not a problem: probes are outputs, and the row is output twice.
     """
     columns = ("plate", "x", "y")
-    problems, rows, seen, seen_nodes = [], [], {}, {}
+    problems, rows, seen_nodes = [], [], {}
     present, table = read_csv_table(path, "probe", columns, optional=("node",))
     numbered = "node" in present
     for number, row in table:
@@ -246,12 +247,6 @@ def read_probes(path, case):
         except InputError as err:
             problems.extend(err.lines)
             continue
-        key = point_key(plate_id, x, y)
-        if key in seen:
-            problems.append(f"{path}: row {number}: repeats the point of row {seen[key]} "
-                            f"({plate_id}, {x:g}, {y:g}); remove one of the rows")
-            continue
-        seen[key] = number
         node = None
         if numbered:
             text = row["node"]

@@ -56,7 +56,7 @@ from pathlib import Path
 
 import numpy as np
 
-from updating.files import InputError, plate_point, read_csv_table
+from updating.files import InputError, plate_point, point_key, read_csv_table
 from updating.measurements import Measurements
 
 __all__ = ["UFF_SUFFIXES", "is_uff", "read_uff", "read_uff_map"]
@@ -133,7 +133,7 @@ def _map_rows(path, case):
         _, rows = read_csv_table(path, "UFF node map", columns)
     except InputError as err:
         return {}, err.lines
-    entries, problems = {}, []
+    entries, problems, points = {}, [], {}
     for number, row in rows:
         if row is None:
             problems.append(f"{path}: row {number}: more cells than the header's columns; "
@@ -153,6 +153,15 @@ def _map_rows(path, case):
             problems.append(f"{path}: row {number}, column 'node': node {node} is already "
                             f"placed on row {entries[node].row}; give each node once")
             continue
+        key = point_key(row["plate"], x, y)
+        if key in points:
+            other = entries[points[key]]
+            problems.append(f"{path}: row {number}: node {node} is placed at the point of node "
+                            f"{other.node} (row {other.row}: {row['plate']}, {x:g}, {y:g}); a "
+                            "point is measured once: remove one node, or average their "
+                            "measurements into one")
+            continue
+        points[key] = node
         entries[node] = MapEntry(node, row["plate"], x, y, number)
     if not entries and not problems:
         problems.append(f"{path}: no rows; add lines node,plate,x,y")
