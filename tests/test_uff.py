@@ -346,3 +346,22 @@ def test_line_picking_rule():
     assert "outside the measured band" in _pick_line(lines, 163.0)[1]
     assert _pick_line(np.array([155.0]), 155.0005) == (0, None)
     assert "not the single line 155.03 Hz" in _pick_line(np.array([155.03]), 155.0)[1]
+
+
+@pytest.mark.parametrize("content, says", [
+    (b"plate,x,y,re,im\nP1,0.1,0.1,1,0\n", "its first line is 'plate,x,y,re,im'"),
+    (bytes(range(256)) * 8, "it starts with binary data"),
+    (b"", "it is empty"),
+    (None, "is a directory, not a file"),
+], ids=["csv-content", "binary", "empty", "directory"])
+def test_a_file_that_is_not_uff_is_named_as_such(experiment, tmp_path, capsys, content, says):
+    """Not blamed on the node map (which is fine here): the file itself is named."""
+    path = tmp_path / "data.uff"
+    if content is None:
+        path.mkdir()
+    else:
+        path.write_bytes(content)
+    status, err = run(["localise", str(experiment["case_file"]), "--measurements", str(path),
+                       "--uff-map", str(experiment["map"])], capsys)
+    assert status == 2 and len(err) == 1, err
+    assert err[0].startswith(f"vtcr: {path}: ") and says in err[0], err

@@ -168,6 +168,18 @@ def _map_rows(path, case):
     return entries, problems
 
 
+def _first_line(path, length=60):
+    """What the file starts with, for a message: its first line cut to ``length``, or
+    "binary data" (or "nothing")."""
+    with open(path, "rb") as handle:
+        line = handle.readline(4 * length).decode("utf-8", errors="replace").rstrip("\r\n")
+    if not line:
+        return "it is empty"
+    if "\ufffd" in line or any(ord(c) < 32 and c != "\t" for c in line):
+        return "it starts with binary data"
+    return f"its first line is {line[:length] + ('...' if len(line) > length else '')!r}"
+
+
 def read_uff_map(path, case):
     """Read the UFF node correspondence table ``node,plate,x,y`` (plate-local metres).
 
@@ -455,9 +467,14 @@ def read_uff(path, case, uff_map):
                          "plate-local metres) to place its response nodes on the plates")
     entries, map_problems = _map_rows(uff_map, case)
     if not path.is_file():
-        raise InputError(map_problems + [f"{path}: no such file; give an existing UFF file "
+        what = "is a directory, not a file" if path.is_dir() else "no such file"
+        raise InputError(map_problems + [f"{path}: {what}; give an existing UFF file "
                                          "(datasets 58 or 58b)"])
     uff, types, functions, problems = _scan(pyuff, path)
+    if not types and not functions:  # not a universal file: say so rather than blame the map
+        raise InputError(f"{path}: holds no UFF dataset ({_first_line(path)}); give a "
+                         "universal file with datasets 58 or 58b, or a CSV measurement file "
+                         "named .csv")
     problems = map_problems + problems  # the valid map rows are still checked below
 
     z_functions = {}
