@@ -141,7 +141,7 @@ _EXAMPLES: dict[str, str] = {
     "discretisation.plates.*.edge_evanescent": "edge_evanescent = 24 (>= 0)",
     "discretisation.plates.*.corner": "corner = 1 (>= 0)",
     "measurement": "a [measurement] table",
-    "measurement.spacing": "spacing = 0.1 (m)",
+    "measurement.spacing": "spacing = 0.1 (m; default a fifth of the largest plate side)",
     "measurement.plates": 'plates = ["P1", "P2"]',
     "measurement.plates[]": 'plates = ["P1", "P2"]',
     "measurement.noise": "noise = 0.1 (fraction >= 0)",

@@ -881,6 +881,16 @@ class PointMeasurement(_Model):
     at: tuple[Real, Real]
 
 
+DEFAULT_GRID_FRACTION = 0.2
+"""Default measurement spacing, as a fraction of the largest plate side of the assembly."""
+
+
+def default_spacing(plates) -> float | None:
+    """:data:`DEFAULT_GRID_FRACTION` times the largest side of ``plates`` (None without any)."""
+    sides = [max(plate.size) for plate in plates.values() if plate is not None]
+    return DEFAULT_GRID_FRACTION * max(sides) if sides else None
+
+
 class Measurement(_Model):
     """Measurement grid of a (simulated) experiment (``[measurement]``).
 
@@ -892,7 +902,9 @@ class Measurement(_Model):
     Parameters
     ----------
     spacing : float, optional
-        Grid spacing in m, > 0.  Default 0.1.
+        Grid spacing in m, > 0.  Default: a fifth of the largest plate side of the assembly
+        (0.1 m for 0.5 m plates, the paper's grid), so that a description in other consistent
+        units (mm) gets the same grid.
     plates : tuple of str, optional
         Plates carrying the grid; None (default) = every plate; ``[]`` = no grid (only
         `points`).
@@ -907,7 +919,7 @@ class Measurement(_Model):
         Extra measurement points ``{plate, at = [x, y]}``.  Default none.
     """
 
-    spacing: Positive = 0.1
+    spacing: Positive | None = None
     plates: tuple[str, ...] | None = None
     noise: NonNegative = 0.0
     seed: Count = 1
@@ -1303,7 +1315,7 @@ def _cross_check(view: _View) -> list[tuple[Loc, str]]:  # noqa: C901 (a flat li
                 )
             seen.add(pid)
         gridded = set(plates or ()) if view.measurement.plates is None else seen
-        spacing = view.measurement.spacing
+        spacing = view.measurement.spacing or default_spacing(plates or {})
         earlier: dict[tuple[str, float, float], str] = {}
         for i, point in enumerate(view.measurement.points):
             plate = known_plate(
@@ -1474,6 +1486,9 @@ class Case(_Model):
     # ---------------------------------------------------------------- validation
     @model_validator(mode="after")
     def _check_references(self) -> Case:
+        if self.measurement.spacing is None:  # relative to the structure, not to the metre
+            object.__setattr__(self, "measurement", self.measurement.model_copy(
+                update={"spacing": default_spacing(self.plates)}))
         issues = _cross_check(
             _View(
                 materials=self.materials,

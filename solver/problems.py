@@ -45,6 +45,9 @@ MAX_GRID_POINTS = 100_000
 vibrometer scan has hundreds to a few thousands; a finer grid is most likely a unit mistake
 (millimetres for metres) and would make simulating and sampling the field crawl."""
 
+SI_PLAUSIBLE_SIZE = 100.0
+"""A plate side above this many metres is more likely in millimetres: warned, not refused."""
+
 LOG10_RANGE = 100.0
 """Decades either side of 1 allowed for a plate's bending stiffness (N m) and mass per area
 (kg/m^2): steel sheet to concrete slab span 1e-3..1e9 and 1..1e3; beyond 1e100 the fourth
@@ -197,6 +200,13 @@ def _scale_issues(case, frequencies, location):
     """
     errors, warnings = [], []
     low, high = min(frequencies), max(frequencies)
+    largest = max(max(plate.size) for plate in case.plates.values())
+    if largest > SI_PLAUSIBLE_SIZE:
+        warnings.append((("plates",),
+                         f"the largest plate side is {largest:g}: vtcr computes in any "
+                         "consistent unit system, but if these are millimetres its unit labels "
+                         "(m, Pa, kg/m^3, N/m) do not apply: read lengths in mm, stresses in "
+                         "MPa, densities in t/mm^3"))
     for pid, plate in case.plates.items():
         material = case.materials[plate.material]
         log_d = (math.log10(material.young_modulus) + 3.0 * math.log10(plate.thickness)

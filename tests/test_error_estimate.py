@@ -334,3 +334,29 @@ def test_tolerance_drives_the_model_and_the_simulated_experiment(tmp_path, monke
     estimate = json.loads(out.read_text())["error_estimate"]
     assert estimate["total"] <= 1e-4 and estimate["frequencies"]["155"]["resolution"] > 1.0
     assert targets and all(t == pytest.approx(3e-5) and r > 1.0 for t, r in targets)
+
+
+def test_a_description_in_millimetres_gives_the_same_field(tmp_path, capsys):
+    """mm / t / s (E in MPa, rho in t/mm^3, lengths in mm): no [measurement] table needed (the
+    default grid is a fifth of the largest plate side, as 0.1 m is for the SI description),
+    a warning that the labels are SI, and the same deflection. Equal to 1e-6 (measured 4e-8 to
+    4e-7): the ray amplitudes are ill-conditioned (condition estimates 1e17), so a change of
+    units, like a 1e-13 change of E, moves the solution at the level of the Trefftz floor."""
+    from assembly.generate import description_toml
+
+    si = plate_description()
+    mm = plate_description()
+    mm["materials"]["steel"].update(young_modulus=210e3, density=7.8e-9)
+    mm["plates"]["P1"].update(thickness=1.0, size=[500.0, 400.0])
+    mm["loads"][0]["at"] = [120.0, 310.0]
+    path = tmp_path / "mm.toml"
+    path.write_text(description_toml(mm))
+    assert main(["check", str(path)]) == 0
+    assert "millimetres" in capsys.readouterr().out
+    a, b = parse_case(si), parse_case(mm)
+    assert b.measurement.spacing == pytest.approx(1e3 * a.measurement.spacing)
+    assert b.measurement_points() and len(b.measurement_points()) == len(a.measurement_points())
+    points = np.array([[0.1, 0.1], [0.31, 0.22], [0.45, 0.35]])
+    w_si = solve_case(a).w("P1", points)
+    w_mm = solve_case(b).w("P1", 1e3 * points) * 1e-3
+    assert np.max(abs(w_mm - w_si)) / np.max(abs(w_si)) < 1e-6
