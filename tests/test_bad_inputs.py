@@ -674,3 +674,22 @@ def test_repeated_probe_points_are_output_twice(tmp_path: Path) -> None:
                  "--json", str(out), "--no-estimate", "--max-rows", "0"]) == 0
     rows = json.loads(out.read_text())["probes"]
     assert [r["plate"] for r in rows] == ["P1", "P2", "P1"] and rows[0] == rows[2]
+
+
+def test_every_option_has_help_with_its_default() -> None:
+    """Each argument of each command has a help text; one with a default states it."""
+    import argparse
+
+    from updating.cli import build_parser
+
+    parser = build_parser()
+    commands = parser._subparsers._group_actions[0].choices
+    for name, command in commands.items():
+        formatter = command._get_formatter()
+        for action in command._actions:
+            if isinstance(action, argparse._HelpAction):
+                continue
+            assert action.help, (name, action.dest)
+            text = formatter._get_help_string(action)
+            if action.option_strings and action.default not in (None, False):
+                assert "default" in text, (name, action.dest, text)

@@ -80,8 +80,24 @@ def _warn(console, line):
     console.print(f"[yellow]warning:[/] {escape(line)}", soft_wrap=True)
 
 
+class _DefaultsFormatter(argparse.HelpFormatter):
+    """Help that states each option's default, unless its text already does."""
+
+    def _get_help_string(self, action):
+        text = action.help or ""
+        if ("default" not in text and action.default not in (None, False, argparse.SUPPRESS)
+                and action.option_strings):
+            text += f" (default {action.default})"
+        return text
+
+
 class _Parser(argparse.ArgumentParser):
-    """Argument parser whose usage errors are one line ``vtcr: ...`` (exit status 2)."""
+    """Argument parser whose usage errors are one line ``vtcr: ...`` (exit status 2), and
+    whose help states every default."""
+
+    def __init__(self, *args, **kwargs):
+        kwargs.setdefault("formatter_class", _DefaultsFormatter)
+        super().__init__(*args, **kwargs)
 
     def error(self, message):
         self.exit(2, f"vtcr: {message}; see `{self.prog} --help`\n")
@@ -227,6 +243,7 @@ def _problem_warnings(args, problem):
 def cmd_solve(args):
     from solver import field_grid
     from updating.files import read_probes, write_json_atomic
+    from updating.measurements import measurement_layout
 
     case = _load(args)
     probes = read_probes(args.probes, case) if args.probes else None
@@ -238,10 +255,10 @@ def cmd_solve(args):
                                                   not args.no_estimate)
         _solution_warnings(console, solution)
         _estimate_lines(console, estimate)
-        if probes is None:
-            spacing = case.measurement.spacing
-            points = {pid: field_grid(case, pid, spacing) for pid in case.plates}
-            order = [(pid, i) for pid in case.plates for i in range(len(points[pid]))]
+        if probes is None:  # the measurement layout: [measurement] plates, grid and points
+            points = measurement_layout(case) or {
+                pid: field_grid(case, pid, case.measurement.spacing) for pid in case.plates}
+            order = [(pid, i) for pid in points for i in range(len(points[pid]))]
         else:
             points, order = probes.by_plate, probes.order
         values = {pid: solution.w(pid, pts) for pid, pts in points.items()}
@@ -334,7 +351,17 @@ def _measurements(case, args):
                          f"({', '.join(UFF_SUFFIXES)}); got --measurements {path or '(none)'}")
     if path:
         return read_measurements(path, case)
+    _warn_untrue_simulation(args, case)
     return simulate_measurements(case, executor=_executor(args, case))
+
+
+def _warn_untrue_simulation(args, case):
+    """A simulated experiment of a description without [truth] measures the model itself."""
+    if case.joints and not case.truth.joints:
+        _warn(_console(args), f"{args.case} has no [truth.joints] table: the simulated "
+                              "experiment is the model itself (its joints as described), so "
+                              "only noise and discretisation are left to find; add "
+                              "[truth.joints.ID] tables, or give measured data")
 
 
 def _estimate_option(parser):
@@ -357,6 +384,7 @@ def cmd_simulate(args):
     from updating.measurements import simulate_measurements, write_measurements
 
     case = _load(args)
+    _warn_untrue_simulation(args, case)
     measurements = simulate_measurements(case, noise=args.noise, seed=args.seed,
                                          executor=_executor(args, case))
     write_measurements(args.out, measurements)
@@ -589,14 +617,16 @@ def cmd_curve(args):
     with progress_bar(_console(args), f"cost curve of {args.joint}", args.points) as advance:
         rows = cost_curve(problem, problem.initial_parameters(), args.joint,
                           log_grid(case.updating.bounds, args.points), on_point=advance)
-    table = Table(title=f"{case.name}: cost against log10 k of {args.joint}")
+    table = Table(title=f"{case.name}: cost against log10 k of {args.joint} (in %; the CSV "
+                        "holds fractions)")
     header = ("log10_stiffness", "e_mod", "e_int", "e_mes", "e_joint")
-    for column in header:
+    for column in ("log10 k", "E_mod² %", "E_int² %", "E_mes² %", f"E_Γ² % of {args.joint}"):
         table.add_column(column, justify="right")
     best = min(rows, key=lambda row: row[1])
     for row in rows:
-        style = "bold" if row is best else None
-        table.add_row(*(f"{v:.4g}" for v in row), style=style)
+        marker = " <" if row is best else ""  # the minimum, also visible in a log
+        table.add_row(f"{row[0]:.4g}", *(f"{100 * v:.4g}" for v in row[1:-1]),
+                      f"{100 * row[-1]:.4g}{marker}", style="bold" if row is best else None)
     _console(args).print(table)
     if args.csv:
         buffer = io.StringIO()
@@ -796,7 +826,8 @@ def build_parser():
     solve.add_argument("--frequency", type=float, action="append",
                        help="solve at this frequency in Hz instead of the description's; "
                             "repeat for several (default: the description's frequencies)")
-    solve.add_argument("--max-rows", type=int, default=20, help="rows shown in the terminal")
+    solve.add_argument("--max-rows", type=int, default=20,
+                       help="rows shown in the terminal (all of them in the JSON)")
     solve.add_argument("--tolerance", type=float, metavar="TOL",
                        help="raise the resolution until the estimated relative L2 error of w "
                             "is below TOL, or exit 2 naming the plate that cannot reach it "
@@ -806,7 +837,7 @@ def build_parser():
     solve.set_defaults(run=cmd_solve)
 
     simulate = sub.add_parser("simulate", help="simulated experiment from the true joints")
-    simulate.add_argument("case")
+    simulate.add_argument("case", help="assembly description (TOML)")
     simulate.add_argument("--out", required=True, help="measurement CSV to write")
     simulate.add_argument("--noise", type=float, help="uniform noise fraction (default [measurement] noise)")
     simulate.add_argument("--seed", type=int, help="noise seed (default [measurement] seed)")
@@ -814,18 +845,20 @@ def build_parser():
     simulate.set_defaults(run=cmd_simulate)
 
     localise = sub.add_parser("localise", help="per-joint residuals at the model's parameters")
-    localise.add_argument("case")
+    localise.add_argument("case", help="assembly description (TOML)")
     _measurement_options(localise)
     _estimate_option(localise)
-    localise.add_argument("--json")
+    localise.add_argument("--json", help="write the residuals, their floors and the error "
+                                         "estimate to this JSON file")
     _compute_options(localise)
     localise.set_defaults(run=cmd_localise)
 
     update = sub.add_parser("update", help="localisation-correction loop")
-    update.add_argument("case")
+    update.add_argument("case", help="assembly description (TOML)")
     _measurement_options(update)
     _estimate_option(update)
-    update.add_argument("--json")
+    update.add_argument("--json", help="write the steps, the identified values and the "
+                                       "timings to this JSON file")
     update.add_argument("--report", help="Markdown report to write")
     update.add_argument("--plot", metavar="DIR",
                         help="write PNG figures into DIR (needs the extra vtcr[plot])")
@@ -842,11 +875,12 @@ def build_parser():
     update.set_defaults(run=cmd_update)
 
     curve = sub.add_parser("curve", help="E_mod^2, E_int^2, E_mes^2 against one joint's log10 k")
-    curve.add_argument("case")
-    curve.add_argument("--joint", required=True)
+    curve.add_argument("case", help="assembly description (TOML)")
+    curve.add_argument("--joint", required=True, help="the joint whose log10 k is varied")
     _measurement_options(curve)
-    curve.add_argument("--csv")
-    curve.add_argument("--points", type=int, default=41)
+    curve.add_argument("--csv", help="write the curve as CSV to this file")
+    curve.add_argument("--points", type=int, default=41,
+                       help="samples of log10 k over [updating] bounds")
     curve.add_argument("--plot", metavar="DIR",
                        help="write the curve as DIR/cost_JOINT.png (needs the extra vtcr[plot])")
     _compute_options(curve)

@@ -48,8 +48,9 @@ def identified_lines(result, bounds, truth=None):
 def steps_table(result, title, bounds=None):
     """Rows: joints, then E_mod^2 and its noise floor; per step log10 k and E_Gamma^2 (%).
 
-    The joint corrected in a step is shown in bold (the paper's Table 4); a step marked ``*``
-    re-corrects a joint selected before (see :mod:`updating.strategy`).
+    The joint corrected in a step is shown in bold (the paper's Table 4) and marked ``>``, which
+    a log without styles keeps; a step marked ``*`` re-corrects a joint selected before (see
+    :mod:`updating.strategy`).
     """
     # left padding only: five steps of four joints fit in 80 columns
     table = Table(title=title, box=box.SIMPLE_HEAD, pad_edge=False, padding=(0, 0, 0, 1))
@@ -62,14 +63,15 @@ def steps_table(result, title, bounds=None):
         for step in result.steps:
             value = f"{step.parameters[joint]['log10_stiffness']:.2f}"
             residual = f"{100 * step.residuals[joint]:.2f}"
-            if joint in step.corrected:
-                value, residual = f"[bold]{value}[/]", f"[bold]{residual}[/]"
+            if joint in step.corrected:  # bold on a terminal, the ">" survives in a log
+                value, residual = f"[bold]>{value}[/]", f"[bold]{residual}[/]"
             cells += [value, residual]
         table.add_row(joint, *cells)
     table.add_row("E_mod² %", *[c for s in result.steps for c in ("", f"{100 * s.e_mod:.2f}")])
     table.add_row("floor %", *[c for s in result.steps
                                for c in ("", f"{100 * s.e_mod_floor:.2f}")])
-    table.caption = f"bold: corrected joint(s); *: re-correction. Stopped: {result.message}"
+    table.caption = (f">, bold: corrected joint(s); *: re-correction. Stopped: "
+                     f"{result.message}")
     return table
 
 

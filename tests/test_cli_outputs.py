@@ -1,0 +1,58 @@
+"""What the commands print and write, beyond the numbers (issue 13)."""
+
+import json
+from pathlib import Path
+
+from updating.cli import main
+
+CASES = Path(__file__).resolve().parents[1] / "cases"
+
+
+def test_solve_follows_the_measurement_layout(tmp_path):
+    """Without probes, solve reports w where [measurement] measures: the folded plate's
+    vertical face only (plates = ["P2"]), on its 18 x 18 grid."""
+    out = tmp_path / "out.json"
+    assert main(["solve", str(CASES / "folded_plate.toml"), "--json", str(out),
+                 "--no-estimate", "--max-rows", "0"]) == 0
+    rows = json.loads(out.read_text())["probes"]
+    assert {row["plate"] for row in rows} == {"P2"} and len(rows) == 18 * 18
+
+
+def test_simulating_without_truth_warns(tmp_path, capsys):
+    text = (CASES / "two_plates.toml").read_text()
+    start = text.index("[truth.joints.G1]")
+    end = text.index("\n\n", start) if "\n\n" in text[start:] else len(text)
+    path = tmp_path / "model.toml"
+    path.write_text(text[:start] + text[end:])
+    assert main(["simulate", str(path), "--out", str(tmp_path / "m.csv")]) == 0
+    assert "has no [truth.joints] table" in capsys.readouterr().out
+    assert main(["simulate", str(CASES / "two_plates.toml"), "--out",
+                 str(tmp_path / "m2.csv")]) == 0
+    assert "no [truth.joints]" not in capsys.readouterr().out
+
+
+def test_corrected_joints_are_marked_without_styles(tmp_path, capsys):
+    """Off a terminal (no bold), the Table-4 table still shows which joint each step
+    corrected: a '>' before its log10 k."""
+    text = (CASES / "two_plates.toml").read_text()
+    start = text.index("[truth.joints.G1]")
+    path = tmp_path / "wrong.toml"
+    path.write_text(text[:start] + "[truth.joints.G1]\nlog10_stiffness = 3.0\n"
+                    "loss_factor = 0.1\n")
+    assert main(["update", str(path), "--no-estimate", "--run", str(tmp_path / "r.json")]) \
+        in (0, 3)
+    out = capsys.readouterr().out
+    assert ">" in out.split("E_mod² %")[0] and ">, bold: corrected joint(s)" in out
+
+
+def test_curve_prints_percent_and_writes_fractions(tmp_path, capsys):
+    import csv
+
+    path = tmp_path / "curve.csv"
+    assert main(["curve", str(CASES / "two_plates.toml"), "--joint", "G1", "--points", "3",
+                 "--csv", str(path)]) == 0
+    out = capsys.readouterr().out
+    rows = list(csv.DictReader(path.read_text().splitlines()))
+    assert "E_mod² %" in out and "<" in out
+    for row in rows:
+        assert f"{100 * float(row['e_mod']):.4g}" in out
