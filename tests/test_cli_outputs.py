@@ -56,3 +56,23 @@ def test_curve_prints_percent_and_writes_fractions(tmp_path, capsys):
     assert "E_mod² %" in out and "<" in out
     for row in rows:
         assert f"{100 * float(row['e_mod']):.4g}" in out
+
+
+def test_json_has_one_shape_with_tool_units_and_inputs(tmp_path):
+    """solve's JSON has the same keys for one frequency and several (the contract's
+    frequency/probes of the first, then every frequency), and every JSON names the tool
+    version, the units and fingerprints of its inputs."""
+    case = str(CASES / "two_plates.toml")
+    one, two, loc = (tmp_path / f"{n}.json" for n in ("one", "two", "loc"))
+    assert main(["solve", case, "--json", str(one), "--no-estimate", "--max-rows", "0"]) == 0
+    assert main(["solve", case, "--json", str(two), "--no-estimate", "--max-rows", "0",
+                 "--frequency", "150", "--frequency", "160"]) == 0
+    single, double = json.loads(one.read_text()), json.loads(two.read_text())
+    assert set(single) == set(double)
+    assert len(single["frequencies"]) == 1 and len(double["frequencies"]) == 2
+    assert double["frequency"] == 150 and double["probes"] == double["frequencies"][0]["probes"]
+    assert main(["localise", case, "--json", str(loc), "--no-estimate"]) == 0
+    for result in (single, json.loads(loc.read_text())):
+        assert result["vtcr"]["version"] and result["units"]["w"] == "m"
+        assert len(result["inputs"]["description"]["sha256"]) == 64
+    assert json.loads(loc.read_text())["inputs"]["measurements"]["path"] == "simulated"

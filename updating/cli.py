@@ -296,8 +296,9 @@ def cmd_solve(args):
         if len(rows) > args.max_rows:
             table.caption = f"{len(rows) - args.max_rows} more rows in the JSON output"
         console.print(table)
-    if args.json:
-        write_json_atomic(args.json, results[0] if len(results) == 1 else {"frequencies": results})
+    if args.json:  # one shape: the contract's first-frequency keys, then every frequency
+        write_json_atomic(args.json, {**_provenance(args, case), **results[0],
+                                      "frequencies": results})
     return 0
 
 
@@ -464,7 +465,8 @@ def cmd_localise(args):
     from updating.strategy import localise
 
     case = _load(args)
-    problem = _modified_problem(case, args)
+    measurements = _checked_measurements(case, args)
+    problem = _modified_problem(case, args, measurements)
     step = localise(problem, problem.initial_parameters(), noise=case.measurement.noise)
     table = Table(title=f"{case.name}: joint residuals (E_mod^2 = {100 * step.e_mod:.3f} %)")
     for column in ("joint", "log10 k", "E_Gamma^2 %", "floor %"):
@@ -474,8 +476,9 @@ def cmd_localise(args):
                       f"{100 * step.residuals[joint]:.3f}", f"{100 * step.floors[joint]:.3f}")
     _console(args).print(table)
     if args.json:
-        write_json_atomic(args.json, dict(step.to_json(),
-                                          error_estimate=_estimates_json(problem.error_estimates)))
+        write_json_atomic(args.json, {**_provenance(args, case, measurements),
+                                      **step.to_json(),
+                                      "error_estimate": _estimates_json(problem.error_estimates)})
     return 0
 
 
@@ -577,7 +580,8 @@ def cmd_update(args):
         sizes = dict(zip(("ray_unknowns", "interface_unknowns", "constraints"), problem.size))
         write_json_atomic(args.json, result_json(
             result, {"case": case.name, "sizes": sizes, "timings_s": timings,
-                     "error_estimate": _estimates_json(problem.error_estimates)}, bounds))
+                     "error_estimate": _estimates_json(problem.error_estimates),
+                     **_provenance(args, case, measurements)}, bounds))
     if args.report:
         write_text_atomic(args.report, result_markdown(result, case.name, bounds, _truth(case, args)))
     if args.plot:
@@ -674,8 +678,8 @@ def cmd_frf(args):
     if args.csv:
         write_measurements(args.csv, sweep.measurements(), sweep=True)
     if args.json:
-        write_json_atomic(args.json, dict(sweep.to_json(order, nodes),
-                                          error_estimate=_estimates_json(estimates)))
+        write_json_atomic(args.json, {**_provenance(args, case), **sweep.to_json(order, nodes),
+                                      "error_estimate": _estimates_json(estimates)})
     if args.uff:
         from updating.uff_export import write_uff
 
@@ -772,6 +776,33 @@ def cmd_schema(args):
                          f"completion, start a description beside it with "
                          f"`#:schema ./{Path(args.out).name}`", markup=False)
     return 0
+
+
+# What the numbers of every JSON output are in (SI labels; a description in another consistent
+# unit system reads them in its own units, see the README).
+UNITS = {"length": "m", "w": "m", "frequency": "Hz", "power": "W", "energy": "J",
+         "log10_stiffness": "log10 of the rotational stiffness in N (N m/m per rad)",
+         "loss_factor": "1", "mass": "kg/m",
+         "costs and residuals": "fractions, or % in fields named *_percent"}
+
+
+def _provenance(args, case, measurements=None):
+    """The tool, the units and fingerprints of the inputs, for every JSON output."""
+    import hashlib
+
+    from updating.runfile import description_digest, measurement_digest
+
+    inputs = {"description": {"path": str(args.case), "sha256": description_digest(case)}}
+    probes = getattr(args, "probes", None)
+    if probes:
+        with open(probes, "rb") as handle:
+            inputs["probes"] = {"path": str(probes),
+                                "sha256": hashlib.sha256(handle.read()).hexdigest()}
+    if measurements is not None:
+        inputs["measurements"] = {"path": getattr(args, "measurements", None) or "simulated",
+                                  "sha256": measurement_digest(measurements)}
+    return {"vtcr": {"version": _version(), "command": args.command}, "units": UNITS,
+            "inputs": inputs}
 
 
 def _version():

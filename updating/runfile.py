@@ -47,7 +47,17 @@ RUN_FORMAT = "vtcr-run/1"
 
 def fingerprint(case, measurements):
     """``(description digest, measurement digest)``: SHA-256 hex strings."""
-    description = hashlib.sha256(case.model_dump_json().encode()).hexdigest()
+    return description_digest(case), measurement_digest(measurements)
+
+
+def description_digest(case):
+    """SHA-256 of the validated description (its meaning, not its text: comments, key order
+    and number spelling do not change it)."""
+    return hashlib.sha256(case.model_dump_json().encode()).hexdigest()
+
+
+def measurement_digest(measurements):
+    """SHA-256 of the measured points and values, frequency by frequency."""
     digest = hashlib.sha256()
     for frequency in measurements.frequencies:
         digest.update(np.float64(frequency).tobytes())
@@ -56,7 +66,7 @@ def fingerprint(case, measurements):
             digest.update(pid.encode())
             digest.update(np.ascontiguousarray(points, dtype=float).tobytes())
             digest.update(np.ascontiguousarray(values, dtype=complex).tobytes())
-    return description, digest.hexdigest()
+    return digest.hexdigest()
 
 
 class RunFile:
