@@ -157,9 +157,15 @@ def test_field_map_data_measured_panel_is_the_measurements(run):
     np.testing.assert_allclose(data.grids["P2"][0].min(), 0.3)
     np.testing.assert_allclose(data.measured_global["P2"][:, 0],
                                measurements.data[frequency]["P2"][0][:, 0] + 0.3)
-    every = [v for d in (data.initial, data.updated) for v in d.values()]
-    every += [v for _, v in data.measured.values()]
-    assert data.limits == (0.0, max(float(v.max()) for v in every))
+    # one colour scale, the measured field's: the data use all of it
+    assert data.limits == (0.0, max(float(v.max()) for _, v in data.measured.values()))
+    # the loads are marked in the assembly plane
+    forces, edges = data.loads
+    for load in case.loads:
+        if load.kind == "point_force":
+            at = case.plates[load.plate].to_global([load.at[0]], [load.at[1]])
+            assert np.any(np.all(np.isclose(forces, np.ravel(at)), axis=1))
+    assert len(forces) + len(edges) == len(case.loads) > 0
     # the initial model (joint 2 decades too stiff) misses the measurements; the updated
     # one agrees with them to the 2 % noise
     assert data.misfit[0] > 0.1 and data.misfit[1] < 0.03, data.misfit

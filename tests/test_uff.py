@@ -243,7 +243,7 @@ def test_missing_pyuff_one_line(experiment, tmp_path):
     assert done.returncode == 2, done.stderr
     lines = done.stderr.strip().splitlines()
     assert lines == [f"vtcr: {tmp_path / 'm.uff'}: reading UFF needs pyuff: "
-                     "pip install 'vtcr[uff]'"], done.stderr
+                     "pip install 'pyuff>=2.4' (the extra uff of vtcr)"], done.stderr
 
 
 def test_bad_map_rows_all_reported(experiment, tmp_path, capsys):

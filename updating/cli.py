@@ -186,7 +186,7 @@ def _sweep_option_problems(args):
             import pyuff  # noqa: F401
         except ImportError:
             problems.append(f"--uff {args.uff}: writing UFF needs pyuff; install it with "
-                            "pip install 'vtcr[uff]'")
+                            "pip install 'pyuff>=2.4' (the extra uff of vtcr)")
     return problems
 
 
@@ -374,7 +374,7 @@ def _estimate_option(parser):
 def _measurement_options(parser):
     parser.add_argument("--measurements", metavar="FILE",
                         help="measured field: CSV plate,x,y,re,im[,frequency], or a UFF file "
-                             "(.uff, .unv, .58: datasets 58/58b, needs vtcr[uff]) with "
+                             "(.uff, .unv, .58: datasets 58/58b, needs pyuff) with "
                              "--uff-map (default: simulated)")
     parser.add_argument("--uff-map", metavar="MAP.csv",
                         help="CSV node,plate,x,y placing the UFF response nodes on the plates "
@@ -820,7 +820,7 @@ def _compute_options(parser):
                              "workers, else 1: this process)")
     parser.add_argument("--scheduler", metavar="ADDRESS",
                         help="a running Dask scheduler, e.g. tcp://host:8786 (default [compute] "
-                             "scheduler; needs vtcr[distributed])")
+                             "scheduler; needs distributed)")
 
 
 def _executor(args, case):
@@ -892,7 +892,7 @@ def build_parser():
                                        "timings to this JSON file")
     update.add_argument("--report", help="Markdown report to write")
     update.add_argument("--plot", metavar="DIR",
-                        help="write PNG figures into DIR (needs the extra vtcr[plot])")
+                        help="write PNG figures into DIR (needs matplotlib)")
     update.add_argument("--run", dest="run_file", metavar="RUN",
                         help="run file saving every finished step (default: beside --report or "
                              "--json, else CASE.run.json in the current directory)")
@@ -913,7 +913,7 @@ def build_parser():
     curve.add_argument("--points", type=int, default=41,
                        help="samples of log10 k over [updating] bounds")
     curve.add_argument("--plot", metavar="DIR",
-                       help="write the curve as DIR/cost_JOINT.png (needs the extra vtcr[plot])")
+                       help="write the curve as DIR/cost_JOINT.png (needs matplotlib)")
     _compute_options(curve)
     curve.set_defaults(run=cmd_curve)
 
@@ -937,9 +937,9 @@ def build_parser():
     frf.add_argument("--uff", metavar="OUT.uff",
                      help="write the response at the probes as UFF datasets 58 (FRFs per newton "
                           "under a single point force), with units (164) and nodes (15); needs "
-                          "vtcr[uff]")
+                          "pyuff")
     frf.add_argument("--plot", metavar="DIR",
-                     help="write frf.png and power.png into DIR (needs the extra vtcr[plot])")
+                     help="write frf.png and power.png into DIR (needs matplotlib)")
     _compute_options(frf)
     frf.set_defaults(run=cmd_frf)
 

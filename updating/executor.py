@@ -86,7 +86,8 @@ class Executor:
                 from distributed import Client
             except ImportError:
                 raise InputError(f"scheduler {self.scheduler}: a Dask scheduler needs "
-                                 "dask.distributed: pip install 'vtcr[distributed]'") from None
+                                 "dask.distributed: pip install 'distributed>=2024.1' (the "
+                                 "extra distributed of vtcr)") from None
             try:
                 self._client = Client(self.scheduler, timeout=CONNECT_TIMEOUT)
             except (OSError, TimeoutError, ValueError) as err:

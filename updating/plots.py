@@ -77,7 +77,8 @@ __all__ = [
     "write_update_figures",
 ]
 
-MISSING_MATPLOTLIB = "--plot needs matplotlib: pip install 'vtcr[plot]'"
+MISSING_MATPLOTLIB = ("--plot needs matplotlib: pip install 'matplotlib>=3.7' (the extra plot "
+                      "of vtcr)")
 
 _LOG_K = r"$\log_{10} k$  ($k$ in N·m/m per rad)"
 
@@ -213,8 +214,11 @@ class FieldMapData:
     source : {"direct", "modified"}
     n_frequencies : int
     limits : (float, float)
-        Common colour range of the three panels: the largest value, measured or modelled, on
-        the measured plates (0 to it for ``|w|``, symmetric for ``Re w``).
+        Common colour range of the three panels: the measured field's (0 to its largest
+        value for ``|w|``, symmetric for ``Re w``); model values beyond it saturate, and the
+        colour bar says so with arrows.
+    loads : (ndarray (n, 2), list of ndarray (2, 2))
+        Point forces and loaded edges in the assembly plane, marked on every panel.
     """
 
     frequency: float
@@ -232,6 +236,7 @@ class FieldMapData:
     source: str
     n_frequencies: int
     limits: tuple
+    loads: tuple = (np.zeros((0, 2)), [])
 
 
 def _transform(values, quantity):
@@ -249,7 +254,11 @@ def _plate_outline(plate):
 
 
 def _joint_line(case, joint):
-    side = joint.sides[0]
+    return _edge_line(case, joint.sides[0])
+
+
+def _edge_line(case, side):
+    """End points of a plate edge (``side.plate``, ``side.edge``) in the assembly plane."""
     plate = case.plates[side.plate]
     start, tangent, _, length = plate.edge_frame(side.edge)
     local = np.array([start, start + length * tangent])
@@ -341,9 +350,10 @@ def field_map_data(case, problem, measurements, frequency, initial, updated,
         gx, gy = case.plates[pid].to_global(points[:, 0], points[:, 1])
         measured_global[pid] = np.column_stack([gx, gy])
         cells[pid] = _tensor_cells(points, case.plates[pid].size)
-    # the colour range covers the measured plates (an unmeasured driven plate would otherwise
-    # set the scale and darken what can be compared); elsewhere the colours may saturate
-    every = [d[pid] for d in model.values() for pid in measured] + [v for _, v in measured.values()]
+    # the colour range is the measured field's: it is what the model panels are compared with
+    # (an initial model three times too strong, or an unmeasured driven plate, would otherwise
+    # set the scale and leave the data a third of it); model values beyond it saturate
+    every = [v for _, v in measured.values()]
     if quantity == "abs":
         limits = (0.0, max(float(np.max(v)) for v in every))
     else:
@@ -355,7 +365,15 @@ def field_map_data(case, problem, measurements, frequency, initial, updated,
         {jid: _joint_line(case, j) for jid, j in case.joints.items()}, cells,
         (evaluations["initial"].e_mod, evaluations["updated"].e_mod),
         tuple(math.sqrt(residual[n] / reference) for n in ("initial", "updated")), source,
-        len(problem.frequencies), limits)
+        len(problem.frequencies), limits, _load_marks(case))
+
+
+def _load_marks(case):
+    """Point forces (n, 2) and loaded edges (end points) in the assembly plane."""
+    forces = [np.ravel(case.plates[load.plate].to_global([load.at[0]], [load.at[1]]))
+              for load in case.loads if load.kind == "point_force"]
+    edges = [_edge_line(case, load.edge) for load in case.loads if load.kind != "point_force"]
+    return np.array(forces).reshape(-1, 2), edges
 
 
 @dataclass(frozen=True)
@@ -595,6 +613,13 @@ def _draw_plate_frame(ax, data, labels=False):
     n_points = sum(len(xy) for xy in data.measured_global.values())
     for xy in data.measured_global.values():
         ax.plot(xy[:, 0], xy[:, 1], ".", color="black", ms=3 if n_points < 200 else 1.5)
+    forces, edges = data.loads
+    for line in edges:
+        ax.plot(line[:, 0], line[:, 1], color="tab:orange", lw=3.0, solid_capstyle="butt",
+                label="edge load" if labels else None)
+    if len(forces):
+        ax.plot(forces[:, 0], forces[:, 1], "*", color="tab:orange", ms=13, mec="black",
+                mew=0.8, label="point force" if labels else None)
     ax.set_aspect("equal")
     ax.set_xlabel("x [m] (assembly plane)")
     ax.set_ylabel("y [m]")
@@ -658,6 +683,8 @@ def draw_field_maps(data, title=""):
         ax.set_title(f"{name} model\nmisfit {100 * data.misfit[i]:.1f} %")
     for i, ax in enumerate(axes):
         _draw_plate_frame(ax, data, labels=(i == 0))
+    if len(data.loads[0]) or data.loads[1]:
+        axes[0].legend(fontsize="small", loc="lower right", framealpha=0.8)
         ax.set_facecolor("whitesmoke")
         if stacked and i < 2:
             ax.set_xlabel("")

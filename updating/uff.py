@@ -4,7 +4,8 @@ Dataset 58 ("function at nodal DOF") holds one function of frequency per respons
 direction: a frequency response function (FRF, function type 4) or a response spectrum /
 operating deflection shape (function type 12), in ASCII or in the binary variant 58b. The files
 are read through `pyuff <https://github.com/ladisk/pyuff>`_, an optional dependency
-(``pip install 'vtcr[uff]'``) imported only here, so the core runs without it.
+(``pip install 'pyuff>=2.4'``, or ``pip install '.[uff]'`` in a checkout) imported only
+here, so the core runs without it.
 
 Placing the nodes
 -----------------
@@ -91,7 +92,8 @@ def _pyuff(path):
     try:
         import pyuff
     except ImportError:
-        raise InputError(f"{path}: reading UFF needs pyuff: pip install 'vtcr[uff]'") from None
+        raise InputError(f"{path}: reading UFF needs pyuff: pip install 'pyuff>=2.4' (the "
+                         "extra uff of vtcr)") from None
     return pyuff
 
 

@@ -45,7 +45,8 @@ def _pyuff():
     try:
         import pyuff
     except ImportError:
-        raise InputError("--uff: writing UFF needs pyuff: pip install 'vtcr[uff]'") from None
+        raise InputError("--uff: writing UFF needs pyuff: pip install 'pyuff>=2.4' (the extra "
+                         "uff of vtcr)") from None
     return pyuff
 
 
