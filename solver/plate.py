@@ -534,6 +534,16 @@ def evaluate_field(problem, basis, amplitudes, points, quantities=("w",)):
     points = np.atleast_2d(np.asarray(points, dtype=float))
     rays = ray_field(basis, points, quantities)
     out = {name: rays[name] @ amplitudes for name in quantities}
+    for name, value in particular_field(problem, points, quantities).items():
+        out[name] = out[name] + (value if out[name].ndim == 1 else value[:, None])
+    return out
+
+
+def particular_field(problem, points, quantities=("w",)):
+    """The particular solution's part of :func:`evaluate_field` (the point forces' infinite
+    plate fields), shape (n,) per quantity; zero without point forces."""
+    points = np.atleast_2d(np.asarray(points, dtype=float))
+    out = {name: np.zeros(len(points), dtype=complex) for name in quantities}
     for force in problem.point_forces:
         f = point_force_derivatives(points, force.position, problem.kappa,
                                     problem.bending_stiffness, force.amplitude)
@@ -541,8 +551,7 @@ def evaluate_field(problem, basis, amplitudes, points, quantities=("w",)):
                  "w_xx": f["hess"][:, 0, 0], "w_xy": f["hess"][:, 0, 1],
                  "w_yy": f["hess"][:, 1, 1]}
         for name in quantities:
-            value = extra[name]
-            out[name] = out[name] + (value if out[name].ndim == 1 else value[:, None])
+            out[name] = out[name] + extra[name]
     return out
 
 

@@ -693,3 +693,18 @@ def test_every_option_has_help_with_its_default() -> None:
             text = formatter._get_help_string(action)
             if action.option_strings and action.default not in (None, False):
                 assert "default" in text, (name, action.dest, text)
+
+
+def test_measurement_rows_are_capped(tmp_path: Path, capsys, monkeypatch) -> None:
+    """A measurement file beyond the row cap stops at the first row over it (the file is not
+    read further), one line with exit 2; the cap is lowered here to keep the test small."""
+    import updating.measurements
+
+    monkeypatch.setattr(updating.measurements, "MAX_MEASUREMENT_ROWS", 3)
+    (tmp_path / "case.toml").write_text(TWO)
+    rows = "".join(f"P1,0.{i},0.1,1e-6,0\n" for i in range(1, 5))
+    (tmp_path / "m.csv").write_text("plate,x,y,re,im\n" + rows)
+    status, lines, _ = _run(["localise", str(tmp_path / "case.toml"), "--measurements",
+                             str(tmp_path / "m.csv")], capsys)
+    assert status == 2 and len(lines) == 1
+    assert "row 5: more than 3 measured values" in lines[0] and "down-sample" in lines[0]

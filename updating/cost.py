@@ -33,7 +33,7 @@ import numpy as np
 
 from solver.estimate import estimate_error
 from solver.interface import Block, JointCondensation
-from solver.plate import evaluate_field
+from solver.plate import particular_field
 from solver.rays import ray_field
 from solver.substructure import (
     build_assembly_system,
@@ -135,7 +135,7 @@ def _frequency_data(case, resolution, estimate, task):
     for pid, (points, measured) in measured_plates.items():
         problem, basis = system.problems[pid], system.bases[pid]
         rays = ray_field(basis, points)["w"]
-        particular = evaluate_field(problem, basis, np.zeros(basis.n_dof), points)["w"]
+        particular = particular_field(problem, points)["w"]
         plates.append(pid)
         operators.append(system.affine_plate_operator(pid, rays, particular))
         data.append(np.asarray(measured))

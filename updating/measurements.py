@@ -136,6 +136,11 @@ def write_measurements(path, measurements, sweep=False):
     write_text_atomic(path, buffer.getvalue())
 
 
+MAX_MEASUREMENT_ROWS = 100_000
+"""Most rows of a measurement file (all frequencies): a laser-vibrometer scan has hundreds to a
+few thousand points per frequency; 1e5 values already take about 1 GB in the updating."""
+
+
 def read_measurements(path, case):
     """Read a measurement CSV (contract: ``plate,x,y,re,im`` and optional ``frequency``).
 
@@ -153,7 +158,13 @@ def read_measurements(path, case):
         raise InputError(f"{path}: row 1: no frequency column but the description has "
                          f"frequencies {list(case.frequencies)}; add a frequency column (Hz)")
     problems, rows, seen = [], {}, {}
-    for number, row in table:
+    for count, (number, row) in enumerate(table, start=1):
+        if count > MAX_MEASUREMENT_ROWS:  # stop reading: the rest would not be used anyway
+            raise InputError(problems + [
+                f"{path}: row {number}: more than {MAX_MEASUREMENT_ROWS} measured values; each "
+                "value is a row of the interface problem (1e5 values take about 1 GB and 10 s "
+                "per frequency): down-sample the scan (every k-th point) or average it onto a "
+                "coarser grid"])
         if row is None:
             problems.append(too_many_cells(path, number, columns))
             continue
