@@ -204,6 +204,26 @@ def test_an_existing_run_file_is_replaced_only_with_force(one_frequency_case, fi
     assert json.loads(run.read_text())["steps"] == finished_run["steps"]
 
 
+def test_the_same_command_again_replaces_its_own_finished_run(one_frequency_case,
+                                                               finished_run, tmp_path, capsys):
+    """Running a finished run's command again reproduces it, so it may replace it; a finished
+    run of another description, or of other measurements, is kept."""
+    run = tmp_path / "run.json"
+    run.write_text(json.dumps(finished_run))
+    assert main(["update", str(one_frequency_case), "--run", str(run), "--quiet",
+                 "--no-estimate"]) == 0
+    assert json.loads(run.read_text())["steps"] == finished_run["steps"]
+    other = dict(finished_run, description_sha256="0" * 64)
+    run.write_text(json.dumps(other))
+    assert main(["update", str(one_frequency_case), "--run", str(run), "--quiet"]) == 2
+    assert "holds a finished run of another description" in capsys.readouterr().err
+    other = dict(finished_run, measurements_sha256="0" * 64)
+    run.write_text(json.dumps(other))
+    assert main(["update", str(one_frequency_case), "--run", str(run), "--quiet"]) == 2
+    assert "holds a finished run with other measurements" in capsys.readouterr().err
+    assert json.loads(run.read_text()) == other
+
+
 def test_resuming_a_finished_run_reports_it_without_running_the_loop(
         one_frequency_case, finished_run, tmp_path, capsys, monkeypatch, uninterrupted):
     from updating import strategy  # cmd_update imports the loop from there at call time

@@ -508,8 +508,8 @@ def cmd_update(args):
     from updating.files import write_json_atomic, write_text_atomic
     from updating.progress import progress_bar
     from updating.report import identified_lines, result_json, result_markdown, steps_table
-    from updating.runfile import (RunFile, RunLock, fingerprint, load_run, read_run,
-                                  refuse_replacing)
+    from updating.runfile import (RunFile, RunLock, description_digest, fingerprint, load_run,
+                                  read_run, refuse_other_measurements, refuse_replacing)
     from updating.strategy import finished_result, update_joints
 
     case = _load(args)
@@ -520,13 +520,15 @@ def cmd_update(args):
         require_matplotlib()  # fail before the run, not after it
     t0 = time.perf_counter()
     run_path = args.resume or _run_path(args)
+    replaceable = None
     if args.resume:
         read_run(args.resume)  # a missing or foreign file is refused before any work
     elif not args.force:
-        refuse_replacing(run_path)
+        replaceable = refuse_replacing(run_path, description_digest(case))
     args.resources.enter_context(RunLock(run_path))
     measurements = _checked_measurements(case, args)
     digests = fingerprint(case, measurements)
+    refuse_other_measurements(run_path, replaceable, digests[1])
     if args.resume:
         run = load_run(args.resume, case, digests)
         state = ("finished: its result is reported without running the loop again"

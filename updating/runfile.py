@@ -251,19 +251,42 @@ def load_run(path, case, digests):
                    (record.status, record.message) if record.finished else None)
 
 
-def refuse_replacing(path):
-    """Refuse to start a new run over an existing run file (``--force`` replaces it)."""
+def refuse_replacing(path, description_sha256=None):
+    """Refuse to start a new run over an existing run file (``--force`` replaces it).
+
+    A finished run of the same description may be replaced: running the same command again
+    reproduces it. Returns the measurement digest that run was made with (the caller refuses
+    after all with :func:`refuse_other_measurements` if this run's differs), or None when
+    there is no file.
+    """
     path = Path(path)
     if not path.exists():
-        return
+        return None
     try:
-        finished = json.loads(path.read_text()).get("finished")
+        data = json.loads(path.read_text())
+        finished = data.get("finished")
     except (OSError, ValueError, AttributeError):
-        finished = None
+        data, finished = {}, None
+    if (finished is True and description_sha256 is not None
+            and data.get("description_sha256") == description_sha256):
+        return data.get("measurements_sha256")
     what = ("a finished run" if finished is True else "an unfinished run" if finished is False
             else "a file that is not a vtcr run")
-    raise InputError(f"run file {path}: holds {what}; continue or report it with --resume "
-                     f"{path}, start over with --force, or give another --run")
+    raise InputError(f"run file {path}: holds {what}{_OF_ANOTHER if finished is True else ''}; "
+                     f"continue or report it with --resume {path}, start over with --force, or "
+                     "give another --run")
+
+
+_OF_ANOTHER = " of another description"
+
+
+def refuse_other_measurements(path, expected, measurements_sha256):
+    """The second half of :func:`refuse_replacing`, once the measurements are known: a
+    finished run of the same description but other measurements is kept."""
+    if expected is not None and expected != measurements_sha256:
+        raise InputError(f"run file {path}: holds a finished run with other measurements; "
+                         f"report it with --resume {path}, start over with --force, or give "
+                         "another --run")
 
 
 class RunLock:
