@@ -312,7 +312,7 @@ CATALOGUE: list[Bad] = [
 
 def test_catalogue_is_large_and_unique() -> None:
     ids = [bad.id for bad in CATALOGUE]
-    assert len(ids) >= 25
+    assert len(ids) >= 60
     assert len(set(ids)) == len(ids)
 
 
@@ -708,3 +708,32 @@ def test_measurement_rows_are_capped(tmp_path: Path, capsys, monkeypatch) -> Non
                              str(tmp_path / "m.csv")], capsys)
     assert status == 2 and len(lines) == 1
     assert "row 5: more than 3 measured values" in lines[0] and "down-sample" in lines[0]
+
+
+def test_a_full_filesystem_is_one_line_and_leaves_nothing(tmp_path: Path) -> None:
+    """Outputs on a full filesystem: a 64 kB tmpfs, filled, mounted in a private mount
+    namespace (``unshare``; skipped where user namespaces are not allowed). The JSON cannot be
+    written: exit 2, one line naming the file and the fix, no traceback, no temporary left."""
+    import shutil
+    import subprocess
+    import sys
+
+    if shutil.which("unshare") is None:
+        pytest.skip("no unshare")
+    full = tmp_path / "full"
+    full.mkdir()
+    script = (f"mount -t tmpfs -o size=64k tmpfs {full} && "
+              f"dd if=/dev/zero of={full}/fill bs=1k count=64 2>/dev/null; "
+              f"{sys.executable} -m updating solve {CASES / 'two_plates.toml'} --no-estimate "
+              f"--json {full}/out.json --max-rows 0 >/dev/null; status=$?; "
+              f"ls -a {full}; exit $status")
+    probe = subprocess.run(["unshare", "-rm", "true"], capture_output=True)
+    if probe.returncode != 0:
+        pytest.skip("user namespaces not available here")
+    done = subprocess.run(["unshare", "-rm", "sh", "-c", script], capture_output=True,
+                          text=True, env=dict(os.environ, OPENBLAS_NUM_THREADS="1"), timeout=120)
+    lines = done.stderr.strip().splitlines()
+    assert done.returncode == 2, done.stderr
+    assert len(lines) == 1 and "Traceback" not in done.stderr, lines
+    assert "out.json" in lines[0] and "free space or give another path" in lines[0], lines
+    assert sorted(done.stdout.split()) == [".", "..", "fill"], done.stdout
