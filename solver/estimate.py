@@ -51,10 +51,11 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
+from solver.problems import plate_resolution
 from solver.rays import QUASI_STATIC_KAPPA_R
 
 __all__ = ["ENRICHMENT", "ErrorEstimate", "ToleranceError", "estimate_error", "plate_l2_rule",
@@ -66,7 +67,7 @@ ENRICHED_SOLVE_SECONDS = 60.0
 
 @dataclass(frozen=True)
 class ErrorEstimate:
-    """Estimated relative L2 error of ``w`` of one solve.
+    r"""Estimated relative L2 error of ``w`` of one solve.
 
     Attributes
     ----------
@@ -74,9 +75,9 @@ class ErrorEstimate:
         Over the assembly; None when the estimate was not made (``reason`` says why).
     plates : dict of str to float
         Over each plate (relative to that plate's own norm).
-    resolution : float
-        Resolution factor of the estimated solve.
-    enriched_resolution : float
+    resolution : float or dict of str to float
+        Resolution factor of the estimated solve (per plate when they differ).
+    enriched_resolution : float or dict of str to float
         Resolution factor of the enriched solve the estimate compares with.
     seconds : float
         Cost of the estimate (the enriched solve and the integrals).
@@ -85,18 +86,26 @@ class ErrorEstimate:
         :data:`ENRICHMENT`; ``"skipped"``: not estimated (see the module docstring).
     reason : str
         Why the estimate was skipped (empty otherwise).
+    shares : dict of str to float
+        Each plate's part of ``total**2``: :math:`\int_{\Omega_i}|e|^2 / \sum_j\int|w^+|^2`.
     """
 
     total: float | None
     plates: dict
-    resolution: float
-    enriched_resolution: float
+    resolution: float | dict
+    enriched_resolution: float | dict
     seconds: float
     method: str = "enriched"
     reason: str = ""
+    shares: dict = field(default_factory=dict)
 
     def worst_plate(self) -> str:
         return max(self.plates, key=self.plates.get)
+
+    def resolution_of(self, plate_id) -> float:
+        if isinstance(self.resolution, dict):
+            return self.resolution[plate_id]
+        return self.resolution
 
     def to_json(self):
         return {"total": self.total, "plates": dict(self.plates),
@@ -137,34 +146,43 @@ def estimate_error(case, solution, resolution=None) -> ErrorEstimate:
     case : assembly.Case
     solution : solver.vtcr.CaseSolution or solver.substructure.AssemblySolution
         A solve of ``case`` at ``solution.frequency``.
-    resolution : float, optional
-        The resolution factor ``solution`` was solved with (default: the description's).
+    resolution : float or mapping of str to float, optional
+        The resolution factor ``solution`` was solved with, for every plate or per plate
+        (default: the description's).
     """
     from solver.vtcr import solve_case
 
     t0 = time.perf_counter()
-    resolution = case.discretisation.resolution if resolution is None else float(resolution)
+    resolution = {pid: plate_resolution(case, pid, resolution) for pid in case.plates}
+    enriched_resolution = {pid: ENRICHMENT * r for pid, r in resolution.items()}
     if case.joints:
-        reason = _enriched_solve_unaffordable(case, solution.frequency, resolution)
+        reason = _enriched_solve_unaffordable(case, solution.frequency, enriched_resolution)
         if reason:
-            return ErrorEstimate(None, {}, resolution, ENRICHMENT * resolution,
+            return ErrorEstimate(None, {}, _compact(resolution), _compact(enriched_resolution),
                                  time.perf_counter() - t0, "skipped", reason)
-    enriched = solve_case(case, solution.frequency, resolution=ENRICHMENT * resolution,
+    enriched = solve_case(case, solution.frequency, resolution=enriched_resolution,
                           residuals=False).plates
     integrals = relative_l2_errors(solution, enriched)
     error2 = sum(e for e, _ in integrals.values())
     norm2 = sum(n for _, n in integrals.values())
     plates = {pid: math.sqrt(e / n) if n > 0.0 else 0.0 for pid, (e, n) in integrals.items()}
     total = math.sqrt(error2 / norm2) if norm2 > 0.0 else 0.0
-    return ErrorEstimate(total, plates, resolution, ENRICHMENT * resolution,
-                         time.perf_counter() - t0)
+    shares = {pid: e / norm2 if norm2 > 0.0 else 0.0 for pid, (e, _) in integrals.items()}
+    return ErrorEstimate(total, plates, _compact(resolution), _compact(enriched_resolution),
+                         time.perf_counter() - t0, shares=shares)
 
 
-def _enriched_solve_unaffordable(case, frequency, resolution):
+def _compact(resolution):
+    """One number when every plate has the same resolution, else the mapping."""
+    values = set(resolution.values())
+    return values.pop() if len(values) == 1 else dict(resolution)
+
+
+def _enriched_solve_unaffordable(case, frequency, enriched_resolution):
     """Why the enriched assembly solve is not made (:mod:`solver.sizing` estimates), or ''."""
     from solver.sizing import available_memory, estimate_size
 
-    size = estimate_size(case, frequency, ENRICHMENT * resolution)
+    size = estimate_size(case, frequency, enriched_resolution)
     memory = available_memory()
     if size.solve_seconds > ENRICHED_SOLVE_SECONDS:
         return (f"the enriched solve it needs would take about {size.solve_seconds:.2g} s "
@@ -182,9 +200,12 @@ class ToleranceError(ValueError):
 def solve_to_tolerance(case, frequency, tolerance, max_refinements=4, resolution=None):
     r"""Solve, estimate, and raise the resolution until the estimate is below ``tolerance``.
 
-    Each refinement multiplies every ray and interface count by :data:`ENRICHMENT` (the
-    solution just used as the enriched reference becomes the next estimated one), starting
-    from ``resolution`` (default the description's).
+    Each refinement multiplies the ray counts of the plates that need it by
+    :data:`ENRICHMENT` (and the interface counts of their joints), starting from
+    ``resolution`` (default the description's): a plate is refined when its share of the
+    squared estimate exceeds :math:`\mathrm{tolerance}^2/P` (P plates), so that plates
+    far from the load or already converged keep their counts, and at least one plate is
+    refined while the total exceeds the tolerance.
 
     Returns
     -------
@@ -201,7 +222,7 @@ def solve_to_tolerance(case, frequency, tolerance, max_refinements=4, resolution
     """
     from solver.vtcr import solve_case
 
-    resolution = case.discretisation.resolution if resolution is None else resolution
+    resolution = {pid: plate_resolution(case, pid, resolution) for pid in case.plates}
     solution = solve_case(case, frequency, resolution=resolution)
     history = []
     for refinement in range(max_refinements + 1):
@@ -216,20 +237,23 @@ def solve_to_tolerance(case, frequency, tolerance, max_refinements=4, resolution
         if stalled or refinement == max_refinements:
             raise ToleranceError(_tolerance_message(case, frequency, tolerance, history,
                                                     solution, stalled))
-        resolution *= ENRICHMENT
+        allowed = tolerance**2 / len(resolution)
+        resolution = {pid: r * (ENRICHMENT if estimate.shares[pid] > allowed else 1.0)
+                      for pid, r in resolution.items()}
         solution = solve_case(case, frequency, resolution=resolution)
     raise AssertionError("unreachable")
 
 
 def _tolerance_message(case, frequency, tolerance, history, solution, stalled):
     plate = history[-1].worst_plate()
-    steps = ", ".join(f"{e.plates[plate]:.1e} at resolution {e.resolution:.3g}" for e in history)
+    steps = ", ".join(f"{e.plates[plate]:.1e} at resolution {e.resolution_of(plate):.3g}"
+                      for e in history)
     problem = solution.plates[plate].problem
     condition = solution.plates[plate].condition_estimate
     spans = 0.5 * math.hypot(*problem.size) * problem.kappa.real
     if not stalled:
         cause = ("it still decreases; start from a higher [discretisation] resolution than "
-                 f"{history[0].resolution:g}")
+                 f"{history[0].resolution_of(plate):g}")
     elif spans < QUASI_STATIC_KAPPA_R:
         cause = (f"the plate is far below its first resonances (its half-diagonal is "
                  f"{spans / (2 * math.pi):.2g} bending wavelength), where the ray basis converges "

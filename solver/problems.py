@@ -7,6 +7,7 @@ arrays and frozen dataclasses.
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 
 from solver.kirchhoff import complex_bending_stiffness
 from solver.plate import EdgeCondition, EdgeLoad, PlateProblem, PointForce
@@ -128,6 +129,16 @@ def plate_problem(case, plate_id, frequency):
     )
 
 
+def plate_resolution(case, plate_id, resolution=None):
+    """The resolution factor of one plate: ``resolution`` is None (the description's), one
+    number for every plate, or a mapping by plate (plates it lacks: the description's)."""
+    if resolution is None:
+        return case.discretisation.resolution
+    if isinstance(resolution, Mapping):
+        return float(resolution.get(plate_id, case.discretisation.resolution))
+    return float(resolution)
+
+
 def plate_ray_counts(case, plate_id, problem, resolution=None):
     """Sector counts of one plate: the automatic rule, then the description's overrides.
 
@@ -136,7 +147,7 @@ def plate_ray_counts(case, plate_id, problem, resolution=None):
     the error estimate refines every plate, overridden or not).
     """
     settings = case.discretisation
-    scale = settings.resolution if resolution is None else resolution
+    scale = plate_resolution(case, plate_id, resolution)
     counts = automatic_ray_counts(problem.kappa.real, problem.size, scale,
                                   settings.edge_wavenumber_ratio)
     override = settings.for_plate(plate_id)

@@ -108,11 +108,10 @@ def estimate_size(case, frequency=None, resolution=None) -> SizeEstimate:
     from solver.substructure import interface_layout, joint_gauss
 
     frequency = max(case.frequencies) if frequency is None else float(frequency)
-    scale = case.discretisation.resolution if resolution is None else resolution
     problems = {pid: plate_problem(case, pid, frequency) for pid in case.plates}
     bases = {pid: plate_basis(case, pid, problems[pid], resolution) for pid in case.plates}
     k_max = {pid: float(np.max(np.abs(b.k))) for pid, b in bases.items()}
-    counts, layout, _, corners, n_s, unknowns = interface_layout(case, problems, scale)
+    counts, layout, _, corners, n_s, unknowns = interface_layout(case, problems, resolution)
 
     entries = samples = constraints = 0
     for jid, joint in case.joints.items():

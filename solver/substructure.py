@@ -81,7 +81,7 @@ from solver.plate import (
 )
 from solver.interface import Block, factorise_interface, residual_weight
 from solver.power import kinetic_energy
-from solver.problems import plate_basis, plate_problem
+from solver.problems import plate_basis, plate_problem, plate_resolution
 from solver.rays import EDGES
 
 __all__ = [
@@ -330,8 +330,11 @@ def _scaled(block, factor):
     return Block(block.index, (factor.T * block.matrix.T).T, factor * block.offset)
 
 
-def interface_layout(case, problems, scale):
+def interface_layout(case, problems, resolution=None):
     """The interface unknowns of an assembly, counted from its description.
+
+    ``resolution`` is None (the description's), one factor, or a mapping by plate; a joint's
+    interface functions follow the finer of its two plates.
 
     Returns
     -------
@@ -351,8 +354,9 @@ def interface_layout(case, problems, scale):
     for jid, joint in case.joints.items():
         a, b = joint.sides
         kappa0 = max(problems[a.plate].kappa.real, problems[b.plate].kappa.real)
+        joint_scale = max(plate_resolution(case, side.plate, resolution) for side in joint.sides)
         counts[jid] = (case.discretisation.interface_functions
-                       or interface_function_count(kappa0, case.edge_length(a), scale))
+                       or interface_function_count(kappa0, case.edge_length(a), joint_scale))
     layout, n_s = _layout(case, counts)
     junctions = _junctions(case, problems)
     corner_columns = {}
@@ -413,14 +417,13 @@ def build_assembly_system(case, frequency, resolution=None) -> AssemblySystem:
     frequency; every piece spans one plate's or one joint's unknowns only.
     """
     t0 = time.perf_counter()
-    scale = case.discretisation.resolution if resolution is None else resolution
     problems = {pid: plate_problem(case, pid, frequency) for pid in case.plates}
     bases = {pid: plate_basis(case, pid, problems[pid], resolution) for pid in case.plates}
     boundaries = {pid: boundary_traces(problems[pid], bases[pid]) for pid in case.plates}
     k_max = {pid: float(np.max(np.abs(b.k))) for pid, b in bases.items()}
 
     counts, layout, junctions, corner_columns, n_s, unknowns = interface_layout(
-        case, problems, scale)
+        case, problems, resolution)
 
     u0, transfer, rcond = {}, {}, {}
     for pid in case.plates:

@@ -142,8 +142,9 @@ def solve_case(case, frequency=None, resolution=None, residuals=True) -> CaseSol
         A validated description.
     frequency : float, optional
         Hz; default the description's first frequency.
-    resolution : float, optional
-        Overrides ``[discretisation] resolution`` (multiplier on the ray-count rule).
+    resolution : float or mapping of str to float, optional
+        Overrides ``[discretisation] resolution`` (multiplier on the ray-count rule), for
+        every plate or per plate (a joint follows the finer of its plates).
     residuals : bool, optional
         For an assembly, compute the joint residuals (and the reference energy that
         normalises them); False when only the field is wanted.

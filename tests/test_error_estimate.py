@@ -360,3 +360,26 @@ def test_a_description_in_millimetres_gives_the_same_field(tmp_path, capsys):
     w_si = solve_case(a).w("P1", points)
     w_mm = solve_case(b).w("P1", 1e3 * points) * 1e-3
     assert np.max(abs(w_mm - w_si)) / np.max(abs(w_si)) < 1e-6
+
+
+def test_tolerance_refines_only_the_plates_that_need_it():
+    """Two separate plates, the second with too few interior rays (an override): the
+    tolerance raises the second plate's resolution only, and its estimate falls below it."""
+    data = plate_description()
+    data["plates"]["P2"] = dict(data["plates"]["P1"], origin=[0.6, 0.0])
+    data["boundaries"] += [{"edge": f"P2.{e}", "condition": "simply_supported"}
+                           for e in ("left", "right", "bottom", "top")]
+    data["loads"].append({"kind": "point_force", "plate": "P2", "at": [0.12, 0.31],
+                          "amplitude": 1.0})
+    data["discretisation"]["plates"] = {"P2": {"interior": 16}}
+    case = parse_case(data)
+    before = estimate_error(case, solve_case(case, 155.0))
+    assert before.plates["P2"] > 1e-2 > 1e-4 > before.plates["P1"]
+    solution, estimate = solve_to_tolerance(case, 155.0, 1e-4)
+    assert estimate.total <= 1e-4 and estimate.resolution == {"P1": 1.0, "P2": 1.5}
+    assert solution.plates["P1"].basis.n_dof < solution.plates["P2"].basis.n_dof
+    exact = navier_point_force(*SIZE, complex_rigidity(E, PLATE_H, PLATE_NU, 0.01),
+                               PLATE_RHO * PLATE_H, 2 * math.pi * 155.0, 0.12, 0.31, 1.0,
+                               np.array([0.2, 0.3]), np.array([0.1, 0.3]), n_terms=400)
+    w = solution.w("P2", np.array([[0.2, 0.1], [0.3, 0.3]]))
+    assert np.max(abs(w - exact)) / np.max(abs(exact)) < 1e-3

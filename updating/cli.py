@@ -321,6 +321,14 @@ def _solve_with_estimate(case, frequency, tolerance, estimate):
     return solution, estimate_error(case, solution) if estimate else None
 
 
+def _resolution_text(resolution):
+    """A resolution factor, or the range of per-plate factors."""
+    if isinstance(resolution, dict):
+        values = resolution.values()
+        return f"{min(values):.3g}-{max(values):.3g} (per plate)"
+    return f"{resolution:.3g}"
+
+
 def _estimate_lines(console, estimate):
     if estimate is None:
         return
@@ -332,7 +340,8 @@ def _estimate_lines(console, estimate):
     worst = estimate.worst_plate()
     detail = (f"; largest on plate {worst} ({plates[worst]:.1e})" if len(plates) > 1 else "")
     console.print(f"estimated error of w (relative L2, against an enriched solve): "
-                  f"{estimate.total:.1e} at resolution {estimate.resolution:.3g}{detail}")
+                  f"{estimate.total:.1e} at resolution {_resolution_text(estimate.resolution)}"
+                  f"{detail}")
     if estimate.total > ESTIMATE_WARNING:
         _warn(console, f"the estimated error {estimate.total:.1e} exceeds "
                        f"{ESTIMATE_WARNING:g}: raise [discretisation] resolution or give "
@@ -418,10 +427,12 @@ def _resolution_for_tolerance(case, console):
     tolerance = case.discretisation.tolerance
     if tolerance is None:
         return None
-    resolution = max(solve_to_tolerance(case, f, tolerance)[1].resolution
-                     for f in case.frequencies)
-    console.print(f"resolution {resolution:.3g} meets the tolerance {tolerance:g} at every "
-                  "frequency (\\[discretisation] tolerance)")
+    resolution = dict.fromkeys(case.plates, 0.0)
+    for frequency in case.frequencies:
+        estimate = solve_to_tolerance(case, frequency, tolerance)[1]
+        resolution = {pid: max(r, estimate.resolution_of(pid)) for pid, r in resolution.items()}
+    console.print(f"resolution {_resolution_text(resolution)} meets the tolerance "
+                  f"{tolerance:g} at every frequency (\\[discretisation] tolerance)")
     return resolution
 
 
