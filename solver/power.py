@@ -47,8 +47,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from solver.kirchhoff import wave_edge_factors
-from solver.plate import edge_rule_size, edge_values, evaluate_field, particular_traces
-from solver.rays import node_exponentials, plate_edges
+from solver.plate import (edge_rule_size, edge_values, evaluate_field, particular_field,
+                          particular_traces)
+from solver.rays import node_exponentials, plate_edges, tensor_grid_field
 
 __all__ = ["PowerFlow", "power_flow", "plate_powers", "kinetic_energy"]
 
@@ -148,9 +149,11 @@ def kinetic_energy(problem, basis, amplitudes, n_min=12):
         rules.append((0.5 * length * (x + 1.0), 0.5 * length * w))
     (x, wx), (y, wy) = rules
     X, Y = np.meshgrid(x, y, indexing="ij")
-    w = evaluate_field(problem, basis, amplitudes, np.c_[X.ravel(), Y.ravel()])["w"]
-    weights = np.outer(wx, wy).ravel()
-    return 0.25 * problem.omega**2 * problem.mass_per_area * float(weights @ np.abs(w) ** 2)
+    # the rays summed as a product of 1D exponentials on the tensor grid
+    w = (tensor_grid_field(basis, amplitudes, x, y)
+         + particular_field(problem, np.c_[X.ravel(), Y.ravel()])["w"].reshape(X.shape))
+    integral = float(np.sum(np.outer(wx, wy) * np.abs(w) ** 2))
+    return 0.25 * problem.omega**2 * problem.mass_per_area * integral
 
 
 def _side_powers(case, system, jid, amplitudes, s):

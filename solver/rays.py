@@ -58,6 +58,7 @@ __all__ = [
     "RayCounts",
     "RayBasis",
     "automatic_ray_counts",
+    "tensor_grid_field",
     "plate_edges",
     "build_ray_basis",
     "ray_field",
@@ -406,6 +407,22 @@ def ray_field(basis, points, quantities=("w",)):
         for name, values in zip(quantities, means):
             out[name][chunk] = values
     return out
+
+
+def tensor_grid_field(basis, amplitudes, xs, ys):
+    r"""The rays' part of :math:`w` on the tensor grid ``xs`` x ``ys``, shape (len(xs), len(ys)).
+
+    Every node exponential separates, :math:`e^{k_x(x - x_r) + k_y(y - y_r)} =
+    e^{k_x(x - x_r)}e^{k_y(y - y_r)}`, so the field is one matrix product
+    :math:`W = E_x^T\,\mathrm{diag}(\omega_q U_{i(q)})\,E_y` with :math:`E_x` (n_nodes, n_x) and
+    :math:`E_y` (n_nodes, n_y): :math:`n_q(n_x + n_y)` exponentials instead of
+    :math:`n_qn_xn_y`. Each factor is bounded on the plate, as the full exponential is (edge
+    and corner rays decay away from their own edge or corner in each coordinate).
+    """
+    node_amplitudes = basis.weight * np.repeat(np.asarray(amplitudes), basis.n_q)
+    ex = np.exp(basis.k[:, 0, None] * (np.asarray(xs)[None, :] - basis.origin[:, 0, None]))
+    ey = np.exp(basis.k[:, 1, None] * (np.asarray(ys)[None, :] - basis.origin[:, 1, None]))
+    return ex.T @ (node_amplitudes[:, None] * ey)
 
 
 def node_exponentials(basis, points):
