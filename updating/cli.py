@@ -377,7 +377,7 @@ def _warn_untrue_simulation(args, case):
 def _estimate_option(parser):
     parser.add_argument("--no-estimate", action="store_true",
                         help="skip the a-posteriori estimate of the discretisation error (an "
-                             "enriched solve per frequency, two to three times a solve)")
+                             "enriched solve per frequency, 1.5 to 3 times a solve)")
 
 
 def _measurement_options(parser):
