@@ -46,6 +46,12 @@ MAX_GRID_POINTS = 100_000
 vibrometer scan has hundreds to a few thousands; a finer grid is most likely a unit mistake
 (millimetres for metres) and would make simulating and sampling the field crawl."""
 
+EDGE_FORCE_DISTANCE = 1e-4
+"""Closest a point force may be to an edge, as a fraction of the plate's smaller side. On the
+simply supported 0.5 x 0.4 m plate at 155 Hz the error (and its estimate) is 27 % (1.0) at
+1 mm, 289 % (1.2) at 0.1 mm and 720 % (0.58) at 40 um; at 10 um the estimate catches a
+quarter of the error, at 1 um a thirtieth."""
+
 SI_PLAUSIBLE_SIZE = 100.0
 """A plate side above this many metres is more likely in millimetres: warned, not refused."""
 
@@ -231,6 +237,12 @@ def _scale_issues(case, frequencies, location):
                            "thickness (m), young_modulus (Pa) and density (kg/m^3) in SI units"))
             continue
         r_max = 0.5 * math.hypot(*plate.size)
+        if plate.thickness >= min(plate.size):
+            errors.append((("plates", pid, "size"),
+                           f"plate {pid}: its side {min(plate.size):g} m is not larger than its "
+                           f"thickness {plate.thickness:g} m: not a plate (a 1 um wide plate "
+                           "gave a field wrong by 1e14); give the sizes and the thickness in m"))
+            continue
         if plate.thickness > 0.1 * min(plate.size):
             warnings.append((("plates", pid, "thickness"),
                              f"plate {pid}: thickness {plate.thickness:g} m is more than a tenth "
@@ -253,6 +265,19 @@ def _scale_issues(case, frequencies, location):
                                f"plate {pid} at {f:g} Hz: its half-diagonal is "
                                f"1e{log_kr - math.log10(2 * math.pi):.0f} bending wavelengths; "
                                "lower the frequency (or check its unit: Hz)"))
+    for index, load in enumerate(case.loads):
+        if load.kind != "point_force" or load.plate not in case.plates:
+            continue
+        size = case.plates[load.plate].size
+        distance = min(load.at[0], size[0] - load.at[0], load.at[1], size[1] - load.at[1])
+        if distance < EDGE_FORCE_DISTANCE * min(size):
+            errors.append((("loads", index, "at"),
+                           f"the point force on plate {load.plate} is {distance:.2g} m from an "
+                           f"edge, closer than {EDGE_FORCE_DISTANCE:g} of the plate's side "
+                           f"({EDGE_FORCE_DISTANCE * min(size):.2g} m): the rays cannot follow its "
+                           "image in the edge (1 um away, the field was wrong by 3e4 %, and the "
+                           "error estimate missed it); move it inside, or model it as an edge "
+                           "load"))
     return errors, warnings
 
 

@@ -73,6 +73,8 @@ def first_resonance():
     (400.0, 0.8, 0.01, (0.12, 0.31)),
     (155.0, 1.0, 0.01, (0.01, 0.2)),          # force 1 cm from an edge
     (155.0, 1.0, 0.01, (0.001, 0.2)),         # force 1 mm from an edge (27 %)
+    (155.0, 1.0, 0.01, (1e-4, 0.2)),          # 0.1 mm (289 %)
+    (155.0, 1.0, 0.01, (4e-5, 0.2)),          # 40 um, the closest accepted (720 %)
 ])
 def test_single_plate_effectivity(frequency, resolution, eta, at):
     error, estimate = plate_error(frequency, resolution, eta, at)
@@ -224,8 +226,9 @@ GUARD_RAILS = [
     ("eta 1e-4 at resonance", ("eta", 1e-4), first_resonance(), "accurate", None),
     ("eta 1e-12 at resonance", ("eta", 1e-12), first_resonance(), "warned", "estimated error"),
     ("force 0.1 mm from an edge", ("at", (1e-4, 0.2)), 155.0, "warned", "estimated error"),
-    ("force 1 um from an edge", ("at", (1e-6, 0.2)), 155.0, "warned", "estimated error"),
-    ("plate 1 um wide", ("width", 1e-6), 155.0, "warned", "thin-plate"),
+    ("force 1 um from an edge", ("at", (1e-6, 0.2)), 155.0, "refused", "edge load"),
+    ("force 40 um from an edge", ("at", (4e-5, 0.2)), 155.0, "warned", "estimated error"),
+    ("plate 1 um wide", ("width", 1e-6), 155.0, "refused", "not a plate"),
     ("E 1e20", ("young_modulus", 1e20), 155.0, "refused", "far below its first resonance"),
     ("density 1e-20", ("density", 1e-20), 155.0, "refused", "far below its first resonance"),
     ("h 0.3 m", ("thickness", 0.3), 155.0, "warned", "thin-plate"),
