@@ -16,7 +16,6 @@ from __future__ import annotations
 import csv
 import difflib
 import glob
-import io
 import json
 import math
 import os
@@ -94,28 +93,37 @@ def plate_point(path, row_number, case, plate_id, row):
     return x, y
 
 
-def _read_text(path, what, header):
-    """The text of a CSV file (a UTF-8 byte-order mark removed), or :class:`InputError`."""
+def _open_text(path, what, header):
+    """The CSV file opened in binary for streaming (:func:`_decoded_lines`), or
+    :class:`InputError`."""
     hint = f"give an existing CSV file with the header {header}"
     try:
-        raw = Path(path).read_bytes()
+        return open(path, "rb")  # noqa: SIM115 - closed by _closing
     except IsADirectoryError:
         raise InputError(f"{path}: is a directory, not a {what} file; {hint}") from None
     except FileNotFoundError:
         raise InputError(f"{path}: {what} file not found; check the path, or {hint}") from None
     except OSError as err:
         raise InputError(f"{path}: cannot read the {what} file ({err.strerror}); {hint}") from None
-    try:
-        return raw.decode("utf-8-sig")
-    except UnicodeDecodeError as err:
-        line = raw[: err.start].count(b"\n") + 1
-        raise InputError(f"{path}: row {line}: not UTF-8 text; save the file as CSV UTF-8 "
-                         "(comma delimited)") from None
+
+
+def _decoded_lines(handle, path):
+    """The file's lines as text, one at a time (a UTF-8 byte-order mark removed); a line that
+    is not UTF-8 is an :class:`InputError` naming its line number."""
+    for number, raw in enumerate(handle, start=1):
+        if number == 1 and raw.startswith(b"\xef\xbb\xbf"):
+            raw = raw[3:]
+        try:
+            yield raw.decode("utf-8")
+        except UnicodeDecodeError:
+            raise InputError(f"{path}: row {number}: not UTF-8 text; save the file as CSV "
+                             "UTF-8 (comma delimited)") from None
 
 
 def _records(reader, path, header_text):
-    """The reader's rows; a row the csv module cannot read (a cell beyond its field limit of
-    131072 characters, a quote left open to the end of the file) is an :class:`InputError`."""
+    """The reader's rows, read as they are used (memory bounded by what the caller keeps); a
+    row the csv module cannot read (a cell beyond its field limit of 131072 characters, a
+    quote left open to the end of the file) is an :class:`InputError`."""
     while True:
         try:
             cells = next(reader)
@@ -125,6 +133,12 @@ def _records(reader, path, header_text):
             raise InputError(f"{path}: row {reader.line_num}: not readable as CSV ({err}); "
                              f"one point per row {header_text}, numbers of a few characters")
         yield cells
+
+
+def _closing(rows, handle):
+    """``rows``, then the file closed (also when the caller stops early or raises)."""
+    with handle:
+        yield from rows
 
 
 def read_csv_table(path, what, columns, optional=()):
@@ -157,8 +171,9 @@ def read_csv_table(path, what, columns, optional=()):
         caller's row problems (yielded as ``(row, None)``).
     """
     header_text = ",".join(columns)
-    reader = csv.reader(io.StringIO(_read_text(path, what, header_text)))
-    records = _records(reader, path, header_text)
+    handle = _open_text(path, what, header_text)
+    reader = csv.reader(_decoded_lines(handle, path))
+    records = _closing(_records(reader, path, header_text), handle)
     first = next((cells for cells in records if any(cell.strip() for cell in cells)), None)
     if first is None:
         raise InputError(f"{path}: the {what} file is empty; write the header {header_text} "
