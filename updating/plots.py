@@ -683,13 +683,13 @@ def draw_field_maps(data, title=""):
         ax.set_title(f"{name} model\nmisfit {100 * data.misfit[i]:.1f} %")
     for i, ax in enumerate(axes):
         _draw_plate_frame(ax, data, labels=(i == 0))
-    if len(data.loads[0]) or data.loads[1]:
-        axes[0].legend(fontsize="small", loc="lower right", framealpha=0.8)
         ax.set_facecolor("whitesmoke")
         if stacked and i < 2:
             ax.set_xlabel("")
         if not stacked and i > 0:
             ax.set_ylabel("")
+    if len(data.loads[0]) or data.loads[1]:
+        axes[0].legend(fontsize="small", loc="lower right", framealpha=0.8)
     # pad and fraction are relative to all three panels: keep the bar close to them
     low = min(float(np.min(f[pid])) for f in (data.initial, data.updated) for pid in f)
     high = max(float(np.max(f[pid])) for f in (data.initial, data.updated) for pid in f)
