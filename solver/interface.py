@@ -67,16 +67,16 @@ __all__ = ["Block", "InterfaceFactor", "factorise_interface", "JointCondensation
 def residual_weight(c, crossover=math.inf):
     r"""Weight :math:`g` of a joint channel's residual energy :math:`e^2 = g(c)\int|r|^2`.
 
-    .. math:: g(c) = rac{1}{2\max(\mathrm{Re}\,c,\ |c|^2/c_	imes)} .
+    .. math:: g(c) = \frac{1}{2\max(\mathrm{Re}\,c,\ |c|^2/c_\times)} .
 
-    Below the crossover :math:`c_	imes` this is the constitutive-relation error in the energy
+    Below the crossover :math:`c_\times` this is the constitutive-relation error in the energy
     norm, :math:`|r|^2/(2k)` (formulation notes section 6.3). Above it the residual is measured
-    in compliance form, :math:`e^2 = 	frac12c_	imes|r/c|^2 = 	frac12c_	imes|[q] - \Lambda/c|^2`:
+    in compliance form, :math:`e^2 = \tfrac12c_\times|r/c|^2 = \tfrac12c_\times|[q] - \Lambda/c|^2`:
     the jump of a discretised near-rigid joint cannot fall below the discretisation floor of
     the continuity it approximates (1.6e-5 of the plates' rotations on ``two_plates.toml``),
     and the energy norm would multiply that floor by :math:`k` without bound (the floor of
     :math:`E_\Gamma^2` grew tenfold per decade of :math:`k` above :math:`10^8`). Both forms agree
-    at :math:`|c| = c_	imes` and :math:`g` is continuous in :math:`c`.
+    at :math:`|c| = c_\times` and :math:`g` is continuous in :math:`c`.
     """
     return 1.0 / (2.0 * max(c.real, abs(c) ** 2 / crossover))
 
