@@ -55,9 +55,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from solver.plate import particular_field
+from solver.power import grid_deflection, plate_gauss_axes
 from solver.problems import plate_resolution
-from solver.rays import QUASI_STATIC_KAPPA_R, tensor_grid_field
+from solver.rays import QUASI_STATIC_KAPPA_R
 
 __all__ = ["ENRICHMENT", "ErrorEstimate", "ToleranceError", "estimate_error", "plate_l2_rule",
            "solve_to_tolerance"]
@@ -114,15 +114,6 @@ class ErrorEstimate:
                 "method": self.method, "enrichment": ENRICHMENT, "reason": self.reason}
 
 
-def plate_gauss_axes(problem):
-    r"""The 1D Gauss rules ``(x, wx), (y, wy)`` of :func:`plate_l2_rule`."""
-    rules = []
-    for length in problem.size:
-        x, w = np.polynomial.legendre.leggauss(math.ceil(problem.kappa.real * length) + 12)
-        rules.append((0.5 * length * (x + 1.0), 0.5 * length * w))
-    return tuple(rules)
-
-
 def plate_l2_rule(problem):
     r"""Tensor Gauss rule over a plate: points (n, 2) and weights (n,), with
     :math:`\lceil\kappa_0L\rceil + 12` points per side."""
@@ -133,22 +124,15 @@ def plate_l2_rule(problem):
 
 def relative_l2_errors(solution, enriched):
     r"""Per plate :math:`(\int|w^+ - w_h|^2, \int|w^+|^2)` over the plate's Gauss rule;
-    ``enriched`` maps each plate to its enriched :class:`solver.plate.PlateSolution`.
-
-    The rays are summed on the tensor grid by :func:`solver.rays.tensor_grid_field` (a
-    matrix product of 1D exponentials); the particular solutions cancel in the difference
-    and are evaluated once, for the norm."""
+    ``enriched`` maps each plate to its enriched :class:`solver.plate.PlateSolution`."""
     out = {}
     for pid, plate in solution.plates.items():
         (x, wx), (y, wy) = plate_gauss_axes(plate.problem)
         weights = np.outer(wx, wy)
-        rays = tensor_grid_field(plate.basis, plate.amplitudes, x, y)
+        w_h = grid_deflection(plate.problem, plate.basis, plate.amplitudes, x, y)
         finer = enriched[pid]
-        rays_plus = tensor_grid_field(finer.basis, finer.amplitudes, x, y)
-        X, Y = np.meshgrid(x, y, indexing="ij")
-        particular = particular_field(plate.problem, np.c_[X.ravel(), Y.ravel()])["w"]
-        w_plus = rays_plus + particular.reshape(X.shape)
-        out[pid] = (float(np.sum(weights * np.abs(rays_plus - rays) ** 2)),
+        w_plus = grid_deflection(finer.problem, finer.basis, finer.amplitudes, x, y)
+        out[pid] = (float(np.sum(weights * np.abs(w_plus - w_h) ** 2)),
                     float(np.sum(weights * np.abs(w_plus) ** 2)))
     return out
 

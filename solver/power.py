@@ -51,7 +51,8 @@ from solver.plate import (edge_rule_size, edge_values, evaluate_field, particula
                           particular_traces)
 from solver.rays import node_exponentials, plate_edges, tensor_grid_field
 
-__all__ = ["PowerFlow", "power_flow", "plate_powers", "kinetic_energy"]
+__all__ = ["PowerFlow", "power_flow", "plate_powers", "kinetic_energy", "plate_gauss_axes",
+           "grid_deflection"]
 
 
 @dataclass(frozen=True)
@@ -139,19 +140,30 @@ def plate_powers(problem, basis, amplitudes):
             half_omega * float((forces + boundary).imag))
 
 
-def kinetic_energy(problem, basis, amplitudes, n_min=12):
-    r""":math:`\tfrac14\omega^2\rho h\int|w|^2dA` (J), tensor Gauss rule of
-    :math:`\max(12, \lceil\kappa_0L\rceil + 12)` points per side (:math:`\kappa_0 = \mathrm{Re}\,\kappa`)."""
+def plate_gauss_axes(problem):
+    r"""1D Gauss rules ``(x, wx), (y, wy)`` over a plate, :math:`\lceil\kappa_0L\rceil + 12`
+    points per side (:math:`\kappa_0 = \mathrm{Re}\,\kappa`): the domain rule of the kinetic
+    energy and of the error estimate's L2 integrals."""
     rules = []
     for length in problem.size:
-        x, w = np.polynomial.legendre.leggauss(
-            max(n_min, math.ceil(problem.kappa.real * length) + 12))
+        x, w = np.polynomial.legendre.leggauss(math.ceil(problem.kappa.real * length) + 12)
         rules.append((0.5 * length * (x + 1.0), 0.5 * length * w))
-    (x, wx), (y, wy) = rules
+    return tuple(rules)
+
+
+def grid_deflection(problem, basis, amplitudes, x, y):
+    """``w`` on the tensor grid ``x`` x ``y``, shape (len(x), len(y)): the rays summed as a
+    product of 1D exponentials (:func:`solver.rays.tensor_grid_field`), plus the particular
+    solution."""
     X, Y = np.meshgrid(x, y, indexing="ij")
-    # the rays summed as a product of 1D exponentials on the tensor grid
-    w = (tensor_grid_field(basis, amplitudes, x, y)
-         + particular_field(problem, np.c_[X.ravel(), Y.ravel()])["w"].reshape(X.shape))
+    particular = particular_field(problem, np.c_[X.ravel(), Y.ravel()])["w"]
+    return tensor_grid_field(basis, amplitudes, x, y) + particular.reshape(X.shape)
+
+
+def kinetic_energy(problem, basis, amplitudes):
+    r""":math:`\tfrac14\omega^2\rho h\int|w|^2dA` (J) on the rule of :func:`plate_gauss_axes`."""
+    (x, wx), (y, wy) = plate_gauss_axes(problem)
+    w = grid_deflection(problem, basis, amplitudes, x, y)
     integral = float(np.sum(np.outer(wx, wy) * np.abs(w) ** 2))
     return 0.25 * problem.omega**2 * problem.mass_per_area * integral
 
