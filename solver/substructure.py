@@ -369,43 +369,52 @@ def interface_layout(case, problems, resolution=None):
             _plate_unknowns(case, layout, corner_columns))
 
 
-def plate_loads(case, plate_id, boundary, counts, layout, corner_columns, unknowns):
+def _plate_sides(case, corner_columns):
+    """Per plate, its joint sides ``(joint, side index, side)`` and its static junction
+    corners ``(corner, column)``: what its load operator needs, found once for all plates."""
+    sides = {pid: [] for pid in case.plates}
+    corners = {pid: [] for pid in case.plates}
+    for jid, joint in case.joints.items():
+        for side_index, side in enumerate(joint.sides):
+            sides[side.plate].append((jid, side_index, side))
+    for (pid, c), column in corner_columns.items():
+        corners[pid].append((c, column))
+    return sides, corners
+
+
+def plate_loads(case, boundary, sides, corners, counts, layout, unknowns):
     r""":math:`B_i`: the plate's VTCR right-hand sides per unit interface unknown, over the
-    interface unknowns ``unknowns`` it sees (its joints' Legendre loads, its junction
-    corners' forces), with the signs of the formulation notes section 6.2."""
+    interface unknowns ``unknowns`` it sees: the Legendre loads of its joint ``sides`` and the
+    forces of its junction ``corners`` (:func:`_plate_sides`), with the signs of the
+    formulation notes section 6.2."""
     loads = np.zeros((boundary.corner_w.shape[1], len(unknowns)), dtype=complex)
 
     def add(columns, values):
         loads[:, _local(unknowns, columns)] += values
 
-    for jid, joint in case.joints.items():
-        length = case.edge_length(joint.sides[0])
+    for jid, side_index, side in sides:
+        length = case.edge_length(side)
         slots = {name: np.arange(sl.start, sl.stop) for name, sl in layout[jid].items()}
-        for side_index, side in enumerate(joint.sides):
-            if side.plate != plate_id:
-                continue
-            traces = boundary.edges[side.edge]
-            sigma = traces.s if side_index == 0 else length - traces.s
-            psi = legendre_values(sigma, length, counts[jid])
-            add(slots["C"], edge_projection(traces, "moment", psi))
-            if "F" in slots:
-                sign = 1.0 if side_index == 0 else -1.0
-                add(slots["F"], sign * edge_projection(traces, "shear", psi))
-            elif "FA" in slots:
-                key = "FA" if side_index == 0 else "FB"
-                add(slots[key], edge_projection(traces, "shear", psi))
-    for (pid, c), column in corner_columns.items():
-        if pid == plate_id:
-            add([column], boundary.corner_w[c].conj()[:, None])
+        traces = boundary.edges[side.edge]
+        sigma = traces.s if side_index == 0 else length - traces.s
+        psi = legendre_values(sigma, length, counts[jid])
+        add(slots["C"], edge_projection(traces, "moment", psi))
+        if "F" in slots:
+            sign = 1.0 if side_index == 0 else -1.0
+            add(slots["F"], sign * edge_projection(traces, "shear", psi))
+        elif "FA" in slots:
+            key = "FA" if side_index == 0 else "FB"
+            add(slots[key], edge_projection(traces, "shear", psi))
+    for c, column in corners:
+        add([column], boundary.corner_w[c].conj()[:, None])
     return loads
 
 
-def plate_transfer(case, plate_id, problem, boundary, counts, layout, corner_columns, unknowns):
-    r"""Admissibility of one plate: :math:`U_i^0 = K_i^{-1}F_i`, :math:`T_i = K_i^{-1}B_i` and
-    the reciprocal condition estimate of :math:`K_i`."""
+def plate_transfer(problem, boundary, loads):
+    r"""Admissibility of one plate: :math:`U_i^0 = K_i^{-1}F_i`, :math:`T_i = K_i^{-1}B_i` (with
+    ``loads`` :math:`B_i`) and the reciprocal condition estimate of :math:`K_i`."""
     K, F = assemble_plate(problem, boundary)
     solve, rcond = factorise_dense(K)
-    loads = plate_loads(case, plate_id, boundary, counts, layout, corner_columns, unknowns)
     solution = solve(np.column_stack([F, loads]))
     return solution[:, 0], solution[:, 1:], rcond
 
@@ -425,11 +434,12 @@ def build_assembly_system(case, frequency, resolution=None) -> AssemblySystem:
     counts, layout, junctions, corner_columns, n_s, unknowns = interface_layout(
         case, problems, resolution)
 
+    sides, corners = _plate_sides(case, corner_columns)
     u0, transfer, rcond = {}, {}, {}
     for pid in case.plates:
-        u0[pid], transfer[pid], rcond[pid] = plate_transfer(
-            case, pid, problems[pid], boundaries[pid], counts, layout, corner_columns,
-            unknowns[pid])
+        loads = plate_loads(case, boundaries[pid], sides[pid], corners[pid], counts, layout,
+                            unknowns[pid])
+        u0[pid], transfer[pid], rcond[pid] = plate_transfer(problems[pid], boundaries[pid], loads)
     t1 = time.perf_counter()
 
     system = AssemblySystem(frequency, problems, bases, unknowns, u0, transfer, n_s, layout,
