@@ -331,18 +331,20 @@ def description_issues(case, frequencies=None, need_loads=False):
                            f"(more than {MAX_GRID_POINTS}); give the spacing in metres, e.g. "
                            "spacing = 0.05"))
             break
-    if frequencies is None:
-        frequencies = case.frequencies
-        f = max(frequencies)
-        f_loc = ("frequency",) if case.frequency is not None else (
-            "frequencies", list(frequencies).index(f))
-    else:
-        f, f_loc = max(frequencies), ("--frequency",)
-    scale_errors, scale_warnings = _scale_issues(
-        case, frequencies, lambda g: f_loc if g == f else (
-            ("--frequency",) if f_loc == ("--frequency",) else
-            ("frequency",) if case.frequency is not None else
-            ("frequencies", list(frequencies).index(g))))
+    given = frequencies is not None
+    frequencies = tuple(frequencies) if given else case.frequencies
+
+    def location(g):
+        """Where frequency ``g`` was given: the option, or the description's field."""
+        if given:
+            return ("--frequency",)
+        if case.frequency is not None:
+            return ("frequency",)
+        return ("frequencies", frequencies.index(g))
+
+    f = max(frequencies)
+    f_loc = location(f)
+    scale_errors, scale_warnings = _scale_issues(case, frequencies, location)
     warnings += scale_warnings
     if scale_errors:  # the quantities below would overflow or vanish
         return errors + scale_errors, warnings
