@@ -254,7 +254,7 @@ def cmd_solve(args):
         solution, estimate = _solve_with_estimate(case, frequency, tolerance,
                                                   not args.no_estimate)
         _solution_warnings(console, solution)
-        _estimate_lines(console, estimate)
+        _estimate_lines(console, {frequency: estimate} if estimate is not None else {})
         if probes is None:  # the measurement layout: [measurement] plates, grid and points
             points = measurement_layout(case) or {
                 pid: field_grid(case, pid, case.measurement.spacing) for pid in case.plates}
@@ -329,25 +329,6 @@ def _resolution_text(resolution):
     return f"{resolution:.3g}"
 
 
-def _estimate_lines(console, estimate):
-    if estimate is None:
-        return
-    if estimate.total is None:
-        _warn(console, f"the discretisation error is not estimated: {estimate.reason}; give "
-                       "--no-estimate to skip it knowingly")
-        return
-    plates = estimate.plates
-    worst = estimate.worst_plate()
-    detail = (f"; largest on plate {worst} ({plates[worst]:.1e})" if len(plates) > 1 else "")
-    console.print(f"estimated error of w (relative L2, against an enriched solve): "
-                  f"{estimate.total:.1e} at resolution {_resolution_text(estimate.resolution)}"
-                  f"{detail}")
-    if estimate.total > ESTIMATE_WARNING:
-        _warn(console, f"the estimated error {estimate.total:.1e} exceeds "
-                       f"{ESTIMATE_WARNING:g}: raise [discretisation] resolution or give "
-                       "--tolerance")
-
-
 def _measurements(case, args):
     from updating.files import InputError
     from updating.measurements import read_measurements, simulate_measurements
@@ -415,7 +396,8 @@ def _modified_problem(case, args, measurements=None):
                               executor=_executor(args, case),
                               estimate=not getattr(args, "no_estimate", True))
     _problem_warnings(args, problem)
-    _model_estimate_lines(_console(args), problem.error_estimates)
+    _estimate_lines(_console(args), problem.error_estimates,
+                    " of the model at its initial parameters")
     return problem
 
 
@@ -436,8 +418,10 @@ def _resolution_for_tolerance(case, console):
     return resolution
 
 
-def _model_estimate_lines(console, estimates, what="of the model at its initial parameters"):
-    """One line: the estimated error of the model's response, per frequency."""
+def _estimate_lines(console, estimates, what=""):
+    """One line: the estimated error of w at each frequency of ``estimates`` (``{frequency:
+    ErrorEstimate}``), its resolution and the worst plate; a warning above
+    :data:`ESTIMATE_WARNING` or when the estimate was skipped."""
     if not estimates:
         return
     skipped = [e for e in estimates.values() if e.total is None]
@@ -447,13 +431,14 @@ def _model_estimate_lines(console, estimates, what="of the model at its initial 
         return
     worst = max(estimates.values(), key=lambda e: e.total)
     plate = worst.worst_plate()
-    console.print(f"estimated error of w {what} (relative L2): "
+    console.print(f"estimated error of w{what} (relative L2, against an enriched solve): "
                   + ", ".join(f"{e.total:.1e} at {f:g} Hz" for f, e in estimates.items())
+                  + f" (resolution {_resolution_text(worst.resolution)})"
                   + (f"; largest on plate {plate} ({worst.plates[plate]:.1e})"
                      if len(worst.plates) > 1 else ""))
     if worst.total > ESTIMATE_WARNING:
         _warn(console, f"the estimated error {worst.total:.1e} exceeds {ESTIMATE_WARNING:g}: "
-                       "raise [discretisation] resolution")
+                       "raise [discretisation] resolution or give a tolerance")
 
 
 def _estimates_json(estimates):
@@ -687,7 +672,7 @@ def cmd_frf(args):
                                 on_round=lambda n: advance(f"{n} frequencies solved", 0))
     _print_sweep(console, case, sweep, len(order))
     estimates = {} if args.no_estimate else _sweep_estimates(case, sweep)
-    _model_estimate_lines(console, estimates, "of the sweep at its strongest peak and its top")
+    _estimate_lines(console, estimates, " of the sweep at its strongest peak and its top")
     if args.csv:
         write_measurements(args.csv, sweep.measurements(), sweep=True)
     if args.json:
