@@ -719,7 +719,8 @@ def test_a_full_filesystem_is_one_line_and_leaves_nothing(tmp_path: Path) -> Non
     import sys
 
     if shutil.which("unshare") is None:
-        pytest.skip("no unshare")
+        pytest.skip("no unshare(1) to mount a private tmpfs; a full device is still covered "
+                    "by the /dev/full test above, a full regular-file filesystem is not")
     full = tmp_path / "full"
     full.mkdir()
     script = (f"mount -t tmpfs -o size=64k tmpfs {full} && "
@@ -729,7 +730,8 @@ def test_a_full_filesystem_is_one_line_and_leaves_nothing(tmp_path: Path) -> Non
               f"ls -a {full}; exit $status")
     probe = subprocess.run(["unshare", "-rm", "true"], capture_output=True)
     if probe.returncode != 0:
-        pytest.skip("user namespaces not available here")
+        pytest.skip("user namespaces are disabled on this machine, so no private tmpfs can be "
+                    "mounted; /dev/full above still covers a full output device")
     done = subprocess.run(["unshare", "-rm", "sh", "-c", script], capture_output=True,
                           text=True, env=dict(os.environ, OPENBLAS_NUM_THREADS="1"), timeout=120)
     lines = done.stderr.strip().splitlines()
