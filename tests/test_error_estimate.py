@@ -10,6 +10,7 @@ held to that band here; the measured effectivities are 0.92–1.43 (0.58 for a p
 
 import json
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -27,6 +28,8 @@ from solver.estimate import (
 )
 from solver.problems import plate_problem, plate_ray_counts
 from updating.cli import main
+
+TWO_PLATES = Path(__file__).resolve().parents[1] / "cases" / "two_plates.toml"
 
 E, PLATE_NU, PLATE_RHO, PLATE_H = 210e9, 0.3, 7800.0, 1e-3
 SIZE = (0.5, 0.4)
@@ -299,7 +302,7 @@ def test_localise_update_and_frf_report_the_estimate(tmp_path):
     """localise and update estimate the model's response at its initial parameters (the same
     number solve gives for it), frf at its strongest peak and its top frequency; --no-estimate
     leaves it out."""
-    case = "cases/two_plates.toml"
+    case = str(TWO_PLATES)
     solved, localised, updated, swept = (tmp_path / f"{n}.json" for n in "sluf")
     assert main(["solve", case, "--json", str(solved), "--max-rows", "0"]) == 0
     assert main(["localise", case, "--json", str(localised)]) == 0
@@ -320,8 +323,6 @@ def test_tolerance_drives_the_model_and_the_simulated_experiment(tmp_path, monke
     """[discretisation] tolerance: localise raises the model's resolution until its response
     meets the tolerance at every frequency, and the simulated experiment is solved to a tighter
     one (0.3 of it) from its own finer start."""
-    from pathlib import Path
-
     import updating.measurements
 
     targets = []
@@ -333,7 +334,7 @@ def test_tolerance_drives_the_model_and_the_simulated_experiment(tmp_path, monke
 
     monkeypatch.setattr(updating.measurements, "solve_to_tolerance", recording)
     path = tmp_path / "tolerance.toml"
-    path.write_text(Path("cases/two_plates.toml").read_text()
+    path.write_text(TWO_PLATES.read_text()
                     + "\n[discretisation]\ntolerance = 1e-4\n")
     out = tmp_path / "out.json"
     assert main(["localise", str(path), "--json", str(out)]) == 0

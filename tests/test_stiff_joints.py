@@ -15,11 +15,13 @@ import pytest
 from solver import solve_case
 from updating.cli import main
 
+TWO_PLATES = Path(__file__).resolve().parents[1] / "cases" / "two_plates.toml"
+
 
 def _two_plates_with(**joint):
     from assembly import load_case
 
-    case = load_case("cases/two_plates.toml")
+    case = load_case(str(TWO_PLATES))
     jid = next(iter(case.joints))
     model = case.joints[jid].model_copy(update=joint)
     return case.model_copy(update={"joints": {**case.joints, jid: model}}), jid
@@ -57,7 +59,7 @@ def test_residual_weight_is_continuous_at_the_crossover():
 def test_near_rigid_joint_is_identified_as_a_lower_bound(tmp_path):
     """True log10 k = 12 with bounds [-1, 14]: reported as '>= x' with the truth inside (the
     issue measured 7.76 on [5.38, 10.25], excluding the truth)."""
-    text = Path("cases/two_plates.toml").read_text()
+    text = TWO_PLATES.read_text()
     text = text.replace("bounds = [-1.0, 5.0]", "bounds = [-1.0, 14.0]")
     text = text.replace("[truth.joints.G1]                 # the simulated experiment: truth = "
                         "model (Figs. 6-7)\nlog10_stiffness = 1.5",
