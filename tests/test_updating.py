@@ -2,21 +2,24 @@
 compute (exact Levy chain), the localisation–correction loop and its command line."""
 
 import json
+from pathlib import Path
 
 import numpy as np
 from exact import Section, coplanar, complex_rigidity, levy_chain
 from scipy import optimize
 from test_assemblies import MATERIAL, chain_description
 
-from assembly import parse_case
+from assembly import load_case, parse_case
 from updating.cli import main
 from updating.cost import ModifiedProblem
+from updating.executor import frequency_threads, usable_cores
 from updating.measurements import Measurements, add_noise, simulate_measurements
 from updating.strategy import update_joints
 
 E, NU, RHO, ETA = (MATERIAL[k] for k in ("young_modulus", "poisson_ratio", "density",
                                        "loss_factor"))
 H = 1e-3
+CASES = Path(__file__).resolve().parents[1] / "cases"
 
 
 def two_plate_study(noise, seed=1, assumed_zeta=0.1):
@@ -273,3 +276,47 @@ def test_dash_is_standard_output_and_the_tables_move_to_standard_error(tmp_path,
     assert main(["update", str(case), "--run", "-"]) == 2
     assert "--run -: a run file is read back" in capsys.readouterr().err
     assert not (tmp_path / "-").exists() and not list(tmp_path.glob("*.run.json"))
+
+
+def test_frequencies_on_threads_give_the_serial_numbers():
+    """The four-plate problem on two threads (its three frequencies factorised side by side)
+    gives bit for bit what one thread gives: the set-up, an evaluation, the noise floors and a
+    condensed correction. Each frequency's solve is the same deterministic task either way."""
+    case = load_case(CASES / "four_plates.toml")
+    measurements = simulate_measurements(case)
+    runs = []
+    for threads in (1, 2):
+        problem = ModifiedProblem(case, measurements, threads=threads)
+        p0 = problem.initial_parameters()
+        evaluation = problem.evaluate(p0)
+        floors, e_mod_floor = problem.noise_floor(p0, 0.1)
+        local = problem.correction(p0, "G2")
+        runs.append((evaluation.e_mod, evaluation.residuals, floors, e_mod_floor,
+                     local.cost(log10_stiffness=3.0), problem.reference_energies))
+    assert runs[0] == runs[1]
+
+
+def test_thread_count_follows_cores_tasks_and_memory():
+    """One thread per usable core and task, as many as fit in half the available memory; one
+    when the memory is unknown."""
+    cores = usable_cores()
+    assert frequency_threads(3, 1e6, 1e12) == min(cores, 3)
+    assert frequency_threads(1, 1e6, 1e12) == 1
+    assert frequency_threads(8, 1e9, 2.5e9) == min(cores, 1)
+    assert frequency_threads(8, 1e9, 4e9) == min(cores, 2)
+    assert frequency_threads(8, 1e6, None) == 1
+
+
+def test_a_correction_is_condensed_once_per_parameters():
+    """The re-corrections that end a run and the identification intervals after it ask for
+    the same joint at the same parameters: one condensation serves both; an evaluation at other
+    parameters starts afresh."""
+    case = load_case(CASES / "four_plates.toml")
+    problem = ModifiedProblem(case, simulate_measurements(case))
+    p0 = problem.initial_parameters()
+    first = problem.correction(p0, "G2")
+    assert problem.correction(p0, "G2") is first
+    assert problem.correction(p0, "G1") is not first
+    moved = {j: dict(p) for j, p in p0.items()}
+    moved["G2"]["log10_stiffness"] = 3.0
+    assert problem.correction(moved, "G2") is not first

@@ -392,9 +392,10 @@ def _modified_problem(case, args, measurements=None):
     if measurements is None:
         measurements = _checked_measurements(case, args)
     resolution = _resolution_for_tolerance(case, _console(args))
-    problem = ModifiedProblem(case, measurements, resolution=resolution,
-                              executor=_executor(args, case),
-                              estimate=not getattr(args, "no_estimate", True))
+    executor = _executor(args, case)
+    problem = ModifiedProblem(case, measurements, resolution=resolution, executor=executor,
+                              estimate=not getattr(args, "no_estimate", True),
+                              threads=executor.threads)
     _problem_warnings(args, problem)
     _estimate_lines(_console(args), problem.error_estimates,
                     " of the model at its initial parameters")
@@ -567,7 +568,10 @@ def cmd_update(args):
     joint = next((s.selected for s in reversed(result.steps) if s.selected), case.joints and
                  next(iter(case.joints)))
     timings = {"setup": t1 - t0, "updating": t2 - t1,
-               "global_solve": problem.evaluation_seconds(result.parameters, repeats=1),
+               # the fastest of the run's own evaluations, if it made any (not a resumed
+               # finished run): timing it again would cost the run one more
+               "global_solve": min(problem.evaluation_times, default=None)
+               or problem.evaluation_seconds(result.parameters, repeats=1),
                "correction_evaluation": problem.evaluation_seconds(result.parameters, joint),
                "plates_per_frequency": sum(problem.factorisation_seconds.values()) / n_f}
     console.print(f"one E_mod^2(p) solve ({n_f} frequenc{'ies' if n_f > 1 else 'y'}): "
@@ -833,8 +837,21 @@ def _executor(args, case):
         workers, scheduler = getattr(args, "workers", None), getattr(args, "scheduler", None)
         if workers is None and scheduler is None:
             workers, scheduler = case.compute.workers, case.compute.scheduler
-        args.executor = args.resources.enter_context(Executor(workers or 1, scheduler))
+        threads = _threads(args, case) if (workers or 1) == 1 and scheduler is None else 1
+        args.executor = args.resources.enter_context(Executor(workers or 1, scheduler, threads))
     return args.executor
+
+
+def _threads(args, case):
+    """Threads for the per-frequency solves of this process: one per usable core, as many as
+    the estimated peak memory of one solve (``solver.sizing``) lets fit in half the memory."""
+    from solver.sizing import available_memory, estimate_size
+    from updating.executor import frequency_threads
+
+    if getattr(args, "threads", None) is None:
+        args.threads = frequency_threads(len(case.frequencies) or 1,
+                                         estimate_size(case).solve_bytes, available_memory())
+    return args.threads
 
 
 def build_parser():

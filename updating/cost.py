@@ -43,11 +43,16 @@ from solver.substructure import (
     solve_interface,
 )
 from solver.vtcr import NumericalError
+from updating.executor import thread_map
 
 __all__ = ["ModifiedProblem", "JointCorrection", "Evaluation", "channel_parameters",
            "case_parameters", "with_joint", "direct_interface", "PARAMETER_NAMES"]
 
 PARAMETER_NAMES = ("log10_stiffness", "loss_factor", "mass")
+
+MAX_KEPT_CORRECTIONS = 8
+"""Condensations kept per set of parameters: each holds, per frequency, the joint's solves
+through the whole interface problem (interface unknowns x residual samples)."""
 
 
 def case_parameters(case):
@@ -159,19 +164,25 @@ class ModifiedProblem:
     estimate : bool, optional
         Estimate the discretisation error of the model's response at p0 at each frequency
         (:attr:`error_estimates`; an enriched solve each).
+    threads : int, optional
+        Threads on which the frequencies of one evaluation are factorised side by side
+        (default 1; :func:`updating.executor.frequency_threads` chooses from the memory).
     """
 
     def __init__(self, case, measurements, r=None, resolution=None, executor=None,
-                 estimate=False):
+                 estimate=False, threads=1):
         self.case = case
+        self.threads = threads
         self.r = case.updating.r if r is None else r
         self.alpha = dict(case.updating.alpha)
         self.joints = tuple(case.joints)
         self._last = None  # (parameters, {frequency: InterfaceFactor}) of the last evaluation
+        self._corrections = {}  # joint -> JointCorrection at the parameters of self._last
+        self.evaluation_times = []  # wall time of each evaluation on the measured data (s)
         tasks = [(frequency, measurements.data[frequency])
                  for frequency in measurements.frequencies]
         build = functools.partial(_frequency_data, case, resolution, estimate)
-        built = executor.map(build, tasks) if executor else [build(task) for task in tasks]
+        built = executor.map(build, tasks) if executor else thread_map(build, tasks, threads)
         self.frequencies = {frequency: data for (frequency, _), data in zip(tasks, built)}
 
     @property
@@ -195,17 +206,28 @@ class ModifiedProblem:
         ``data`` (``{frequency: [values per measured plate]}``, see :meth:`synthetic_data`)
         replaces the measured data by other data on the same points.
         """
-        interfaces, factors = {}, {}
-        for frequency, freq in self.frequencies.items():
+        t0 = time.perf_counter()
+
+        def factorise(frequency):
+            freq = self.frequencies[frequency]
             values = freq.data if data is None else data[frequency]
             system = freq.system
             params = channel_parameters(parameters, system.omega)
             blocks = channel_blocks(system, params, self.joint_weights(system))
-            factors[frequency] = solve_interface(system, blocks + freq.blocks(values, self.r))
-            interfaces[frequency] = factors[frequency].s
+            return solve_interface(system, blocks + freq.blocks(values, self.r))
+
+        factors = dict(zip(self.frequencies, self._map(factorise, self.frequencies)))
+        interfaces = {frequency: factor.s for frequency, factor in factors.items()}
+        evaluation = self.evaluation_at(parameters, interfaces, data)
         if data is None:
             self._last = ({j: dict(p) for j, p in parameters.items()}, factors)
-        return self.evaluation_at(parameters, interfaces, data)
+            self._corrections = {}
+            self.evaluation_times.append(time.perf_counter() - t0)
+        return evaluation
+
+    def _map(self, function, frequencies):
+        """``[function(f) for f in frequencies]`` on the problem's threads."""
+        return thread_map(function, list(frequencies), self.threads)
 
     def evaluation_at(self, parameters, interfaces, data=None) -> Evaluation:
         """The :class:`Evaluation` of given interface unknowns ``{frequency: S}`` (for instance
@@ -253,10 +275,16 @@ class ModifiedProblem:
     def correction(self, parameters, joint):
         """:math:`E_{mod}^2` as a function of one joint's parameters, the others at
         ``parameters``: a :class:`JointCorrection`, condensed once on that joint (it reuses the
-        factorisations of the last evaluation when it was at ``parameters``)."""
+        factorisations of the last evaluation when it was at ``parameters``, and the joint's
+        condensation when it was made from them: the re-corrections that end a run and the
+        identification intervals after it condense at the same final parameters)."""
         if self._last is None or self._last[0] != parameters:
             self.evaluate(parameters)
-        return JointCorrection(self, parameters, joint, self._last[1])
+        if joint not in self._corrections:
+            if len(self._corrections) >= MAX_KEPT_CORRECTIONS:
+                self._corrections.pop(next(iter(self._corrections)))
+            self._corrections[joint] = JointCorrection(self, parameters, joint, self._last[1])
+        return self._corrections[joint]
 
     def synthetic_data(self, parameters, noise, seed=0, realisations=4):
         r"""Measured values of synthetic experiments on the measured points.
@@ -267,12 +295,15 @@ class ModifiedProblem:
         Returns ``realisations`` dicts ``{frequency: [values per measured plate]}``.
         """
         rng = np.random.default_rng(seed)
-        predictions = {}
         at_start = parameters == self.initial_parameters()  # solved in the set-up already
-        for f, freq in self.frequencies.items():
+
+        def predict(f):
+            freq = self.frequencies[f]
             s = (freq.initial_s if at_start else
                  direct_interface(freq.system, parameters, self.alpha))
-            predictions[f] = [op.residual(s) for op in freq.operators]
+            return [op.residual(s) for op in freq.operators]
+
+        predictions = dict(zip(self.frequencies, self._map(predict, self.frequencies)))
         return [{f: [w * (1.0 + rng.uniform(-noise, noise, w.shape)) for w in plates]
                  for f, plates in predictions.items()}
                 for _ in range(realisations)]
@@ -288,8 +319,9 @@ class ModifiedProblem:
         all.
         """
         draws = self.synthetic_data(parameters, noise, seed, realisations)
-        floors, e_mod = dict.fromkeys(self.joints, 0.0), 0.0
-        for frequency, freq in self.frequencies.items():
+
+        def floor(frequency):
+            freq = self.frequencies[frequency]
             system = freq.system
             data = [draw[frequency] for draw in draws]
             norm = float(np.mean([_norm2(values) for values in data]))
@@ -298,9 +330,16 @@ class ModifiedProblem:
             factor = solve_interface(system, blocks + freq.blocks(data[0], self.r, norm))
             offsets = [[b.offset for b in blocks + freq.blocks(values, self.r, norm)]
                        for values in data]
+            out = []
             for s, values in zip(factor.resolve(offsets), data):
                 residuals = joint_residuals(system, params, s)
                 e_mes = sum(freq.misfits(s, values, norm).values())
+                out.append((residuals, e_mes))
+            return out
+
+        floors, e_mod = dict.fromkeys(self.joints, 0.0), 0.0
+        for draws_at_frequency in self._map(floor, self.frequencies):
+            for residuals, e_mes in draws_at_frequency:
                 e_int = sum(self.alpha[jid] * value for jid, value in residuals.items())
                 e_mod += ((1.0 - self.r) * e_int + self.r * e_mes) / realisations
                 for jid, value in residuals.items():
@@ -367,8 +406,10 @@ class JointCorrection:
         self.problem = problem
         self.joint = joint
         self.parameters = {j: dict(p) for j, p in parameters.items()}
-        self._frequencies, self._neighbourhood = {}, {}
-        for frequency, freq in problem.frequencies.items():
+        neighbourhood = problem.neighbourhood(joint)
+
+        def condense(frequency):
+            freq = problem.frequencies[frequency]
             system = freq.system
             kappa = problem.joint_weights(system)[joint]
             params = channel_parameters(parameters, system.omega)
@@ -377,9 +418,12 @@ class JointCorrection:
                 factors[frequency],
                 [(ch.load, ch.kinematic, kappa, params[joint, ch.kind], ch.crossover)
                  for ch in channels])
-            self._frequencies[frequency] = (system.omega, [ch.kind for ch in channels],
-                                            condensation)
-            self._neighbourhood[frequency] = self._local_data(freq, problem.neighbourhood(joint))
+            return (system.omega, [ch.kind for ch in channels], condensation)
+
+        self._frequencies = dict(zip(problem.frequencies,
+                                     problem._map(condense, problem.frequencies)))
+        self._neighbourhood = {f: self._local_data(freq, neighbourhood)
+                               for f, freq in problem.frequencies.items()}
 
     @staticmethod
     def _local_data(freq, neighbourhood):

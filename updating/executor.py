@@ -7,7 +7,9 @@ deterministic solve with one BLAS thread). Items are sent in chunks — a few pe
 each task is well above the per-task overhead of process pools and schedulers; the function and
 its bound arguments (a description, a few points) are what travels, never large arrays.
 
-* ``workers=1`` (default): in this process.
+* ``workers=1`` (default): in this process, on ``threads`` threads (default 1). SciPy's
+  sparse LU and LAPACK release the GIL, so the frequencies of a small problem factorise side by
+  side on the cores; :func:`frequency_threads` chooses the count the memory allows.
 * ``workers=N``: ``N`` local processes (``spawn``: a fresh interpreter each, which inherits the
   one-thread BLAS settings of :mod:`updating.cli`).
 * ``scheduler="tcp://host:8786"``: a running ``dask.distributed`` scheduler (the
@@ -19,11 +21,12 @@ from __future__ import annotations
 import ctypes
 import math
 import multiprocessing
-from concurrent.futures import ProcessPoolExecutor
+import os
+from concurrent.futures import ProcessPoolExecutor, ThreadPoolExecutor
 
 from updating.files import InputError
 
-__all__ = ["Executor", "CHUNKS_PER_WORKER"]
+__all__ = ["Executor", "CHUNKS_PER_WORKER", "frequency_threads", "thread_map", "usable_cores"]
 
 M_TRIM_THRESHOLD, M_MMAP_THRESHOLD = -1, -3  # glibc mallopt parameters (malloc.h)
 
@@ -58,6 +61,38 @@ def _keep_freed_memory():
 _keep_freed_memory.done = False
 
 
+def usable_cores():
+    """Cores this process may run on (its CPU affinity, which job schedulers and ``taskset``
+    restrict), else the machine's."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # not Linux
+        return os.cpu_count() or 1
+
+
+def frequency_threads(tasks, task_bytes, available_bytes):
+    """Threads for ``tasks`` independent per-frequency solves of ``task_bytes`` peak memory each:
+    one per usable core and per task, as many as fit in half the ``available_bytes`` (None:
+    unknown, then one)."""
+    if available_bytes is None or task_bytes <= 0:
+        return 1
+    fit = int(0.5 * available_bytes // task_bytes)
+    return max(1, min(usable_cores(), tasks, fit))
+
+
+def thread_map(function, items, threads):
+    """``[function(item) for item in items]`` on up to ``threads`` threads, in order.
+
+    For tasks that spend their time in compiled code releasing the GIL (sparse and dense
+    factorisations); each task is deterministic, so the results do not depend on ``threads``.
+    """
+    items = list(items)
+    if threads <= 1 or len(items) <= 1:
+        return [function(item) for item in items]
+    with ThreadPoolExecutor(min(threads, len(items))) as pool:
+        return list(pool.map(function, items))
+
+
 def _run_chunk(function, chunk):
     _keep_freed_memory()
     return [function(item) for item in chunk]
@@ -74,10 +109,10 @@ class Executor:
     Use as a context manager: the worker processes or the cluster connection are closed on exit.
     """
 
-    def __init__(self, workers=1, scheduler=None):
+    def __init__(self, workers=1, scheduler=None, threads=1):
         if workers < 1:
             raise ValueError(f"workers must be at least 1, got {workers}")
-        self.workers, self.scheduler = workers, scheduler
+        self.workers, self.scheduler, self.threads = workers, scheduler, threads
         self._pool = self._client = None
 
     def __enter__(self):
@@ -112,13 +147,15 @@ class Executor:
     def description(self) -> str:
         if self.scheduler is not None:
             return f"Dask scheduler {self.scheduler} ({self.workers} workers)"
-        return f"{self.workers} local processes" if self.workers > 1 else "this process"
+        if self.workers > 1:
+            return f"{self.workers} local processes"
+        return f"this process ({self.threads} threads)" if self.threads > 1 else "this process"
 
     def map(self, function, items):
         """``[function(item) for item in items]``, possibly in parallel, in order."""
         items = list(items)
         if self._pool is None and self._client is None or len(items) <= 1:
-            return [function(item) for item in items]
+            return thread_map(function, items, self.threads)
         chunks = _chunks(items, CHUNKS_PER_WORKER * self.workers)
         if self._client is not None:
             futures = self._client.map(_run_chunk, [function] * len(chunks), chunks, pure=False)
