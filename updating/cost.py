@@ -179,6 +179,7 @@ class ModifiedProblem:
         self._last = None  # (parameters, {frequency: InterfaceFactor}) of the last evaluation
         self._corrections = {}  # joint -> JointCorrection at the parameters of self._last
         self.evaluation_times = []  # wall time of each evaluation on the measured data (s)
+        self._neighbourhoods = None  # joint -> (joints, plates) around it, found once
         tasks = [(frequency, measurements.data[frequency])
                  for frequency in measurements.frequencies]
         build = functools.partial(_frequency_data, case, resolution, estimate)
@@ -258,10 +259,19 @@ class ModifiedProblem:
 
     def neighbourhood(self, joint):
         """``(joints, plates)`` around ``joint``: its two plates and every joint of theirs."""
-        plates = {side.plate for side in self.case.joints[joint].sides}
-        joints = [jid for jid, j in self.case.joints.items()
-                  if any(side.plate in plates for side in j.sides)]
-        return joints, sorted(plates)
+        if self._neighbourhoods is None:
+            plates_of = {jid: {side.plate for side in j.sides}
+                         for jid, j in self.case.joints.items()}
+            joints_of = {}
+            for jid, plates in plates_of.items():
+                for plate in plates:
+                    joints_of.setdefault(plate, []).append(jid)
+            order = {jid: i for i, jid in enumerate(self.case.joints)}
+            self._neighbourhoods = {
+                jid: (sorted({j for p in plates for j in joints_of[p]}, key=order.get),
+                      sorted(plates))
+                for jid, plates in plates_of.items()}
+        return self._neighbourhoods[joint]
 
     def neighbourhood_cost(self, joint, residuals, misfits):
         r"""The part of :math:`E_{mod}^2` that lives around ``joint``:
