@@ -165,6 +165,7 @@ _EXAMPLES: dict[str, str] = {
     "updating.max_steps": "max_steps = 8 (>= 1)",
     "updating.stop_ratio": "stop_ratio = 3.0 (> 1)",
     "updating.min_decrease": "min_decrease = 0.01 (in [0, 1))",
+    "updating.confidence": "confidence = 0.9 (a level in (0, 1))",
     "truth": "a [truth.joints.ID] table",
     "truth.joints": "[truth.joints.G1] tables",
     "truth.joints.*": "a [truth.joints.ID] table",

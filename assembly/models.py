@@ -952,6 +952,9 @@ class Updating(_Model):
     min_decrease : float, optional
         Smallest relative decrease of ``E_mod`` for a correction to count, in [0, 1).
         Default 0.01.
+    confidence : float, optional
+        Level of the confidence interval reported for every corrected joint, in (0, 1).
+        Default 0.9.
     """
 
     r: Annotated[float, Strict(), Field(gt=0, le=1)] = 0.8
@@ -963,6 +966,7 @@ class Updating(_Model):
     max_steps: Annotated[int, Strict(), Field(ge=1)] = 8
     stop_ratio: Annotated[float, Strict(), Field(gt=1)] = 3.0
     min_decrease: Annotated[float, Strict(), Field(ge=0, lt=1)] = 0.01
+    confidence: Annotated[float, Strict(), Field(gt=0, lt=1)] = 0.9
 
 
 class Compute(_Model):

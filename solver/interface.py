@@ -153,16 +153,20 @@ class InterfaceFactor:
     residuals: list
     constraint_rhs: np.ndarray
 
+    def solve(self, rhs):
+        """The whole augmented solution :math:`(\\rho, S, \\lambda)` for ``rhs`` (n_s, k) in
+        the S rows, zero elsewhere."""
+        rhs = np.asarray(rhs, dtype=complex).reshape(self.n_s, -1)
+        full = np.zeros((len(self.scale), rhs.shape[1]), dtype=complex)
+        full[self.n_rho:self.n_rho + self.n_s] = rhs
+        return self.lu.solve(full * self.scale[:, None]) * self.scale[:, None]
+
     def solve_interface(self, rhs):
         """S-part of the augmented solve with ``rhs`` (n_s, k) in the S rows, zero elsewhere.
 
         This is :math:`[A^HA\\ G^H; G\\ 0]^{-1}[rhs; 0]` restricted to S.
         """
-        rhs = np.asarray(rhs, dtype=complex).reshape(self.n_s, -1)
-        full = np.zeros((len(self.scale), rhs.shape[1]), dtype=complex)
-        full[self.n_rho:self.n_rho + self.n_s] = rhs
-        x = self.lu.solve(full * self.scale[:, None]) * self.scale[:, None]
-        return x[self.n_rho:self.n_rho + self.n_s]
+        return self.solve(rhs)[self.n_rho:self.n_rho + self.n_s]
 
     def resolve(self, offsets):
         """Minimisers for other block offsets :math:`a_b` (same matrices, same constraints).
@@ -252,10 +256,17 @@ class JointCondensation:
         samples :math:`W^{1/2}(RS + \rho)` (blocks over interface unknowns, unweighted by the
         channel parameter), the weight :math:`\kappa`, the base parameter :math:`c_0` and the
         channel's crossover (:func:`residual_weight`).
+    keep : slice, optional
+        Rows of the solves through the factorisation to keep as :attr:`kept_rows` besides
+        their S-part: the Hermitian system makes the residual rows' part of
+        :math:`K_0^{-1}P^H` the samples' response to those rows' offsets (for the measurement
+        rows, to a change of the measured values: :mod:`updating.confidence`).
     """
 
-    def __init__(self, factor, channels):
+    def __init__(self, factor, channels, keep=None):
         n_s = factor.n_s
+        index = np.unique(np.concatenate([b.index for load, kinematic, *_ in channels
+                                          for b in (load, kinematic)]))
         operators, offsets, self._slices = [], [], []
         start = 0
         for load, kinematic, *_ in channels:
@@ -264,8 +275,8 @@ class JointCondensation:
             rank = basis.shape[1]
             for block, coordinates in ((load, basis), (kinematic, basis),
                                        (kinematic, complement)):
-                rows = np.zeros((coordinates.shape[1], n_s), dtype=complex)
-                rows[:, block.index] = coordinates.conj().T @ block.matrix
+                rows = np.zeros((coordinates.shape[1], len(index)), dtype=complex)
+                rows[:, np.searchsorted(index, block.index)] = coordinates.conj().T @ block.matrix
                 operators.append(rows)
                 offsets.append(coordinates.conj().T @ block.offset)
             n_perp = complement.shape[1]
@@ -273,56 +284,86 @@ class JointCondensation:
                                  slice(start + rank, start + 2 * rank),
                                  slice(start + 2 * rank, start + 2 * rank + n_perp)))
             start += 2 * rank + n_perp
-        p_mat = np.vstack(operators)
+        self.index, self.operator = index, np.vstack(operators)  # P over its unknowns
         self.weights = [kappa for _, _, kappa, _, _ in channels]
         self.base = [c0 for _, _, _, c0, _ in channels]
         self.crossovers = [crossover for *_, crossover in channels]
-        self.x = factor.solve_interface(p_mat.conj().T)  # X = K0^{-1} P^H, S-part
-        z = p_mat @ self.x
+        rhs = np.zeros((n_s, start), dtype=complex)
+        rhs[index] = self.operator.conj().T
+        solution = factor.solve(rhs)
+        self.x = solution[factor.n_rho:factor.n_rho + n_s]  # X = K0^{-1} P^H, S-part
+        self.kept_rows = solution[keep] if keep is not None else solution[:0]
+        z = self.operator @ self.x[index]
         self.z = 0.5 * (z + z.conj().T)
-        self.y0 = p_mat @ factor.s + np.concatenate(offsets)
+        self.y0 = self.operator @ factor.s[index] + np.concatenate(offsets)
         self.s0 = factor.s
         self.e0 = factor.cost
         self._solved = {}
 
+    @classmethod
+    def combined(cls, parts):
+        r"""One condensation on the channels of several, all made from the same
+        factorisation, without solving again: the cross blocks are
+        :math:`Z_{jk} = P_jX_k`."""
+        out = cls.__new__(cls)
+        out.x = np.hstack([p.x for p in parts])
+        out.kept_rows = np.hstack([p.kept_rows for p in parts])
+        out.y0 = np.concatenate([p.y0 for p in parts])
+        sizes = np.cumsum([0] + [p.operator.shape[0] for p in parts])
+        z = np.empty((sizes[-1], sizes[-1]), dtype=complex)
+        for a, p in enumerate(parts):
+            z[sizes[a]:sizes[a + 1]] = p.operator @ out.x[p.index]
+        out.z = 0.5 * (z + z.conj().T)
+        out._slices = [tuple(slice(sl.start + offset, sl.stop + offset) for sl in slices)
+                       for p, offset in zip(parts, sizes) for slices in p._slices]
+        for name in ("weights", "base", "crossovers"):
+            setattr(out, name, [v for p in parts for v in getattr(p, name)])
+        out.index, out.operator = None, None  # the parts keep theirs
+        out.s0, out.e0, out._solved = parts[0].s0, parts[0].e0, {}
+        return out
+
     @staticmethod
-    def _coefficients(kappa, c, crossover):
+    def weight_matrix(kappa, c, crossover):
         """The 2 x 2 matrix of :math:`M(c)` per sample:
         ``kappa g(c) [[1, -c], [-c*, |c|^2]]`` (:func:`residual_weight`)."""
         factor = kappa * residual_weight(c, crossover)
         return factor * np.array([[1.0, -c], [-np.conj(c), abs(c) ** 2]])
 
     def _deltas(self, params):
-        return [self._coefficients(k, c, x) - self._coefficients(k, c0, x)
+        return [self.weight_matrix(k, c, x) - self.weight_matrix(k, c0, x)
                 for k, c, c0, x in zip(self.weights, params, self.base, self.crossovers)]
 
-    def _apply(self, deltas, v):
-        r""":math:`\Delta M\,v` in the compressed coordinates (block-diagonal, scalar blocks)."""
-        out = np.empty_like(v)
-        for d, (a, b, perp) in zip(deltas, self._slices):
+    def apply(self, coefficients, v):
+        r""":math:`\Delta M\,v` (or any matrix of the same structure: per channel 2 x 2
+        ``coefficients``, None for zero) in the compressed coordinates, for ``v`` of shape
+        (samples,) or (samples, k)."""
+        out = np.zeros_like(v)
+        for d, (a, b, perp) in zip(coefficients, self._slices):
+            if d is None:
+                continue
             out[a] = d[0, 0] * v[a] + d[0, 1] * v[b]
             out[b] = d[1, 0] * v[a] + d[1, 1] * v[b]
             out[perp] = d[1, 1] * v[perp]
         return out
+
+    def system(self, params):
+        r""":math:`I + Z\,\Delta M` at the channel parameters ``params``."""
+        z_delta = np.empty_like(self.z)  # Z dM by columns: dM's blocks are multiples of I
+        for d, (a, b, perp) in zip(self._deltas(params), self._slices):
+            z_delta[:, a] = self.z[:, a] * d[0, 0] + self.z[:, b] * d[1, 0]
+            z_delta[:, b] = self.z[:, a] * d[0, 1] + self.z[:, b] * d[1, 1]
+            z_delta[:, perp] = self.z[:, perp] * d[1, 1]
+        z_delta[np.diag_indices_from(z_delta)] += 1.0
+        return z_delta
 
     def _solve(self, params):
         # the scans of a correction evaluate the same parameters for the cost and for the
         # neighbourhood's residuals: solve each once
         key = tuple(complex(c) for c in params)
         if key not in self._solved:
-            self._solved[key] = self._solve_new(params)
+            y = np.linalg.solve(self.system(params), self.y0)
+            self._solved[key] = y, self.apply(self._deltas(params), y)
         return self._solved[key]
-
-    def _solve_new(self, params):
-        deltas = self._deltas(params)
-        z_delta = np.empty_like(self.z)  # Z dM by columns: dM's blocks are multiples of I
-        for d, (a, b, perp) in zip(deltas, self._slices):
-            z_delta[:, a] = self.z[:, a] * d[0, 0] + self.z[:, b] * d[1, 0]
-            z_delta[:, b] = self.z[:, a] * d[0, 1] + self.z[:, b] * d[1, 1]
-            z_delta[:, perp] = self.z[:, perp] * d[1, 1]
-        z_delta[np.diag_indices_from(z_delta)] += 1.0
-        y = np.linalg.solve(z_delta, self.y0)
-        return y, self._apply(deltas, y)
 
     def cost(self, params):
         """Cost of the interface problem with the joint's channel parameters ``params``."""

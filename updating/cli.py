@@ -135,6 +135,10 @@ def _option_problems(args):
     if tolerance is not None and not 0 < tolerance < 1:
         problems.append(f"--tolerance {tolerance}: must be a relative error in (0, 1); give "
                         "e.g. --tolerance 1e-3")
+    confidence = getattr(args, "confidence", None)
+    if confidence is not None and not 0 < confidence < 1:
+        problems.append(f"--confidence {confidence}: must be a level in (0, 1); give e.g. "
+                        "--confidence 0.9")
     workers = getattr(args, "workers", None)
     if workers is not None and workers < 1:
         problems.append(f"--workers {workers}: must be at least 1; give e.g. --workers 2")
@@ -536,6 +540,8 @@ def cmd_update(args):
     problem = _modified_problem(case, args, measurements)
     t1 = time.perf_counter()
     settings = case.updating
+    if args.confidence is not None:
+        settings = settings.model_copy(update={"confidence": args.confidence})
     with progress_bar(console, "localising", settings.max_steps + 1) as advance:
         def corrected(number, joint, again):
             advance(f"step {number}: {'re-' if again else ''}correcting {joint}", amount=0)
@@ -546,7 +552,8 @@ def cmd_update(args):
 
         try:
             if run.finished:
-                result = finished_result(problem, run.steps, run.finished[0], settings.bounds)
+                result = finished_result(problem, run.steps, run.finished[0], settings,
+                                         case.measurement.noise)
             else:
                 result = update_joints(problem, settings, noise=case.measurement.noise,
                                        start=run.steps, on_step=finished, on_correct=corrected)
@@ -917,6 +924,9 @@ def build_parser():
     update.add_argument("--force", action="store_true",
                         help="replace an existing run file (default: refuse, so that no run "
                              "is lost)")
+    update.add_argument("--confidence", type=float, metavar="LEVEL",
+                        help="level of the confidence interval of every corrected joint "
+                             "(default [updating] confidence, 0.9)")
     _compute_options(update)
     update.set_defaults(run=cmd_update)
 

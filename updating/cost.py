@@ -24,6 +24,8 @@ samples once, and each cost evaluation is then a dense solve of their size.
 
 from __future__ import annotations
 
+import copy
+import dataclasses
 import functools
 import math
 import time
@@ -180,11 +182,23 @@ class ModifiedProblem:
         self._corrections = {}  # joint -> JointCorrection at the parameters of self._last
         self.evaluation_times = []  # wall time of each evaluation on the measured data (s)
         self._neighbourhoods = None  # joint -> (joints, plates) around it, found once
+        self._direct = None  # (parameters, {frequency: InterfaceFactor}) of the model response
         tasks = [(frequency, measurements.data[frequency])
                  for frequency in measurements.frequencies]
         build = functools.partial(_frequency_data, case, resolution, estimate)
         built = executor.map(build, tasks) if executor else thread_map(build, tasks, threads)
         self.frequencies = {frequency: data for (frequency, _), data in zip(tasks, built)}
+
+    def with_data(self, data):
+        """The same problem on other measured values on the same points (``{frequency: [values
+        per measured plate]}``, as :meth:`synthetic_data` gives): the systems, the measurement
+        operators and :math:`E_{ref}` are shared, nothing is rebuilt."""
+        other = copy.copy(self)
+        other.frequencies = {f: dataclasses.replace(freq, data=[np.asarray(v) for v in data[f]])
+                             for f, freq in self.frequencies.items()}
+        other._last, other._corrections, other.evaluation_times = None, {}, []
+        other._direct = None
+        return other
 
     @property
     def error_estimates(self):
@@ -307,16 +321,30 @@ class ModifiedProblem:
         rng = np.random.default_rng(seed)
         at_start = parameters == self.initial_parameters()  # solved in the set-up already
 
-        def predict(f):
-            freq = self.frequencies[f]
-            s = (freq.initial_s if at_start else
-                 direct_interface(freq.system, parameters, self.alpha))
-            return [op.residual(s) for op in freq.operators]
-
-        predictions = dict(zip(self.frequencies, self._map(predict, self.frequencies)))
+        if at_start:
+            interfaces = {f: freq.initial_s for f, freq in self.frequencies.items()}
+        else:
+            interfaces = {f: factor.s for f, factor in self.direct_factors(parameters).items()}
+        predictions = {f: [op.residual(interfaces[f]) for op in freq.operators]
+                       for f, freq in self.frequencies.items()}
         return [{f: [w * (1.0 + rng.uniform(-noise, noise, w.shape)) for w in plates]
                  for f, plates in predictions.items()}
                 for _ in range(realisations)]
+
+    def direct_factors(self, parameters):
+        """Per frequency, the factorised model response (r = 0) at ``parameters``
+        (:func:`direct_interface`); the last parameters' are kept (the noise floor of a
+        localisation and the confidence intervals after the last one ask for the same)."""
+        key = {j: dict(p) for j, p in parameters.items()}
+        if self._direct is None or self._direct[0] != key:
+            def factorise(frequency):
+                system = self.frequencies[frequency].system
+                params = channel_parameters(parameters, system.omega)
+                return solve_interface(system, channel_blocks(system, params, self.alpha))
+
+            self._direct = (key, dict(zip(self.frequencies,
+                                          self._map(factorise, self.frequencies))))
+        return self._direct[1]
 
     def noise_floor(self, parameters, noise, seed=0, realisations=4):
         r"""What a correct model would show under measurement noise alone.
@@ -424,16 +452,22 @@ class JointCorrection:
             kappa = problem.joint_weights(system)[joint]
             params = channel_parameters(parameters, system.omega)
             channels = [ch for ch in system.channels if ch.joint == joint]
+            factor = factors[frequency]
+            measured = sum(len(v) for v in freq.data)  # the last residual rows
             condensation = JointCondensation(
-                factors[frequency],
-                [(ch.load, ch.kinematic, kappa, params[joint, ch.kind], ch.crossover)
-                 for ch in channels])
+                factor, [(ch.load, ch.kinematic, kappa, params[joint, ch.kind], ch.crossover)
+                         for ch in channels], keep=slice(factor.n_rho - measured, factor.n_rho))
             return (system.omega, [ch.kind for ch in channels], condensation)
 
         self._frequencies = dict(zip(problem.frequencies,
                                      problem._map(condense, problem.frequencies)))
         self._neighbourhood = {f: self._local_data(freq, neighbourhood)
                                for f, freq in problem.frequencies.items()}
+
+    def condensation(self, frequency):
+        """The joint's :class:`solver.interface.JointCondensation` at ``frequency``; it keeps
+        the samples' response to the measured values (``kept_rows``, one row per value)."""
+        return self._frequencies[frequency][2]
 
     @staticmethod
     def _local_data(freq, neighbourhood):

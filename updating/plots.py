@@ -132,7 +132,8 @@ class CostCurveData:
     identified, true, initial : float or None
         log10 k marked on the curve (identified value, ``[truth]`` value, model start).
     interval : tuple of float or None
-        log10 k range within 1 % of the optimum (shaded).
+        log10 k range to shade (the confidence interval, or the range within 1 % of the
+        optimum), labelled ``interval_label``.
     note : str
         What the other joints are held at (subtitle).
     identified_label : str
@@ -151,10 +152,11 @@ class CostCurveData:
     interval: tuple | None = None
     note: str = ""
     identified_label: str = "identified"
+    interval_label: str = "interval"
 
 
 def cost_curve_data(rows, joint, identified=None, true=None, initial=None, interval=None,
-                    note=""):
+                    note="", interval_label="interval"):
     """Arrays of a cost curve from :func:`updating.cost.cost_curve` rows.
 
     Parameters
@@ -177,7 +179,7 @@ def cost_curve_data(rows, joint, identified=None, true=None, initial=None, inter
         label = "minimum"
     return CostCurveData(joint, *(table[:, i].copy() for i in range(5)), identified=identified,
                          true=true, initial=initial, interval=interval, note=note,
-                         identified_label=label)
+                         identified_label=label, interval_label=interval_label)
 
 
 @dataclass(frozen=True)
@@ -575,8 +577,7 @@ def draw_cost_curve(data, title=""):
         ax.plot(data.log10_k, _positive(100.0 * values), label=label, **style)
     ax.set_yscale("log")
     if data.interval is not None and data.interval[1] > data.interval[0]:
-        ax.axvspan(*data.interval, color="tab:red", alpha=0.08,
-                   label="within 1 % of the optimum")
+        ax.axvspan(*data.interval, color="tab:red", alpha=0.08, label=data.interval_label)
     if data.initial is not None:
         ax.axvline(data.initial, color="grey", ls=":", lw=1.3,
                    label=f"model start {data.initial:.2f}")
@@ -876,7 +877,8 @@ def write_update_figures(case, problem, measurements, result, directory, curve_p
         data = cost_curve_data(rows, joint, identified=final[joint]["log10_stiffness"],
                                true=_true_log_k(case, joint),
                                initial=initial[joint]["log10_stiffness"],
-                               interval=result.intervals.get(joint),
+                               interval=result.intervals[joint].span(case.updating.bounds),
+                               interval_label=result.intervals[joint].text,
                                note=f"other joints at their final values; {frequencies} Hz")
         written.append(save_figure_atomic(
             draw_cost_curve(data, f"{name}: cost against $\\log_{{10}} k$ of {joint}"),

@@ -15,33 +15,18 @@ def _label(step):
     return f"step {step.step}" + ("*" if step.recorrection else "")
 
 
-def _identified(result, bounds):
-    """``{joint: (value, (low, high), bound)}`` of every corrected joint, at the end of the run.
-
-    ``bound`` is ``"lower"`` when the cost stays within 1 % of its minimum up to the upper
-    bound (a stiff joint: only a lower bound, ``low``, is identifiable), ``"upper"`` for the
-    lower bound (a near-hinge: only ``high``), None otherwise.
-    """
-    out = {}
-    for joint, (low, high) in result.intervals.items():
-        at_low, at_high = low <= bounds[0] + 1e-9, high >= bounds[1] - 1e-9
-        bound = "lower" if at_high and not at_low else "upper" if at_low and not at_high else None
-        out[joint] = (result.parameters[joint]["log10_stiffness"], (low, high), bound)
-    return out
-
-
-def identified_lines(result, bounds, truth=None):
-    """One line per corrected joint: value, interval within 1 % of the optimum, bound notes."""
+def identified_lines(result, bounds=None, truth=None):
+    """One line per corrected joint: its value and its confidence interval (or bound)."""
     lines = []
-    for joint, (value, (low, high), bound) in sorted(_identified(result, bounds).items()):
-        text = f"{joint}: log10 k = {value:.2f}, within 1 % of the optimum on [{low:.2f}, {high:.2f}]"
-        if bound == "lower":
-            text += f"; only a lower bound is identifiable: >= {low:.2f}"
-        elif bound == "upper":
-            text += f"; only an upper bound is identifiable: <= {high:.2f}"
+    for joint, interval in sorted(result.intervals.items()):
+        value = result.parameters[joint]["log10_stiffness"]
+        text = f"{joint}: log10 k = {value:.2f}; {interval.text}"
         if truth and joint in truth:
             text += f" (true {truth[joint]:.2f})"
         lines.append(text)
+    if result.intervals:
+        method = next(iter(result.intervals.values())).method
+        lines.append(f"intervals: {method}")
     return lines
 
 
@@ -81,9 +66,9 @@ def result_json(result, extra=None, bounds=None):
            "message": result.message}
     if bounds is not None:
         out["identified"] = {
-            joint: {"log10_stiffness": value, "interval": list(interval),
-                    "only": bound and f"{bound} bound"}
-            for joint, (value, interval, bound) in _identified(result, bounds).items()}
+            joint: {"log10_stiffness": result.parameters[joint]["log10_stiffness"],
+                    **interval.to_json()}
+            for joint, interval in sorted(result.intervals.items())}
     out.update(extra or {})
     return out
 

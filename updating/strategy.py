@@ -40,11 +40,10 @@ The loop stops when no joint stands out and no re-correction lowers its neighbou
 (status 0), when joints stand out but no correction lowers its neighbourhood's cost
 (status 1), or after ``max_steps`` accepted corrections (status 2).
 
-Each corrected joint is reported with the log10 k range whose neighbourhood cost is within 1 %
-of its minimum (:func:`identification_intervals`). A joint is reported as *bounded below* when
-that cost stays within 1 % of the minimum up to the upper bound: a joint much stiffer than the plates around it moves nothing, and only a
-lower bound of its stiffness can be identified. Symmetrically, a joint much softer than the
-plates acts as a moment-free line and only an upper bound is identifiable.
+Each corrected joint is reported with a calibrated confidence interval at ``[updating]
+confidence`` (:mod:`updating.confidence`): a two-sided range, or one bound only where the data
+bound the value on one side (a joint much stiffer than the plates around it moves nothing, so
+only ``>= x`` is identifiable; a joint much softer acts as a moment-free line: ``<= x``).
 """
 
 from __future__ import annotations
@@ -58,7 +57,7 @@ from scipy import optimize
 from updating.cost import log_grid, with_joint
 
 __all__ = ["Step", "UpdateResult", "TERMINATION_MESSAGES", "correct_joint", "update_joints",
-           "localise", "flat_interval", "identification_intervals", "finished_result"]
+           "localise", "flat_interval", "finished_result"]
 
 TERMINATION_MESSAGES = {
     0: "no joint's residual stands out of the noise and discretisation floor, and re-correcting "
@@ -139,7 +138,7 @@ class UpdateResult:
     status: int
     message: str
     parameters: dict = field(default_factory=dict)
-    intervals: dict = field(default_factory=dict)  # corrected joint -> final (low, high)
+    intervals: dict = field(default_factory=dict)  # corrected joint -> ConfidenceInterval
 
     @property
     def success(self) -> bool:
@@ -333,30 +332,27 @@ def update_joints(problem, settings, noise=0.0, start=None, on_step=None, on_cor
         steps.append(step)
         if on_step:
             on_step(step)
-    return finished_result(problem, steps, status, settings.bounds)
+    return finished_result(problem, steps, status, settings, noise)
 
 
-def finished_result(problem, steps, status, bounds):
+def finished_result(problem, steps, status, settings, noise=0.0):
     """The :class:`UpdateResult` of a loop that ended with ``status`` after ``steps`` (also
-    of a finished run read back from its run file, without running the loop again)."""
+    of a finished run read back from its run file, without running the loop again), with the
+    confidence interval of every corrected joint at ``settings.confidence``, calibrated
+    against the stated ``noise`` (:func:`updating.confidence.confidence_intervals`).
+
+    The intervals are those of the final values, every other joint at its own: an interval
+    recorded when a joint was corrected is stale once its neighbours have moved.
+    """
+    from updating.confidence import confidence_intervals
+
     final = steps[-1].parameters
     corrected = sorted({j for s in steps for j in s.corrected})
-    return UpdateResult(tuple(steps), status, TERMINATION_MESSAGES[status], final,
-                        identification_intervals(problem, final, corrected, bounds))
-
-
-def identification_intervals(problem, parameters, joints, bounds):
-    """``{joint: (low, high)}``: the log10 k range each joint's neighbourhood cost cannot tell
-    from its value (:func:`_neighbourhood_interval`).
-
-    Scanned with every other joint at its final value: the interval recorded when a joint was
-    corrected is stale once its neighbours have moved (a joint corrected while the others were
-    wrong looks sharply identified at a biased value).
-    """
-    grid = log_grid(bounds, SCAN_POINTS)
-    return {joint: _neighbourhood_interval(problem.correction(parameters, joint), grid,
-                                           parameters[joint]["log10_stiffness"])
-            for joint in joints}
+    misfit = steps[-1].e_mes / len(problem.frequencies)
+    intervals = (confidence_intervals(problem, final, corrected, noise, misfit,
+                                      settings.confidence, settings.bounds)
+                 if corrected else {})
+    return UpdateResult(tuple(steps), status, TERMINATION_MESSAGES[status], final, intervals)
 
 
 def _neighbourhood_interval(local, grid, value):

@@ -1,0 +1,171 @@
+"""Coverage of the confidence intervals of ``vtcr update`` (``updating.confidence``).
+
+For each case, the noise-free measured field is computed once (``cases/four_plates.toml``: its
+simulated experiment, the true structure at the finer measurement resolution; the Levy chains:
+the exact series), then ``--realisations`` independent ±10 % uniform noise draws are added and
+the whole updating run is repeated on each, as ``vtcr update`` runs it (localisation,
+corrections, re-corrections, then the intervals at ``--level``). Per joint whose model is wrong,
+printed: its field sensitivity (relative change of the measured values per 0.1 decade of
+log10 k at the truth), how often it was corrected, the fraction of its intervals holding the
+truth, with the binomial 95 % range of that fraction for a calibrated interval, how many were
+one-sided, and the median width of the two-sided ones::
+
+    OPENBLAS_NUM_THREADS=1 python bench/bench_confidence.py                  # 100 each, ~15 min
+    OPENBLAS_NUM_THREADS=1 python bench/bench_confidence.py --realisations 20 --workers 2
+
+Realisations run on ``--workers`` local processes (``updating.executor``); the numbers do not
+depend on it.
+"""
+
+from __future__ import annotations
+
+import argparse
+import functools
+import math
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+from scipy import stats
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path[:0] = [str(ROOT), str(ROOT / "tests")]
+
+from exact import Section, complex_rigidity, coplanar, levy_chain  # noqa: E402
+from test_assemblies import MATERIAL, H, chain_description  # noqa: E402
+
+from assembly import load_case, parse_case  # noqa: E402
+from updating.cost import ModifiedProblem, direct_interface  # noqa: E402
+from updating.executor import Executor  # noqa: E402
+from updating.measurements import Measurements, add_noise, simulate_measurements  # noqa: E402
+from updating.strategy import update_joints  # noqa: E402
+
+E, NU, RHO, ETA = (MATERIAL[k] for k in ("young_modulus", "poisson_ratio", "density",
+                                       "loss_factor"))
+NOISE = 0.1
+
+
+def levy_chain_case(truths, lengths):
+    """A chain of plates (simply supported left, clamped right), one coplanar joint per pair,
+    every model joint at log10 k = 2.5, and its exact Levy field with the ``truths``."""
+    joints = [{"kind": "coplanar", "log10_stiffness": 2.5, "loss_factor": 0.05}
+              for _ in truths]
+    description = chain_description(joints, 1.0, force=(0, 0.12, 0.31), lengths=lengths)
+    description["measurement"] = {"spacing": 0.08, "noise": NOISE}
+    description["updating"] = {"bounds": [-1.0, 6.0]}
+    description["truth"] = {"joints": {f"G{i + 1}": {"log10_stiffness": t}
+                                       for i, t in enumerate(truths)}}
+    case = parse_case(description)
+    exact = levy_chain([Section(lx, complex_rigidity(E, H, NU, ETA), NU, RHO * H)
+                        for lx in lengths], 0.5, 2 * np.pi * case.frequencies[0],
+                       joints=[coplanar(10.0**t, 0.05) for t in truths],
+                       left="simply_supported", right="clamped",
+                       point_forces=[(0, 0.12, 0.31, 1.0)])
+    data = {}
+    for plate, x, y in case.measurement_points():
+        data.setdefault(plate, []).append((x, y))
+    values = {}
+    for plate, points in sorted(data.items()):
+        points = np.array(points)
+        values[plate] = (points, exact.w(points[:, 0], points[:, 1], plate=int(plate[1:]) - 1))
+    return case, Measurements({case.frequencies[0]: values})
+
+
+def four_plates_case():
+    case = load_case(ROOT / "cases" / "four_plates.toml")
+    return case, simulate_measurements(case, noise=0.0)
+
+
+CASES = {
+    "four_plates": four_plates_case,
+    "two-plate Levy chain": functools.partial(levy_chain_case, (2.0,), (0.5, 0.45)),
+    "three-plate Levy chain": functools.partial(levy_chain_case, (2.0, 3.0), (0.5, 0.45, 0.55)),
+}
+
+
+def sensitivity(problem, truth_parameters, joint):
+    """Relative change of the model's measured values per +0.1 decade of ``joint`` at the
+    truth (all frequencies together)."""
+    def values(parameters):
+        out = []
+        for freq in problem.frequencies.values():
+            s = direct_interface(freq.system, parameters, problem.alpha)
+            out += [op.residual(s) for op in freq.operators]
+        return np.concatenate(out)
+
+    moved = {j: dict(p) for j, p in truth_parameters.items()}
+    moved[joint]["log10_stiffness"] += 0.1
+    base = values(truth_parameters)
+    return float(np.linalg.norm(values(moved) - base) / np.linalg.norm(base))
+
+
+@functools.lru_cache(maxsize=None)
+def _problem(name):
+    case, clean = CASES[name]()
+    return case, clean, ModifiedProblem(case, clean)
+
+
+def realisation(name, level, seed):
+    """One noisy data set of case ``name``: the updating run and its intervals (a task)."""
+    case, clean, problem = _problem(name)
+    rng = np.random.default_rng(seed)
+    data = {f: [add_noise(w, NOISE, rng) for _, w in clean.data[f].values()]
+            for f in clean.frequencies}
+    settings = case.updating.model_copy(update={"confidence": level})
+    t0 = time.perf_counter()
+    result = update_joints(problem.with_data(data), settings, noise=NOISE)
+    return ({j: (i.low, i.high, i.kind) for j, i in result.intervals.items()},
+            time.perf_counter() - t0)
+
+
+def binomial_range(n, level):
+    """The central 95 % range of the covered fraction of ``n`` calibrated intervals."""
+    return (stats.binom.ppf(0.025, n, level) / n, stats.binom.ppf(0.975, n, level) / n)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--realisations", type=int, default=100)
+    parser.add_argument("--level", type=float, default=0.9)
+    parser.add_argument("--cases", nargs="+", default=list(CASES), choices=list(CASES))
+    parser.add_argument("--workers", type=int, default=1)
+    parser.add_argument("--first-seed", type=int, default=1000)
+    args = parser.parse_args()
+    print(f"{args.realisations} realisations of ±{100 * NOISE:g} % uniform noise per case, "
+          f"intervals at {args.level:g}")
+    header = (f"{'case':<24} {'joint':<5} {'truth':>5} {'sens. %/0.1':>11} {'corrected':>9} "
+              f"{'coverage':>8} {'calibrated 95 % range':>21} {'one-sided':>9} "
+              f"{'median width':>12} {'s/run':>6}")
+    print(header, flush=True)
+    with Executor(args.workers) as executor:
+        for name in args.cases:
+            case, _, problem = _problem(name)
+            truth = {j: case.truth.joints[j].log10_stiffness for j in case.truth.joints}
+            truth_parameters = problem.initial_parameters()
+            for j, value in truth.items():
+                truth_parameters[j]["log10_stiffness"] = value
+            seeds = range(args.first_seed, args.first_seed + args.realisations)
+            results = executor.map(functools.partial(realisation, name, args.level), seeds)
+            seconds = np.median([t for _, t in results])
+            for joint, value in truth.items():
+                if value == case.joints[joint].log10_stiffness:
+                    continue  # a right joint: its intervals are not the question
+                intervals = [r[joint] for r, _ in results if joint in r]
+                held = [(lo is None or lo <= value) and (hi is None or value <= hi)
+                        for lo, hi, _ in intervals]
+                widths = [hi - lo for lo, hi, kind in intervals if kind == "two-sided"]
+                n = len(intervals)
+                lo_range, hi_range = binomial_range(n, args.level) if n else (math.nan,) * 2
+                print(
+                    f"{name:<24} {joint:<5} {value:>5.2f} "
+                    f"{100 * sensitivity(problem, truth_parameters, joint):>11.2f} "
+                    f"{n:>9} {np.mean(held) if n else math.nan:>8.2f} "
+                    f"{f'[{lo_range:.2f}, {hi_range:.2f}]':>21} "
+                    f"{sum(k != 'two-sided' for *_, k in intervals):>9} "
+                    f"{np.median(widths) if widths else math.nan:>12.3f} {seconds:>6.1f}",
+                    flush=True)
+
+
+if __name__ == "__main__":
+    main()
