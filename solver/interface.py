@@ -356,6 +356,32 @@ class JointCondensation:
         z_delta[np.diag_indices_from(z_delta)] += 1.0
         return z_delta
 
+    def solve_samples(self, params, rhs):
+        r""":math:`(I + Z\,\Delta M)^{-1}` ``rhs`` at ``params``.
+
+        Only the channels whose parameters differ from the base ones have a nonzero
+        :math:`\Delta M`; with those samples :math:`a` (the others :math:`b`),
+        :math:`y_a = (I + Z_{aa}\Delta M_a)^{-1}r_a` and :math:`y_b = r_b - Z_{ba}\Delta M_ay_a`:
+        a solve of the changed channels' size (one joint's, when its neighbours are held).
+        """
+        deltas = self._deltas(params)
+        changed = [i for i, d in enumerate(deltas) if np.any(d)]
+        if len(changed) == len(deltas):
+            return np.linalg.solve(self.system(params), rhs)
+        if not changed:
+            return np.array(rhs, dtype=complex)
+        rows = np.concatenate([np.arange(sl.start, sl.stop) for i in changed
+                               for sl in self._slices[i]])
+        local = [deltas[i] if i in changed else None for i in range(len(deltas))]
+        delta = self.apply(local, np.eye(len(self.z), dtype=complex))[np.ix_(rows, rows)]
+        small = np.eye(len(rows), dtype=complex) + self.z[np.ix_(rows, rows)] @ delta
+        rhs = np.asarray(rhs, dtype=complex)
+        y = rhs.copy()
+        y[rows] = np.linalg.solve(small, rhs[rows])
+        outside = np.setdiff1d(np.arange(len(self.z)), rows)
+        y[outside] = rhs[outside] - self.z[np.ix_(outside, rows)] @ (delta @ y[rows])
+        return y
+
     def _solve(self, params):
         # the scans of a correction evaluate the same parameters for the cost and for the
         # neighbourhood's residuals: solve each once

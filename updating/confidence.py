@@ -55,7 +55,7 @@ REDRAWS = 200
 about 0.015 in probability of the exact ones (binomial standard error)."""
 
 WALK_STEP = 0.1  # first step (decade) of the walk out from the estimate
-RESOLUTION = 0.005  # decade: the ends are bisected to this
+RESOLUTION = 0.01  # decade: the ends are bisected to this
 DERIVATIVE_STEP = 1e-6  # decade, central differences of the channel weights (exact to ~1e-11)
 HESSIAN_STEP = 0.01  # decade, central differences of the observed scores
 
@@ -190,21 +190,33 @@ class ScoreTest:
     def data_sizes(self):
         return [len(f.observed) for f in self._frequencies]
 
-    def _scores(self, thetas, columns):
-        """Scores of every group joint at ``thetas`` for the samples ``columns[f]`` (y0 of each
-        data set, per frequency): an array (group, data sets)."""
-        total = 0.0
-        for f, y0 in zip(self._frequencies, columns):
+    def _scores(self, thetas, columns, redraws=None):
+        r"""Scores of every group joint at ``thetas``: an array (group, data sets).
+
+        ``columns[f]`` holds the samples :math:`y_0` of the data sets at frequency ``f``; with
+        ``redraws``, per frequency ``(D\,diag(p), e)``, the data sets are followed by the
+        redraws ``columns[f][:, -1] + D diag(p) e_b``: solving for the (fewer) measured values
+        and then combining is cheaper than solving for every redraw.
+        """
+        def at_frequency(i):
+            f, y0 = self._frequencies[i], columns[i]
             params = f.channel_values(thetas)
-            y = np.linalg.solve(f.condensation.system(params), y0)
+            if redraws is None:
+                y = f.condensation.solve_samples(params, y0)
+            else:
+                response, noise = redraws[i]
+                solved = f.condensation.solve_samples(params, np.hstack([y0, response]))
+                n = y0.shape[1]
+                y = np.hstack([solved[:, :n], solved[:, n - 1:n] + solved[:, n:] @ noise])
             rows = []
             for joint in self.group:
                 coefficients = _weight_derivatives(
                     f.condensation, lambda t, j: f.channel_values(dict(thetas, **{j: t})),
                     thetas[joint], f.channels, joint)
                 rows.append(np.sum(y.conj() * f.condensation.apply(coefficients, y), 0).real)
-            total = total + np.array(rows)
-        return total
+            return np.array(rows)
+
+        return sum(at_frequency(i) for i in range(len(self._frequencies)))
 
     def _observed_hessian(self):
         r""":math:`S_{kl} = \partial U_k/\partial\theta_l` of the observed data at the identified
@@ -226,13 +238,15 @@ class ScoreTest:
         (measured values, redraws).
         """
         thetas = dict(self.values, **{self.joint: value})
-        columns = []
+        columns, redraws = [], []
         for f, e in zip(self._frequencies, noise):
             predicted = f.predicted(value, self.joint)
-            redrawn = predicted[:, None] * (1.0 + e) - f.observed[:, None]
-            y0 = f.condensation.y0[:, None]
-            columns.append(np.hstack([y0, y0 + f.data_map @ redrawn]))
-        scores = self._scores(thetas, columns)
+            # a redraw p (1 + e) has samples y0 + D (p - observed) + D diag(p) e
+            y0 = f.condensation.y0
+            columns.append(np.column_stack([y0, y0 + f.data_map @ (predicted - f.observed)]))
+            redraws.append((f.data_map * predicted, e))
+        scores = self._scores(thetas, columns, redraws)
+        scores = np.hstack([scores[:, :1], scores[:, 2:]])  # observed, then the redraws
         if len(self.group) > 1:
             s = self.sensitivity
             coefficients = np.linalg.solve(s[1:, 1:], s[1:, 0])
@@ -278,37 +292,30 @@ def confidence_interval(problem, parameters, joint, group, noise, level, bounds,
     test = ScoreTest(problem, parameters, joint, group)
     rng = np.random.default_rng(seed)
     draws = [noise.draws(rng, (n, redraws)) for n in test.data_sizes]
-    lo_bound, hi_bound = bounds
-    tails = (1.0 - level) / 2.0
+    tail = (1.0 - level) / 2.0
     cache = {}
 
-    def statistics(v):
+    def margin(v):
+        """How far inside the redraws' central range the observed statistic lies at ``v``, in
+        units of that range: >= 0 accepted; negative below it (-) or above it (+) rejected
+        (the sign, returned second, says which side)."""
         key = round(float(v), 9)
         if key not in cache:
-            cache[key] = test.statistics(key, draws)
+            observed, redrawn = test.statistics(key, draws)
+            low, middle, high = np.quantile(redrawn, [tail, 0.5, 1.0 - tail])
+            width = max(high - low, np.finfo(float).tiny)
+            cache[key] = (min(observed - low, high - observed) / width,
+                          -1 if observed < low else 1 if observed > high else 0,
+                          (observed - middle) / width)
         return cache[key]
 
-    def verdict(v, low_tail, high_tail):
-        """-1: observed below the low quantile, +1: above the high one, 0: accepted."""
-        observed, redrawn = statistics(v)
-        if low_tail > 0 and observed < np.quantile(redrawn, low_tail):
-            return -1
-        if high_tail > 0 and observed > np.quantile(redrawn, 1.0 - high_tail):
-            return 1
-        return 0
-
-    def centre(v):
-        """Observed statistic minus the redraws' median (its sign changes across the run)."""
-        observed, redrawn = statistics(v)
-        return observed - np.median(redrawn)
-
-    start = min(max(parameters[joint]["log10_stiffness"], lo_bound), hi_bound)
-    inside = _accepted_start(start, lambda v: verdict(v, tails, tails), centre, bounds)
+    start = min(max(parameters[joint]["log10_stiffness"], bounds[0]), bounds[1])
+    inside = _accepted_start(start, margin, bounds)
     method = f"score-test inversion, {redraws} redraws of {noise.description}"
     if inside is None:
         return ConfidenceInterval(None, None, level, "none", method)
-    low, low_side = _edge(inside, -1, lambda v: verdict(v, tails, tails), bounds)
-    high, high_side = _edge(inside, +1, lambda v: verdict(v, tails, tails), bounds)
+    low, low_side = _edge(inside, -1, margin, bounds)
+    high, high_side = _edge(inside, +1, margin, bounds)
     if low_side == 0 and high_side == 0:
         return ConfidenceInterval(None, None, level, "none", method)
     # One bound only: the end of the two-sided run is kept, so the statement misses only
@@ -322,56 +329,69 @@ def confidence_interval(problem, parameters, joint, group, noise, level, bounds,
     return ConfidenceInterval(low, high, level, "two-sided", method)
 
 
-def _accepted_start(start, verdict, centre, bounds):
-    """An accepted value near ``start``: ``start`` itself, else the value where the observed
-    statistic crosses the redraws' median (walked to, then bisected). None if there is none."""
-    if verdict(start) == 0:
+def _clamp(v, bounds):
+    return min(max(v, bounds[0]), bounds[1])
+
+
+def _accepted_start(start, margin, bounds):
+    """An accepted value near ``start``: ``start`` itself, else one walked to in the direction
+    where the observed statistic approaches the redraws' median, then found between the last
+    two values by regula falsi on that distance. None if there is none within the bounds."""
+    if margin(start)[1] == 0:
         return start
-    direction = 1.0 if (centre(start + WALK_STEP) ** 2 < centre(start) ** 2) else -1.0
+    centre = margin(start)[2]
+    direction = 1.0 if abs(margin(_clamp(start + WALK_STEP, bounds))[2]) < abs(centre) else -1.0
     a, step = start, WALK_STEP
-    sign = np.sign(centre(a))
     while True:
-        b = min(max(a + direction * step, bounds[0]), bounds[1])
-        if verdict(b) == 0:
+        b = _clamp(a + direction * step, bounds)
+        if margin(b)[1] == 0:
             return b
-        if np.sign(centre(b)) != sign:
+        if np.sign(margin(b)[2]) != np.sign(centre):
             break
         if b in bounds:
             return None
         a, step = b, 2 * step
-    while abs(b - a) > RESOLUTION:
-        m = 0.5 * (a + b)
-        if verdict(m) == 0:
+    for _ in range(30):  # the median crossing, where the statistic is accepted if anywhere
+        m = _between(a, b, margin(a)[2], margin(b)[2])
+        if margin(m)[1] == 0:
             return m
-        if np.sign(centre(m)) == sign:
+        if np.sign(margin(m)[2]) == np.sign(centre):
             a = m
         else:
             b = m
+        if abs(b - a) < RESOLUTION:
+            break
     return None
 
 
-def _edge(inside, direction, verdict, bounds):
-    """The end of the accepted run walking from ``inside`` in ``direction``, and the verdict
-    beyond it (0 when the bound was reached). The end is the first rejected value, within
-    :data:`RESOLUTION` of the last accepted one: the interval holds the whole accepted run."""
+def _between(a, b, fa, fb):
+    """The zero of the line through ``(a, fa)`` and ``(b, fb)`` (values of opposite signs),
+    kept a tenth of the bracket away from its ends so that every step shrinks it."""
+    t = fa / (fa - fb) if fa != fb else 0.5
+    return a + min(max(t, 0.1), 0.9) * (b - a)
+
+
+def _edge(inside, direction, margin, bounds):
+    """The end of the accepted run walking from ``inside`` in ``direction``, and the side of
+    the rejection beyond it (0 when the bound was reached). The end is the first rejected
+    value, within :data:`RESOLUTION` of an accepted one (regula falsi on the margin): the
+    interval holds the whole accepted run."""
     a, step = inside, WALK_STEP
     bound = bounds[1] if direction > 0 else bounds[0]
     while True:
-        b = min(max(a + direction * step, bounds[0]), bounds[1])
-        side = verdict(b)
-        if side != 0:
+        b = _clamp(a + direction * step, bounds)
+        if margin(b)[1] != 0:
             break
         if b == bound:
             return b, 0
         a, step = b, 2 * step
     while abs(b - a) > RESOLUTION:
-        m = 0.5 * (a + b)
-        s = verdict(m)
-        if s == 0:
+        m = _between(a, b, margin(a)[0], margin(b)[0])
+        if margin(m)[1] == 0:
             a = m
         else:
-            b, side = m, s
-    return b, side
+            b = m
+    return b, margin(b)[1]
 
 
 def confidence_intervals(problem, parameters, joints, stated_noise, misfit, level, bounds,
