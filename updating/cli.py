@@ -483,6 +483,94 @@ def cmd_localise(args):
     return 0
 
 
+def _planned_points(case, args):
+    """The points of the planned measurement: a measurement file's (values unused), else the
+    description's grid and point measurements, at every frequency of the description."""
+    from updating.files import InputError
+    from updating.measurements import Measurements, measurement_layout
+
+    if getattr(args, "measurements", None):
+        return _measurements(case, args)
+    layout = measurement_layout(case)
+    if not layout:
+        raise InputError(f"{args.case}: measurement: no planned point; add a [measurement] "
+                         "spacing (a grid on every plate) or points, or give --measurements")
+    return Measurements({f: {pid: (points, np.ones(len(points), dtype=complex))
+                             for pid, points in layout.items()} for f in case.frequencies})
+
+
+def cmd_plan(args):
+    from updating.files import write_json_atomic
+    from updating.plan import identifiability_plan
+
+    case = _load(args)
+    if not case.joints:
+        from updating.files import InputError
+
+        raise InputError(f"{args.case}: joints: the description has no joint to plan for; add "
+                         "a [joints.ID] table")
+    console = _console(args)
+    if args.plot:
+        from updating.plots import require_matplotlib
+
+        require_matplotlib()  # fail before the work, not after it
+    points = _planned_points(case, args)
+    if case.measurement.noise <= 0.0:
+        _warn(console, f"{args.case}: [measurement] noise is 0: the plan assumes ±1 % uniform "
+                       "noise; state the planned test's, e.g. noise = 0.05")
+    level = case.updating.confidence if args.confidence is None else args.confidence
+    plans, noise = identifiability_plan(case, points, level=level,
+                                        resolution=_resolution_for_tolerance(case, console),
+                                        threads=_threads(args, case))
+    frequencies = points.frequencies
+    table = Table(title=f"{case.name}: what {points.count(frequencies[0])} planned values per "
+                        f"frequency can tell ({noise.description})")
+    table.add_column("joint")
+    table.add_column("log10 k", justify="right")
+    for f in frequencies:
+        table.add_column(f"%/0.1 dec\n{f:g} Hz", justify="right")
+    table.add_column(f"expected {100 * level:g} %", justify="right")
+    table.add_column("verdict")
+    table.add_column("damping: share, %/0.1 eta", justify="right")
+    for joint, plan in plans.items():
+        damping = (f"{100 * max(plan.damping_share.values()):.2g} %, "
+                   f"{100 * max(plan.damping_sensitivity.values()):.2g}"
+                   + ("" if plan.damping_identifiable else " (below the noise)"))
+        table.add_row(joint, f"{plan.value:.2f}",
+                      *[f"{100 * plan.stiffness_sensitivity[f]:.2f}" for f in frequencies],
+                      _expected_text(plan.interval), plan.verdict, damping)
+    console.print(table)
+    for joint, plan in plans.items():
+        if plan.verdict != "identifiable" and plan.best_source:
+            frequency, plate = plan.best_source
+            console.print(f"{joint}: {plan.verdict}; most of what the data say about it comes "
+                          f"from plate {plate} at {frequency:g} Hz "
+                          f"({100 * plan.information[plan.best_source]:.0f} % of its "
+                          "information): measure there more densely, or add a frequency where "
+                          "its sensitivity is higher")
+    if args.json:
+        write_json_atomic(args.json, {
+            **_provenance(args, case, None), "case": case.name, "noise": noise.description,
+            "confidence": level, "frequencies": list(frequencies),
+            "joints": {joint: plan.to_json() for joint, plan in plans.items()}})
+    if args.plot:
+        from updating.plots import write_plan_figure
+
+        path = write_plan_figure(plans, frequencies, args.plot, case.name)
+        console.print(f"figure written to {path}")
+    return 0
+
+
+def _expected_text(interval):
+    if interval.kind == "two-sided":
+        return f"[{interval.low:.2f}, {interval.high:.2f}]"
+    if interval.kind == "lower":
+        return f">= {interval.low:.2f}"
+    if interval.kind == "upper":
+        return f"<= {interval.high:.2f}"
+    return "none"
+
+
 def _truth(case, args):
     """``{joint: true log10 k}`` of a simulated experiment (none with measured data)."""
     if getattr(args, "measurements", None):
@@ -905,6 +993,20 @@ def build_parser():
                                          "estimate to this JSON file")
     _compute_options(localise)
     localise.set_defaults(run=cmd_localise)
+
+    plan = sub.add_parser("plan", help="before the test: which joints the planned "
+                                       "measurement can identify")
+    plan.add_argument("case", help="assembly description (TOML)")
+    _measurement_options(plan)
+    plan.add_argument("--confidence", type=float, metavar="LEVEL",
+                      help="level of the expected intervals (default [updating] confidence, "
+                           "0.9)")
+    plan.add_argument("--json", help="write the sensitivities, expected intervals and "
+                                     "verdicts to this JSON file")
+    plan.add_argument("--plot", metavar="DIR",
+                      help="write the sensitivity figure into DIR (needs matplotlib)")
+    _compute_options(plan)
+    plan.set_defaults(run=cmd_plan)
 
     update = sub.add_parser("update", help="localisation-correction loop")
     update.add_argument("case", help="assembly description (TOML)")

@@ -25,9 +25,8 @@ whatever the bias:
   frequency, for all redraws at once.
 * **Interval.** :math:`v` is accepted when the observed statistic lies between the
   :math:`(1-L)/2` and :math:`(1+L)/2` quantiles of the redrawn ones. The accepted run around
-  the estimate is found by walking out from it and bisecting each end to the first rejected
-  value (to :data:`RESOLUTION`), so the interval holds the whole run and is never of zero
-  width. A run that reaches a bound of ``[updating] bounds`` is reported one-sided (``>= x``
+  the estimate is found by walking out from it in steps of :data:`WALK_STEP` and locating
+  each end where the acceptance margin vanishes. A run that reaches a bound of ``[updating] bounds`` is reported one-sided (``>= x``
   near-rigid, ``<= x`` near-hinge), its other end unchanged: the statement then holds at
   level :math:`L` or more (a one-sided test chosen *because* the run reached the bound would
   not: the choice depends on the data); a run that reaches both is "not identifiable within
@@ -54,7 +53,9 @@ REDRAWS = 200
 """Redraws of the noise per candidate value: the 5 % and 95 % quantiles of 200 draws are within
 about 0.015 in probability of the exact ones (binomial standard error)."""
 
-WALK_STEP = 0.1  # first step (decade) of the walk out from the estimate
+WALK_STEP = 0.1  # step (decade) of the walk out from the estimate: the accepted run must be
+# connected at this resolution (far from the data, where the score has no power, the test
+# accepts again; that region is not joined to the run)
 RESOLUTION = 0.01  # decade: the ends are bisected to this
 DERIVATIVE_STEP = 1e-6  # decade, central differences of the channel weights (exact to ~1e-11)
 HESSIAN_STEP = 0.01  # decade, central differences of the observed scores
@@ -68,6 +69,11 @@ class NoiseModel:
     kind: str
     level: float
     source: str  # "stated" or "estimated from the misfit at the optimum"
+
+    @property
+    def deviation(self) -> float:
+        """Relative standard deviation of one value."""
+        return self.level / math.sqrt(3.0) if self.kind == "uniform" else self.level
 
     def draws(self, rng, shape):
         if self.kind == "uniform":
@@ -231,6 +237,18 @@ class ScoreTest:
                                - self._scores(minus, observed)[:, 0]) / (2 * HESSIAN_STEP)
         return 0.5 * (hessian + hessian.T)
 
+    def separation(self, a, b, deviation):
+        r"""How many noise standard deviations apart the model's predictions with the joint
+        at ``a`` and at ``b`` are, all values together:
+        :math:`\sqrt{\sum_n|p_n(b) - p_n(a)|^2/(\sigma|p_n(a)|)^2}`. Below one, no test on
+        these data tells ``b`` from ``a``."""
+        total = 0.0
+        for f in self._frequencies:
+            pa, pb = f.predicted(a, self.joint), f.predicted(b, self.joint)
+            scale = np.maximum(deviation * np.abs(pa), np.finfo(float).tiny)
+            total += float(np.sum(np.abs((pb - pa) / scale) ** 2))
+        return math.sqrt(total)
+
     def statistics(self, value, noise):
         """Observed statistic and redrawn ones (array) with the joint at ``value``.
 
@@ -314,8 +332,11 @@ def confidence_interval(problem, parameters, joint, group, noise, level, bounds,
     method = f"score-test inversion, {redraws} redraws of {noise.description}"
     if inside is None:
         return ConfidenceInterval(None, None, level, "none", method)
-    low, low_side = _edge(inside, -1, margin, bounds)
-    high, high_side = _edge(inside, +1, margin, bounds)
+    def indistinguishable(a, b):
+        return test.separation(a, b, noise.deviation) < 1.0
+
+    low, low_side = _edge(inside, -1, margin, bounds, indistinguishable)
+    high, high_side = _edge(inside, +1, margin, bounds, indistinguishable)
     if low_side == 0 and high_side == 0:
         return ConfidenceInterval(None, None, level, "none", method)
     # One bound only: the end of the two-sided run is kept, so the statement misses only
@@ -334,24 +355,30 @@ def _clamp(v, bounds):
 
 
 def _accepted_start(start, margin, bounds):
-    """An accepted value near ``start``: ``start`` itself, else one walked to in the direction
-    where the observed statistic approaches the redraws' median, then found between the last
-    two values by regula falsi on that distance. None if there is none within the bounds."""
+    """An accepted value near ``start``: ``start`` itself, else the value where the observed
+    statistic crosses the redraws' median (inside the accepted run by construction): walked to
+    in steps of :data:`WALK_STEP` in the direction that brings them together (from the slope
+    at ``start``), then found by regula falsi. None if there is no crossing within the bounds.
+    """
     if margin(start)[1] == 0:
         return start
     centre = margin(start)[2]
-    direction = 1.0 if abs(margin(_clamp(start + WALK_STEP, bounds))[2]) < abs(centre) else -1.0
-    a, step = start, WALK_STEP
+    probe = _clamp(start + RESOLUTION, bounds)
+    if probe == start:
+        probe = _clamp(start - RESOLUTION, bounds)
+    slope = (margin(probe)[2] - centre) / (probe - start)
+    direction = -np.sign(centre) * np.sign(slope) or 1.0
+    a = start
     while True:
-        b = _clamp(a + direction * step, bounds)
+        b = _clamp(a + direction * WALK_STEP, bounds)
         if margin(b)[1] == 0:
             return b
         if np.sign(margin(b)[2]) != np.sign(centre):
             break
-        if b in bounds:
+        if b == a:
             return None
-        a, step = b, 2 * step
-    for _ in range(30):  # the median crossing, where the statistic is accepted if anywhere
+        a = b
+    for _ in range(40):
         m = _between(a, b, margin(a)[2], margin(b)[2])
         if margin(m)[1] == 0:
             return m
@@ -359,7 +386,7 @@ def _accepted_start(start, margin, bounds):
             a = m
         else:
             b = m
-        if abs(b - a) < RESOLUTION:
+        if abs(b - a) < 1e-6:
             break
     return None
 
@@ -371,27 +398,33 @@ def _between(a, b, fa, fb):
     return a + min(max(t, 0.1), 0.9) * (b - a)
 
 
-def _edge(inside, direction, margin, bounds):
+def _edge(inside, direction, margin, bounds, indistinguishable):
     """The end of the accepted run walking from ``inside`` in ``direction``, and the side of
-    the rejection beyond it (0 when the bound was reached). The end is the first rejected
-    value, within :data:`RESOLUTION` of an accepted one (regula falsi on the margin): the
-    interval holds the whole accepted run."""
-    a, step = inside, WALK_STEP
+    the rejection beyond it (0 when the bound was reached). The end is the zero of the
+    acceptance margin, bracketed to :data:`RESOLUTION` by regula falsi and then interpolated
+    (the margin is smooth in the value: rounding the end outwards to the bracket would widen a
+    0.05-decade interval by a fifth, and its coverage with it). Once the model's predictions at the last accepted
+    value and at the bound are ``indistinguishable`` (less than one noise deviation apart, all
+    values together: a near-rigid or near-hinge joint), the run reaches the bound."""
+    a = inside
     bound = bounds[1] if direction > 0 else bounds[0]
-    while True:
-        b = _clamp(a + direction * step, bounds)
+    while True:  # steps of WALK_STEP: a longer stride could land past a rejected gap
+        if indistinguishable(a, bound):
+            return bound, 0
+        b = _clamp(a + direction * WALK_STEP, bounds)
         if margin(b)[1] != 0:
             break
         if b == bound:
             return b, 0
-        a, step = b, 2 * step
+        a = b
     while abs(b - a) > RESOLUTION:
         m = _between(a, b, margin(a)[0], margin(b)[0])
         if margin(m)[1] == 0:
             a = m
         else:
             b = m
-    return b, margin(b)[1]
+    end = a + (b - a) * margin(a)[0] / (margin(a)[0] - margin(b)[0])  # the margin's zero
+    return end, margin(b)[1]
 
 
 def confidence_intervals(problem, parameters, joints, stated_noise, misfit, level, bounds,

@@ -971,3 +971,34 @@ def write_curve_figure(case, rows, joint, directory, parameters_note="other join
     return save_figure_atomic(draw_cost_curve(data, f"{case.name}: cost against "
                                                     f"$\\log_{{10}} k$ of {joint}"),
                               Path(directory) / f"cost_{joint}.png")
+
+
+def draw_plan(plans, frequencies, title=""):
+    """Grouped bars of each joint's field sensitivity (% per 0.1 decade of log10 k) per
+    frequency, the joints labelled with their verdict (:mod:`updating.plan`)."""
+    joints = list(plans)
+    figure = _figure(figsize=(float(np.clip(0.6 * len(joints) * len(frequencies) + 3.0, 7.0,
+                                            14.0)), 4.8))
+    ax = figure.subplots()
+    width = 0.8 / max(len(frequencies), 1)
+    x = np.arange(len(joints))
+    for i, frequency in enumerate(frequencies):
+        values = [100 * plans[j].stiffness_sensitivity[frequency] for j in joints]
+        ax.bar(x - 0.4 + (i + 0.5) * width, _positive(np.array(values)), width,
+               label=f"{frequency:g} Hz")
+    ax.set_xticks(x, [f"{j}\n{plans[j].verdict}" for j in joints])
+    ax.set_yscale("log")
+    ax.set_ylabel("field change [%] per +0.1 decade of log10 k")
+    ax.grid(True, axis="y", alpha=0.4)
+    ax.legend(fontsize="small")
+    ax.set_title(title or "sensitivity of the planned measurement", fontsize="medium")
+    return figure
+
+
+def write_plan_figure(plans, frequencies, directory, name):
+    """``DIR/plan.png`` (:func:`draw_plan`); the directory is created if needed."""
+    directory = Path(directory)
+    directory.mkdir(parents=True, exist_ok=True)
+    return save_figure_atomic(draw_plan(plans, frequencies,
+                                        f"{name}: what the planned measurement can tell"),
+                              directory / "plan.png")

@@ -1,0 +1,108 @@
+"""``vtcr plan``: identifiability before the test (``updating.plan``).
+
+The sensitivities and the damping share go through the joint's condensation of the model
+response; they are checked against independent direct solves (``solver.solve_case``) and the
+power balance of ``solver.power``.
+"""
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from assembly import load_case
+from solver import solve_case
+from solver.power import power_flow
+from updating.cli import main
+from updating.measurements import measurement_layout, simulate_measurements
+from updating.plan import identifiability_plan
+
+CASES = Path(__file__).resolve().parents[1] / "cases"
+
+
+def _stiff_two_plates(tmp_path, log10_k):
+    text = (CASES / "two_plates.toml").read_text()
+    old = "log10_stiffness = 1.5             # log k"
+    assert old in text
+    path = tmp_path / "two.toml"
+    path.write_text(text.replace(old, f"log10_stiffness = {log10_k}             # log k"))
+    return path
+
+
+def _values(case, layout, frequency):
+    solution = solve_case(case, frequency)
+    return np.concatenate([solution.w(pid, points) for pid, points in sorted(layout.items())])
+
+
+def test_sensitivities_and_damping_share_match_direct_solves():
+    """The field change per +0.1 decade and per +0.1 of the loss factor at the planned points,
+    and the share of the injected power the joint dissipates, against solves of the changed
+    descriptions (same discretisation: they agree to the solves' round-off, 1e-6 here)."""
+    case = load_case(CASES / "two_plates.toml")
+    plans, _ = identifiability_plan(case, simulate_measurements(case))
+    plan = plans["G1"]
+    frequency = case.frequencies[0]
+    layout = measurement_layout(case)
+    base = _values(case, layout, frequency)
+    joint = case.joints["G1"]
+    for change, expected in ((dict(log10_stiffness=joint.log10_stiffness + 0.1),
+                              plan.stiffness_sensitivity[frequency]),
+                             (dict(loss_factor=joint.loss_factor + 0.1),
+                              plan.damping_sensitivity[frequency])):
+        moved = _values(case.with_joint_parameters({"G1": change}), layout, frequency)
+        direct = np.linalg.norm(moved - base) / np.linalg.norm(base)
+        assert expected == pytest.approx(direct, rel=1e-6), change
+    flow = power_flow(case, solve_case(case, frequency))
+    share = flow.joint_dissipated["G1"] / flow.total_injected
+    assert plan.damping_share[frequency] == pytest.approx(share, rel=1e-6)
+    assert 0.0 < share < 1.0
+
+
+def test_plan_command_on_the_four_plates(tmp_path, capsys):
+    """Every joint of the four-plate model is identifiable at its 80 planned values per
+    frequency with ±10 % noise; the expected interval holds the model value (the data are its
+    prediction), the JSON carries per joint its sensitivities, interval and verdict, and the
+    information shares sum to one."""
+    out = tmp_path / "plan.json"
+    assert main(["plan", str(CASES / "four_plates.toml"), "--json", str(out)]) == 0
+    result = json.loads(out.read_text())
+    assert result["confidence"] == 0.9 and "±10 %" in result["noise"]
+    assert set(result["joints"]) == {"G1", "G2", "G3", "G4"}
+    for joint in result["joints"].values():
+        assert joint["verdict"] == "identifiable"
+        low, high = joint["expected"]["interval"]
+        assert low < joint["log10_stiffness"] < high and high - low < 0.3
+        assert set(joint["sensitivity_percent_per_0.1_decade"]) == {"218", "248", "309.4"}
+        assert sum(item["share"] for item in joint["information"]) == pytest.approx(1.0)
+    assert "identifiable" in capsys.readouterr().out
+
+
+def test_a_near_rigid_joint_is_only_bounded(tmp_path, capsys):
+    """Model log10 k = 4.8 on the two plates (0.66 % field change per 0.1 decade, ±20 % noise):
+    only a lower bound, and the suggestion names where the information comes from."""
+    out = tmp_path / "plan.json"
+    assert main(["plan", str(_stiff_two_plates(tmp_path, 4.8)), "--json", str(out)]) == 0
+    joint = json.loads(out.read_text())["joints"]["G1"]
+    assert joint["verdict"] == "bounded"
+    assert joint["expected"]["only"] == "lower bound"
+    assert joint["expected"]["interval"][1] is None
+    printed = " ".join(capsys.readouterr().out.split())
+    assert "most of what the data say about it comes from plate" in printed
+
+
+def test_plan_without_stated_noise_assumes_one_percent(tmp_path, capsys):
+    path = tmp_path / "quiet.toml"
+    text = (CASES / "two_plates.toml").read_text()
+    assert "noise = 0.2" in text
+    path.write_text(text.replace("noise = 0.2", "noise = 0.0"))
+    out = tmp_path / "plan.json"
+    assert main(["plan", str(path), "--json", str(out)]) == 0
+    assert "assumes ±1 % uniform noise" in " ".join(capsys.readouterr().out.split())
+    assert "assumed" in json.loads(out.read_text())["noise"]
+
+
+def test_plan_bad_level_is_one_line_and_exit_2(capsys):
+    assert main(["plan", str(CASES / "two_plates.toml"), "--confidence", "1.5"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "--confidence 1.5" in err[0]
