@@ -1,4 +1,7 @@
-r"""Calibrated confidence intervals on identified joint stiffnesses: inversion of a score test.
+r"""Calibrated confidence intervals on identified joint parameters: inversion of a score test.
+
+The parameters are each corrected joint's log10 k and, when ``[updating] identify`` asks for
+``"damping"``, its loss factor (below, :math:`\theta` is either).
 
 A corrected joint's :math:`\hat\theta = \log_{10}\hat k` minimises :math:`E_{mod}^2`, a quadratic
 form in the measured data. With noise in the data that estimator is biased (by 0.4 decade for
@@ -25,7 +28,7 @@ whatever the bias:
   frequency, for all redraws at once.
 * **Interval.** :math:`v` is accepted when the observed statistic lies between the
   :math:`(1-L)/2` and :math:`(1+L)/2` quantiles of the redrawn ones. The accepted run around
-  the estimate is found by walking out from it in steps of :data:`WALK_STEP` and locating
+  the estimate is found by walking out from it in steps of :data:`STEPS` and locating
   each end where the acceptance margin vanishes. A run that reaches a bound of ``[updating] bounds`` is reported one-sided (``>= x``
   near-rigid, ``<= x`` near-hinge), its other end unchanged: the statement then holds at
   level :math:`L` or more (a one-sided test chosen *because* the run reached the bound would
@@ -53,12 +56,13 @@ REDRAWS = 200
 """Redraws of the noise per candidate value: the 5 % and 95 % quantiles of 200 draws are within
 about 0.015 in probability of the exact ones (binomial standard error)."""
 
-WALK_STEP = 0.1  # step (decade) of the walk out from the estimate: the accepted run must be
-# connected at this resolution (far from the data, where the score has no power, the test
-# accepts again; that region is not joined to the run)
-RESOLUTION = 0.01  # decade: the ends are bisected to this
+STEPS = {"log10_stiffness": (0.1, 0.01), "loss_factor": (0.01, 0.001)}
+"""Per parameter, the step of the walk out from the estimate and the resolution of the ends.
+The accepted run must be connected at the step's resolution: far from the data, where the score
+has no power, the test accepts again, and that region is not joined to the run."""
+PARAMETER_BOUNDS = {"loss_factor": (0.0, 10.0)}  # as the optimisation of updating.strategy
 DERIVATIVE_STEP = 1e-6  # decade, central differences of the channel weights (exact to ~1e-11)
-HESSIAN_STEP = 0.01  # decade, central differences of the observed scores
+HESSIAN_FRACTION = 0.1  # of the walk step: central differences of the observed scores
 
 
 @dataclass(frozen=True)
@@ -118,6 +122,7 @@ class ConfidenceInterval:
     level: float
     kind: str
     method: str
+    parameter: str = "log10_stiffness"
 
     def to_json(self):
         return {"interval": [self.low, self.high], "confidence": self.level,
@@ -132,55 +137,62 @@ class ConfidenceInterval:
     @property
     def text(self) -> str:
         pct = f"{100 * self.level:g} %"
+        fmt = ".2f" if self.parameter == "log10_stiffness" else ".3g"
         if self.kind == "two-sided":
-            return f"{pct} confidence interval [{self.low:.2f}, {self.high:.2f}]"
+            return (f"{pct} confidence interval [{self.low:{fmt}}, {self.high:{fmt}}]")
         if self.kind == "lower":
-            return f"{pct} confidence: >= {self.low:.2f} (only a lower bound is identifiable)"
+            return f"{pct} confidence: >= {self.low:{fmt}} (only a lower bound is identifiable)"
         if self.kind == "upper":
-            return f"{pct} confidence: <= {self.high:.2f} (only an upper bound is identifiable)"
+            return (f"{pct} confidence: <= {self.high:{fmt}} (only an upper bound is "
+                    "identifiable)")
         return f"not identifiable within the bounds at {pct} confidence"
 
 
-def _weight_derivatives(condensation, params_at, theta, channels, joint):
-    r""":math:`\partial M/\partial\theta` of ``joint``'s channels (2 x 2 coefficients each, None
-    for the other channels), by central differences of :math:`M(c(\theta))`."""
+def _weight_derivatives(condensation, frequency, thetas, key):
+    r""":math:`\partial M/\partial\theta` for the parameter ``key`` = (joint, name): 2 x 2
+    coefficients for each of the joint's channels, None for the others, by central
+    differences of :math:`M(c(\theta))`."""
     h = DERIVATIVE_STEP
-    plus, minus = params_at(theta + h, joint), params_at(theta - h, joint)
+    plus = frequency.channel_values({**thetas, key: thetas[key] + h})
+    minus = frequency.channel_values({**thetas, key: thetas[key] - h})
     return [(condensation.weight_matrix(w, a, x) - condensation.weight_matrix(w, b, x)) / (2 * h)
-            if ch.joint == joint else None
-            for ch, w, a, b, x in zip(channels, condensation.weights, plus, minus,
+            if ch.joint == key[0] else None
+            for ch, w, a, b, x in zip(frequency.channels, condensation.weights, plus, minus,
                                       condensation.crossovers)]
 
 
 class ScoreTest:
-    """The score statistic of one corrected joint at candidate values, for the observed data
-    and for redrawn data (see the module docstring).
+    """The score statistic of one identified parameter at candidate values, for the observed
+    data and for redrawn data (see the module docstring).
 
     Parameters
     ----------
     problem : updating.cost.ModifiedProblem
     parameters : dict
         The identified parameters (every joint).
-    joint : str
-    group : sequence of str
-        The corrected joints whose values are re-estimated with it (nuisances): the corrected
-        joints of its neighbourhood, ``joint`` included.
+    target : (str, str)
+        ``(joint, name)``, name ``"log10_stiffness"`` or ``"loss_factor"``.
+    group : sequence of (str, str)
+        The identified parameters re-estimated with it (nuisances): those of the corrected
+        joints of its neighbourhood, ``target`` included.
     """
 
-    def __init__(self, problem, parameters, joint, group):
-        self.joint = joint
-        self.group = [joint] + [j for j in group if j != joint]
-        self.values = {j: parameters[j]["log10_stiffness"] for j in self.group}
+    def __init__(self, problem, parameters, target, group):
+        self.target = target
+        self.group = [target] + [k for k in group if k != target]
+        self.values = {key: parameters[key[0]][key[1]] for key in self.group}
+        joints = list(dict.fromkeys(joint for joint, _ in self.group))
         # the final re-corrections condensed every corrected joint at these parameters
-        corrections = [problem.correction(parameters, j) for j in self.group]
+        corrections = [problem.correction(parameters, j) for j in joints]
         direct = problem.direct_factors(parameters)
+        joint = target[0]
         self._frequencies = []
         for frequency, freq in problem.frequencies.items():
             system = freq.system
             params = channel_parameters(parameters, system.omega)
             condensation = JointCondensation.combined(
                 [c.condensation(frequency) for c in corrections])
-            channels = [ch for j in self.group for ch in system.channels if ch.joint == j]
+            channels = [ch for j in joints for ch in system.channels if ch.joint == j]
             scale = math.sqrt(problem.r / _norm2(freq.data))
             data_map = scale * condensation.kept_rows.conj().T
             own = [ch for ch in system.channels if ch.joint == joint]
@@ -197,7 +209,7 @@ class ScoreTest:
         return [len(f.observed) for f in self._frequencies]
 
     def _scores(self, thetas, columns, redraws=None):
-        r"""Scores of every group joint at ``thetas``: an array (group, data sets).
+        r"""Scores of every group parameter at ``thetas``: an array (group, data sets).
 
         ``columns[f]`` holds the samples :math:`y_0` of the data sets at frequency ``f``; with
         ``redraws``, per frequency ``(D\,diag(p), e)``, the data sets are followed by the
@@ -215,10 +227,8 @@ class ScoreTest:
                 n = y0.shape[1]
                 y = np.hstack([solved[:, :n], solved[:, n - 1:n] + solved[:, n:] @ noise])
             rows = []
-            for joint in self.group:
-                coefficients = _weight_derivatives(
-                    f.condensation, lambda t, j: f.channel_values(dict(thetas, **{j: t})),
-                    thetas[joint], f.channels, joint)
+            for key in self.group:
+                coefficients = _weight_derivatives(f.condensation, f, thetas, key)
                 rows.append(np.sum(y.conj() * f.condensation.apply(coefficients, y), 0).real)
             return np.array(rows)
 
@@ -230,11 +240,12 @@ class ScoreTest:
         observed = [f.condensation.y0[:, None] for f in self._frequencies]
         m = len(self.group)
         hessian = np.zeros((m, m))
-        for col, joint in enumerate(self.group):
-            plus = dict(self.values, **{joint: self.values[joint] + HESSIAN_STEP})
-            minus = dict(self.values, **{joint: self.values[joint] - HESSIAN_STEP})
+        for col, key in enumerate(self.group):
+            step = HESSIAN_FRACTION * STEPS[key[1]][0]
+            plus = {**self.values, key: self.values[key] + step}
+            minus = {**self.values, key: self.values[key] - step}
             hessian[:, col] = (self._scores(plus, observed)[:, 0]
-                               - self._scores(minus, observed)[:, 0]) / (2 * HESSIAN_STEP)
+                               - self._scores(minus, observed)[:, 0]) / (2 * step)
         return 0.5 * (hessian + hessian.T)
 
     def separation(self, a, b, deviation):
@@ -244,7 +255,7 @@ class ScoreTest:
         these data tells ``b`` from ``a``."""
         total = 0.0
         for f in self._frequencies:
-            pa, pb = f.predicted(a, self.joint), f.predicted(b, self.joint)
+            pa, pb = f.predicted(a, self.target), f.predicted(b, self.target)
             scale = np.maximum(deviation * np.abs(pa), np.finfo(float).tiny)
             total += float(np.sum(np.abs((pb - pa) / scale) ** 2))
         return math.sqrt(total)
@@ -255,10 +266,10 @@ class ScoreTest:
         ``noise`` holds per frequency the relative noise ``e`` of every redraw, shape
         (measured values, redraws).
         """
-        thetas = dict(self.values, **{self.joint: value})
+        thetas = {**self.values, self.target: value}
         columns, redraws = [], []
         for f, e in zip(self._frequencies, noise):
-            predicted = f.predicted(value, self.joint)
+            predicted = f.predicted(value, self.target)
             # a redraw p (1 + e) has samples y0 + D (p - observed) + D diag(p) e
             y0 = f.condensation.y0
             columns.append(np.column_stack([y0, y0 + f.data_map @ (predicted - f.observed)]))
@@ -287,27 +298,33 @@ class _Frequency:
     omega: float
 
     def channel_values(self, thetas):
+        """The channels' parameters with ``thetas`` ``{(joint, name): value}`` set."""
         trial = {j: dict(p) for j, p in self.parameters.items()}
-        for joint, theta in thetas.items():
-            trial[joint]["log10_stiffness"] = theta
+        for (joint, name), theta in thetas.items():
+            trial[joint][name] = theta
         params = channel_parameters(trial, self.omega)
         return [params[ch.joint, ch.kind] for ch in self.channels]
 
-    def predicted(self, value, joint):
-        """The model's values at the measured points with ``joint`` at ``value``."""
-        trial = dict(self.parameters[joint], log10_stiffness=value)
+    def predicted(self, value, target):
+        """The model's values at the measured points with ``target`` = (joint, name) at
+        ``value``."""
+        joint, name = target
+        trial = dict(self.parameters[joint], **{name: value})
         params = channel_parameters({joint: trial}, self.omega)
         s = self.prediction.interface([params[joint, ch.kind] for ch in self.own])
         return np.concatenate([op.residual(s) for op in self.operators])
 
 
-def confidence_interval(problem, parameters, joint, group, noise, level, bounds,
+def confidence_interval(problem, parameters, target, group, noise, level, bounds,
                         redraws=REDRAWS, seed=0) -> ConfidenceInterval:
-    """The ``level`` confidence interval of ``joint``'s log10 k (see the module docstring).
+    """The ``level`` confidence interval of the parameter ``target`` = (joint, name) (see the
+    module docstring) within ``bounds``.
 
-    ``noise`` is a :class:`NoiseModel`; ``group`` the corrected joints of its neighbourhood.
+    ``noise`` is a :class:`NoiseModel`; ``group`` the identified parameters of the corrected
+    joints of its neighbourhood.
     """
-    test = ScoreTest(problem, parameters, joint, group)
+    test = ScoreTest(problem, parameters, target, group)
+    walk, resolution = STEPS[target[1]]
     rng = np.random.default_rng(seed)
     draws = [noise.draws(rng, (n, redraws)) for n in test.data_sizes]
     tail = (1.0 - level) / 2.0
@@ -327,50 +344,50 @@ def confidence_interval(problem, parameters, joint, group, noise, level, bounds,
                           (observed - middle) / width)
         return cache[key]
 
-    start = min(max(parameters[joint]["log10_stiffness"], bounds[0]), bounds[1])
-    inside = _accepted_start(start, margin, bounds)
+    start = min(max(parameters[target[0]][target[1]], bounds[0]), bounds[1])
+    inside = _accepted_start(start, margin, bounds, walk, resolution)
     method = f"score-test inversion, {redraws} redraws of {noise.description}"
     if inside is None:
         return ConfidenceInterval(None, None, level, "none", method)
     def indistinguishable(a, b):
         return test.separation(a, b, noise.deviation) < 1.0
 
-    low, low_side = _edge(inside, -1, margin, bounds, indistinguishable)
-    high, high_side = _edge(inside, +1, margin, bounds, indistinguishable)
+    low, low_side = _edge(inside, -1, margin, bounds, indistinguishable, walk, resolution)
+    high, high_side = _edge(inside, +1, margin, bounds, indistinguishable, walk, resolution)
     if low_side == 0 and high_side == 0:
-        return ConfidenceInterval(None, None, level, "none", method)
+        return ConfidenceInterval(None, None, level, "none", method, target[1])
     # One bound only: the end of the two-sided run is kept, so the statement misses only
     # when the two-sided test rejects the truth (probability 1 - level at most). A one-sided
     # test chosen after seeing that the run reaches a bound would miss more often than its
     # level (the choice itself depends on the data).
     if high_side == 0:
-        return ConfidenceInterval(low, None, level, "lower", method)
+        return ConfidenceInterval(low, None, level, "lower", method, target[1])
     if low_side == 0:
-        return ConfidenceInterval(None, high, level, "upper", method)
-    return ConfidenceInterval(low, high, level, "two-sided", method)
+        return ConfidenceInterval(None, high, level, "upper", method, target[1])
+    return ConfidenceInterval(low, high, level, "two-sided", method, target[1])
 
 
 def _clamp(v, bounds):
     return min(max(v, bounds[0]), bounds[1])
 
 
-def _accepted_start(start, margin, bounds):
+def _accepted_start(start, margin, bounds, walk, resolution):
     """An accepted value near ``start``: ``start`` itself, else the value where the observed
     statistic crosses the redraws' median (inside the accepted run by construction): walked to
-    in steps of :data:`WALK_STEP` in the direction that brings them together (from the slope
+    in steps of ``walk`` in the direction that brings them together (from the slope
     at ``start``), then found by regula falsi. None if there is no crossing within the bounds.
     """
     if margin(start)[1] == 0:
         return start
     centre = margin(start)[2]
-    probe = _clamp(start + RESOLUTION, bounds)
+    probe = _clamp(start + resolution, bounds)
     if probe == start:
-        probe = _clamp(start - RESOLUTION, bounds)
+        probe = _clamp(start - resolution, bounds)
     slope = (margin(probe)[2] - centre) / (probe - start)
     direction = -np.sign(centre) * np.sign(slope) or 1.0
     a = start
     while True:
-        b = _clamp(a + direction * WALK_STEP, bounds)
+        b = _clamp(a + direction * walk, bounds)
         if margin(b)[1] == 0:
             return b
         if np.sign(margin(b)[2]) != np.sign(centre):
@@ -398,26 +415,26 @@ def _between(a, b, fa, fb):
     return a + min(max(t, 0.1), 0.9) * (b - a)
 
 
-def _edge(inside, direction, margin, bounds, indistinguishable):
+def _edge(inside, direction, margin, bounds, indistinguishable, walk, resolution):
     """The end of the accepted run walking from ``inside`` in ``direction``, and the side of
     the rejection beyond it (0 when the bound was reached). The end is the zero of the
-    acceptance margin, bracketed to :data:`RESOLUTION` by regula falsi and then interpolated
+    acceptance margin, bracketed to ``resolution`` by regula falsi and then interpolated
     (the margin is smooth in the value: rounding the end outwards to the bracket would widen a
     0.05-decade interval by a fifth, and its coverage with it). Once the model's predictions at the last accepted
     value and at the bound are ``indistinguishable`` (less than one noise deviation apart, all
     values together: a near-rigid or near-hinge joint), the run reaches the bound."""
     a = inside
     bound = bounds[1] if direction > 0 else bounds[0]
-    while True:  # steps of WALK_STEP: a longer stride could land past a rejected gap
+    while True:  # steps of ``walk``: a longer stride could land past a rejected gap
         if indistinguishable(a, bound):
             return bound, 0
-        b = _clamp(a + direction * WALK_STEP, bounds)
+        b = _clamp(a + direction * walk, bounds)
         if margin(b)[1] != 0:
             break
         if b == bound:
             return b, 0
         a = b
-    while abs(b - a) > RESOLUTION:
+    while abs(b - a) > resolution:
         m = _between(a, b, margin(a)[0], margin(b)[0])
         if margin(m)[1] == 0:
             a = m
@@ -428,19 +445,27 @@ def _edge(inside, direction, margin, bounds, indistinguishable):
 
 
 def confidence_intervals(problem, parameters, joints, stated_noise, misfit, level, bounds,
-                         redraws=REDRAWS, seed=0):
-    """``{joint: ConfidenceInterval}`` of the corrected ``joints`` at ``parameters``.
+                         identify=("stiffness",), redraws=REDRAWS, seed=0):
+    """``({joint: log10 k interval}, {(joint, "loss_factor"): interval})`` of the corrected
+    ``joints`` at ``parameters``; the loss factors' when ``identify`` holds ``"damping"``.
 
-    ``misfit`` is :math:`E_{mes}^2` per frequency there (:func:`noise_model`). Each joint's
-    neighbours in the test are the corrected joints of its neighbourhood: the joints whose
-    values its data also determine, and only those, so a joint's interval costs the same in a
+    ``misfit`` is :math:`E_{mes}^2` per frequency there (:func:`noise_model`). The nuisances
+    of each test are the identified parameters of the corrected joints of its neighbourhood:
+    those its data also determine, and only those, so an interval costs the same in a
     structure of any size.
     """
     noise = noise_model(stated_noise, misfit)
-    out = {}
+    names = ["log10_stiffness"] + (["loss_factor"] if "damping" in identify else [])
+    stiffness, more = {}, {}
     for joint in joints:
         around = problem.neighbourhood(joint)[0]
-        group = [j for j in joints if j in around]
-        out[joint] = confidence_interval(problem, parameters, joint, group, noise, level,
-                                         bounds, redraws, seed)
-    return out
+        group = [(j, name) for j in joints if j in around for name in names]
+        for name in names:
+            interval = confidence_interval(problem, parameters, (joint, name), group, noise,
+                                           level, PARAMETER_BOUNDS.get(name, bounds),
+                                           redraws, seed)
+            if name == "log10_stiffness":
+                stiffness[joint] = interval
+            else:
+                more[joint, name] = interval
+    return stiffness, more

@@ -135,7 +135,8 @@ def identifiability_plan(case, layout_measurements, level=None, resolution=None,
         total = sum(information.values()) or 1.0
         n_values = sum(len(v) for f in problem.frequencies.values() for v in f.data)
         threshold = 2.0 * (noise.level / math.sqrt(3.0)) / math.sqrt(max(n_values, 1))
-        interval = confidence_interval(problem, parameters, joint, [joint], noise, level,
+        target = (joint, "log10_stiffness")
+        interval = confidence_interval(problem, parameters, target, [target], noise, level,
                                        case.updating.bounds)
         plans[joint] = JointPlan(joint, parameters[joint]["log10_stiffness"], stiffness, damping,
                                  interval, share, max(damping.values()) > threshold,

@@ -24,6 +24,10 @@ def identified_lines(result, bounds=None, truth=None):
         if truth and joint in truth:
             text += f" (true {truth[joint]:.2f})"
         lines.append(text)
+        for (other, name), more in sorted(result.parameter_intervals.items()):
+            if other == joint:
+                value = result.parameters[joint][name]
+                lines.append(f"{joint}: {name.replace('_', ' ')} = {value:.3g}; {more.text}")
     if result.intervals:
         method = next(iter(result.intervals.values())).method
         lines.append(f"intervals: {method}")
@@ -67,10 +71,19 @@ def result_json(result, extra=None, bounds=None):
     if bounds is not None:
         out["identified"] = {
             joint: {"log10_stiffness": result.parameters[joint]["log10_stiffness"],
-                    **interval.to_json()}
+                    **interval.to_json(), **_more_parameters(result, joint)}
             for joint, interval in sorted(result.intervals.items())}
     out.update(extra or {})
     return out
+
+
+def _more_parameters(result, joint):
+    """``{"parameters": {name: {value, interval, ...}}}`` of the joint's other identified
+    parameters that have an interval (the loss factor), or nothing."""
+    more = {name: {"value": result.parameters[joint][name], **interval.to_json()}
+            for (other, name), interval in sorted(result.parameter_intervals.items())
+            if other == joint}
+    return {"parameters": more} if more else {}
 
 
 def result_markdown(result, title, bounds, truth=None):

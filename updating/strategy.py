@@ -138,7 +138,8 @@ class UpdateResult:
     status: int
     message: str
     parameters: dict = field(default_factory=dict)
-    intervals: dict = field(default_factory=dict)  # corrected joint -> ConfidenceInterval
+    intervals: dict = field(default_factory=dict)  # corrected joint -> its log10 k interval
+    parameter_intervals: dict = field(default_factory=dict)  # (joint, name) -> the others
 
     @property
     def success(self) -> bool:
@@ -349,10 +350,12 @@ def finished_result(problem, steps, status, settings, noise=0.0):
     final = steps[-1].parameters
     corrected = sorted({j for s in steps for j in s.corrected})
     misfit = steps[-1].e_mes / len(problem.frequencies)
-    intervals = (confidence_intervals(problem, final, corrected, noise, misfit,
-                                      settings.confidence, settings.bounds)
-                 if corrected else {})
-    return UpdateResult(tuple(steps), status, TERMINATION_MESSAGES[status], final, intervals)
+    intervals, more = (confidence_intervals(problem, final, corrected, noise, misfit,
+                                            settings.confidence, settings.bounds,
+                                            settings.identify)
+                       if corrected else ({}, {}))
+    return UpdateResult(tuple(steps), status, TERMINATION_MESSAGES[status], final, intervals,
+                        more)
 
 
 def _neighbourhood_interval(local, grid, value):
