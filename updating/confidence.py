@@ -1,7 +1,7 @@
 r"""Calibrated confidence intervals on identified joint parameters: inversion of a score test.
 
 The parameters are each corrected joint's log10 k and, when ``[updating] identify`` asks for
-``"damping"``, its loss factor (below, :math:`\theta` is either).
+them, its loss factor and line mass (below, :math:`\theta` is any of them).
 
 A corrected joint's :math:`\hat\theta = \log_{10}\hat k` minimises :math:`E_{mod}^2`, a quadratic
 form in the measured data. With noise in the data that estimator is biased (by 0.4 decade for
@@ -28,12 +28,12 @@ whatever the bias:
   frequency, for all redraws at once.
 * **Interval.** :math:`v` is accepted when the observed statistic lies between the
   :math:`(1-L)/2` and :math:`(1+L)/2` quantiles of the redrawn ones. The accepted run around
-  the estimate is found by walking out from it in steps of :data:`STEPS` and locating
-  each end where the acceptance margin vanishes. A run that reaches a bound of ``[updating] bounds`` is reported one-sided (``>= x``
-  near-rigid, ``<= x`` near-hinge), its other end unchanged: the statement then holds at
-  level :math:`L` or more (a one-sided test chosen *because* the run reached the bound would
-  not: the choice depends on the data); a run that reaches both is "not identifiable within
-  the bounds".
+  the estimate is found by walking out from it in steps of :data:`STEPS` and locating each
+  end where the acceptance margin vanishes. A run that reaches a bound of ``[updating]
+  bounds`` is reported one-sided (``>= x`` near-rigid, ``<= x`` near-hinge), its other end
+  unchanged: the statement then holds at level :math:`L` or more (a one-sided test chosen
+  *because* the run reached the bound would not: the choice depends on the data); a run that
+  reaches both is "not identifiable within the bounds".
 
 Every candidate's redraws use the same noise draws (common random numbers), so the accepted
 set changes smoothly with :math:`v`. Coverage is measured in ``bench/bench_confidence.py``.
@@ -56,11 +56,23 @@ REDRAWS = 200
 """Redraws of the noise per candidate value: the 5 % and 95 % quantiles of 200 draws are within
 about 0.015 in probability of the exact ones (binomial standard error)."""
 
-STEPS = {"log10_stiffness": (0.1, 0.01), "loss_factor": (0.01, 0.001)}
-"""Per parameter, the step of the walk out from the estimate and the resolution of the ends.
-The accepted run must be connected at the step's resolution: far from the data, where the score
-has no power, the test accepts again, and that region is not joined to the run."""
-PARAMETER_BOUNDS = {"loss_factor": (0.0, 10.0)}  # as the optimisation of updating.strategy
+STEPS = {"log10_stiffness": (0.1, 0.01), "loss_factor": (0.01, 0.001), "mass": (0.1, 0.01)}
+"""Per parameter, the step of the walk out from the estimate and the resolution of the ends
+(the line mass's relative to its value: it spans decades). The accepted run must be connected
+at the step's resolution: far from the data, where the score has no power, the test accepts
+again, and that region is not joined to the run."""
+SMALLEST_MASS = 1e-6  # kg/m, the lower bound of the mass optimisation (updating.strategy)
+
+
+def _steps(name, value):
+    walk, resolution = STEPS[name]
+    if name == "mass":
+        scale = max(value, SMALLEST_MASS)
+        return walk * scale, resolution * scale
+    return walk, resolution
+PARAMETER_BOUNDS = {"loss_factor": (0.0, 10.0), "mass": (SMALLEST_MASS, 10.0)}  # as in strategy
+
+STRIDES = 4  # longest stride of a walk, in walk steps
 DERIVATIVE_STEP = 1e-6  # decade, central differences of the channel weights (exact to ~1e-11)
 HESSIAN_FRACTION = 0.1  # of the walk step: central differences of the observed scores
 
@@ -175,9 +187,11 @@ class ScoreTest:
     group : sequence of (str, str)
         The identified parameters re-estimated with it (nuisances): those of the corrected
         joints of its neighbourhood, ``target`` included.
+    bounds : dict
+        Per parameter name, the bounds of its values.
     """
 
-    def __init__(self, problem, parameters, target, group):
+    def __init__(self, problem, parameters, target, group, bounds):
         self.target = target
         self.group = [target] + [k for k in group if k != target]
         self.values = {key: parameters[key[0]][key[1]] for key in self.group}
@@ -185,7 +199,6 @@ class ScoreTest:
         # the final re-corrections condensed every corrected joint at these parameters
         corrections = [problem.correction(parameters, j) for j in joints]
         direct = problem.direct_factors(parameters)
-        joint = target[0]
         self._frequencies = []
         for frequency, freq in problem.frequencies.items():
             system = freq.system
@@ -195,13 +208,14 @@ class ScoreTest:
             channels = [ch for j in joints for ch in system.channels if ch.joint == j]
             scale = math.sqrt(problem.r / _norm2(freq.data))
             data_map = scale * condensation.kept_rows.conj().T
-            own = [ch for ch in system.channels if ch.joint == joint]
+            own = [ch for ch in system.channels if ch.joint == target[0]]
             prediction = JointCondensation(
-                direct[frequency], [(ch.load, ch.kinematic, problem.alpha[joint],
-                                     params[joint, ch.kind], ch.crossover) for ch in own])
+                direct[frequency], [(ch.load, ch.kinematic, problem.alpha[target[0]],
+                                     params[target[0], ch.kind], ch.crossover) for ch in own])
             self._frequencies.append(_Frequency(
                 condensation, channels, data_map, prediction, own, np.concatenate(freq.data),
                 freq.operators, parameters, system.omega))
+        self.bounds = bounds
         self.sensitivity = self._observed_hessian()
 
     @property
@@ -212,14 +226,15 @@ class ScoreTest:
         r"""Scores of every group parameter at ``thetas``: an array (group, data sets).
 
         ``columns[f]`` holds the samples :math:`y_0` of the data sets at frequency ``f``; with
-        ``redraws``, per frequency ``(D\,diag(p), e)``, the data sets are followed by the
-        redraws ``columns[f][:, -1] + D diag(p) e_b``: solving for the (fewer) measured values
-        and then combining is cheaper than solving for every redraw.
+        ``redraws[f]`` = ``(D\,diag(p), e)`` (not None), the data sets are followed by the
+        redraws ``columns[f][:, -1] + D diag(p) e_b``: solving for the measured values, when
+        they are fewer than the redraws, and then combining is cheaper than solving for every
+        redraw.
         """
         def at_frequency(i):
             f, y0 = self._frequencies[i], columns[i]
             params = f.channel_values(thetas)
-            if redraws is None:
+            if redraws is None or redraws[i] is None:
                 y = f.condensation.solve_samples(params, y0)
             else:
                 response, noise = redraws[i]
@@ -241,7 +256,7 @@ class ScoreTest:
         m = len(self.group)
         hessian = np.zeros((m, m))
         for col, key in enumerate(self.group):
-            step = HESSIAN_FRACTION * STEPS[key[1]][0]
+            step = HESSIAN_FRACTION * _steps(key[1], self.values[key])[0]
             plus = {**self.values, key: self.values[key] + step}
             minus = {**self.values, key: self.values[key] - step}
             hessian[:, col] = (self._scores(plus, observed)[:, 0]
@@ -255,7 +270,8 @@ class ScoreTest:
         these data tells ``b`` from ``a``."""
         total = 0.0
         for f in self._frequencies:
-            pa, pb = f.predicted(a, self.target), f.predicted(b, self.target)
+            pa = f.predicted({**self.values, self.target: a})
+            pb = f.predicted({**self.values, self.target: b})
             scale = np.maximum(deviation * np.abs(pa), np.finfo(float).tiny)
             total += float(np.sum(np.abs((pb - pa) / scale) ** 2))
         return math.sqrt(total)
@@ -269,11 +285,18 @@ class ScoreTest:
         thetas = {**self.values, self.target: value}
         columns, redraws = [], []
         for f, e in zip(self._frequencies, noise):
-            predicted = f.predicted(value, self.target)
-            # a redraw p (1 + e) has samples y0 + D (p - observed) + D diag(p) e
+            predicted = f.predicted(thetas)
+            # a redraw p (1 + e) has samples y0 + D (p - observed) + D diag(p) e: solved through
+            # the measured values when they are fewer than the redraws, else redraw by redraw
             y0 = f.condensation.y0
-            columns.append(np.column_stack([y0, y0 + f.data_map @ (predicted - f.observed)]))
-            redraws.append((f.data_map * predicted, e))
+            base = y0 + f.data_map @ (predicted - f.observed)
+            response = f.data_map * predicted
+            if e.shape[0] < e.shape[1]:
+                columns.append(np.column_stack([y0, base]))
+                redraws.append((response, e))
+            else:
+                columns.append(np.column_stack([y0, base, base[:, None] + response @ e]))
+                redraws.append(None)
         scores = self._scores(thetas, columns, redraws)
         scores = np.hstack([scores[:, :1], scores[:, 2:]])  # observed, then the redraws
         if len(self.group) > 1:
@@ -290,8 +313,8 @@ class _Frequency:
     condensation: JointCondensation  # the group's channels, at the identified values, r > 0
     channels: list
     data_map: np.ndarray  # D: samples per unit change of the measured values
-    prediction: JointCondensation  # the joint's channels in the model response (r = 0)
-    own: list  # the joint's channels
+    prediction: JointCondensation  # the target joint's channels in the model response (r = 0)
+    own: list  # those channels
     observed: np.ndarray
     operators: list
     parameters: dict
@@ -305,26 +328,29 @@ class _Frequency:
         params = channel_parameters(trial, self.omega)
         return [params[ch.joint, ch.kind] for ch in self.channels]
 
-    def predicted(self, value, target):
-        """The model's values at the measured points with ``target`` = (joint, name) at
-        ``value``."""
-        joint, name = target
-        trial = dict(self.parameters[joint], **{name: value})
-        params = channel_parameters({joint: trial}, self.omega)
-        s = self.prediction.interface([params[joint, ch.kind] for ch in self.own])
+    def predicted(self, thetas):
+        """The model's values at the measured points with ``thetas`` set (the nuisances are at
+        their identified values: only the target joint's channels change)."""
+        trial = {j: dict(p) for j, p in self.parameters.items()}
+        for (joint, name), theta in thetas.items():
+            trial[joint][name] = theta
+        params = channel_parameters(trial, self.omega)
+        s = self.prediction.interface([params[ch.joint, ch.kind] for ch in self.own])
         return np.concatenate([op.residual(s) for op in self.operators])
 
 
-def confidence_interval(problem, parameters, target, group, noise, level, bounds,
+def confidence_interval(problem, parameters, target, group, noise, level, stiffness_bounds,
                         redraws=REDRAWS, seed=0) -> ConfidenceInterval:
     """The ``level`` confidence interval of the parameter ``target`` = (joint, name) (see the
-    module docstring) within ``bounds``.
+    module docstring) within its bounds (``stiffness_bounds`` for log10 k).
 
     ``noise`` is a :class:`NoiseModel`; ``group`` the identified parameters of the corrected
     joints of its neighbourhood.
     """
-    test = ScoreTest(problem, parameters, target, group)
-    walk, resolution = STEPS[target[1]]
+    all_bounds = {**PARAMETER_BOUNDS, "log10_stiffness": tuple(stiffness_bounds)}
+    test = ScoreTest(problem, parameters, target, group, all_bounds)
+    bounds = all_bounds[target[1]]
+    walk, resolution = _steps(target[1], parameters[target[0]][target[1]])
     rng = np.random.default_rng(seed)
     draws = [noise.draws(rng, (n, redraws)) for n in test.data_sizes]
     tail = (1.0 - level) / 2.0
@@ -415,25 +441,39 @@ def _between(a, b, fa, fb):
     return a + min(max(t, 0.1), 0.9) * (b - a)
 
 
+def _stride(a, previous, margin, walk):
+    """The next step of a walk through accepted values: ``walk``, or up to :data:`STRIDES`
+    times it while the margin, extrapolated along its last slope, stays above zero for twice
+    the stride (a longer stride could land past a rejected gap; the margin is smooth)."""
+    if previous is None:
+        return walk
+    slope = (margin(a)[0] - margin(previous)[0]) / abs(a - previous)
+    if slope >= 0.0:
+        return STRIDES * walk
+    room = margin(a)[0] / -slope  # distance to the extrapolated zero
+    return float(np.clip(0.5 * room, walk, STRIDES * walk))
+
+
 def _edge(inside, direction, margin, bounds, indistinguishable, walk, resolution):
     """The end of the accepted run walking from ``inside`` in ``direction``, and the side of
     the rejection beyond it (0 when the bound was reached). The end is the zero of the
     acceptance margin, bracketed to ``resolution`` by regula falsi and then interpolated
     (the margin is smooth in the value: rounding the end outwards to the bracket would widen a
-    0.05-decade interval by a fifth, and its coverage with it). Once the model's predictions at the last accepted
-    value and at the bound are ``indistinguishable`` (less than one noise deviation apart, all
-    values together: a near-rigid or near-hinge joint), the run reaches the bound."""
-    a = inside
+    0.05-decade interval by a fifth, and its coverage with it). Once the model's predictions
+    at the last accepted value and at the bound are ``indistinguishable`` (less than one noise
+    deviation apart, all values together: a near-rigid or near-hinge joint), the run reaches
+    the bound."""
+    a, previous = inside, None
     bound = bounds[1] if direction > 0 else bounds[0]
-    while True:  # steps of ``walk``: a longer stride could land past a rejected gap
+    while True:
         if indistinguishable(a, bound):
             return bound, 0
-        b = _clamp(a + direction * walk, bounds)
+        b = _clamp(a + direction * _stride(a, previous, margin, walk), bounds)
         if margin(b)[1] != 0:
             break
         if b == bound:
             return b, 0
-        a = b
+        a, previous = b, a
     while abs(b - a) > resolution:
         m = _between(a, b, margin(a)[0], margin(b)[0])
         if margin(m)[1] == 0:
@@ -446,8 +486,9 @@ def _edge(inside, direction, margin, bounds, indistinguishable, walk, resolution
 
 def confidence_intervals(problem, parameters, joints, stated_noise, misfit, level, bounds,
                          identify=("stiffness",), redraws=REDRAWS, seed=0):
-    """``({joint: log10 k interval}, {(joint, "loss_factor"): interval})`` of the corrected
-    ``joints`` at ``parameters``; the loss factors' when ``identify`` holds ``"damping"``.
+    """``({joint: log10 k interval}, {(joint, name): interval})`` of the corrected ``joints``
+    at ``parameters``; the loss factors' and line masses' when ``identify`` holds
+    ``"damping"`` and ``"mass"``.
 
     ``misfit`` is :math:`E_{mes}^2` per frequency there (:func:`noise_model`). The nuisances
     of each test are the identified parameters of the corrected joints of its neighbourhood:
@@ -455,15 +496,15 @@ def confidence_intervals(problem, parameters, joints, stated_noise, misfit, leve
     structure of any size.
     """
     noise = noise_model(stated_noise, misfit)
-    names = ["log10_stiffness"] + (["loss_factor"] if "damping" in identify else [])
+    names = (["log10_stiffness"] + (["loss_factor"] if "damping" in identify else [])
+             + (["mass"] if "mass" in identify else []))
     stiffness, more = {}, {}
     for joint in joints:
         around = problem.neighbourhood(joint)[0]
         group = [(j, name) for j in joints if j in around for name in names]
         for name in names:
             interval = confidence_interval(problem, parameters, (joint, name), group, noise,
-                                           level, PARAMETER_BOUNDS.get(name, bounds),
-                                           redraws, seed)
+                                           level, bounds, redraws, seed)
             if name == "log10_stiffness":
                 stiffness[joint] = interval
             else:

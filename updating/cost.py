@@ -52,6 +52,10 @@ __all__ = ["ModifiedProblem", "JointCorrection", "Evaluation", "channel_paramete
 
 PARAMETER_NAMES = ("log10_stiffness", "loss_factor", "mass")
 
+KEPT_FACTOR_ENTRIES = 5e6
+"""LU entries (all frequencies) up to which the model response's factors are kept between
+calls (80 MB of complex entries); the 10 x 10 grid's hold 6.8e7."""
+
 MAX_KEPT_CORRECTIONS = 8
 """Condensations kept per set of parameters: each holds, per frequency, the joint's solves
 through the whole interface problem (interface unknowns x residual samples)."""
@@ -333,18 +337,22 @@ class ModifiedProblem:
 
     def direct_factors(self, parameters):
         """Per frequency, the factorised model response (r = 0) at ``parameters``
-        (:func:`direct_interface`); the last parameters' are kept (the noise floor of a
-        localisation and the confidence intervals after the last one ask for the same)."""
+        (:func:`direct_interface`). The last parameters' are kept (the noise floor of a
+        localisation and the confidence intervals after the last one ask for the same) when
+        their factors are small: a large structure's would double the peak memory."""
         key = {j: dict(p) for j, p in parameters.items()}
-        if self._direct is None or self._direct[0] != key:
-            def factorise(frequency):
-                system = self.frequencies[frequency].system
-                params = channel_parameters(parameters, system.omega)
-                return solve_interface(system, channel_blocks(system, params, self.alpha))
+        if self._direct is not None and self._direct[0] == key:
+            return self._direct[1]
 
-            self._direct = (key, dict(zip(self.frequencies,
-                                          self._map(factorise, self.frequencies))))
-        return self._direct[1]
+        def factorise(frequency):
+            system = self.frequencies[frequency].system
+            params = channel_parameters(parameters, system.omega)
+            return solve_interface(system, channel_blocks(system, params, self.alpha))
+
+        factors = dict(zip(self.frequencies, self._map(factorise, self.frequencies)))
+        entries = sum(f.lu.L.nnz + f.lu.U.nnz for f in factors.values())
+        self._direct = (key, factors) if entries <= KEPT_FACTOR_ENTRIES else None
+        return factors
 
     def noise_floor(self, parameters, noise, seed=0, realisations=4):
         r"""What a correct model would show under measurement noise alone.

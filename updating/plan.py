@@ -8,9 +8,10 @@ description's grid, or a measurement file's points), per joint:
   log10 k, and for +0.1 of the joint's loss factor. Computed through the joint's condensation
   of the model response (:class:`solver.interface.JointCondensation`), no new factorisation.
 * **Expected interval**: the confidence interval (:mod:`updating.confidence`) that the stated
-  noise (:data:`ASSUMED_NOISE` when none is stated) gives when the measured values are the model's own prediction: the typical interval
-  of a test of a right model. Two-sided: *identifiable*; one bound only: *bounded* (a
-  near-rigid or near-hinge joint); neither: *invisible* at these points and frequencies.
+  noise (:data:`ASSUMED_NOISE` when none is stated) gives when the measured values are the
+  model's own prediction: the typical interval of a test of a right model. Two-sided:
+  *identifiable*; one bound only: *bounded* (a near-rigid or near-hinge joint); neither:
+  *invisible* at these points and frequencies.
 * **Damping**: the share of the injected power the joint dissipates, and whether the field
   change for +0.1 of its loss factor rises above the noise: above two standard errors of the
   noise averaged over the planned values, :math:`2\,(\varepsilon/\sqrt3)/\sqrt N` (uniform
