@@ -189,16 +189,21 @@ class ScoreTest:
         joints of its neighbourhood, ``target`` included.
     bounds : dict
         Per parameter name, the bounds of its values.
+    corrections, direct : optional
+        The joints' :class:`updating.cost.JointCorrection` and the model response's factors
+        at ``parameters`` (default: asked of ``problem``).
     """
 
-    def __init__(self, problem, parameters, target, group, bounds):
+    def __init__(self, problem, parameters, target, group, bounds, corrections=None,
+                 direct=None):
         self.target = target
         self.group = [target] + [k for k in group if k != target]
         self.values = {key: parameters[key[0]][key[1]] for key in self.group}
         joints = list(dict.fromkeys(joint for joint, _ in self.group))
         # the final re-corrections condensed every corrected joint at these parameters
-        corrections = [problem.correction(parameters, j) for j in joints]
-        direct = problem.direct_factors(parameters)
+        corrections = [(corrections or {}).get(j) or problem.correction(parameters, j)
+                       for j in joints]
+        direct = direct or problem.direct_factors(parameters)
         self._frequencies = []
         for frequency, freq in problem.frequencies.items():
             system = freq.system
@@ -340,15 +345,15 @@ class _Frequency:
 
 
 def confidence_interval(problem, parameters, target, group, noise, level, stiffness_bounds,
-                        redraws=REDRAWS, seed=0) -> ConfidenceInterval:
+                        redraws=REDRAWS, seed=0, test=None) -> ConfidenceInterval:
     """The ``level`` confidence interval of the parameter ``target`` = (joint, name) (see the
     module docstring) within its bounds (``stiffness_bounds`` for log10 k).
 
     ``noise`` is a :class:`NoiseModel`; ``group`` the identified parameters of the corrected
-    joints of its neighbourhood.
+    joints of its neighbourhood; ``test`` its :class:`ScoreTest`, if already built.
     """
-    all_bounds = {**PARAMETER_BOUNDS, "log10_stiffness": tuple(stiffness_bounds)}
-    test = ScoreTest(problem, parameters, target, group, all_bounds)
+    all_bounds = _all_bounds(stiffness_bounds)
+    test = test or ScoreTest(problem, parameters, target, group, all_bounds)
     bounds = all_bounds[target[1]]
     walk, resolution = _steps(target[1], parameters[target[0]][target[1]])
     rng = np.random.default_rng(seed)
@@ -498,15 +503,31 @@ def confidence_intervals(problem, parameters, joints, stated_noise, misfit, leve
     noise = noise_model(stated_noise, misfit)
     names = (["log10_stiffness"] + (["loss_factor"] if "damping" in identify else [])
              + (["mass"] if "mass" in identify else []))
-    stiffness, more = {}, {}
+    all_bounds = _all_bounds(bounds)
+    # Every test is built first, from the joints' condensations and one factorisation of the
+    # model response; the updating problem's own factorisation is released before that one
+    # is made, so that a large structure holds one at a time.
+    corrections = {j: problem.correction(parameters, j) for j in joints}
+    problem.release_factors()
+    direct = problem.direct_factors(parameters)
+    tests = {}
     for joint in joints:
         around = problem.neighbourhood(joint)[0]
         group = [(j, name) for j in joints if j in around for name in names]
         for name in names:
-            interval = confidence_interval(problem, parameters, (joint, name), group, noise,
-                                           level, bounds, redraws, seed)
-            if name == "log10_stiffness":
-                stiffness[joint] = interval
-            else:
-                more[joint, name] = interval
+            tests[joint, name] = (group, ScoreTest(problem, parameters, (joint, name), group,
+                                                   all_bounds, corrections, direct))
+    del direct, corrections
+    stiffness, more = {}, {}
+    for (joint, name), (group, test) in tests.items():
+        interval = confidence_interval(problem, parameters, (joint, name), group, noise, level,
+                                       bounds, redraws, seed, test)
+        if name == "log10_stiffness":
+            stiffness[joint] = interval
+        else:
+            more[joint, name] = interval
     return stiffness, more
+
+
+def _all_bounds(stiffness_bounds):
+    return {**PARAMETER_BOUNDS, "log10_stiffness": tuple(stiffness_bounds)}

@@ -183,7 +183,7 @@ class ModifiedProblem:
         self.alpha = dict(case.updating.alpha)
         self.joints = tuple(case.joints)
         self._last = None  # (parameters, {frequency: InterfaceFactor}) of the last evaluation
-        self._corrections = {}  # joint -> JointCorrection at the parameters of self._last
+        self._corrections = (None, {})  # (parameters, {joint: JointCorrection} there)
         self.evaluation_times = []  # wall time of each evaluation on the measured data (s)
         self._neighbourhoods = None  # joint -> (joints, plates) around it, found once
         self._direct = None  # (parameters, {frequency: InterfaceFactor}) of the model response
@@ -200,7 +200,7 @@ class ModifiedProblem:
         other = copy.copy(self)
         other.frequencies = {f: dataclasses.replace(freq, data=[np.asarray(v) for v in data[f]])
                              for f, freq in self.frequencies.items()}
-        other._last, other._corrections, other.evaluation_times = None, {}, []
+        other._last, other._corrections, other.evaluation_times = None, (None, {}), []
         other._direct = None
         return other
 
@@ -240,7 +240,6 @@ class ModifiedProblem:
         evaluation = self.evaluation_at(parameters, interfaces, data)
         if data is None:
             self._last = ({j: dict(p) for j, p in parameters.items()}, factors)
-            self._corrections = {}
             self.evaluation_times.append(time.perf_counter() - t0)
         return evaluation
 
@@ -306,13 +305,17 @@ class ModifiedProblem:
         factorisations of the last evaluation when it was at ``parameters``, and the joint's
         condensation when it was made from them: the re-corrections that end a run and the
         identification intervals after it condense at the same final parameters)."""
-        if self._last is None or self._last[0] != parameters:
-            self.evaluate(parameters)
-        if joint not in self._corrections:
-            if len(self._corrections) >= MAX_KEPT_CORRECTIONS:
-                self._corrections.pop(next(iter(self._corrections)))
-            self._corrections[joint] = JointCorrection(self, parameters, joint, self._last[1])
-        return self._corrections[joint]
+        key, kept = self._corrections
+        if key != parameters:
+            key, kept = {j: dict(p) for j, p in parameters.items()}, {}
+            self._corrections = (key, kept)
+        if joint not in kept:
+            if self._last is None or self._last[0] != parameters:
+                self.evaluate(parameters)
+            if len(kept) >= MAX_KEPT_CORRECTIONS:
+                kept.pop(next(iter(kept)))
+            kept[joint] = JointCorrection(self, parameters, joint, self._last[1])
+        return kept[joint]
 
     def synthetic_data(self, parameters, noise, seed=0, realisations=4):
         r"""Measured values of synthetic experiments on the measured points.
@@ -334,6 +337,12 @@ class ModifiedProblem:
         return [{f: [w * (1.0 + rng.uniform(-noise, noise, w.shape)) for w in plates]
                  for f, plates in predictions.items()}
                 for _ in range(realisations)]
+
+    def release_factors(self):
+        """Forget the last evaluation's factorisations (and the model response's): the
+        condensations made from them keep what they need. The next correction evaluates
+        again."""
+        self._last, self._direct = None, None
 
     def direct_factors(self, parameters):
         """Per frequency, the factorised model response (r = 0) at ``parameters``
