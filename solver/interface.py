@@ -166,7 +166,7 @@ class InterfaceFactor:
 
         This is :math:`[A^HA\\ G^H; G\\ 0]^{-1}[rhs; 0]` restricted to S.
         """
-        return self.solve(rhs)[self.n_rho:self.n_rho + self.n_s]
+        return self.solve(rhs)[self.n_rho:self.n_rho + self.n_s].copy()
 
     def resolve(self, offsets):
         """Minimisers for other block offsets :math:`a_b` (same matrices, same constraints).
@@ -291,8 +291,9 @@ class JointCondensation:
         rhs = np.zeros((n_s, start), dtype=complex)
         rhs[index] = self.operator.conj().T
         solution = factor.solve(rhs)
-        self.x = solution[factor.n_rho:factor.n_rho + n_s]  # X = K0^{-1} P^H, S-part
-        self.kept_rows = solution[keep] if keep is not None else solution[:0]
+        # copies, not views: the whole solution (every residual row) would stay alive with them
+        self.x = solution[factor.n_rho:factor.n_rho + n_s].copy()  # X = K0^{-1} P^H, S-part
+        self.kept_rows = (solution[keep] if keep is not None else solution[:0]).copy()
         z = self.operator @ self.x[index]
         self.z = 0.5 * (z + z.conj().T)
         self.y0 = self.operator @ factor.s[index] + np.concatenate(offsets)
