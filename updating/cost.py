@@ -359,7 +359,7 @@ class ModifiedProblem:
             return solve_interface(system, channel_blocks(system, params, self.alpha))
 
         factors = dict(zip(self.frequencies, self._map(factorise, self.frequencies)))
-        entries = sum(f.lu.L.nnz + f.lu.U.nnz for f in factors.values())
+        entries = sum(f.lu.nnz for f in factors.values())  # not .L, .U: they copy the factors
         self._direct = (key, factors) if entries <= KEPT_FACTOR_ENTRIES else None
         return factors
 
