@@ -106,3 +106,21 @@ def test_plan_bad_level_is_one_line_and_exit_2(capsys):
     assert main(["plan", str(CASES / "two_plates.toml"), "--confidence", "1.5"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "--confidence 1.5" in err[0]
+
+
+def test_plan_on_the_points_of_a_measurement_file(tmp_path):
+    """``--measurements`` gives the planned points (here every other one of the simulated
+    grid): their values are not used, and fewer points give a wider expected interval."""
+    meas, half = tmp_path / "m.csv", tmp_path / "half.csv"
+    case = str(CASES / "two_plates.toml")
+    assert main(["simulate", case, "--out", str(meas), "--quiet"]) == 0
+    lines = meas.read_text().splitlines()
+    half.write_text("\n".join([lines[0]] + lines[1::2]) + "\n")
+    widths = []
+    for path in (meas, half):
+        out = tmp_path / f"{path.stem}.json"
+        assert main(["plan", case, "--measurements", str(path), "--json", str(out),
+                     "--quiet"]) == 0
+        low, high = json.loads(out.read_text())["joints"]["G1"]["expected"]["interval"]
+        widths.append(high - low)
+    assert widths[1] > widths[0] > 0.0

@@ -997,7 +997,12 @@ def build_parser():
     plan = sub.add_parser("plan", help="before the test: which joints the planned "
                                        "measurement can identify")
     plan.add_argument("case", help="assembly description (TOML)")
-    _measurement_options(plan)
+    plan.add_argument("--measurements", metavar="FILE",
+                      help="a measurement file whose points are the planned ones (CSV or UFF "
+                           "with --uff-map; its values are not used; default: the "
+                           "description's [measurement] grid and points)")
+    plan.add_argument("--uff-map", metavar="MAP.csv",
+                      help="CSV node,plate,x,y placing the UFF response nodes on the plates")
     plan.add_argument("--confidence", type=float, metavar="LEVEL",
                       help="level of the expected intervals (default [updating] confidence, "
                            "0.9)")
@@ -1074,7 +1079,7 @@ def build_parser():
     schema.add_argument("--out", help="write it to this file (default: standard output)")
     schema.set_defaults(run=cmd_schema)
 
-    for p in (check, solve, simulate, localise, update, curve, frf, schema):
+    for p in (check, solve, simulate, localise, plan, update, curve, frf, schema):
         p.add_argument("--quiet", action="store_true", help="print nothing but errors")
     return parser
 
