@@ -32,44 +32,26 @@ from scipy import stats
 ROOT = Path(__file__).resolve().parents[1]
 sys.path[:0] = [str(ROOT), str(ROOT / "tests")]
 
-from exact import Section, complex_rigidity, coplanar, levy_chain  # noqa: E402
-from test_assemblies import MATERIAL, H, chain_description  # noqa: E402
+from test_assemblies import (  # noqa: E402
+    chain_description,
+    exact_measurements,
+    levy_chain_experiment,
+)
 
 from assembly import load_case, parse_case  # noqa: E402
 from updating.cost import ModifiedProblem, direct_interface  # noqa: E402
 from updating.executor import Executor  # noqa: E402
-from updating.measurements import Measurements, add_noise, simulate_measurements  # noqa: E402
+from updating.measurements import add_noise, simulate_measurements  # noqa: E402
 from updating.strategy import update_joints  # noqa: E402
 
-E, NU, RHO, ETA = (MATERIAL[k] for k in ("young_modulus", "poisson_ratio", "density",
-                                       "loss_factor"))
 NOISE = 0.1
 
 
 def levy_chain_case(truths, lengths):
-    """A chain of plates (simply supported left, clamped right), one coplanar joint per pair,
-    every model joint at log10 k = 2.5, and its exact Levy field with the ``truths``."""
-    joints = [{"kind": "coplanar", "log10_stiffness": 2.5, "loss_factor": 0.05}
-              for _ in truths]
-    description = chain_description(joints, 1.0, force=(0, 0.12, 0.31), lengths=lengths)
-    description["measurement"] = {"spacing": 0.08, "noise": NOISE}
-    description["updating"] = {"bounds": [-1.0, 6.0]}
-    description["truth"] = {"joints": {f"G{i + 1}": {"log10_stiffness": t}
-                                       for i, t in enumerate(truths)}}
-    case = parse_case(description)
-    exact = levy_chain([Section(lx, complex_rigidity(E, H, NU, ETA), NU, RHO * H)
-                        for lx in lengths], 0.5, 2 * np.pi * case.frequencies[0],
-                       joints=[coplanar(10.0**t, 0.05) for t in truths],
-                       left="simply_supported", right="clamped",
-                       point_forces=[(0, 0.12, 0.31, 1.0)])
-    data = {}
-    for plate, x, y in case.measurement_points():
-        data.setdefault(plate, []).append((x, y))
-    values = {}
-    for plate, points in sorted(data.items()):
-        points = np.array(points)
-        values[plate] = (points, exact.w(points[:, 0], points[:, 1], plate=int(plate[1:]) - 1))
-    return case, Measurements({case.frequencies[0]: values})
+    """A chain of plates, every model joint at log10 k = 2.5, measured by its exact Levy field
+    with the ``truths`` (``test_assemblies.levy_chain_experiment``)."""
+    case, exact = levy_chain_experiment(truths, lengths, noise=NOISE)
+    return case, exact_measurements(case, exact)
 
 
 def damped_chain_case():

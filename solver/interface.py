@@ -347,10 +347,10 @@ class JointCondensation:
             out[perp] = d[1, 1] * v[perp]
         return out
 
-    def system(self, params):
-        r""":math:`I + Z\,\Delta M` at the channel parameters ``params``."""
+    def _system(self, deltas):
+        r""":math:`I + Z\,\Delta M` for the channels' :math:`\Delta M` coefficients."""
         z_delta = np.empty_like(self.z)  # Z dM by columns: dM's blocks are multiples of I
-        for d, (a, b, perp) in zip(self._deltas(params), self._slices):
+        for d, (a, b, perp) in zip(deltas, self._slices):
             z_delta[:, a] = self.z[:, a] * d[0, 0] + self.z[:, b] * d[1, 0]
             z_delta[:, b] = self.z[:, a] * d[0, 1] + self.z[:, b] * d[1, 1]
             z_delta[:, perp] = self.z[:, perp] * d[1, 1]
@@ -368,13 +368,14 @@ class JointCondensation:
         deltas = self._deltas(params)
         changed = [i for i, d in enumerate(deltas) if np.any(d)]
         if len(changed) == len(deltas):
-            return np.linalg.solve(self.system(params), rhs)
+            return np.linalg.solve(self._system(deltas), rhs)
         if not changed:
             return np.array(rhs, dtype=complex)
         rows = np.concatenate([np.arange(sl.start, sl.stop) for i in changed
                                for sl in self._slices[i]])
         local = [deltas[i] if i in changed else None for i in range(len(deltas))]
-        delta = self.apply(local, np.eye(len(self.z), dtype=complex))[np.ix_(rows, rows)]
+        # dM restricted to the changed samples: its columns there, then those rows
+        delta = self.apply(local, np.eye(len(self.z), dtype=complex)[:, rows])[rows]
         small = np.eye(len(rows), dtype=complex) + self.z[np.ix_(rows, rows)] @ delta
         rhs = np.asarray(rhs, dtype=complex)
         y = rhs.copy()
@@ -388,8 +389,9 @@ class JointCondensation:
         # neighbourhood's residuals: solve each once
         key = tuple(complex(c) for c in params)
         if key not in self._solved:
-            y = np.linalg.solve(self.system(params), self.y0)
-            self._solved[key] = y, self.apply(self._deltas(params), y)
+            deltas = self._deltas(params)
+            y = np.linalg.solve(self._system(deltas), self.y0)
+            self._solved[key] = y, self.apply(deltas, y)
         return self._solved[key]
 
     def cost(self, params):

@@ -13,6 +13,7 @@ from exact import Section, coplanar, complex_rigidity, hinge, levy_chain, levy_p
 from assembly import parse_case
 from solver import solve_case
 from solver.substructure import build_assembly_system, joint_parameters, joint_residuals, solve_assembly
+from updating.measurements import Measurements, add_noise
 
 E, NU, RHO, H, ETA = 210e9, 0.3, 7800.0, 1e-3, 0.01
 D = complex_rigidity(E, H, NU, ETA)
@@ -53,6 +54,41 @@ def chain_description(joints, resolution=1.0, left="simply_supported", right="cl
         "boundaries": boundaries, "loads": loads,
         "discretisation": {"resolution": resolution},
     }
+
+
+def levy_chain_experiment(truths, lengths=LENGTHS[:2], model_log_k=2.5, noise=0.1):
+    """A chain (simply supported left, clamped right, 1 N at (0.12, 0.31) on the first plate),
+    one coplanar joint per pair (loss factor 0.05) at ``model_log_k`` in the model, updating
+    bounds [-1, 6]: ``(case, exact)``, ``exact`` the Levy series of the chain whose joints have
+    the log10 k ``truths`` (the measured field vtcr did not compute)."""
+    joints = [{"kind": "coplanar", "log10_stiffness": model_log_k, "loss_factor": 0.05}
+              for _ in truths]
+    description = chain_description(joints, 1.0, force=(0, 0.12, 0.31), lengths=lengths)
+    description["measurement"] = {"spacing": 0.08, "noise": noise}
+    description["updating"] = {"bounds": [-1.0, 6.0]}
+    description["truth"] = {"joints": {f"G{i + 1}": {"log10_stiffness": t}
+                                       for i, t in enumerate(truths)}}
+    case = parse_case(description)
+    exact = levy_chain([Section(lx, D, NU, RHO * H) for lx in lengths], LY,
+                       2 * np.pi * case.frequencies[0],
+                       joints=[coplanar(10.0**t, 0.05) for t in truths],
+                       left="simply_supported", right="clamped",
+                       point_forces=[(0, 0.12, 0.31, 1.0)])
+    return case, exact
+
+
+def exact_measurements(case, exact, noise=0.0, rng=None):
+    """Measurements at the case's grid from a Levy chain solution (plate ``Pi`` is section
+    ``i - 1``), times ``1 + U(-noise, noise)``."""
+    layout = {}
+    for plate, x, y in case.measurement_points():
+        layout.setdefault(plate, []).append((x, y))
+    data = {}
+    for plate, points in sorted(layout.items()):
+        points = np.array(points)
+        values = exact.w(points[:, 0], points[:, 1], plate=int(plate[1:]) - 1)
+        data[plate] = (points, add_noise(values, noise, rng) if noise else values)
+    return Measurements({case.frequencies[0]: data})
 
 
 def exact_joint(joint):

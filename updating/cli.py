@@ -365,14 +365,19 @@ def _estimate_option(parser):
                              "enriched solve per frequency, 1.5 to 3 times a solve)")
 
 
-def _measurement_options(parser):
+def _measurement_options(parser, what="measured field", default="simulated"):
     parser.add_argument("--measurements", metavar="FILE",
-                        help="measured field: CSV plate,x,y,re,im[,frequency], or a UFF file "
-                             "(.uff, .unv, .58: datasets 58/58b, needs pyuff) with "
-                             "--uff-map (default: simulated)")
+                        help=f"{what}: CSV plate,x,y,re,im[,frequency], or a UFF file "
+                             f"(.uff, .unv, .58: datasets 58/58b, needs pyuff) with "
+                             f"--uff-map (default: {default})")
     parser.add_argument("--uff-map", metavar="MAP.csv",
                         help="CSV node,plate,x,y placing the UFF response nodes on the plates "
                              "(plate-local metres)")
+
+
+def _confidence_option(parser, what):
+    parser.add_argument("--confidence", type=float, metavar="LEVEL",
+                        help=f"level of {what} (default [updating] confidence, 0.9)")
 
 
 def cmd_simulate(args):
@@ -653,8 +658,8 @@ def cmd_update(args):
         run.finish(result)
     t2 = time.perf_counter()
     bounds = settings.bounds
-    console.print(steps_table(result, f"{case.name}: localisation and correction", bounds))
-    for line in identified_lines(result, bounds, _truth(case, args)):
+    console.print(steps_table(result, f"{case.name}: localisation and correction"))
+    for line in identified_lines(result, _truth(case, args)):
         console.print(line)
     n_rays, n_s, n_g = problem.size
     console.print(f"{n_rays} ray unknowns, {n_s} interface unknowns, {n_g} constraints; "
@@ -680,7 +685,7 @@ def cmd_update(args):
                      "error_estimate": _estimates_json(problem.error_estimates),
                      **_provenance(args, case, measurements)}, bounds))
     if args.report:
-        write_text_atomic(args.report, result_markdown(result, case.name, bounds, _truth(case, args)))
+        write_text_atomic(args.report, result_markdown(result, case.name, _truth(case, args)))
     if args.plot:
         from updating.plots import write_update_figures
 
@@ -997,15 +1002,9 @@ def build_parser():
     plan = sub.add_parser("plan", help="before the test: which joints the planned "
                                        "measurement can identify")
     plan.add_argument("case", help="assembly description (TOML)")
-    plan.add_argument("--measurements", metavar="FILE",
-                      help="a measurement file whose points are the planned ones (CSV or UFF "
-                           "with --uff-map; its values are not used; default: the "
-                           "description's [measurement] grid and points)")
-    plan.add_argument("--uff-map", metavar="MAP.csv",
-                      help="CSV node,plate,x,y placing the UFF response nodes on the plates")
-    plan.add_argument("--confidence", type=float, metavar="LEVEL",
-                      help="level of the expected intervals (default [updating] confidence, "
-                           "0.9)")
+    _measurement_options(plan, "the planned points (their values are not used)",
+                         "the description's [measurement] grid and points")
+    _confidence_option(plan, "the expected intervals")
     plan.add_argument("--json", help="write the sensitivities, expected intervals and "
                                      "verdicts to this JSON file")
     plan.add_argument("--plot", metavar="DIR",
@@ -1031,9 +1030,7 @@ def build_parser():
     update.add_argument("--force", action="store_true",
                         help="replace an existing run file (default: refuse, so that no run "
                              "is lost)")
-    update.add_argument("--confidence", type=float, metavar="LEVEL",
-                        help="level of the confidence interval of every corrected joint "
-                             "(default [updating] confidence, 0.9)")
+    _confidence_option(update, "the confidence interval of every corrected joint")
     _compute_options(update)
     update.set_defaults(run=cmd_update)
 

@@ -47,7 +47,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from solver.interface import JointCondensation
-from updating.cost import _norm2, channel_parameters
+from updating.cost import PARAMETER_BOUNDS, SMALLEST_MASS, channel_parameters
 
 __all__ = ["NoiseModel", "ConfidenceInterval", "ScoreTest", "confidence_interval",
            "confidence_intervals", "noise_model", "REDRAWS"]
@@ -61,20 +61,18 @@ STEPS = {"log10_stiffness": (0.1, 0.01), "loss_factor": (0.01, 0.001), "mass": (
 (the line mass's relative to its value: it spans decades). The accepted run must be connected
 at the step's resolution: far from the data, where the score has no power, the test accepts
 again, and that region is not joined to the run."""
-SMALLEST_MASS = 1e-6  # kg/m, the lower bound of the mass optimisation (updating.strategy)
+STRIDES = 4  # longest stride of a walk, in walk steps
+DERIVATIVE_STEP = 1e-6  # decade, central differences of the channel weights (exact to ~1e-11)
+HESSIAN_FRACTION = 0.1  # of the walk step: central differences of the observed scores
 
 
 def _steps(name, value):
+    """The walk step and the end resolution of parameter ``name`` at ``value``."""
     walk, resolution = STEPS[name]
     if name == "mass":
         scale = max(value, SMALLEST_MASS)
         return walk * scale, resolution * scale
     return walk, resolution
-PARAMETER_BOUNDS = {"loss_factor": (0.0, 10.0), "mass": (SMALLEST_MASS, 10.0)}  # as in strategy
-
-STRIDES = 4  # longest stride of a walk, in walk steps
-DERIVATIVE_STEP = 1e-6  # decade, central differences of the channel weights (exact to ~1e-11)
-HESSIAN_FRACTION = 0.1  # of the walk step: central differences of the observed scores
 
 
 @dataclass(frozen=True)
@@ -122,7 +120,8 @@ def noise_model(stated, misfit):
 
 @dataclass(frozen=True)
 class ConfidenceInterval:
-    """A joint's log10 k interval at ``level``.
+    """The interval of one joint parameter (``parameter``: log10 k, loss factor or line mass)
+    at ``level``.
 
     ``kind`` is ``"two-sided"`` (``low``, ``high``), ``"lower"`` (``>= low``: only a lower bound,
     a near-rigid joint), ``"upper"`` (``<= high``: a near-hinge) or ``"none"`` (every value in
@@ -183,19 +182,16 @@ class ScoreTest:
     parameters : dict
         The identified parameters (every joint).
     target : (str, str)
-        ``(joint, name)``, name ``"log10_stiffness"`` or ``"loss_factor"``.
+        ``(joint, name)``, name ``"log10_stiffness"``, ``"loss_factor"`` or ``"mass"``.
     group : sequence of (str, str)
         The identified parameters re-estimated with it (nuisances): those of the corrected
         joints of its neighbourhood, ``target`` included.
-    bounds : dict
-        Per parameter name, the bounds of its values.
     corrections, direct : optional
         The joints' :class:`updating.cost.JointCorrection` and the model response's factors
         at ``parameters`` (default: asked of ``problem``).
     """
 
-    def __init__(self, problem, parameters, target, group, bounds, corrections=None,
-                 direct=None):
+    def __init__(self, problem, parameters, target, group, corrections=None, direct=None):
         self.target = target
         self.group = [target] + [k for k in group if k != target]
         self.values = {key: parameters[key[0]][key[1]] for key in self.group}
@@ -211,8 +207,7 @@ class ScoreTest:
             condensation = JointCondensation.combined(
                 [c.condensation(frequency) for c in corrections])
             channels = [ch for j in joints for ch in system.channels if ch.joint == j]
-            scale = math.sqrt(problem.r / _norm2(freq.data))
-            data_map = scale * condensation.kept_rows.conj().T
+            data_map = freq.scale(problem.r) * condensation.kept_rows.conj().T
             own = [ch for ch in system.channels if ch.joint == target[0]]
             prediction = JointCondensation(
                 direct[frequency], [(ch.load, ch.kinematic, problem.alpha[target[0]],
@@ -220,8 +215,13 @@ class ScoreTest:
             self._frequencies.append(_Frequency(
                 condensation, channels, data_map, prediction, own, np.concatenate(freq.data),
                 freq.operators, parameters, system.omega))
-        self.bounds = bounds
         self.sensitivity = self._observed_hessian()
+
+    @property
+    def frequencies(self):
+        """Per frequency of the problem, in its order: the condensations, the channels and the
+        measured values the test uses."""
+        return self._frequencies
 
     @property
     def data_sizes(self):
@@ -325,22 +325,26 @@ class _Frequency:
     parameters: dict
     omega: float
 
-    def channel_values(self, thetas):
-        """The channels' parameters with ``thetas`` ``{(joint, name): value}`` set."""
+    def _values(self, thetas, channels):
+        """``channels``' parameters with ``thetas`` ``{(joint, name): value}`` set."""
         trial = {j: dict(p) for j, p in self.parameters.items()}
         for (joint, name), theta in thetas.items():
             trial[joint][name] = theta
         params = channel_parameters(trial, self.omega)
-        return [params[ch.joint, ch.kind] for ch in self.channels]
+        return [params[ch.joint, ch.kind] for ch in channels]
+
+    def channel_values(self, thetas):
+        """The group's channel parameters with ``thetas`` set."""
+        return self._values(thetas, self.channels)
+
+    def response(self, thetas):
+        """Interface unknowns of the model response with ``thetas`` set (the nuisances are at
+        their identified values: only the target joint's channels change)."""
+        return self.prediction.interface(self._values(thetas, self.own))
 
     def predicted(self, thetas):
-        """The model's values at the measured points with ``thetas`` set (the nuisances are at
-        their identified values: only the target joint's channels change)."""
-        trial = {j: dict(p) for j, p in self.parameters.items()}
-        for (joint, name), theta in thetas.items():
-            trial[joint][name] = theta
-        params = channel_parameters(trial, self.omega)
-        s = self.prediction.interface([params[ch.joint, ch.kind] for ch in self.own])
+        """The model's values at the measured points with ``thetas`` set."""
+        s = self.response(thetas)
         return np.concatenate([op.residual(s) for op in self.operators])
 
 
@@ -352,9 +356,8 @@ def confidence_interval(problem, parameters, target, group, noise, level, stiffn
     ``noise`` is a :class:`NoiseModel`; ``group`` the identified parameters of the corrected
     joints of its neighbourhood; ``test`` its :class:`ScoreTest`, if already built.
     """
-    all_bounds = _all_bounds(stiffness_bounds)
-    test = test or ScoreTest(problem, parameters, target, group, all_bounds)
-    bounds = all_bounds[target[1]]
+    test = test or ScoreTest(problem, parameters, target, group)
+    bounds = tuple(PARAMETER_BOUNDS.get(target[1], stiffness_bounds))
     walk, resolution = _steps(target[1], parameters[target[0]][target[1]])
     rng = np.random.default_rng(seed)
     draws = [noise.draws(rng, (n, redraws)) for n in test.data_sizes]
@@ -379,7 +382,8 @@ def confidence_interval(problem, parameters, target, group, noise, level, stiffn
     inside = _accepted_start(start, margin, bounds, walk, resolution)
     method = f"score-test inversion, {redraws} redraws of {noise.description}"
     if inside is None:
-        return ConfidenceInterval(None, None, level, "none", method)
+        return ConfidenceInterval(None, None, level, "none", method, target[1])
+
     def indistinguishable(a, b):
         return test.separation(a, b, noise.deviation) < 1.0
 
@@ -503,7 +507,6 @@ def confidence_intervals(problem, parameters, joints, stated_noise, misfit, leve
     noise = noise_model(stated_noise, misfit)
     names = (["log10_stiffness"] + (["loss_factor"] if "damping" in identify else [])
              + (["mass"] if "mass" in identify else []))
-    all_bounds = _all_bounds(bounds)
     # Every test is built first, from the joints' condensations and one factorisation of the
     # model response; the updating problem's own factorisation is released before that one
     # is made, so that a large structure holds one at a time.
@@ -515,19 +518,15 @@ def confidence_intervals(problem, parameters, joints, stated_noise, misfit, leve
         around = problem.neighbourhood(joint)[0]
         group = [(j, name) for j in joints if j in around for name in names]
         for name in names:
-            tests[joint, name] = (group, ScoreTest(problem, parameters, (joint, name), group,
-                                                   all_bounds, corrections, direct))
+            tests[joint, name] = ScoreTest(problem, parameters, (joint, name), group,
+                                           corrections, direct)
     del direct, corrections
     stiffness, more = {}, {}
-    for (joint, name), (group, test) in tests.items():
-        interval = confidence_interval(problem, parameters, (joint, name), group, noise, level,
-                                       bounds, redraws, seed, test)
+    for (joint, name), test in tests.items():
+        interval = confidence_interval(problem, parameters, (joint, name), test.group, noise,
+                                       level, bounds, redraws, seed, test)
         if name == "log10_stiffness":
             stiffness[joint] = interval
         else:
             more[joint, name] = interval
     return stiffness, more
-
-
-def _all_bounds(stiffness_bounds):
-    return {**PARAMETER_BOUNDS, "log10_stiffness": tuple(stiffness_bounds)}

@@ -48,9 +48,16 @@ from solver.vtcr import NumericalError
 from updating.executor import thread_map
 
 __all__ = ["ModifiedProblem", "JointCorrection", "Evaluation", "channel_parameters",
-           "case_parameters", "with_joint", "direct_interface", "PARAMETER_NAMES"]
+           "case_parameters", "with_joint", "direct_factor", "direct_interface",
+           "PARAMETER_NAMES", "PARAMETER_BOUNDS", "SMALLEST_MASS"]
 
 PARAMETER_NAMES = ("log10_stiffness", "loss_factor", "mass")
+
+SMALLEST_MASS = 1e-6
+"""kg/m: the smallest line mass the updating considers (its optimisation is on log10 m)."""
+
+PARAMETER_BOUNDS = {"loss_factor": (0.0, 10.0), "mass": (SMALLEST_MASS, 10.0)}
+"""Bounds of the joint parameters besides log10 k (whose bounds are ``[updating] bounds``)."""
 
 KEPT_FACTOR_ENTRIES = 5e6
 """LU entries (all frequencies) up to which the model response's factors are kept between
@@ -83,12 +90,17 @@ def channel_parameters(parameters, omega):
     return out
 
 
-def direct_interface(system, parameters, alpha):
-    r"""Interface unknowns S of the model response (r = 0): minimise the weighted joint error
+def direct_factor(system, parameters, alpha):
+    r"""The factorised model response (r = 0): minimise the weighted joint error
     :math:`\sum\alpha_\Gamma e_\Gamma^2` under admissibility, as
     :func:`solver.substructure.solve_assembly` does, on an already built system."""
     params = channel_parameters(parameters, system.omega)
-    return solve_interface(system, channel_blocks(system, params, alpha)).s
+    return solve_interface(system, channel_blocks(system, params, alpha))
+
+
+def direct_interface(system, parameters, alpha):
+    """Interface unknowns S of the model response (:func:`direct_factor`)."""
+    return direct_factor(system, parameters, alpha).s
 
 
 @dataclass(frozen=True)
@@ -119,10 +131,16 @@ class _Frequency:
     initial_s: np.ndarray  # the model response's S at p0 (the E_ref solve)
     estimate: object = None  # solver.estimate.ErrorEstimate of that response, if asked for
 
+    def scale(self, r, data=None, norm=None):
+        r""":math:`\sqrt{r/\|\tilde u\|^2}`, the weight of the measurement rows for measured
+        values ``data`` (default the measured ones) normalised by ``norm`` (default theirs)."""
+        return math.sqrt(r / (_norm2(self.data if data is None else data) if norm is None
+                              else norm))
+
     def blocks(self, data, r, norm=None):
         r"""The measurement term :math:`r E_{mes}^2` as Blocks, for measured values ``data``
         normalised by ``norm`` (default theirs, :math:`\|\tilde u\|^2`)."""
-        scale = math.sqrt(r / (_norm2(data) if norm is None else norm))
+        scale = self.scale(r, data, norm)
         return [Block(op.index, scale * op.matrix, scale * (op.offset - v))
                 for op, v in zip(self.operators, data)]
 
@@ -354,9 +372,7 @@ class ModifiedProblem:
             return self._direct[1]
 
         def factorise(frequency):
-            system = self.frequencies[frequency].system
-            params = channel_parameters(parameters, system.omega)
-            return solve_interface(system, channel_blocks(system, params, self.alpha))
+            return direct_factor(self.frequencies[frequency].system, parameters, self.alpha)
 
         factors = dict(zip(self.frequencies, self._map(factorise, self.frequencies)))
         entries = sum(f.lu.nnz for f in factors.values())  # not .L, .U: they copy the factors

@@ -29,10 +29,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from solver.interface import JointCondensation
-from updating.confidence import ConfidenceInterval, NoiseModel, confidence_interval, noise_model
+from solver.power import plate_powers
+from updating.confidence import (ConfidenceInterval, NoiseModel, ScoreTest, confidence_interval,
+                                 noise_model)
 from updating.cost import ModifiedProblem, channel_parameters
-from updating.measurements import Measurements
 
 __all__ = ["JointPlan", "identifiability_plan", "SENSITIVITY_STEP", "DAMPING_STEP"]
 
@@ -81,66 +81,53 @@ class JointPlan:
                                                     key=lambda item: -item[1])]}
 
 
-def _model_measurements(case, layout_measurements):
-    """The planned points with the model's own values (placeholders first: the problem is
-    built on the points, then given the model's prediction there)."""
-    return Measurements({f: {pid: (points, np.ones(len(points), dtype=complex))
-                             for pid, (points, _) in plates.items()}
-                         for f, plates in layout_measurements.data.items()})
-
-
 def identifiability_plan(case, layout_measurements, level=None, resolution=None, threads=1):
     """``({joint: JointPlan}, noise)`` of ``case`` measured at the points of
-    ``layout_measurements`` (their values are not used)."""
+    ``layout_measurements`` (their values are not used: the problem is given the model's own
+    prediction there)."""
     level = case.updating.confidence if level is None else level
-    problem = ModifiedProblem(case, _model_measurements(case, layout_measurements),
-                              resolution=resolution, threads=threads)
+    problem = ModifiedProblem(case, layout_measurements, resolution=resolution,
+                              threads=threads)
     parameters = problem.initial_parameters()
     prediction = problem.synthetic_data(parameters, 0.0, realisations=1)[0]
     problem = problem.with_data(prediction)
     stated = case.measurement.noise
     noise = (noise_model(stated, 0.0) if stated > 0.0 else
              NoiseModel("uniform", ASSUMED_NOISE, "assumed: [measurement] noise states none"))
+    variance = noise.deviation**2  # relative, of one value
+    n_values = sum(len(v) for f in problem.frequencies.values() for v in f.data)
+    threshold = 2.0 * noise.deviation / math.sqrt(max(n_values, 1))
     direct = problem.direct_factors(parameters)
     plans = {}
     for joint in case.joints:
+        target = (joint, "log10_stiffness")
+        # the test's condensation of the model response on the joint gives the sensitivities
+        test = ScoreTest(problem, parameters, target, [target], direct=direct)
+        theta = parameters[joint]["log10_stiffness"]
+        changes = {"base": {}, "moved": {target: theta + SENSITIVITY_STEP},
+                   "damped": {(joint, "loss_factor"):
+                              parameters[joint]["loss_factor"] + DAMPING_STEP}}
         stiffness, damping, information, share = {}, {}, {}, {}
-        for frequency, freq in problem.frequencies.items():
-            system = freq.system
-            own = [ch for ch in system.channels if ch.joint == joint]
-            params = channel_parameters(parameters, system.omega)
-            condensation = JointCondensation(
-                direct[frequency], [(ch.load, ch.kinematic, problem.alpha[joint],
-                                     params[joint, ch.kind], ch.crossover) for ch in own])
-
-            def values(**change):
-                trial = {joint: dict(parameters[joint], **change)}
-                c = channel_parameters(trial, system.omega)
-                s = condensation.interface([c[joint, ch.kind] for ch in own])
-                return [op.residual(s) for op in freq.operators]
-
-            base = values()
-            theta = parameters[joint]["log10_stiffness"]
-            moved = values(log10_stiffness=theta + SENSITIVITY_STEP)
-            damped = values(loss_factor=parameters[joint]["loss_factor"] + DAMPING_STEP)
+        for (frequency, freq), at in zip(problem.frequencies.items(), test.frequencies):
+            responses = {name: at.response(change) for name, change in changes.items()}
+            base, moved, damped = ([op.residual(responses[name]) for op in freq.operators]
+                                   for name in ("base", "moved", "damped"))
             norm = math.sqrt(sum(float(np.vdot(b, b).real) for b in base))
             stiffness[frequency] = _relative_change(moved, base, norm)
             damping[frequency] = _relative_change(damped, base, norm)
             for pid, b, m in zip(freq.plates, base, moved):
-                sigma2 = (noise.level**2 / 3.0 if noise.kind == "uniform" else noise.level**2)
                 derivative = (m - b) / SENSITIVITY_STEP
                 information[frequency, pid] = float(
-                    np.sum(np.abs(derivative) ** 2 / np.maximum(sigma2 * np.abs(b) ** 2,
+                    np.sum(np.abs(derivative) ** 2 / np.maximum(variance * np.abs(b) ** 2,
                                                                 np.finfo(float).tiny)))
-            share[frequency] = _dissipated_share(system, condensation, own, params, joint)
+            share[frequency] = _dissipated_share(freq.system, responses["base"], at.own,
+                                                 channel_parameters(parameters,
+                                                                    freq.system.omega), joint)
         total = sum(information.values()) or 1.0
-        n_values = sum(len(v) for f in problem.frequencies.values() for v in f.data)
-        threshold = 2.0 * (noise.level / math.sqrt(3.0)) / math.sqrt(max(n_values, 1))
-        target = (joint, "log10_stiffness")
         interval = confidence_interval(problem, parameters, target, [target], noise, level,
-                                       case.updating.bounds)
-        plans[joint] = JointPlan(joint, parameters[joint]["log10_stiffness"], stiffness, damping,
-                                 interval, share, max(damping.values()) > threshold,
+                                       case.updating.bounds, test=test)
+        plans[joint] = JointPlan(joint, theta, stiffness, damping, interval, share,
+                                 max(damping.values()) > threshold,
                                  {key: v / total for key, v in information.items()})
     return plans, noise
 
@@ -149,15 +136,11 @@ def _relative_change(moved, base, norm):
     return math.sqrt(sum(float(np.vdot(m - b, m - b).real) for m, b in zip(moved, base))) / norm
 
 
-def _dissipated_share(system, condensation, own, params, joint):
-    r"""Power the joint dissipates, :math:`\tfrac12\omega\,\mathrm{Im}\,c\int|[q]|^2`, over the
-    power the loads inject (the plates' and the joints' dissipation together, the model's
-    power balance)."""
-    from solver.power import plate_powers
-
-    s = condensation.interface([params[joint, ch.kind] for ch in own])
-    omega = system.omega
-    joint_power = sum(0.5 * omega * params[joint, ch.kind].imag
+def _dissipated_share(system, s, own, params, joint):
+    r"""Power the joint dissipates at interface unknowns ``s``,
+    :math:`\tfrac12\omega\,\mathrm{Im}\,c\int|[q]|^2`, over the power the loads inject (the
+    plates' and the joints' dissipation together, the model's power balance)."""
+    joint_power = sum(0.5 * system.omega * params[joint, ch.kind].imag
                       * float(np.vdot(ch.kinematic.residual(s), ch.kinematic.residual(s)).real)
                       for ch in own)
     amplitudes = system.plate_amplitudes(s)

@@ -132,8 +132,7 @@ class CostCurveData:
     identified, true, initial : float or None
         log10 k marked on the curve (identified value, ``[truth]`` value, model start).
     interval : tuple of float or None
-        log10 k range to shade (the confidence interval, or the range within 1 % of the
-        optimum), labelled ``interval_label``.
+        log10 k range to shade (the confidence interval), labelled ``interval_label``.
     note : str
         What the other joints are held at (subtitle).
     identified_label : str

@@ -15,7 +15,7 @@ def _label(step):
     return f"step {step.step}" + ("*" if step.recorrection else "")
 
 
-def identified_lines(result, bounds=None, truth=None):
+def identified_lines(result, truth=None):
     """One line per corrected joint: its value and its confidence interval (or bound)."""
     lines = []
     for joint, interval in sorted(result.intervals.items()):
@@ -34,7 +34,7 @@ def identified_lines(result, bounds=None, truth=None):
     return lines
 
 
-def steps_table(result, title, bounds=None):
+def steps_table(result, title):
     """Rows: joints, then E_mod^2 and its noise floor; per step log10 k and E_Gamma^2 (%).
 
     The joint corrected in a step is shown in bold (the paper's Table 4) and marked ``>``, which
@@ -79,14 +79,14 @@ def result_json(result, extra=None, bounds=None):
 
 def _more_parameters(result, joint):
     """``{"parameters": {name: {value, interval, ...}}}`` of the joint's other identified
-    parameters that have an interval (the loss factor), or nothing."""
+    parameters that have an interval (loss factor, line mass), or nothing."""
     more = {name: {"value": result.parameters[joint][name], **interval.to_json()}
             for (other, name), interval in sorted(result.parameter_intervals.items())
             if other == joint}
     return {"parameters": more} if more else {}
 
 
-def result_markdown(result, title, bounds, truth=None):
+def result_markdown(result, title, truth=None):
     """A Markdown report of the run (same content as :func:`steps_table`), for a lab notebook."""
     joints = list(result.steps[0].parameters)
     head = ["joint"] + [f"{_label(s)} log k / E_Γ² %" for s in result.steps]
@@ -104,6 +104,6 @@ def result_markdown(result, title, bounds, truth=None):
                                                  for s in result.steps) + " |")
     lines += ["", "Bold: the joint(s) corrected in that step; *: a re-correction. "
               "The floor is E_mod² of a correct model under the stated measurement noise.", ""]
-    lines += [f"- {line}" for line in identified_lines(result, bounds, truth)]
+    lines += [f"- {line}" for line in identified_lines(result, truth)]
     lines += ["", f"Stopped: {result.message}.", ""]
     return "\n".join(lines)

@@ -54,7 +54,8 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import optimize
 
-from updating.cost import log_grid, with_joint
+from updating.confidence import confidence_intervals
+from updating.cost import PARAMETER_BOUNDS, SMALLEST_MASS, log_grid, with_joint
 
 __all__ = ["Step", "UpdateResult", "TERMINATION_MESSAGES", "correct_joint", "update_joints",
            "localise", "flat_interval", "finished_result"]
@@ -221,8 +222,9 @@ def correct_joint(problem, parameters, joint, bounds, identify=("stiffness",)):
 # the line mass is optimised on a log scale, as the stiffness (its bounds are the updating
 # bounds, given per call)
 _EXTRA_VARIABLES = {
-    "damping": ("loss_factor", float, float, (0.0, 10.0)),
-    "mass": ("mass", lambda m: np.log10(max(m, 1e-6)), lambda x: float(10.0**x), (-6.0, 1.0)),
+    "damping": ("loss_factor", float, float, PARAMETER_BOUNDS["loss_factor"]),
+    "mass": ("mass", lambda m: np.log10(max(m, SMALLEST_MASS)), lambda x: float(10.0**x),
+             tuple(np.log10(PARAMETER_BOUNDS["mass"]))),
 }
 
 
@@ -345,8 +347,6 @@ def finished_result(problem, steps, status, settings, noise=0.0):
     The intervals are those of the final values, every other joint at its own: an interval
     recorded when a joint was corrected is stale once its neighbours have moved.
     """
-    from updating.confidence import confidence_intervals
-
     final = steps[-1].parameters
     corrected = sorted({j for s in steps for j in s.corrected})
     misfit = steps[-1].e_mes / len(problem.frequencies)
