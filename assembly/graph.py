@@ -9,16 +9,19 @@ Node attributes
     ``plate`` (:class:`~assembly.models.Plate`), ``material``
     (:class:`~assembly.models.Material`).
 Edge attributes (key = joint id)
-    ``joint`` (:class:`~assembly.models.CoplanarJoint` or
-    :class:`~assembly.models.HingeJoint`), ``id`` (the joint id), ``edges`` (the two edge
+    ``joint`` (:class:`~assembly.models.CoplanarJoint`, :class:`~assembly.models.HingeJoint`
+    or :class:`~assembly.models.JunctionJoint`), ``id`` (the joint id), ``edges`` (the edge
     references ``("P1.right", "P2.left")``, in the order of ``between``; use this, not the
-    networkx ``(u, v)`` order, to know which edge belongs to which plate).
+    networkx ``(u, v)`` order, to know which edge belongs to which plate).  A junction line
+    of n members is n(n-1)/2 graph edges, one per pair of members, all keyed by its id: every
+    member plate is a neighbour of every other.
 Graph attributes
     ``name`` (the case name), ``joint_order`` (joint ids in description order).
 """
 
 from __future__ import annotations
 
+import itertools
 from collections.abc import Callable, Hashable
 from typing import Any
 
@@ -67,8 +70,8 @@ def build_graph(case: Case) -> nx.MultiGraph:
     for pid, plate in case.plates.items():
         graph.add_node(pid, plate=plate, material=case.materials[plate.material])
     for jid, joint in case.joints.items():
-        a, b = joint.plates
-        graph.add_edge(a, b, key=jid, joint=joint, id=jid, edges=tuple(joint.between))
+        for a, b in itertools.combinations(joint.plates, 2):
+            graph.add_edge(a, b, key=jid, joint=joint, id=jid, edges=tuple(joint.between))
     return graph
 
 
@@ -122,7 +125,7 @@ def joint_ids(graph: nx.MultiGraph) -> list[str]:
     -------
     list of str
     """
-    keys = [key for _, _, key in graph.edges(keys=True)]
+    keys = list(dict.fromkeys(key for _, _, key in graph.edges(keys=True)))
     order = {jid: i for i, jid in enumerate(graph.graph.get("joint_order", ()))}
     return sorted(keys, key=lambda k: order.get(k, len(order)))
 
@@ -135,7 +138,7 @@ def joints_of_plate(graph: nx.MultiGraph, plate_id: str) -> list[str]:
 
 def plate_degrees(graph: nx.MultiGraph) -> dict[str, int]:
     """Return the number of joints of every plate, ``{plate id: degree}``."""
-    return dict(graph.degree())
+    return {pid: len({key for _, _, key in graph.edges(pid, keys=True)}) for pid in graph}
 
 
 def components(graph: nx.MultiGraph) -> list[list[str]]:

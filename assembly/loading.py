@@ -41,12 +41,14 @@ from .models import (
     EdgeMoment,
     EdgeShear,
     HingeJoint,
+    JunctionJoint,
     Joint,
     JointTruth,
     Load,
     Material,
     Measurement,
     Plate,
+    PlateFrame,
     PlateDiscretisation,
     PointForce,
     PointMeasurement,
@@ -63,7 +65,8 @@ __all__ = ["load_case", "load_case_text", "parse_case"]
 
 Loc = tuple[Any, ...]
 
-_JOINT_KINDS: dict[str, type[BaseModel]] = {"coplanar": CoplanarJoint, "hinge": HingeJoint}
+_JOINT_KINDS: dict[str, type[BaseModel]] = {
+    "coplanar": CoplanarJoint, "hinge": HingeJoint, "junction": JunctionJoint}
 _LOAD_KINDS: dict[str, type[BaseModel]] = {
     "edge_shear": EdgeShear,
     "edge_moment": EdgeMoment,
@@ -108,9 +111,13 @@ _EXAMPLES: dict[str, str] = {
     "plates.*.origin": "origin = [0.0, 0.0] (m)",
     "plates.*.origin[]": "origin = [0.0, 0.0] (m)",
     "plates.*.rotation": "rotation = 0.0 (degrees)",
+    "plates.*.frame": "frame = { origin = [0, 0, 0], x_axis = [1, 0, 0], y_axis = [0, 1, 0] }",
+    "plates.*.frame.origin": "origin = [0.0, 0.0, 0.0] (m)",
+    "plates.*.frame.x_axis": "x_axis = [1.0, 0.0, 0.0] (a unit vector)",
+    "plates.*.frame.y_axis": "y_axis = [0.0, 1.0, 0.0] (a unit vector, normal to x_axis)",
     "joints": "[joints.G1] tables",
     "joints.*": "a [joints.ID] table",
-    "joints.*.kind": 'kind = "coplanar" or kind = "hinge"',
+    "joints.*.kind": 'kind = "coplanar", "hinge" or "junction"',
     "joints.*.between": 'between = ["P1.right", "P2.left"]',
     "joints.*.between[]": 'between = ["P1.right", "P2.left"]',
     "joints.*.log10_stiffness": "log10_stiffness = 2.0 (log10 of k in N·m/m per rad)",
@@ -547,9 +554,15 @@ def _plate_geometry(raw: object) -> Plate | None:
     size = _try(_SIZE_ADAPTER, raw.get("size"))
     if size is None:
         return None
+    frame = None
+    if "frame" in raw:  # an invalid frame is reported on its own; no geometry without it
+        frame = _try(PlateFrame, raw["frame"])
+        if frame is None:
+            return None
     material = raw.get("material")
     return Plate.model_construct(
-        material=material if isinstance(material, str) else None, thickness=math.nan, size=size
+        material=material if isinstance(material, str) else None, thickness=math.nan, size=size,
+        frame=frame,
     )
 
 

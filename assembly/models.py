@@ -14,8 +14,9 @@ The top-level model is :class:`Case`, one TOML description (see
 ``frequency``             Hz, > 0 -- or ``frequencies``: list of distinct values > 0
 ``[materials.ID]``        :class:`Material`
 ``[plates.ID]``           :class:`Plate`
-``[joints.ID]``           :class:`CoplanarJoint` (``kind = "coplanar"``) or
-                          :class:`HingeJoint` (``kind = "hinge"``)
+``[joints.ID]``           :class:`CoplanarJoint` (``kind = "coplanar"``),
+                          :class:`HingeJoint` (``kind = "hinge"``) or
+                          :class:`JunctionJoint` (``kind = "junction"``)
 ``[[boundaries]]``        :class:`Boundary`; edges neither joined nor listed are free
 ``[[loads]]``             :class:`EdgeShear`, :class:`EdgeMoment` or :class:`PointForce`
 ``[discretisation]``      :class:`Discretisation` (ray counts)
@@ -72,11 +73,13 @@ __all__ = [
     "HingeJoint",
     "Joint",
     "JointTruth",
+    "JunctionJoint",
     "Load",
     "Material",
     "Measurement",
     "Plate",
     "PlateDiscretisation",
+    "PlateFrame",
     "PointForce",
     "PointMeasurement",
     "Truth",
@@ -443,6 +446,67 @@ class Material(_Model):
         return 2.0 * np.pi / self.bending_wavenumber(thickness, frequency)
 
 
+FRAME_TOLERANCE = 1e-6
+"""Tolerance of the frames' orthonormality and of the coincidence of joined edges, relative
+to 1 (axes) or to the edge length (positions)."""
+
+
+def _unit(vector: tuple[float, float, float]) -> np.ndarray:
+    return np.asarray(vector, dtype=float)
+
+
+class PlateFrame(_Model):
+    r"""Placement of a plate in 3D: its local ``x``, ``y`` along ``x_axis``, ``y_axis``.
+
+    A plate-local point :math:`(x, y)` is at :math:`\mathbf o + x\,\mathbf e_x + y\,\mathbf e_y`
+    and its deflection :math:`w` is along :math:`\mathbf e_z = \mathbf e_x\times\mathbf e_y`.
+
+    Parameters
+    ----------
+    origin : tuple of float, shape (3,)
+        Position of the plate's local origin, m.
+    x_axis : tuple of float, shape (3,)
+        Direction of the local x axis, a unit vector (to 1e-6).
+    y_axis : tuple of float, shape (3,)
+        Direction of the local y axis, a unit vector normal to ``x_axis`` (to 1e-6).
+    """
+
+    origin: tuple[Real, Real, Real]
+    x_axis: tuple[Real, Real, Real]
+    y_axis: tuple[Real, Real, Real]
+
+    @model_validator(mode="after")
+    def _check_orthonormal(self) -> PlateFrame:
+        ex, ey = _unit(self.x_axis), _unit(self.y_axis)
+        for name, axis in (("x_axis", ex), ("y_axis", ey)):
+            if abs(float(np.linalg.norm(axis)) - 1.0) > FRAME_TOLERANCE:
+                raise ValueError(
+                    f"{name} {axis.tolist()} has length {np.linalg.norm(axis):.6g}, not 1; "
+                    "give unit vectors, e.g. x_axis = [1, 0, 0], y_axis = [0, 0, 1]"
+                )
+        if abs(float(ex @ ey)) > FRAME_TOLERANCE:
+            raise ValueError(
+                f"x_axis and y_axis are not orthogonal (dot product {float(ex @ ey):.3g}); "
+                "give perpendicular unit vectors, e.g. x_axis = [1, 0, 0], y_axis = [0, 0, 1]"
+            )
+        return self
+
+    @property
+    def normal(self) -> np.ndarray:
+        r""":math:`\mathbf e_z = \mathbf e_x\times\mathbf e_y`, the direction of ``w``."""
+        return np.cross(_unit(self.x_axis), _unit(self.y_axis))
+
+    def to_space(self, x: Any, y: Any) -> np.ndarray:
+        """3D positions (m) of plate-local points, shape ``(..., 3)``."""
+        x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
+        return (_unit(self.origin) + x[..., None] * _unit(self.x_axis)
+                + y[..., None] * _unit(self.y_axis))
+
+    def to_space_vector(self, vector: Any) -> np.ndarray:
+        """A plate-local in-plane vector ``(vx, vy)`` as a 3D vector."""
+        return vector[0] * _unit(self.x_axis) + vector[1] * _unit(self.y_axis)
+
+
 class Plate(_Model):
     """A rectangular Kirchhoff plate occupying ``[0, Lx] x [0, Ly]`` in its local frame.
 
@@ -459,6 +523,10 @@ class Plate(_Model):
     rotation : float, optional
         Rotation of the local frame in the assembly plane, degrees counter-clockwise
         (plots only).  Default 0.
+    frame : PlateFrame, optional
+        Placement in 3D (:class:`PlateFrame`).  Joined edges of framed plates must coincide
+        in space, and the members of a junction line take their orientations from their
+        frames.  Without it the assembly is described unrolled in a plane.
     """
 
     material: str
@@ -466,6 +534,7 @@ class Plate(_Model):
     size: tuple[Positive, Positive]
     origin: tuple[Real, Real] = (0.0, 0.0)
     rotation: Real = 0.0
+    frame: PlateFrame | None = None
 
     @property
     def lx(self) -> float:
@@ -551,6 +620,17 @@ class Plate(_Model):
         start, normal = frames[edge]
         n = np.array(normal)
         return np.array(start), np.array([-n[1], n[0]]) + 0.0, n, self.edge_length(edge)
+
+    def edge_in_space(self, edge: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The 3D start and end of an edge (counter-clockwise) and its outward normal.
+
+        Needs a :attr:`frame`.
+        """
+        assert self.frame is not None
+        start, tangent, normal, length = self.edge_frame(edge)
+        end = start + length * tangent
+        return (self.frame.to_space(*start), self.frame.to_space(*end),
+                self.frame.to_space_vector(normal))
 
     def contains(self, x: float, y: float, *, strict: bool = True) -> bool:
         """Tell whether a plate-local point lies in the plate.
@@ -688,8 +768,122 @@ class HingeJoint(_JointBase):
         return 0.0
 
 
-Joint = Annotated[Union[CoplanarJoint, HingeJoint], Field(discriminator="kind")]
-"""A joint, discriminated on ``kind``: :class:`CoplanarJoint` or :class:`HingeJoint`."""
+def _member_stiffness(value: object, where: str = "") -> float:
+    if not _is_real(value) and not (isinstance(value, float) and math.isinf(value)):
+        raise ValueError(f"{where}must be a number (log10 of k in N) or inf (rigid), "
+                         f"got {_show(value)}")
+    value = float(value)  # type: ignore[arg-type]
+    if math.isnan(value) or value == -math.inf:
+        raise ValueError(f"{where}must be a number in [-50, 50] or inf (rigid), got {value!r};"
+                         " a member that carries nothing is not a member: remove its edge")
+    if math.isfinite(value) and not -50.0 <= value <= 50.0:
+        raise ValueError(f"{where}must be in [-50, 50] or inf (rigid), got {value!r}")
+    return value
+
+
+def _member_loss_factor(value: object, where: str = "") -> float:
+    if not _is_real(value) or not 0.0 <= float(value) < math.inf:  # type: ignore[arg-type]
+        raise ValueError(f"{where}must be a finite number >= 0, got {_show(value)}")
+    return float(value)  # type: ignore[arg-type]
+
+
+def _per_member(check: Any) -> Any:
+    """Validator of a value given for every member or as a table by member plate."""
+
+    def validate(value: object) -> Any:
+        if isinstance(value, Mapping):
+            return FrozenDict({_check_id(str(plate)): check(v, f"member {plate!r}: ")
+                               for plate, v in value.items()})
+        return check(value)
+
+    return validate
+
+
+def _member_schema(item: dict[str, Any]) -> Any:
+    return WithJsonSchema({"anyOf": [item, {"type": "object", "additionalProperties": item}]})
+
+
+MemberStiffness = Annotated[
+    Any, PlainValidator(_per_member(_member_stiffness)),
+    _member_schema({"type": "number", "description": "log10 k in [-50, 50], or inf (rigid)"}),
+]
+"""log10 of a junction's member stiffness: one number (``inf``: rigid) or a table by plate."""
+MemberLossFactor = Annotated[
+    Any, PlainValidator(_per_member(_member_loss_factor)),
+    _member_schema({"type": "number", "minimum": 0}),
+]
+"""A junction's member loss factor: one number >= 0 or a table by plate."""
+
+
+class JunctionJoint(_Model):
+    r"""A junction line: two or more plate edges on one line held in translation.
+
+    On the line :math:`w_i = 0` on every member; the line has its own rotation
+    :math:`\Theta_J` and member :math:`i` is tied to it by a rotational spring,
+    :math:`C_i = k_i(1 + j\zeta_i)(\Theta_J - \Theta_i)` (the moment per unit length of the
+    line on the member), with :math:`\sum_i C_i = 0` (a massless line).  Rotations are about
+    the line, signs from the members' frames (formulation notes section 6.2b).  A rigid member
+    (``inf``) has :math:`\Theta_i = \Theta_J`.  Two members of stiffness :math:`2k` are a
+    ``hinge`` of stiffness :math:`k`.
+
+    Parameters
+    ----------
+    kind : "junction"
+        Discriminator.
+    between : tuple of str
+        The member edges, two or more, of equal length and (with frames) on one line.  Three
+        or more members need a ``frame`` on every member plate.
+    log10_stiffness : float or mapping of str to float
+        One :math:`\log_{10} k` for every member, or a table by member plate, e.g.
+        ``{ S1 = inf, S2 = inf, T1 = 2.0 }``; ``inf`` is a rigid member.
+    loss_factor : float or mapping of str to float, optional
+        :math:`\zeta` >= 0, one for every member or a table by member plate.  Default 0.
+    """
+
+    kind: Literal["junction"] = "junction"
+    between: Annotated[tuple[EdgeRef, ...], Field(min_length=2)]
+    log10_stiffness: MemberStiffness
+    loss_factor: MemberLossFactor = 0.0
+
+    @property
+    def sides(self) -> tuple[EdgeId, ...]:
+        """The member edges, in the order of ``between``."""
+        return tuple(parse_edge_ref(ref) for ref in self.between)
+
+    @property
+    def plates(self) -> tuple[str, ...]:
+        """The member plates, in the order of ``between``."""
+        return tuple(side.plate for side in self.sides)
+
+    @property
+    def mass(self) -> float:
+        """Line mass of a junction: always 0 kg/m (its line is fixed)."""
+        return 0.0
+
+    def member_log10_stiffness(self, plate: str) -> float:
+        r""":math:`\log_{10} k_i` of the member on ``plate`` (``inf``: rigid)."""
+        value = self.log10_stiffness
+        return value[plate] if isinstance(value, Mapping) else value
+
+    def member_loss_factor(self, plate: str) -> float:
+        r""":math:`\zeta_i` of the member on ``plate``."""
+        value = self.loss_factor
+        return value.get(plate, 0.0) if isinstance(value, Mapping) else value
+
+    def finite_members(self) -> tuple[str, ...]:
+        """The member plates whose spring is finite (each one a residual channel)."""
+        return tuple(p for p in self.plates if math.isfinite(self.member_log10_stiffness(p)))
+
+    def parameters(self) -> dict[str, Any]:
+        """Return ``{"log10_stiffness", "loss_factor"}`` as described (numbers or tables)."""
+        return {"log10_stiffness": self.log10_stiffness, "loss_factor": self.loss_factor}
+
+
+Joint = Annotated[
+    Union[CoplanarJoint, HingeJoint, JunctionJoint], Field(discriminator="kind")
+]
+"""A joint, discriminated on ``kind``: :class:`CoplanarJoint`, :class:`HingeJoint` or
+:class:`JunctionJoint`."""
 
 
 # --------------------------------------------------------------------------------------
@@ -1072,7 +1266,7 @@ class _View:
 
     materials: Mapping[str, Material | None] | None
     plates: Mapping[str, Plate | None] | None
-    joints: Mapping[str, CoplanarJoint | HingeJoint | None] | None
+    joints: Mapping[str, CoplanarJoint | HingeJoint | JunctionJoint | None] | None
     boundaries: Sequence[Boundary | None] | None
     loads: Sequence[EdgeShear | EdgeMoment | PointForce | None] | None
     discretisation: Discretisation | None
@@ -1081,6 +1275,103 @@ class _View:
     truth: Truth | None
     has_frequency: bool
     has_frequencies: bool
+
+
+def _member_issues(
+    jid: str, joint: Any, ids: list[EdgeId], ends: list[Any], loc: Loc
+) -> list[tuple[Loc, str]]:
+    """Problems of a joint's edges taken together: repeated edges or plates, lengths,
+    a junction's stiffness tables and its need of frames."""
+    issues: list[tuple[Loc, str]] = []
+    refs = joint.between
+    for i, edge in enumerate(ids):
+        for j in range(i):
+            if edge == ids[j]:
+                issues.append((loc, f"joins edge {refs[i]!r} to itself; a joint connects edges "
+                               "of different plates, fix the edge references"))
+            elif edge.plate == ids[j].plate:
+                issues.append((loc, f"joins two edges of the same plate {edge.plate!r} "
+                               f"({refs[j]!r} and {refs[i]!r}); a joint connects different "
+                               "plates, fix the edge references"))
+    if issues or any(end is None for end in ends):
+        return issues
+    lengths = [plate.edge_length(edge.edge) for edge, plate in ends]
+    for i in range(1, len(ids)):
+        la, lb = lengths[0], lengths[i]
+        if abs(la - lb) > 1e-9 * max(la, lb):
+            issues.append((loc, f"the joined edges differ in length: {refs[0]!r} is {la:g} m "
+                           f"and {refs[i]!r} is {lb:g} m; join edges of equal length (check "
+                           "the plates' size or the edge references)"))
+    if not isinstance(joint, JunctionJoint):
+        return issues
+    members = [edge.plate for edge in ids]
+    for name in ("log10_stiffness", "loss_factor"):
+        table = getattr(joint, name)
+        if not isinstance(table, Mapping):
+            continue
+        for plate in table:
+            if plate not in members:
+                issues.append((("joints", jid, name, plate), f"plate {plate!r} is not a "
+                               f"member of junction {jid!r} (members: {', '.join(members)}); "
+                               "name member plates only"))
+        missing = [p for p in members if p not in table]
+        if name == "log10_stiffness" and missing:
+            issues.append((("joints", jid, name), f"gives no stiffness for member "
+                           f"{', '.join(missing)}; give every member a value (inf: rigid)"))
+    without = [pid for (_, plate), pid in zip(ends, members) if plate.frame is None]
+    if len(ids) > 2 and without:
+        issues.append((loc, f"a junction of {len(ids)} members needs a frame on every member "
+                       f"plate; add [plates.{without[0]}] frame = {{ origin = [x, y, z], "
+                       "x_axis = [...], y_axis = [...] }"))
+    return issues
+
+
+def _frame_issues(
+    joints: Mapping[str, Any], plates: Mapping[str, Plate | None]
+) -> list[tuple[Loc, str]]:
+    """Problems of plates placed in 3D: all plates framed or none, joined edges coinciding in
+    space, coplanar joints between parallel plates, two-edge joints along opposite edges."""
+    known = {pid: p for pid, p in plates.items() if p is not None}
+    framed = [pid for pid, p in known.items() if p.frame is not None]
+    if not framed:
+        return []
+    issues: list[tuple[Loc, str]] = []
+    unframed = [pid for pid in known if known[pid].frame is None]
+    if unframed:
+        return [(("plates", unframed[0], "frame"), f"plate {unframed[0]!r} has no frame while "
+                 f"plate {framed[0]!r} has one; give every plate a frame, or none")]
+    for jid, joint in joints.items():
+        if joint is None or any(side.plate not in known for side in joint.sides):
+            continue
+        loc = ("joints", jid, "between")
+        sides = joint.sides
+        first = known[sides[0].plate].edge_in_space(sides[0].edge)
+        length = float(np.linalg.norm(first[1] - first[0]))
+        directions = []
+        for i, side in enumerate(sides[1:], start=1):
+            start, end, _ = known[side.plate].edge_in_space(side.edge)
+            same = max(np.linalg.norm(start - first[0]), np.linalg.norm(end - first[1]))
+            reversed_ = max(np.linalg.norm(start - first[1]), np.linalg.norm(end - first[0]))
+            gap = float(min(same, reversed_))
+            if gap > FRAME_TOLERANCE * length:
+                issues.append(((*loc, i), f"edges {joint.between[0]!r} and {joint.between[i]!r} "
+                               f"do not meet in space (ends {gap:.3g} m apart); fix the plates' "
+                               "frame or size, or the edge references"))
+            directions.append(same <= reversed_)
+        if isinstance(joint, JunctionJoint) or len(directions) != 1 or issues:
+            continue
+        a, b = (known[side.plate].frame for side in sides)
+        if directions[0]:
+            issues.append((loc, f"edges {joint.between[0]!r} and {joint.between[1]!r} run the "
+                           "same way along the line, so the plates' normals do not match a "
+                           f"{joint.kind} joint; reverse one plate's frame (y_axis -> -y_axis) "
+                           'or describe the line as kind = "junction"'))
+        elif joint.kind == "coplanar" and float(a.normal @ b.normal) < 1.0 - FRAME_TOLERANCE:
+            angle = math.degrees(math.acos(max(-1.0, min(1.0, float(a.normal @ b.normal)))))
+            issues.append((loc, f"joins plates whose normals are {angle:.3g} degrees apart; a "
+                           'coplanar joint needs coplanar plates, use kind = "hinge" or '
+                           '"junction" for a fold'))
+    return issues
 
 
 def _cross_check(view: _View) -> list[tuple[Loc, str]]:  # noqa: C901 (a flat list of checks)
@@ -1159,40 +1450,11 @@ def _cross_check(view: _View) -> list[tuple[Loc, str]]:  # noqa: C901 (a flat li
             if joint is None:
                 continue
             loc = ("joints", jid, "between")
-            a_ref, b_ref = joint.between
+            ids = [parse_edge_ref(ref) for ref in joint.between]
             ends = [edge_of(ref, (*loc, i)) for i, ref in enumerate(joint.between)]
-            a_id, b_id = parse_edge_ref(a_ref), parse_edge_ref(b_ref)
-            if a_id == b_id:
-                issues.append(
-                    (
-                        loc,
-                        f"joins edge {a_ref!r} to itself; a joint connects edges of two "
-                        "different plates, fix the edge references",
-                    )
-                )
-            elif a_id.plate == b_id.plate:
-                issues.append(
-                    (
-                        loc,
-                        f"joins two edges of the same plate {a_id.plate!r} ({a_ref!r} and "
-                        f"{b_ref!r}); a joint connects two different plates, fix the edge "
-                        "references",
-                    )
-                )
-            elif ends[0] is not None and ends[1] is not None:
-                la = ends[0][1].edge_length(a_id.edge)
-                lb = ends[1][1].edge_length(b_id.edge)
-                if abs(la - lb) > 1e-9 * max(la, lb):
-                    issues.append(
-                        (
-                            loc,
-                            f"the joined edges differ in length: {a_ref!r} is {la:g} m and "
-                            f"{b_ref!r} is {lb:g} m; join edges of equal length (check the "
-                            "plates' size or the edge references)",
-                        )
-                    )
-            for i, edge in enumerate((a_id, b_id)):
-                if i == 1 and edge == a_id:
+            issues += _member_issues(jid, joint, ids, ends, loc)
+            for i, edge in enumerate(ids):
+                if edge in ids[:i]:
                     continue
                 if edge in joined:
                     issues.append(
@@ -1205,6 +1467,8 @@ def _cross_check(view: _View) -> list[tuple[Loc, str]]:  # noqa: C901 (a flat li
                     )
                 else:
                     joined[edge] = jid
+        if plates is not None:
+            issues += _frame_issues(view.joints, plates)
 
     # boundary conditions
     conditions: dict[EdgeId, tuple[str, int]] = {}
@@ -1588,6 +1852,28 @@ class Case(_Model):
     def edge_joints(self) -> dict[EdgeId, str]:
         """Return ``{edge: joint id}`` for every joined edge."""
         return {side: jid for jid, joint in self.joints.items() for side in joint.sides}
+
+    def member_directions(self, joint_id: str) -> tuple[int, ...]:
+        r"""For each edge of a joint, +1 if it runs (counter-clockwise) along the joint line's
+        direction, -1 if against it.
+
+        The line runs along its first edge.  A junction between framed plates takes the
+        other directions from the frames, :math:`s_i = \mathbf t_i\cdot\mathbf e_\Gamma` with
+        :math:`\mathbf t_i = \mathbf e_{z,i}\times\mathbf n_i` the member's edge tangent
+        (formulation notes 6.2b); every other joint is ``(1, -1)``: the second edge runs the
+        other way, as in an assembly unrolled in a plane (checked for framed plates).
+        """
+        joint = self.joints[joint_id]
+        sides = joint.sides
+        if not isinstance(joint, JunctionJoint) or self.plates[sides[0].plate].frame is None:
+            return (1, -1)
+        start, end, _ = self.plates[sides[0].plate].edge_in_space(sides[0].edge)
+        line = end - start
+        directions = []
+        for side in sides:
+            a, b, _ = self.plates[side.plate].edge_in_space(side.edge)
+            directions.append(1 if float((b - a) @ line) > 0.0 else -1)
+        return tuple(directions)
 
     def joint_parameters(self) -> dict[str, dict[str, float]]:
         """Return the current joint parameters, ``{joint id: {name: value}}``.

@@ -12,6 +12,8 @@ and "wavelengths across" is ``Lx / lambda x Ly / lambda``.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+
 from dataclasses import dataclass, field
 from typing import Any, Literal
 
@@ -52,6 +54,13 @@ def _header(case: Case) -> list[str]:
         f"Assembly {case.name!r}: {len(case.plates)} plate(s), {len(case.joints)} joint(s), "
         f"{len(case.loads)} load(s); {noun}: {shown} Hz"
     ]
+
+
+def _per_member(value: float | Mapping[str, float]) -> str:
+    """A joint parameter: one number, or a junction's ``plate value`` table."""
+    if isinstance(value, Mapping):
+        return ", ".join(f"{plate} {v:g}" for plate, v in value.items())
+    return f"{value:g}"
 
 
 def _sections(case: Case) -> list[_Section]:
@@ -98,8 +107,8 @@ def _sections(case: Case) -> list[_Section]:
                 jid,
                 joint.kind,
                 " - ".join(joint.between),
-                f"{joint.log10_stiffness:g}",
-                f"{joint.loss_factor:g}",
+                _per_member(joint.log10_stiffness),
+                _per_member(joint.loss_factor),
                 f"{joint.mass:g}" if isinstance(joint, CoplanarJoint) else "-",
                 f"{case.edge_length(joint.between[0]):g}",
             )
@@ -126,7 +135,7 @@ def _notes(case: Case) -> list[str]:
     if len(groups) == 1:
         notes.append(
             f"Graph: connected ({graph.number_of_nodes()} plate(s), "
-            f"{graph.number_of_edges()} joint(s))."
+            f"{len(case.joints)} joint(s))."
         )
     else:
         listed = "; ".join("{" + ", ".join(g) + "}" for g in groups)

@@ -60,7 +60,8 @@ class PowerFlow:
     """Energies and powers of one solution (W and J, time-averaged).
 
     ``injected``, ``kinetic`` and ``dissipated`` are per plate; ``joint_dissipated`` and
-    ``transmitted`` (from the joint's first plate to its second) per joint.
+    ``transmitted`` (from the joint's first plate to its second; for a junction, from its first
+    member to the others) per joint.
     """
 
     frequency: float
@@ -169,7 +170,7 @@ def kinetic_energy(problem, basis, amplitudes):
 
 
 def _side_powers(case, system, jid, amplitudes, s):
-    """Power the joint ``jid`` delivers to each of its two plates (W), from its loads (interface
+    """Power the joint ``jid`` delivers to each of its plates (W), from its loads (interface
     unknowns ``s``) and the plates' traces on the joint line."""
     from solver.substructure import joint_gauss, legendre_values
 
@@ -178,13 +179,20 @@ def _side_powers(case, system, jid, amplitudes, s):
     k_max = max(float(np.max(np.abs(system.bases[side.plate].k))) for side in joint.sides)
     sigma, wq = joint_gauss(length, k_max)
     slots = system.layout[jid]
-    psi = legendre_values(sigma, length, slots["C"].stop - slots["C"].start)
-    moment = psi @ s[slots["C"]]
+    directions = case.member_directions(jid)
+    count = next(iter(slots.values())).stop - next(iter(slots.values())).start
+    psi = legendre_values(sigma, length, count)
+    if joint.kind == "junction":  # M_n = s_i C_i on member i, which is held in translation
+        moments = [d * (psi @ s[slots[f"C.{side.plate}"]])
+                   for side, d in zip(joint.sides, directions)]
+    else:
+        moments = [psi @ s[slots["C"]]] * 2
     shears = ((psi @ s[slots["F"]], -(psi @ s[slots["F"]])) if "F" in slots
               else (psi @ s[slots["FA"]], psi @ s[slots["FB"]]) if "FA" in slots
-              else (None, None))
+              else (None,) * len(joint.sides))
     powers = []
-    for side, arc, shear in zip(joint.sides, (sigma, length - sigma), shears):
+    for side, d, moment, shear in zip(joint.sides, directions, moments, shears):
+        arc = sigma if d > 0 else length - sigma
         rays, part = edge_values(system.problems[side.plate], system.bases[side.plate],
                                  side.edge, arc)
         w = rays["w"] @ amplitudes[side.plate] + part["w"]
@@ -219,10 +227,10 @@ def power_flow(case, solution) -> PowerFlow:
         joint_dissipated = dict.fromkeys(case.joints, 0.0)
         for channel in system.channels:
             jump = channel.kinematic.residual(s)  # Gauss weights folded in: int |[q]|^2 ds
-            c = params[channel.joint, channel.kind]
+            c = params[channel.name, channel.kind]
             joint_dissipated[channel.joint] += 0.5 * omega * c.imag * float(np.vdot(jump, jump).real)
         for jid in case.joints:
-            to_first, to_second = _side_powers(case, system, jid, amplitudes, s)
-            transmitted[jid] = 0.5 * (to_second - to_first)
+            to_first, *to_others = _side_powers(case, system, jid, amplitudes, s)
+            transmitted[jid] = 0.5 * (sum(to_others) - to_first)
     return PowerFlow(solution.frequency, injected, kinetic, dissipated, joint_dissipated,
                      transmitted)

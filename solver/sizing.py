@@ -111,14 +111,19 @@ def estimate_size(case, frequency=None, resolution=None) -> SizeEstimate:
     problems = {pid: plate_problem(case, pid, frequency) for pid in case.plates}
     bases = {pid: plate_basis(case, pid, problems[pid], resolution) for pid in case.plates}
     k_max = {pid: float(np.max(np.abs(b.k))) for pid, b in bases.items()}
-    counts, layout, _, corners, n_s, unknowns = interface_layout(case, problems, resolution)
+    counts, layout, _, corners, n_s, unknowns = interface_layout(case, problems, k_max,
+                                                                 resolution)
 
     entries = samples = constraints = 0
     for jid, joint in case.joints.items():
-        a, b = joint.sides
-        seen = len(np.union1d(unknowns[a.plate], unknowns[b.plate]))
-        n_q = len(joint_gauss(case.edge_length(a), max(k_max[a.plate], k_max[b.plate]))[0])
-        channels = 2 if "FA" in layout[jid] else 1
+        seen = len(np.unique(np.concatenate([unknowns[p] for p in joint.plates])))
+        n_q = len(joint_gauss(case.edge_length(joint.sides[0]),
+                              max(k_max[p] for p in joint.plates))[0])
+        if joint.kind == "junction":  # a channel per finite member, balance and rigid rows
+            channels = len(joint.finite_members())
+            constraints += counts[jid] * max(1, len(joint.plates) - channels)
+        else:
+            channels = 2 if "FA" in layout[jid] else 1
         samples += channels * n_q
         entries += channels * n_q * seen
         if joint.kind == "coplanar":

@@ -135,11 +135,14 @@ class Channel:
     Attributes
     ----------
     joint : str
+        The description's joint.
     kind : {"rotation", "mass"}
     load : Block
         :math:`W^{1/2}(LS + l)`, over the joint's own load unknowns.
     kinematic : Block
         :math:`W^{1/2}(RS + \rho)`, over the interface unknowns its two plates see.
+    member : str or None
+        The member plate of a junction's spring channel (:attr:`name` ``JOINT.PLATE``).
     """
 
     joint: str
@@ -147,6 +150,12 @@ class Channel:
     load: Block
     kinematic: Block
     crossover: float = math.inf
+    member: str | None = None
+
+    @property
+    def name(self) -> str:
+        """The channel's name: the joint's id, or ``JOINT.PLATE`` for a junction member."""
+        return self.joint if self.member is None else f"{self.joint}.{self.member}"
 
     def samples(self, s, c):
         """Weighted residual samples :math:`W^{1/2}r` at interface unknowns ``s``."""
@@ -246,20 +255,32 @@ def _has_mass_channel(joint, identify):
     return joint.kind == "coplanar" and (joint.mass > 0.0 or "mass" in identify)
 
 
-def _layout(case, counts):
-    """Slices of S: per joint ``C`` and ``F`` (or ``FA``, ``FB``); then the corner forces."""
+def _layout(case, counts, line_samples):
+    """Slices of S: per joint ``C`` and ``F`` (or ``FA``, ``FB``), per junction ``C.PLATE``
+    for each member and, without a rigid member, ``T`` (the line's rotation at its
+    ``line_samples`` Gauss points); then the corner forces."""
     layout, start = {}, 0
     identify = case.updating.identify
     for jid, joint in case.joints.items():
-        m = counts[jid]
-        names = ["C"]
+        sizes = {"C": counts[jid]}
         if joint.kind == "coplanar":
-            names += ["FA", "FB"] if _has_mass_channel(joint, identify) else ["F"]
+            sizes.update(dict.fromkeys(["FA", "FB"] if _has_mass_channel(joint, identify)
+                                       else ["F"], counts[jid]))
+        elif joint.kind == "junction":
+            sizes = {f"C.{plate}": counts[jid] for plate in joint.plates}
+            if jid in line_samples:
+                sizes["T"] = line_samples[jid]
         layout[jid] = {}
-        for name in names:
-            layout[jid][name] = slice(start, start + m)
-            start += m
+        for name, size in sizes.items():
+            layout[jid][name] = slice(start, start + size)
+            start += size
     return layout, start
+
+
+def _rigid_members(joint):
+    """The rigid members of a junction (the first one carries the line's rotation)."""
+    finite = joint.finite_members()
+    return [plate for plate in joint.plates if plate not in finite]
 
 
 def _corner_of(edge_name, end):
@@ -276,12 +297,15 @@ def _junctions(case, problems):
             a = parent[a]
         return a
 
-    for joint in case.joints.values():
-        a, b = joint.sides
-        for end in (0, 1):
-            ra, rb = find((a.plate, _corner_of(a.edge, end))), find((b.plate, _corner_of(b.edge, 1 - end)))
-            if ra != rb:
-                parent[ra] = rb
+    for jid, joint in case.joints.items():
+        sides, directions = joint.sides, case.member_directions(jid)
+        for end in (0, 1):  # the corners of every member at each end of the line
+            corners = [find((side.plate, _corner_of(side.edge, end if d > 0 else 1 - end)))
+                       for side, d in zip(sides, directions)]
+            for other in corners[1:]:
+                root, other = find(corners[0]), find(other)
+                if root != other:
+                    parent[other] = root
     groups = {}
     for corner in list(parent):
         groups.setdefault(find(corner), []).append(corner)
@@ -330,11 +354,12 @@ def _scaled(block, factor):
     return Block(block.index, (factor.T * block.matrix.T).T, factor * block.offset)
 
 
-def interface_layout(case, problems, resolution=None):
+def interface_layout(case, problems, k_max, resolution=None):
     """The interface unknowns of an assembly, counted from its description.
 
-    ``resolution`` is None (the description's), one factor, or a mapping by plate; a joint's
-    interface functions follow the finer of its two plates.
+    ``k_max`` is the largest ray wavenumber of each plate (rad/m; it sets the joints' Gauss
+    rules, :func:`joint_gauss`); ``resolution`` is None (the description's), one factor, or a
+    mapping by plate; a joint's interface functions follow the finest of its plates.
 
     Returns
     -------
@@ -350,14 +375,16 @@ def interface_layout(case, problems, resolution=None):
     unknowns : dict of str to ndarray of int
         Per plate, the interface unknowns it sees.
     """
-    counts = {}
+    counts, line_samples = {}, {}
     for jid, joint in case.joints.items():
-        a, b = joint.sides
-        kappa0 = max(problems[a.plate].kappa.real, problems[b.plate].kappa.real)
+        length = case.edge_length(joint.sides[0])
+        kappa0 = max(problems[plate].kappa.real for plate in joint.plates)
         joint_scale = max(plate_resolution(case, side.plate, resolution) for side in joint.sides)
         counts[jid] = (case.discretisation.interface_functions
-                       or interface_function_count(kappa0, case.edge_length(a), joint_scale))
-    layout, n_s = _layout(case, counts)
+                       or interface_function_count(kappa0, length, joint_scale))
+        if joint.kind == "junction" and not _rigid_members(joint):
+            line_samples[jid] = len(joint_gauss(length, max(k_max[p] for p in joint.plates))[0])
+    layout, n_s = _layout(case, counts, line_samples)
     junctions = _junctions(case, problems)
     corner_columns = {}
     for flags in junctions:
@@ -396,8 +423,12 @@ def plate_loads(case, boundary, sides, corners, counts, layout, unknowns):
         length = case.edge_length(side)
         slots = {name: np.arange(sl.start, sl.stop) for name, sl in layout[jid].items()}
         traces = boundary.edges[side.edge]
-        sigma = traces.s if side_index == 0 else length - traces.s
+        direction = case.member_directions(jid)[side_index]
+        sigma = traces.s if direction > 0 else length - traces.s
         psi = legendre_values(sigma, length, counts[jid])
+        if f"C.{side.plate}" in slots:  # a junction member: M_n = s_i C_i
+            add(slots[f"C.{side.plate}"], direction * edge_projection(traces, "moment", psi))
+            continue
         add(slots["C"], edge_projection(traces, "moment", psi))
         if "F" in slots:
             sign = 1.0 if side_index == 0 else -1.0
@@ -432,7 +463,7 @@ def build_assembly_system(case, frequency, resolution=None) -> AssemblySystem:
     k_max = {pid: float(np.max(np.abs(b.k))) for pid, b in bases.items()}
 
     counts, layout, junctions, corner_columns, n_s, unknowns = interface_layout(
-        case, problems, resolution)
+        case, problems, k_max, resolution)
 
     sides, corners = _plate_sides(case, corner_columns)
     u0, transfer, rcond = {}, {}, {}
@@ -446,6 +477,11 @@ def build_assembly_system(case, frequency, resolution=None) -> AssemblySystem:
                             None, [], rcond)
     rows, rhs, channels = [], [], []  # constraint rows as Blocks of one or more rows
     for jid, joint in case.joints.items():
+        if joint.kind == "junction":
+            junction_rows, junction_channels = _junction_line(case, system, jid, k_max, counts)
+            rows += junction_rows
+            channels += junction_channels
+            continue
         a, b = joint.sides
         length = case.edge_length(a)
         sigma, wq = joint_gauss(length, max(k_max[a.plate], k_max[b.plate]))
@@ -503,6 +539,62 @@ def build_assembly_system(case, frequency, resolution=None) -> AssemblySystem:
     return system
 
 
+def _junction_line(case, system, jid, k_max, counts):
+    r"""Constraint rows and spring channels of a junction line (formulation notes 6.2b).
+
+    Member :math:`i` (direction :math:`s_i`, :meth:`assembly.Case.member_directions`)
+    rotates by :math:`\Theta_i = -s_i\theta_i` about the line. The line's rotation
+    :math:`\Theta_J` is that of the first rigid member, or, without one, its own unknown
+    values ``T`` at the Gauss points. Reliable: :math:`\sum_iC_i = 0` (per Legendre
+    coefficient) and :math:`\int(\Theta_i - \Theta_J)\psi_m = 0` for the other rigid
+    members; each finite member's spring :math:`C_i = k_i^*(\Theta_J - \Theta_i)` is a
+    channel ``JOINT.PLATE``, load :math:`C_i`, kinematic :math:`\Theta_J + s_i\theta_i`.
+    Its crossover is twice a two-plate joint's: two members of :math:`2k` in series are a
+    hinge of :math:`k`, with the same residual at every stiffness.
+    """
+    joint = case.joints[jid]
+    sides, directions = joint.sides, case.member_directions(jid)
+    length = case.edge_length(sides[0])
+    sigma, wq = joint_gauss(length, max(k_max[p] for p in joint.plates))
+    root_w = np.sqrt(wq)
+    psi = legendre_values(sigma, length, counts[jid])
+    slots = system.layout[jid]
+    rotation = {}  # Theta_i of every member, unweighted, over its plate's unknowns
+    for side, direction in zip(sides, directions):
+        arc = sigma if direction > 0 else length - sigma
+        rays, part = edge_values(system.problems[side.plate], system.bases[side.plate],
+                                 side.edge, arc)
+        slope = system.affine_plate_operator(side.plate, rays["slope"], part["slope"])
+        rotation[side.plate] = _scaled(slope, -float(direction))
+    rigid = _rigid_members(joint)
+    if rigid:
+        line = rotation[rigid[0]]
+    else:
+        line = Block(np.arange(slots["T"].start, slots["T"].stop),
+                     np.eye(len(sigma), dtype=complex), np.zeros(len(sigma), dtype=complex))
+    weighted = psi.T * wq
+    rows = []
+    for plate in rigid[1:]:
+        gap = _union(rotation[plate], _scaled(line, -1.0))
+        rows.append(Block(gap.index, weighted @ gap.matrix, -(weighted @ gap.offset)))
+    moments = np.concatenate([np.arange(slots[f"C.{p}"].start, slots[f"C.{p}"].stop)
+                              for p in joint.plates])
+    order = np.argsort(moments)
+    balance = np.hstack([np.eye(counts[jid], dtype=complex)] * len(joint.plates))
+    rows.append(Block(moments[order], balance[:, order], np.zeros(counts[jid], dtype=complex)))
+    stiffness, kappa0 = max((system.problems[p].bending_stiffness.real,
+                             system.problems[p].kappa.real) for p in joint.plates)
+    channels = []
+    for plate in joint.finite_members():
+        moment = slots[f"C.{plate}"]
+        load = Block(np.arange(moment.start, moment.stop), root_w[:, None] * psi,
+                     np.zeros(len(sigma), dtype=complex))
+        kinematic = _scaled(_union(line, _scaled(rotation[plate], -1.0)), root_w)
+        channels.append(Channel(jid, "rotation", load, kinematic,
+                                2.0 * RIGID_CROSSOVER * stiffness * kappa0, member=plate))
+    return rows, channels
+
+
 def _constraint_matrix(rows, n_s):
     """Stack constraint Blocks (``matrix S_I = offset``) into a sparse :math:`G` and :math:`g`."""
     if not rows:
@@ -524,9 +616,15 @@ def _constraint_matrix(rows, n_s):
 # ----------------------------------------------------------------------------------------------
 
 def joint_parameters(case, omega):
-    """Channel parameters ``{(joint, kind): c}`` from the description's joints."""
+    """Channel parameters ``{(channel name, kind): c}`` from the description's joints."""
     params = {}
     for jid, joint in case.joints.items():
+        if joint.kind == "junction":
+            for plate in joint.finite_members():
+                params[f"{jid}.{plate}", "rotation"] = (
+                    10.0 ** joint.member_log10_stiffness(plate)
+                    * (1.0 + 1j * joint.member_loss_factor(plate)))
+            continue
         params[jid, "rotation"] = 10.0 ** joint.log10_stiffness * (1.0 + 1j * joint.loss_factor)
         if joint.kind == "coplanar":
             params[jid, "mass"] = omega**2 * joint.mass + 0j
@@ -545,7 +643,7 @@ def channel_blocks(system, params, weights):
     """
     blocks = []
     for channel in system.channels:
-        c = params[channel.joint, channel.kind]
+        c = params[channel.name, channel.kind]
         if channel.kind == "mass" and c.real <= 0.0:
             raise ValueError(f"joint {channel.joint}: the mass channel needs a line mass > 0")
         if weights[channel.joint] > 0.0:
@@ -566,11 +664,12 @@ def reference_energy(system, amplitudes):
 
 
 def joint_residuals(system, params, s):
-    """``{joint: E_Gamma^2}`` (dimensionless) at interface unknowns ``s``."""
+    """``{channel name: E_Gamma^2}`` (dimensionless) at interface unknowns ``s``: per joint,
+    and per finite member ``JOINT.PLATE`` of a junction."""
     out = {}
     for channel in system.channels:
-        energy = channel.energy(s, params[channel.joint, channel.kind])
-        out[channel.joint] = out.get(channel.joint, 0.0) + energy / system.e_ref
+        energy = channel.energy(s, params[channel.name, channel.kind])
+        out[channel.name] = out.get(channel.name, 0.0) + energy / system.e_ref
     return out
 
 

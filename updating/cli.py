@@ -209,6 +209,17 @@ def _check_description(args):
         _warn(_console(args), line)
 
 
+def _refuse_junctions(case, args):
+    """Junction lines are solved, not yet localised or updated: say so before any work."""
+    from updating.files import InputError
+
+    junctions = [jid for jid, joint in case.joints.items() if joint.kind == "junction"]
+    if junctions:
+        raise InputError(f"{args.case}: joints.{junctions[0]}: junction lines are not yet "
+                         f"localised or updated (vtcr check and vtcr solve handle them); "
+                         f"describe the joints as coplanar or hinge joints to run {args.command}")
+
+
 def _checked_measurements(case, args):
     """:func:`_measurements`, after checking that they can see the joints to update."""
     from updating.files import InputError
@@ -217,6 +228,7 @@ def _checked_measurements(case, args):
     if not case.joints:
         raise InputError(f"{args.case}: joints: the description has no joint to update; add a "
                          "[joints.ID] table (vtcr solve works without joints)")
+    _refuse_junctions(case, args)
     joints = [args.joint] if getattr(args, "joint", None) in case.joints else None
     if not getattr(args, "measurements", None):  # simulated: check the layout first
         warnings = check_joints_seen(case, None, joints, f"{args.case}: measurement")
@@ -514,6 +526,7 @@ def cmd_plan(args):
 
         raise InputError(f"{args.case}: joints: the description has no joint to plan for; add "
                          "a [joints.ID] table")
+    _refuse_junctions(case, args)
     console = _console(args)
     if args.plot:
         from updating.plots import require_matplotlib
