@@ -15,7 +15,8 @@ import json
 import math
 from collections.abc import Mapping
 
-__all__ = ["plate_grid", "grid_joint_ids", "description_toml"]
+__all__ = ["plate_grid", "grid_joint_ids", "stiffened_panel", "box_with_wall",
+           "description_toml"]
 
 STEEL = {"young_modulus": 210e9, "poisson_ratio": 0.3, "density": 7800.0}
 
@@ -113,6 +114,197 @@ def plate_grid(n_x: int, n_y: int, *, plate_size=(0.5, 0.4), thickness=0.001, fr
                                            for jid, value in truth.items()}}
     return description
 
+
+
+def stiffened_panel(n_bays: int, *, bay_size=(0.5, 0.4), stiffener_height=0.15,
+                    thickness=0.001, stiffener_thickness=0.002, frequency=250.0,
+                    loss_factor=0.01, log10_stiffness=2.0, truth=None, force_at=(0.17, 0.13),
+                    spacing=0.1, noise=0.1, seed=1, resolution=None, name=None) -> dict:
+    """A skin of ``n_bays`` bays in the x-y plane with a stiffener welded on every inner bay
+    line, standing along +z.
+
+    Bays ``B{i}`` (``bay_size`` and ``thickness``, origin ``[(i-1) Lx, 0, 0]``, axes x, y)
+    and stiffeners ``T{i}`` (``stiffener_height x Ly``, ``stiffener_thickness``, origin
+    ``[i Lx, 0, 0]``, x_axis +z, y_axis +y: their local ``x`` runs up from the skin and their
+    normal is -x), ``i = 1..n_bays - 1``. Weld ``W{i}`` is the junction
+    ``B{i}.right | B{i+1}.left | T{i}.left``: the skin continuous (its two members rigid) and
+    the stiffener tied by a rotational spring of ``log10_stiffness``. Every skin edge on the
+    panel's outline and the stiffeners' ends (``y = 0, Ly``) simply supported, the
+    stiffeners' top edges free; a unit point force in ``B1`` at ``force_at``; the
+    measurement grid on the skin only (a laser vibrometer sees one face).
+
+    Parameters
+    ----------
+    frequency : float or sequence of float
+        Hz; a sequence gives ``frequencies``.
+    truth : mapping of str to float, optional
+        ``{weld: log10_stiffness of its stiffener}`` of the simulated experiment.
+
+    Returns
+    -------
+    dict
+        A description for :func:`assembly.parse_case` or :func:`description_toml`.
+
+    Raises
+    ------
+    ValueError
+        For fewer than two bays, or a ``truth`` weld the panel does not have.
+    """
+    if n_bays < 2:
+        raise ValueError(f"a stiffened panel needs at least 2 bays, got {n_bays}")
+    welds = [f"W{i}" for i in range(1, n_bays)]
+    unknown = sorted(set(truth or {}) - set(welds))
+    if unknown:
+        raise ValueError(f"truth names welds the {n_bays}-bay panel does not have: "
+                         f"{', '.join(unknown)} (welds W1..W{n_bays - 1})")
+    lx, ly = bay_size
+
+    def framed(size, origin, x_axis, h):
+        return {"material": "steel", "thickness": h, "size": list(size),
+                "frame": {"origin": list(origin), "x_axis": list(x_axis),
+                          "y_axis": [0.0, 1.0, 0.0]}}
+
+    plates = {f"B{i}": framed(bay_size, [(i - 1) * lx, 0.0, 0.0], [1.0, 0.0, 0.0],
+                                 thickness)
+              for i in range(1, n_bays + 1)}
+    plates.update({f"T{i}": framed((stiffener_height, ly), [i * lx, 0.0, 0.0],
+                                   [0.0, 0.0, 1.0], stiffener_thickness)
+                   for i in range(1, n_bays)})
+    supported = ["B1.left", f"B{n_bays}.right"]
+    supported += [f"{p}.{e}" for p in plates for e in ("bottom", "top")]
+    description = {
+        "name": name or f"stiffened-panel-{n_bays}",
+        **({"frequencies": list(frequency)} if isinstance(frequency, (list, tuple))
+           else {"frequency": frequency}),
+        "materials": {"steel": {**STEEL, "loss_factor": loss_factor}},
+        "plates": plates,
+        "joints": {f"W{i}": {"kind": "junction",
+                             "between": [f"B{i}.right", f"B{i + 1}.left", f"T{i}.left"],
+                             "log10_stiffness": {f"B{i}": math.inf, f"B{i + 1}": math.inf,
+                                                 f"T{i}": log10_stiffness},
+                             "loss_factor": 0.0}
+                   for i in range(1, n_bays)},
+        "boundaries": [{"edge": edge, "condition": "simply_supported"} for edge in supported],
+        "loads": [{"kind": "point_force", "plate": "B1", "at": list(force_at),
+                   "amplitude": 1.0}],
+        "measurement": {"spacing": spacing, "noise": noise, "seed": seed,
+                        "plates": [f"B{i}" for i in range(1, n_bays + 1)]},
+        "updating": {"r": 0.8, "bounds": [-1.0, 6.0]},
+    }
+    if resolution is not None:
+        description["discretisation"] = {"resolution": resolution}
+    if truth:
+        description["truth"] = {"joints": {
+            weld: {"log10_stiffness": {f"T{weld[1:]}": value}} for weld, value in truth.items()}}
+    return description
+
+
+def _edge_ends(plate, edge):
+    """The 3D ends of a framed plate's edge, counter-clockwise in its local frame, rounded
+    to 1e-9 m so that shared edges compare equal."""
+    lx, ly = plate["size"]
+    corners = {"bottom": ((0, 0), (lx, 0)), "right": ((lx, 0), (lx, ly)),
+               "top": ((lx, ly), (0, ly)), "left": ((0, ly), (0, 0))}[edge]
+    frame = plate["frame"]
+    return tuple(tuple(round(o + x * a + y * b, 9) for o, a, b in
+                       zip(frame["origin"], frame["x_axis"], frame["y_axis"]))
+                 for x, y in corners)
+
+
+def _shared_edges(plates):
+    """Edges of framed plates that coincide in space, grouped: ``[[\"P.edge\", ...], ...]``
+    in plate order."""
+    groups = {}
+    for name, plate in plates.items():
+        for edge in ("bottom", "right", "top", "left"):
+            key = frozenset(_edge_ends(plate, edge))
+            groups.setdefault(key, []).append(f"{name}.{edge}")
+    return [members for members in groups.values() if len(members) > 1]
+
+
+def box_with_wall(*, size=(0.5, 0.4, 0.3), wall_at=0.3, thickness=0.001,
+                  wall_thickness=0.001, frequency=250.0, loss_factor=0.01,
+                  fold_log10_stiffness=2.0, weld_log10_stiffness=3.0, truth=None,
+                  force_at=(0.17, 0.13), spacing=0.1, noise=0.05, seed=1, resolution=None,
+                  name="box-with-wall") -> dict:
+    """A closed box ``[0, a] x [0, b] x [0, c]`` with an inner wall at ``x = wall_at``
+    welded to the four faces it meets.
+
+    Every face's frame puts ``w`` along its outward normal (edges counter-clockwise), so that
+    each fold's two edges run opposite ways. The wall splits the top, bottom, front and back
+    faces in two (``Top1 | Top2`` ...); ``Left``, ``Right`` and the wall ``Wall`` (normal +x)
+    are whole. Folds (two edges meeting at 90 degrees) are hinges of
+    ``fold_log10_stiffness``; the four lines where the wall meets a face are T-junctions
+    ``W_top``, ``W_bottom``, ``W_front``, ``W_back``: the face continuous (its two members
+    rigid) and the wall tied by a spring of ``weld_log10_stiffness``. A unit point force on
+    ``Top1`` at ``force_at``; the measurement grid on every outer face (not the wall, which a
+    vibrometer cannot see).
+
+    Parameters
+    ----------
+    truth : mapping of str to float, optional
+        ``{joint: log10 k}``: a fold's stiffness, or a weld's wall member.
+
+    Returns
+    -------
+    dict
+        A description for :func:`assembly.parse_case` or :func:`description_toml`.
+    """
+    a, b, c = size
+    if not 0.0 < wall_at < a:
+        raise ValueError(f"wall_at must lie inside (0, {a}), got {wall_at}")
+    x, y, z = (1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)
+    minus = {x: (-1.0, 0.0, 0.0), y: (0.0, -1.0, 0.0)}
+    faces = {}  # name: (size, origin, x_axis, y_axis, thickness)
+    for part, (x0, lx) in (("1", (0.0, wall_at)), ("2", (wall_at, a - wall_at))):
+        faces["Top" + part] = ((lx, b), (x0, 0.0, c), x, y)
+        faces["Bottom" + part] = ((lx, b), (x0, b, 0.0), x, minus[y])
+        faces["Front" + part] = ((lx, c), (x0, 0.0, 0.0), x, z)
+        faces["Back" + part] = ((lx, c), (x0 + lx, b, 0.0), minus[x], z)
+    faces["Left"] = ((b, c), (0.0, b, 0.0), minus[y], z)
+    faces["Right"] = ((b, c), (a, 0.0, 0.0), y, z)
+    faces["Wall"] = ((b, c), (wall_at, 0.0, 0.0), y, z)
+    plates = {n: {"material": "steel", "size": list(size_),
+                  "thickness": wall_thickness if n == "Wall" else thickness,
+                  "frame": {"origin": list(origin), "x_axis": list(xa), "y_axis": list(ya)}}
+              for n, (size_, origin, xa, ya) in faces.items()}
+    joints = {}
+    for members in _shared_edges(plates):
+        owners = [m.split(".")[0] for m in members]
+        if "Wall" in owners and len(members) == 3:
+            face = next(o for o in owners if o != "Wall").rstrip("12").lower()
+            joints[f"W_{face}"] = {
+                "kind": "junction", "between": members, "loss_factor": 0.0,
+                "log10_stiffness": {o: (weld_log10_stiffness if o == "Wall" else math.inf)
+                                    for o in owners}}
+        else:
+            joints["_".join(o.lower() for o in owners)] = {
+                "kind": "hinge", "between": members,
+                "log10_stiffness": fold_log10_stiffness, "loss_factor": 0.0}
+    unknown = sorted(set(truth or {}) - set(joints))
+    if unknown:
+        raise ValueError(f"truth names joints the box does not have: {', '.join(unknown)} "
+                         f"(joints: {', '.join(joints)})")
+    description = {
+        "name": name,
+        **({"frequencies": list(frequency)} if isinstance(frequency, (list, tuple))
+           else {"frequency": frequency}),
+        "materials": {"steel": {**STEEL, "loss_factor": loss_factor}},
+        "plates": plates,
+        "joints": joints,
+        "loads": [{"kind": "point_force", "plate": "Top1", "at": list(force_at),
+                   "amplitude": 1.0}],
+        "measurement": {"spacing": spacing, "noise": noise, "seed": seed,
+                        "plates": [n for n in plates if n != "Wall"]},
+        "updating": {"r": 0.8, "bounds": [-1.0, 6.0]},
+    }
+    if resolution is not None:
+        description["discretisation"] = {"resolution": resolution}
+    if truth:
+        description["truth"] = {"joints": {
+            jid: {"log10_stiffness": ({"Wall": value} if jid.startswith("W_") else value)}
+            for jid, value in truth.items()}}
+    return description
 
 def _value(value):
     """A TOML value: strings and booleans as TOML, floats by ``repr`` (they round-trip)."""

@@ -1186,21 +1186,23 @@ class JointTruth(_Model):
 
     Parameters
     ----------
-    log10_stiffness : float, optional
-        True :math:`\\log_{10} k`; None keeps the model value.
-    loss_factor : float, optional
-        True :math:`\\zeta \\ge 0`; None keeps the model value.
+    log10_stiffness : float or mapping of str to float, optional
+        True :math:`\\log_{10} k`; None keeps the model value.  For a junction, one value for
+        every member or a table by member plate (``inf``: rigid), like the joint itself.
+    loss_factor : float or mapping of str to float, optional
+        True :math:`\\zeta \\ge 0`; None keeps the model value (a table for a junction).
     mass : float, optional
         True line mass in kg/m (coplanar joints only); None keeps the model value.
     """
 
-    log10_stiffness: LogStiffness | None = None
-    loss_factor: NonNegative | None = None
+    log10_stiffness: MemberStiffness | None = None
+    loss_factor: MemberLossFactor | None = None
     mass: NonNegative | None = None
 
-    def changes(self) -> dict[str, float]:
+    def changes(self) -> dict[str, Any]:
         """Return the parameters that are given, ``{name: value}``."""
-        return {k: v for k, v in self.model_dump().items() if v is not None}
+        return {k: getattr(self, k) for k in ("log10_stiffness", "loss_factor", "mass")
+                if getattr(self, k) is not None}
 
 
 class Truth(_Model):
@@ -1371,6 +1373,31 @@ def _frame_issues(
             issues.append((loc, f"joins plates whose normals are {angle:.3g} degrees apart; a "
                            'coplanar joint needs coplanar plates, use kind = "hinge" or '
                            '"junction" for a fold'))
+    return issues
+
+
+def _truth_form_issues(jid: str, joint: Any, true: JointTruth) -> list[tuple[Loc, str]]:
+    """A joint's truth takes the joint's form: finite numbers for a two-edge joint, numbers or
+    tables by member plate for a junction."""
+    issues: list[tuple[Loc, str]] = []
+    if joint is None:
+        return issues
+    for name in ("log10_stiffness", "loss_factor"):
+        value = getattr(true, name)
+        loc = ("truth", "joints", jid, name)
+        if value is None:
+            continue
+        if isinstance(joint, JunctionJoint):
+            if isinstance(value, Mapping):
+                issues += [(loc, f"plate {p!r} is not a member of junction {jid!r} (members: "
+                            f"{', '.join(joint.plates)}); name member plates only")
+                           for p in value if p not in joint.plates]
+        elif isinstance(value, Mapping):
+            issues.append((loc, f"joint {jid!r} is a {joint.kind} joint: give one number, not "
+                           "a table by plate (tables are for junctions)"))
+        elif not math.isfinite(value):
+            issues.append((loc, f"joint {jid!r} is a {joint.kind} joint, whose stiffness must "
+                           f"be finite (got {value!r}); give a number in [-50, 50]"))
     return issues
 
 
@@ -1668,15 +1695,48 @@ def _cross_check(view: _View) -> list[tuple[Loc, str]]:  # noqa: C901 (a flat li
             if not known_joint(jid, loc, "fix the joint id or remove its table"):
                 continue
             joint = joints[jid] if joints is not None else None
-            if isinstance(joint, HingeJoint) and true.mass is not None:
+            issues += _truth_form_issues(jid, joint, true)
+            if isinstance(joint, (HingeJoint, JunctionJoint)) and true.mass is not None:
                 issues.append(
                     (
                         (*loc, "mass"),
-                        f"joint {jid!r} is a hinge, which has no line mass (its joint line is "
-                        "fixed); remove `mass`",
+                        f"joint {jid!r} is a {joint.kind}, which has no line mass (its joint "
+                        "line is fixed); remove `mass`",
                     )
                 )
     return issues
+
+
+def _junction_with(joint: JunctionJoint, changes: Mapping[str, Any],
+                   member: str | None) -> JunctionJoint:
+    """A junction with new member values: ``changes`` ``{name: number or table by plate}``
+    for every member, or for ``member`` only."""
+    data = joint.model_dump()
+    for name, value in changes.items():
+        if name == "mass":
+            if value != 0.0:
+                raise AssemblyError(f"junction {' - '.join(joint.between)} has no line mass; "
+                                    f"got mass = {value!r}")
+            continue
+        if name not in ("log10_stiffness", "loss_factor"):
+            raise AssemblyError(f"{name!r} is not a parameter of a junction's members "
+                                "(parameters: log10_stiffness, loss_factor)")
+        current = data[name]
+        table = dict(current) if isinstance(current, Mapping) else dict.fromkeys(
+            joint.plates, current)
+        if member is not None:
+            table[member] = value
+        elif isinstance(value, Mapping):
+            table.update(value)
+        else:
+            table = dict.fromkeys(joint.plates, value)
+        data[name] = {p: float(v) for p, v in table.items()}
+    try:
+        return JunctionJoint.model_validate(data)
+    except ValidationError as exc:
+        problems = "; ".join(e["msg"].removeprefix("Value error, ") for e in exc.errors())
+        raise AssemblyError(f"invalid member parameters of junction "
+                            f"{' - '.join(joint.between)}: {problems}") from None
 
 
 # --------------------------------------------------------------------------------------
@@ -1972,16 +2032,21 @@ class Case(_Model):
                 f"{_show(parameters)}"
             )
         joints = dict(self.joints)
-        for jid, changes in parameters.items():
-            if jid not in self.joints:
+        for key, changes in parameters.items():
+            jid, _, member = str(key).partition(".")
+            if jid not in self.joints or (member and member not in self.joints[jid].plates):
                 raise AssemblyError(
-                    f"joint {jid!r} is not in the assembly (joints: {_listing(self.joints)})"
+                    f"joint {key!r} is not in the assembly (joints: {_listing(self.joints)}; "
+                    "a junction's member as JOINT.PLATE)"
                 )
             if not isinstance(changes, Mapping):
                 raise AssemblyError(
-                    f"parameters of joint {jid!r} must be a mapping {{name: value}}, got "
+                    f"parameters of joint {key!r} must be a mapping {{name: value}}, got "
                     f"{_show(changes)}"
                 )
+            if isinstance(joints[jid], JunctionJoint):
+                joints[jid] = _junction_with(joints[jid], changes, member or None)
+                continue
             joint = self.joints[jid]
             data = joint.model_dump()
             for name, value in changes.items():
@@ -2015,6 +2080,44 @@ class Case(_Model):
                 )
                 raise AssemblyError(f"invalid parameters for joint {jid!r}: {problems}") from None
         return self.model_copy(update={"joints": FrozenDict(joints)})
+
+    def updatable_joints(self) -> dict[str, tuple[str, str | None]]:
+        """The joints the updating localises and corrects, by name.
+
+        Every two-edge joint by its id; every finite member of a junction as ``JOINT.PLATE``
+        (each member's spring is a channel of its own; rigid members are not updatable).
+
+        Returns
+        -------
+        dict of str to (str, str or None)
+            ``{name: (joint id, member plate or None)}``, in description order.
+        """
+        out: dict[str, tuple[str, str | None]] = {}
+        for jid, joint in self.joints.items():
+            if isinstance(joint, JunctionJoint):
+                out.update({f"{jid}.{p}": (jid, p) for p in joint.finite_members()})
+            else:
+                out[jid] = (jid, None)
+        return out
+
+    def updatable_parameters(self) -> dict[str, dict[str, float]]:
+        """``{name: {log10_stiffness, loss_factor, mass}}`` of :meth:`updatable_joints`."""
+        out = {}
+        for name, (jid, member) in self.updatable_joints().items():
+            joint = self.joints[jid]
+            if member is None:
+                out[name] = {"log10_stiffness": joint.log10_stiffness,
+                             "loss_factor": joint.loss_factor, "mass": joint.mass}
+            else:
+                out[name] = {"log10_stiffness": joint.member_log10_stiffness(member),
+                             "loss_factor": joint.member_loss_factor(member), "mass": 0.0}
+        return out
+
+    def updatable_alpha(self) -> dict[str, float]:
+        """The weight of each updatable joint's residual in :math:`E_{int}^2`: its joint's
+        ``[updating] alpha`` (a junction's members share it)."""
+        return {name: self.updating.alpha[jid]
+                for name, (jid, _) in self.updatable_joints().items()}
 
     def true_case(self) -> Case:
         """Return the assembly with its joints replaced by the ``[truth]`` parameters.

@@ -147,7 +147,7 @@ def _notes(case: Case) -> list[str]:
         notes.append("No loads: the forced response is zero.")
     if case.truth.joints:
         true = "; ".join(
-            f"{jid}: " + ", ".join(f"{k}={v:g}" for k, v in t.changes().items())
+            f"{jid}: " + ", ".join(f"{k}={_per_member(v)}" for k, v in t.changes().items())
             for jid, t in case.truth.joints.items()
         )
         notes.append(f"Truth (simulated experiment): {true}.")

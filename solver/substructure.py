@@ -639,15 +639,16 @@ def channel_blocks(system, params, weights):
     params : dict
         ``{(joint, kind): c}`` (:func:`joint_parameters`).
     weights : dict of str to float
-        Per joint, the weight :math:`w_\Gamma` of its energy (J^-1 for a dimensionless cost).
+        Per channel name (joint, or junction member ``JOINT.PLATE``), the weight
+        :math:`w_\Gamma` of its energy (J^-1 for a dimensionless cost).
     """
     blocks = []
     for channel in system.channels:
         c = params[channel.name, channel.kind]
         if channel.kind == "mass" and c.real <= 0.0:
             raise ValueError(f"joint {channel.joint}: the mass channel needs a line mass > 0")
-        if weights[channel.joint] > 0.0:
-            blocks.append(channel.block(c, weights[channel.joint]))
+        if weights[channel.name] > 0.0:
+            blocks.append(channel.block(c, weights[channel.name]))
     return blocks
 
 
@@ -715,7 +716,7 @@ def solve_assembly(case, frequency, resolution=None, system=None,
     system = system or build_assembly_system(case, frequency, resolution)
     t0 = time.perf_counter()
     params = joint_parameters(case, system.omega)
-    s = solve_interface(system, channel_blocks(system, params, case.updating.alpha)).s
+    s = solve_interface(system, channel_blocks(system, params, case.updatable_alpha())).s
     amplitudes = system.plate_amplitudes(s)
     if system.e_ref is None and residuals:
         system.e_ref = reference_energy(system, amplitudes)

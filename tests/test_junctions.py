@@ -4,11 +4,16 @@ The members of a junction are held in translation on the line and tied to the li
 by one spring each (formulation notes 6.2b). Checked here against exact identities of the
 formulation, independent of any reference solution: two members of stiffness 2k are a hinge of
 stiffness k, flipping a member's frame flips its field and nothing else, reciprocity across
-the line; and the description's checks. The exact Levy-strip comparisons are in
+the line; the description's checks; every finite member as an updatable channel
+``JOINT.PLATE`` (truth, parameters, localise, curve); and the two junction cases, the
+stiffened panel's updating among them. The exact Levy-strip comparisons are in
 ``test_junction_accuracy.py``.
 """
 
+import json
 import math
+import tomllib
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -16,7 +21,10 @@ import pytest
 from assembly import DescriptionError, load_case, parse_case
 from assembly.models import JunctionJoint
 from solver.substructure import solve_assembly
+from assembly.generate import box_with_wall, description_toml, stiffened_panel
 from updating.cli import main
+
+CASES = Path(__file__).resolve().parents[1] / "cases"
 
 STEEL = {"young_modulus": 210e9, "poisson_ratio": 0.3, "density": 7800.0, "loss_factor": 0.01}
 SKIN_LENGTHS = (0.5, 0.4)
@@ -176,17 +184,90 @@ def test_framed_two_plate_joints_must_match_their_kind():
     assert parse_case(hinge).member_directions("G1") == (1, -1)
 
 
-def test_updating_commands_refuse_junctions_before_any_work(tmp_path, capsys):
-    """One line, exit 2, for the commands that do not handle junctions yet; the TOML form
-    (``inf`` in a table) is read and solved."""
+def test_junction_truth_takes_the_joint_form():
+    """``[truth.joints.W1]`` is a number for every member or a table by member plate; a table
+    or ``inf`` on a two-edge joint, and a plate that is not a member, are refused."""
+    tee = tee_description()
+    member = {**tee, "truth": {"joints": {"W1": {"log10_stiffness": {"T1": 0.5}}}}}
+    true = parse_case(member).true_case()
+    assert true.joints["W1"].member_log10_stiffness("T1") == 0.5
+    assert math.isinf(true.joints["W1"].member_log10_stiffness("S1"))
+    every = {**tee, "truth": {"joints": {"W1": {"log10_stiffness": 1.5}}}}
+    assert parse_case(every).true_case().updatable_joints().keys() == {"W1.S1", "W1.S2", "W1.T1"}
+    stranger = {**tee, "truth": {"joints": {"W1": {"log10_stiffness": {"B7": 0.5}}}}}
+    assert "plate 'B7' is not a member of junction 'W1'" in _problems(stranger)
+    with open("cases/folded_plate.toml", "rb") as f:
+        fold = tomllib.load(f)
+    table = {**fold, "truth": {"joints": {"G1": {"log10_stiffness": {"P1": 1.0}}}}}
+    assert "is a hinge joint: give one number, not a table" in _problems(table)
+    rigid = {**fold, "truth": {"joints": {"G1": {"log10_stiffness": math.inf}}}}
+    assert "whose stiffness must be finite" in _problems(rigid)
+
+
+def test_member_parameters_by_joint_plate_name():
+    """``with_joint_parameters`` takes a member as ``JOINT.PLATE`` and changes that member
+    only; the updating sees the finite members as its joints."""
+    case = parse_case(tee_description(skin=3.0))
+    assert list(case.updatable_joints()) == ["W1.S1", "W1.S2", "W1.T1"]
+    moved = case.with_joint_parameters({"W1.T1": {"log10_stiffness": 0.7}})
+    assert moved.updatable_parameters()["W1.T1"]["log10_stiffness"] == 0.7
+    assert moved.updatable_parameters()["W1.S1"]["log10_stiffness"] == 3.0
+    with pytest.raises(Exception, match="a junction's member as JOINT.PLATE"):
+        case.with_joint_parameters({"W1.B7": {"log10_stiffness": 0.7}})
+
+
+def test_tee_is_localised_and_its_member_curve_drawn(tmp_path, capsys):
+    """The TOML form (``inf`` in a table) runs through localise, plan and curve, the
+    channels named JOINT.PLATE; ``--joint`` of a junction without its member is refused with
+    the names to use."""
     path = tmp_path / "tee.toml"
     path.write_text(TEE_TOML)
-    for command in ("localise", "update", "plan"):
-        assert main([command, str(path), "--quiet"]) == 2
-        err = capsys.readouterr().err.strip().splitlines()
-        assert len(err) == 1 and "junction lines are not yet localised or updated" in err[0]
-    assert main(["check", str(path), "--quiet"]) == 0
-    assert main(["solve", str(path), "--quiet", "--no-estimate"]) == 0
+    out = tmp_path / "localise.json"
+    assert main(["localise", str(path), "--quiet", "--json", str(out)]) == 0
+    assert "W1.T1" in out.read_text()
+    assert main(["curve", str(path), "--joint", "W1.T1", "--points", "5", "--quiet"]) == 0
+    capsys.readouterr()
+    assert main(["curve", str(path), "--joint", "W1", "--quiet"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "(joints: W1.T1; a junction's finite member as JOINT.PLATE)" \
+        in err[0]
+
+
+def _body(path):
+    return "\n".join(line for line in path.read_text().splitlines()
+                     if not line.startswith("#")).strip()
+
+
+def test_junction_case_files_are_their_generator_output():
+    panel = stiffened_panel(4, log10_stiffness=3.5, truth={"W2": 2.0},
+                            frequency=[184.8, 230.0, 257.0], resolution=1.25,
+                            name="stiffened-panel")
+    assert _body(CASES / "stiffened_panel.toml") == description_toml(panel).strip()
+    box = box_with_wall(truth={"W_top": 1.0}, resolution=1.5, frequency=[189.2, 266.0, 281.5])
+    assert _body(CASES / "box_with_wall.toml") == description_toml(box).strip()
+    case = load_case(CASES / "box_with_wall.toml")
+    kinds = [j.kind for j in case.joints.values()]
+    assert kinds.count("junction") == 4 and kinds.count("hinge") == 16
+
+
+def test_stiffened_panel_update_corrects_the_weak_weld_only(tmp_path):
+    """``vtcr update cases/stiffened_panel.toml``, measured on the skin only: W2.T2 stands
+    out first, is corrected with its truth inside its interval, and W1.T1 and W3.T3 keep
+    their model values (JSON keys by member channel)."""
+    case = load_case(CASES / "stiffened_panel.toml")
+    assert set(case.measurement.plates) == {"B1", "B2", "B3", "B4"}
+    out = tmp_path / "panel.json"
+    assert main(["update", str(CASES / "stiffened_panel.toml"), "--quiet", "--json", str(out),
+                 "--run", str(tmp_path / "panel.run.json")]) == 0
+    result = json.loads(out.read_text())
+    first = result["steps"][0]["joints"]
+    assert max(first, key=lambda j: first[j]["residual_percent"]) == "W2.T2"
+    assert result["steps"][1]["selected"] == "W2.T2"
+    assert set(result["identified"]) == {"W2.T2"}
+    low, high = result["identified"]["W2.T2"]["interval"]
+    assert (low is None or low <= 2.0) and (high is None or 2.0 <= high)
+    last = result["steps"][-1]["joints"]
+    assert last["W1.T1"]["log10_stiffness"] == last["W3.T3"]["log10_stiffness"] == 3.5
 
 
 TEE_TOML = """

@@ -209,17 +209,6 @@ def _check_description(args):
         _warn(_console(args), line)
 
 
-def _refuse_junctions(case, args):
-    """Junction lines are solved, not yet localised or updated: say so before any work."""
-    from updating.files import InputError
-
-    junctions = [jid for jid, joint in case.joints.items() if joint.kind == "junction"]
-    if junctions:
-        raise InputError(f"{args.case}: joints.{junctions[0]}: junction lines are not yet "
-                         f"localised or updated (vtcr check and vtcr solve handle them); "
-                         f"describe the joints as coplanar or hinge joints to run {args.command}")
-
-
 def _checked_measurements(case, args):
     """:func:`_measurements`, after checking that they can see the joints to update."""
     from updating.files import InputError
@@ -228,8 +217,8 @@ def _checked_measurements(case, args):
     if not case.joints:
         raise InputError(f"{args.case}: joints: the description has no joint to update; add a "
                          "[joints.ID] table (vtcr solve works without joints)")
-    _refuse_junctions(case, args)
-    joints = [args.joint] if getattr(args, "joint", None) in case.joints else None
+    joints = ([args.joint] if getattr(args, "joint", None) in case.updatable_joints()
+              else None)
     if not getattr(args, "measurements", None):  # simulated: check the layout first
         warnings = check_joints_seen(case, None, joints, f"{args.case}: measurement")
         measurements = _measurements(case, args)
@@ -526,7 +515,6 @@ def cmd_plan(args):
 
         raise InputError(f"{args.case}: joints: the description has no joint to plan for; add "
                          "a [joints.ID] table")
-    _refuse_junctions(case, args)
     console = _console(args)
     if args.plot:
         from updating.plots import require_matplotlib
@@ -590,11 +578,14 @@ def _expected_text(interval):
 
 
 def _truth(case, args):
-    """``{joint: true log10 k}`` of a simulated experiment (none with measured data)."""
+    """``{joint: true log10 k}`` of a simulated experiment (none with measured data); a
+    junction's every finite member when its truth gives a stiffness."""
     if getattr(args, "measurements", None):
         return {}
-    return {jid: t.log10_stiffness for jid, t in case.truth.joints.items()
-            if t.log10_stiffness is not None}
+    true = case.true_case().updatable_parameters()
+    return {name: true[name]["log10_stiffness"]
+            for name, (jid, _) in case.updatable_joints().items()
+            if jid in case.truth.joints and case.truth.joints[jid].log10_stiffness is not None}
 
 
 def _run_path(args):
@@ -678,8 +669,8 @@ def cmd_update(args):
     console.print(f"{n_rays} ray unknowns, {n_s} interface unknowns, {n_g} constraints; "
                   f"set-up {t1 - t0:.2f} s, updating {t2 - t1:.2f} s; run file {run.path}")
     n_f = len(problem.frequencies)
-    joint = next((s.selected for s in reversed(result.steps) if s.selected), case.joints and
-                 next(iter(case.joints)))
+    joint = next((s.selected for s in reversed(result.steps) if s.selected),
+                 next(iter(problem.joints), None))
     timings = {"setup": t1 - t0, "updating": t2 - t1,
                # the fastest of the run's own evaluations, if it made any (not a resumed
                # finished run): timing it again would cost the run one more
@@ -725,9 +716,10 @@ def cmd_curve(args):
     from updating.progress import progress_bar
 
     case = _load(args)
-    if args.joint not in case.joints:
-        raise InputError(f"--joint {args.joint}: not a joint of {args.case} "
-                         f"(joints: {', '.join(case.joints)}); give one of them")
+    if args.joint not in case.updatable_joints():
+        raise InputError(f"--joint {args.joint}: not an updatable joint of {args.case} "
+                         f"(joints: {', '.join(case.updatable_joints())}; a junction's finite "
+                         "member as JOINT.PLATE); give one of them")
     if args.plot:
         from updating.plots import require_matplotlib
 

@@ -167,7 +167,7 @@ def _weight_derivatives(condensation, frequency, thetas, key):
     plus = frequency.channel_values({**thetas, key: thetas[key] + h})
     minus = frequency.channel_values({**thetas, key: thetas[key] - h})
     return [(condensation.weight_matrix(w, a, x) - condensation.weight_matrix(w, b, x)) / (2 * h)
-            if ch.joint == key[0] else None
+            if ch.name == key[0] else None
             for ch, w, a, b, x in zip(frequency.channels, condensation.weights, plus, minus,
                                       condensation.crossovers)]
 
@@ -206,9 +206,9 @@ class ScoreTest:
             params = channel_parameters(parameters, system.omega)
             condensation = JointCondensation.combined(
                 [c.condensation(frequency) for c in corrections])
-            channels = [ch for j in joints for ch in system.channels if ch.joint == j]
+            channels = [ch for j in joints for ch in system.channels if ch.name == j]
             data_map = freq.scale(problem.r) * condensation.kept_rows.conj().T
-            own = [ch for ch in system.channels if ch.joint == target[0]]
+            own = [ch for ch in system.channels if ch.name == target[0]]
             prediction = JointCondensation(
                 direct[frequency], [(ch.load, ch.kinematic, problem.alpha[target[0]],
                                      params[target[0], ch.kind], ch.crossover) for ch in own])
@@ -331,7 +331,7 @@ class _Frequency:
         for (joint, name), theta in thetas.items():
             trial[joint][name] = theta
         params = channel_parameters(trial, self.omega)
-        return [params[ch.joint, ch.kind] for ch in channels]
+        return [params[ch.name, ch.kind] for ch in channels]
 
     def channel_values(self, thetas):
         """The group's channel parameters with ``thetas`` set."""

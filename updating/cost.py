@@ -48,7 +48,7 @@ from solver.vtcr import NumericalError
 from updating.executor import thread_map
 
 __all__ = ["ModifiedProblem", "JointCorrection", "Evaluation", "channel_parameters",
-           "case_parameters", "with_joint", "direct_factor", "direct_interface",
+           "with_joint", "direct_factor", "direct_interface",
            "PARAMETER_NAMES", "PARAMETER_BOUNDS", "SMALLEST_MASS"]
 
 PARAMETER_NAMES = ("log10_stiffness", "loss_factor", "mass")
@@ -66,12 +66,6 @@ calls (80 MB of complex entries); the 10 x 10 grid's hold 6.8e7."""
 MAX_KEPT_CORRECTIONS = 8
 """Condensations kept per set of parameters: each holds, per frequency, the joint's solves
 through the whole interface problem (interface unknowns x residual samples)."""
-
-
-def case_parameters(case):
-    """``{joint: {log10_stiffness, loss_factor, mass}}`` of a description's joints."""
-    return {jid: {"log10_stiffness": j.log10_stiffness, "loss_factor": j.loss_factor,
-                  "mass": j.mass} for jid, j in case.joints.items()}
 
 
 def with_joint(parameters, joint, **values):
@@ -198,8 +192,8 @@ class ModifiedProblem:
         self.case = case
         self.threads = threads
         self.r = case.updating.r if r is None else r
-        self.alpha = dict(case.updating.alpha)
-        self.joints = tuple(case.joints)
+        self.alpha = case.updatable_alpha()
+        self.joints = tuple(case.updatable_joints())
         self._last = None  # (parameters, {frequency: InterfaceFactor}) of the last evaluation
         self._corrections = (None, {})  # (parameters, {joint: JointCorrection} there)
         self.evaluation_times = []  # wall time of each evaluation on the measured data (s)
@@ -231,7 +225,7 @@ class ModifiedProblem:
 
     def initial_parameters(self):
         """``{joint: {log10_stiffness, loss_factor, mass}}`` of the model."""
-        return case_parameters(self.case)
+        return self.case.updatable_parameters()
 
     def joint_weights(self, system):
         """Per joint, the weight of its energy (J) in E_mod^2: alpha (1 - r) / E_ref."""
@@ -293,15 +287,16 @@ class ModifiedProblem:
         return self.evaluate(parameters, data).e_mod
 
     def neighbourhood(self, joint):
-        """``(joints, plates)`` around ``joint``: its two plates and every joint of theirs."""
+        """``(joints, plates)`` around ``joint``: its plates (a junction member's: every member
+        plate of its line) and every updatable joint of theirs."""
         if self._neighbourhoods is None:
-            plates_of = {jid: {side.plate for side in j.sides}
-                         for jid, j in self.case.joints.items()}
+            plates_of = {name: set(self.case.joints[jid].plates)
+                         for name, (jid, _) in self.case.updatable_joints().items()}
             joints_of = {}
             for jid, plates in plates_of.items():
                 for plate in plates:
                     joints_of.setdefault(plate, []).append(jid)
-            order = {jid: i for i, jid in enumerate(self.case.joints)}
+            order = {jid: i for i, jid in enumerate(self.joints)}
             self._neighbourhoods = {
                 jid: (sorted({j for p in plates for j in joints_of[p]}, key=order.get),
                       sorted(plates))
@@ -484,7 +479,7 @@ class JointCorrection:
             system = freq.system
             kappa = problem.joint_weights(system)[joint]
             params = channel_parameters(parameters, system.omega)
-            channels = [ch for ch in system.channels if ch.joint == joint]
+            channels = [ch for ch in system.channels if ch.name == joint]
             factor = factors[frequency]
             measured = sum(len(v) for v in freq.data)  # the last residual rows
             condensation = JointCondensation(
@@ -507,7 +502,7 @@ class JointCorrection:
         """The neighbourhood's channels and measured plates at one frequency, the interface
         unknowns they see, and the frequency's data norm."""
         joints, plates = neighbourhood
-        channels = [ch for ch in freq.system.channels if ch.joint in joints]
+        channels = [ch for ch in freq.system.channels if ch.name in joints]
         measured = [(pid, op, v) for pid, op, v in zip(freq.plates, freq.operators, freq.data)
                     if pid in plates]
         index = np.unique(np.concatenate([ch.kinematic.index for ch in channels]
@@ -541,7 +536,7 @@ class JointCorrection:
             s = condensation.interface(params, index)
             all_params = channel_parameters(trial, system.omega)
             for ch in channels:
-                residuals[ch.joint] += ch.energy(s, all_params[ch.joint, ch.kind]) / system.e_ref
+                residuals[ch.name] += ch.energy(s, all_params[ch.name, ch.kind]) / system.e_ref
             for pid, op, v in measured:
                 misfits[pid] += _norm2([op.residual(s) - v]) / norm
         return self.problem.neighbourhood_cost(self.joint, residuals, misfits)

@@ -231,9 +231,12 @@ def _layout_counts(case):
     return counts
 
 
-def _joint_label(case, jid):
-    a, b = case.joints[jid].between
-    return f"joint {jid} ({a} | {b})"
+def _joint_label(case, name):
+    jid, member = case.updatable_joints()[name]
+    if member is None:
+        a, b = case.joints[jid].between
+        return f"joint {jid} ({a} | {b})"
+    return f"member {name} of junction {jid} ({' | '.join(case.joints[jid].between)})"
 
 
 def joint_visibility(case, counts, joints=None):
@@ -267,21 +270,23 @@ def joint_visibility(case, counts, joints=None):
     """
     from assembly.graph import build_graph, components
 
-    joints = list(case.joints if joints is None else joints)
+    units = case.updatable_joints()
+    joints = list(units if joints is None else joints)
+    plates_of = {name: case.joints[units[name][0]].plates for name in joints}
     errors, warnings = [], []
     for group in components(build_graph(case)):
-        members = [j for j in joints if case.joints[j].plates[0] in group]
+        members = [j for j in joints if plates_of[j][0] in group]
         if not members:
             continue
         n = sum(counts.get(pid, 0) for pid in group)
         plates = ", ".join(group)
         if n == 0:
             for jid in members:
-                a, b = case.joints[jid].plates
                 errors.append(
                     f"{_joint_label(case, jid)}: no measurement point on its plates "
                     f"{{{plates}}}, so the measurements do not depend on it and its residual "
-                    f"stays at the discretisation floor; measure on {a} or {b}")
+                    f"stays at the discretisation floor; measure on "
+                    f"{' or '.join(plates_of[jid])}")
         elif n < MIN_POINTS:
             errors.append(
                 f"only {n} measurement point(s) on plates {{{plates}}}: too few to see joint(s) "
@@ -290,12 +295,14 @@ def joint_visibility(case, counts, joints=None):
                 "on both sides of each joint")
         else:
             for jid in members:
-                a, b = case.joints[jid].plates
-                if counts.get(a, 0) == 0 and counts.get(b, 0) == 0:
+                own = plates_of[jid]
+                if not any(counts.get(p, 0) for p in own):
+                    which = (f"neither {own[0]} nor {own[1]}" if len(own) == 2
+                             else f"none of {', '.join(own)}")
                     warnings.append(
-                        f"{_joint_label(case, jid)}: neither {a} nor {b} carries a measurement "
-                        "point, so the joint is seen only through the other plates and its "
-                        f"parameters are poorly identifiable; measure on {a} or {b}")
+                        f"{_joint_label(case, jid)}: {which} carries a measurement point, so "
+                        "the joint is seen only through the other plates and its parameters "
+                        f"are poorly identifiable; measure on {' or '.join(own)}")
     return errors, warnings
 
 

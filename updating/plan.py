@@ -99,7 +99,7 @@ def identifiability_plan(case, layout_measurements, level=None, resolution=None,
     threshold = 2.0 * noise.deviation / math.sqrt(max(n_values, 1))
     direct = problem.direct_factors(parameters)
     plans = {}
-    for joint in case.joints:
+    for joint in problem.joints:
         target = (joint, "log10_stiffness")
         # the test's condensation of the model response on the joint gives the sensitivities
         test = ScoreTest(problem, parameters, target, [target], direct=direct)

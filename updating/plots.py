@@ -47,7 +47,6 @@ from pathlib import Path
 import numpy as np
 
 from updating.cost import (
-    case_parameters,
     cost_curve,
     direct_interface,
     log_grid,
@@ -96,12 +95,15 @@ def _true_parameters(case):
     """Joint parameters of ``[truth.joints]`` (None when the description has none)."""
     if not case.truth.joints:
         return None
-    return case_parameters(case.true_case())
+    return case.true_case().updatable_parameters()
 
 
 def _true_log_k(case, joint):
-    true = case.truth.joints.get(joint)
-    return None if true is None else true.log10_stiffness
+    jid, _ = case.updatable_joints()[joint]
+    true = case.truth.joints.get(jid)
+    if true is None or true.log10_stiffness is None:
+        return None
+    return case.true_case().updatable_parameters()[joint]["log10_stiffness"]
 
 
 def _direct_amplitudes(system, parameters, alpha):
@@ -468,7 +470,7 @@ def _set_responses(case, parameter_sets, points, resolution, frequency):
     from solver.substructure import build_assembly_system
 
     system = build_assembly_system(case, float(frequency), resolution)
-    alpha = dict(case.updating.alpha)
+    alpha = case.updatable_alpha()
     values = []
     for parameters in parameter_sets.values():
         amplitudes = _direct_amplitudes(system, parameters, alpha)
@@ -965,7 +967,7 @@ def write_curve_figure(case, rows, joint, directory, parameters_note="other join
     require_matplotlib()
     frequencies = ", ".join(f"{f:g}" for f in case.frequencies)
     data = cost_curve_data(rows, joint, true=_true_log_k(case, joint),
-                           initial=case.joints[joint].log10_stiffness,
+                           initial=case.updatable_parameters()[joint]["log10_stiffness"],
                            note=f"{parameters_note}; {frequencies} Hz")
     return save_figure_atomic(draw_cost_curve(data, f"{case.name}: cost against "
                                                     f"$\\log_{{10}} k$ of {joint}"),

@@ -30,7 +30,6 @@ from typing import Annotated, Literal
 import numpy as np
 import pydantic
 
-from updating.cost import case_parameters
 from updating.files import InputError, write_json_atomic
 from updating.strategy import Step
 
@@ -169,9 +168,9 @@ def _first_problem(err: pydantic.ValidationError) -> str:
 
 def _step_problems(steps, case):
     """What makes ``steps`` (validated records) impossible for ``case``, or None."""
-    joints = set(case.joints)
+    joints = set(case.updatable_joints())
     lo, hi = case.updating.bounds
-    initial = case_parameters(case)
+    initial = case.updatable_parameters()
     for n, step in enumerate(steps):
         where = f"steps[{n}]"
         if step.step != n:
