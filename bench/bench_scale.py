@@ -14,7 +14,12 @@ experiment, and measures:
 3. one cost evaluation during a correction (``ModifiedProblem.correction(...).cost``, else a
    full ``ModifiedProblem.cost``), in a process of its own: median over values of log10 k
    spread over the bounds, and the one-off set-up of the correction;
-4. the stiff grid (every joint log10 k = 6: one simply supported (0.5 N) x (0.4 N) m plate)
+4. the same (commands, exponents, one evaluation) on stiffened panels of ``--panels`` bays
+   (``assembly.generate.stiffened_panel``: a skin of n bays 0.5 x 0.4 m with a 2 mm, 0.15 m
+   stiffener welded on each inner bay line, 2n - 1 plates and n - 1 junction lines, model weld
+   log10 k = 3.5, three welds wrong), so that bays and stiffeners grow together; exponents
+   fitted over n >= 8;
+5. the stiff grid (every joint log10 k = 6: one simply supported (0.5 N) x (0.4 N) m plate)
    solved by the VTCR and by scikit-fem's Argyris element at the same accuracy: the VTCR
    error against the Navier series is the target of the coarsest accurate near-square mesh.
    Timed on both sides, best of ``--repeats`` in a process of its own: the VTCR's end-to-end
@@ -22,7 +27,8 @@ experiment, and measures:
    (``fem_argyris.solve_fem``); evaluating w at the points is timed for neither.
 
 Run: ``pip install -e '.[bench]' && python bench/bench_scale.py [--sizes 2 3 4 6 8 10]``
-(about an hour with the defaults; ``--sizes 2 3 --fem-sizes 2`` in about half a minute).
+(about an hour with the defaults; ``--sizes 2 3 --fem-sizes 2 --panels 4`` in about half a
+minute).
 """
 
 from __future__ import annotations
@@ -54,6 +60,9 @@ COMMANDS = ("check", "solve", "localise", "update")
 FIT_FROM = 4  # the growth exponents are fitted over the sizes N >= FIT_FROM
 STIFF_LOG10_K = 6.0  # practically rigid: D kappa is about 1e3 N at 250 Hz
 CORRECTED_JOINT = "H1_1"  # the joint of the loaded plate P1_1 whose correction is timed
+PANEL_FIT_FROM = 8  # the panels' growth exponents are fitted over n >= PANEL_FIT_FROM bays
+PANEL_WELD_LOG10_K = 3.5  # the model's welds (as cases/stiffened_panel.toml)
+PANEL_CORRECTED_JOINT = "W1.T1"  # the weld next to the loaded bay, whose correction is timed
 PROBE_FRACTIONS = (np.arange(4) + 0.5) / 4  # 4 x 4 interior points per plate (plate-local)
 NAVIER_TERMS_PER_PLATE = 160  # Navier terms each way per plate of the grid's side
 COARSE_STEP, FINE_STEP = 0.25, 0.02  # FE mesh search: intervals per bending wavelength
@@ -87,6 +96,24 @@ def write_cases(n, frequency, stiff_frequency, directory):
         plate_grid(n, n, frequency=stiff_frequency, log10_stiffness=STIFF_LOG10_K),
         header=f"bench_scale.py: {n} x {n} grid, every joint log10 k = {STIFF_LOG10_K}"))
     return grid, stiff
+
+
+def wrong_welds(n):
+    """``{weld: true log10 k of its stiffener}`` of the n-bay panel (model: 3.5): the weld
+    next to the loaded bay, one mid-panel and the last (one weld for 2 and 3 bays)."""
+    return {f"W{i}": 2.0 for i in sorted({1, max(1, n // 2), n - 1})}
+
+
+def write_panel(n, frequency, directory):
+    """Write the n-bay stiffened panel with wrong welds; return its path."""
+    from assembly.generate import description_toml, stiffened_panel
+
+    panel = directory / f"panel_{n}.toml"
+    panel.write_text(description_toml(
+        stiffened_panel(n, log10_stiffness=PANEL_WELD_LOG10_K, truth=wrong_welds(n),
+                        frequency=frequency),
+        header=f"bench_scale.py: {n}-bay stiffened panel, wrong welds {wrong_welds(n)}"))
+    return panel
 
 
 def problem_size(case):
@@ -427,23 +454,29 @@ def imports_mode(side):
 
 
 def measure_commands(n, case, commands, runner, log):
-    """The CLI commands on the n x n grid: ``{command: measurement (and summary)}``."""
+    """The CLI commands on a case (``n`` names it in the log): ``{command: measurement (and
+    summary)}``."""
     out = {}
     for command in commands:
         run = runner.command(command, case)
-        log(f"N = {n}: {command} {run.brief()}")
+        log(f"{n}: {command} {run.brief()}")
         out[command] = run.record()
-        if run.ok and command == "update":
+        if command == "update" and run.status == "exit 3":
+            # the loop stopped without converging (its JSON says which status): a finished
+            # run whose time and outcome count like any other
+            out[command]["status"] = "ok"
+        if out[command]["status"] == "ok" and command == "update":
             out[command]["summary"] = update_summary(run, runner.workdir, case)
         if run.ok and command == "localise":
             out[command]["summary"] = localise_summary(runner.workdir, case)
     return out
 
 
-def measure_evaluation(n, case, count, runner, log):
-    """The cost evaluation during a correction, in a process of its own."""
-    run, result = runner.hidden(["--evaluation", str(case), "--count", str(count)])
-    log(f"N = {n}: cost evaluation {run.brief()}")
+def measure_evaluation(n, case, count, runner, log, joint=CORRECTED_JOINT):
+    """The cost evaluation during a correction of ``joint``, in a process of its own."""
+    run, result = runner.hidden(["--evaluation", str(case), "--count", str(count),
+                                 "--joint", joint])
+    log(f"{n}: cost evaluation {run.brief()}")
     return dict(run.record(), **(result or {}))
 
 
@@ -515,22 +548,22 @@ def import_baselines(runner):
     return {side: runner.hidden(["--imports", side])[0].peak_mb for side in ("vtcr", "fem")}
 
 
-def growth_exponents(rows):
-    """Least-squares slopes of log(time) and log(memory) on log(plates), over N >= FIT_FROM.
+def growth_exponents(rows, fit_from=FIT_FROM):
+    """Least-squares slopes of log(time) and log(memory) on log(plates), over n >= fit_from.
 
     Returns ``{"solve time": (slope or None, sizes used), ...}`` (at least two sizes needed).
     """
     fits = {}
     for command in ("solve", "localise"):
         for quantity, key in (("time", "wall_s"), ("memory", "peak_mb")):
-            used = [r for r in rows if r["n"] >= FIT_FROM
+            used = [r for r in rows if r["n"] >= fit_from
                     and r["commands"].get(command, {}).get("status") == "ok"]
             slope = None
             if len(used) >= 2:
                 x = np.log([r["size"]["plates"] for r in used])
                 y = np.log([r["commands"][command][key] for r in used])
                 slope = float(np.polyfit(x, y, 1)[0])
-            fits[f"{command} {quantity}"] = (slope, [r["n"] for r in used])
+            fits[f"{command} {quantity}"] = (slope, [label(r) for r in used])
     return fits
 
 
@@ -574,9 +607,9 @@ def cell(mapping, key, form, scale=1.0):
     return "-" if value is None else format(value if scale == 1.0 else value * scale, form)
 
 
-def label(n):
-    """The first cell of a row: the grid size."""
-    return f"{n} x {n}"
+def label(row):
+    """The first cell of a row: the grid size, or the panel's bays."""
+    return f"{row['n']} bays" if row.get("panel") else f"{row['n']} x {row['n']}"
 
 
 def note(text):
@@ -584,10 +617,10 @@ def note(text):
     return textwrap.wrap(text, 100, initial_indent="  ", subsequent_indent="    ")
 
 
-def failures(n, entries):
-    """Note lines for the failed runs among ``{name: measurement}``."""
+def failures(where, entries):
+    """Note lines for the failed runs among ``{name: measurement}`` of the row ``where``."""
     return [line for name, e in entries.items() if e and e["status"] != "ok"
-            for line in note(f"N = {n}: {name}: {e['status']}: {e['detail']}")]
+            for line in note(f"{where}: {name}: {e['status']}: {e['detail']}")]
 
 
 def scaling_lines(rows, commands):
@@ -597,7 +630,7 @@ def scaling_lines(rows, commands):
         headers += [f"{command} [s]", f"{command} [MB]"]
     body, notes = [], []
     for r in rows:
-        line = [label(r["n"])] + [r["size"][key] for key in
+        line = [label(r)] + [r["size"][key] for key in
                                   ("plates", "joints", "ray_unknowns", "interface_unknowns")]
         for command in commands:
             entry = r["commands"][command]
@@ -606,7 +639,7 @@ def scaling_lines(rows, commands):
             else:
                 line += [entry["status"], "-"]
         body.append(line)
-        notes += failures(r["n"], r["commands"])
+        notes += failures(label(r), r["commands"])
     return table(headers, body) + (["failures:"] + notes if notes else [])
 
 
@@ -619,16 +652,18 @@ def update_lines(rows):
         if not (update or localise):
             continue
         identified = (update or {}).get("identified", {})
-        body.append([label(r["n"]),
+        body.append([label(r),
                      ", ".join(localise["largest_residuals"]) if localise else "-",
                      cell(update, "setup_s", ".2f"), cell(update, "updating_s", ".2f"),
                      cell(update, "full_evaluation_ms", ".1f"),
                      cell(update, "correction_evaluation_ms", ".2f"), cell(update, "steps", ""),
+                     cell(update, "status", ""),
                      ", ".join(f"{j} {v:.2f}" for j, v in sorted(identified.items())) or "-"])
     if not body:
         return []
     return table(["N", "localise: largest E_G^2", "set-up [s]", "updating [s]",
-                  "full eval [ms]", "corr. eval [ms]", "steps", "update: identified log10 k"],
+                  "full eval [ms]", "corr. eval [ms]", "steps", "loop status",
+                  "update: identified log10 k"],
                  body)
 
 
@@ -639,11 +674,11 @@ def evaluation_lines(rows):
         e = r.get("evaluation")
         if e is None:
             continue
-        notes += failures(r["n"], {"cost evaluation": e})
+        notes += failures(label(r), {"cost evaluation": e})
         if e["status"] != "ok":
-            body.append([label(r["n"]), e["status"]] + ["-"] * 7)
+            body.append([label(r), e["status"]] + ["-"] * 7)
             continue
-        body.append([label(r["n"]), e["method"], e["joint"], cell(e, "problem_setup_s", ".2f"),
+        body.append([label(r), e["method"], e["joint"], cell(e, "problem_setup_s", ".2f"),
                      cell(e, "full_evaluation_s", ".3f"),
                      cell(e, "correction_setup_s", ".1f", 1e3),
                      cell(e, "median_evaluation_s", ".3f", 1e3),
@@ -661,7 +696,7 @@ def fit_lines(fits):
     """The growth exponents and the sizes that entered each fit."""
     lines = []
     for name, (slope, used) in fits.items():
-        sizes = ", ".join(f"{n} x {n}" for n in used) or "none"
+        sizes = ", ".join(used) or "none"
         value = f"P^{slope:.2f}" if slope is not None else "no fit (fewer than 2 sizes)"
         lines.append(f"  {name:<16} {value:<30} sizes: {sizes}")
     return lines
@@ -670,7 +705,7 @@ def fit_lines(fits):
 def stiff_row(n, s):
     """One row of the stiff-grid table: the VTCR's and the FE's error, time and memory."""
     v, f = s["vtcr"], s.get("fem")
-    line = [label(n), f"{s['frequency']:g}", f"{s['plate'][0]:g} x {s['plate'][1]:g}",
+    line = [label({"n": n}), f"{s['frequency']:g}", f"{s['plate'][0]:g} x {s['plate'][1]:g}",
             f"{s['ray_unknowns']} + {s['interface_unknowns']}"]
     if v["status"] == "ok":
         line += [cell(v, "error", ".2e"), cell(v, "seconds", ".3f"),
@@ -689,7 +724,7 @@ def stiff_row(n, s):
 def stiff_notes(n, s):
     """Notes below the stiff-grid table: failures, the reference's convergence, the phases."""
     v, f = s["vtcr"], s.get("fem")
-    notes = failures(n, {"VTCR": v, "FE": f or s.get("fem_search")})
+    notes = failures(label({"n": n}), {"VTCR": v, "FE": f or s.get("fem_search")})
     check = s["navier"]
     errors = [e["error"] for e in (v, f) if e and "error" in e]
     converged = "" if not errors or check["change_from_half"] < 1e-2 * min(errors) else (
@@ -758,6 +793,21 @@ def report(result, commands):
             f"{settings['evaluations']} values of log10 k over the bounds; set-up: after a "
             f"full evaluation at the same parameters):")
         print("\n".join(lines))
+    panels = result.get("panel_rows")
+    if panels:
+        print()
+        say(f"stiffened panels of n bays (2n - 1 plates, n - 1 junction lines; model welds "
+            f"log10 k = {PANEL_WELD_LOG10_K:g}; wrong welds: true log10 k 2.0 at "
+            + "; ".join(f"{r['n']} bays: " + ", ".join(r["wrong_joints"]) for r in panels)
+            + "):")
+        if commands:
+            print("\n".join(scaling_lines(panels, commands)))
+        for lines in (update_lines(panels), evaluation_lines(panels)):
+            if lines:
+                print("\n".join(lines))
+        if commands:
+            say(f"growth exponents of the panels against P (n >= {PANEL_FIT_FROM} bays):")
+            print("\n".join(fit_lines(result["panel_fits"])))
     lines = stiff_lines(result["rows"])
     if lines:
         baseline = result["import_baselines"]
@@ -788,13 +838,16 @@ def bench(args, log):
                                           stiff_frequencies.get(n, args.frequency), runner.workdir)
                 row = {"n": n, "wrong_joints": wrong_joints(n),
                        "size": problem_size(load_case(grid)),
-                       "commands": measure_commands(n, grid, args.commands, runner, log)}
+                       "commands": measure_commands(f"N = {n}", grid, args.commands, runner,
+                                                    log)}
                 if args.evaluations:
-                    row["evaluation"] = measure_evaluation(n, grid, args.evaluations, runner, log)
+                    row["evaluation"] = measure_evaluation(f"N = {n}", grid, args.evaluations,
+                                                           runner, log)
                 if args.stiff:
                     row["stiff"] = measure_stiff(n, stiff, n in args.fem_sizes, args.repeats,
                                                  runner, log)
                 rows.append(row)
+            panel_rows = [measure_panel(n, args, runner, log) for n in args.panels]
         finally:
             runner.close()
     return {"machine": machine(),
@@ -804,7 +857,22 @@ def bench(args, log):
                          "fem_sizes": args.fem_sizes, "commands": args.commands,
                          "timeout": args.timeout, "evaluations": args.evaluations,
                          "repeats": args.repeats},
-            "rows": rows, "fits": growth_exponents(rows), "import_baselines": baselines}
+            "rows": rows, "fits": growth_exponents(rows), "import_baselines": baselines,
+            "panel_rows": panel_rows, "panel_fits": growth_exponents(panel_rows, PANEL_FIT_FROM)}
+
+
+def measure_panel(n, args, runner, log):
+    """The commands and one correction's evaluation on the n-bay stiffened panel."""
+    from assembly import load_case
+
+    panel = write_panel(n, args.frequency, runner.workdir)
+    row = {"n": n, "panel": True, "wrong_joints": wrong_welds(n),
+           "size": problem_size(load_case(panel)),
+           "commands": measure_commands(f"{n} bays", panel, args.commands, runner, log)}
+    if args.evaluations:
+        row["evaluation"] = measure_evaluation(f"{n} bays", panel, args.evaluations, runner,
+                                               log, PANEL_CORRECTED_JOINT)
+    return row
 
 
 def size_frequency(text):
@@ -818,6 +886,8 @@ def parse_args(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--sizes", type=int, nargs="+", default=[2, 3, 4, 6, 8, 10],
                         help="grid sizes N (N x N plates, N >= 2)")
+    parser.add_argument("--panels", type=int, nargs="*", default=[4, 8, 16, 32, 50],
+                        help="stiffened panels of this many bays (n >= 2; none: skip)")
     parser.add_argument("--commands", nargs="*", choices=COMMANDS, default=list(COMMANDS),
                         help="vtcr commands to measure (default: all)")
     parser.add_argument("--frequency", type=float, default=250.0,
@@ -842,6 +912,7 @@ def parse_args(argv=None):
     hidden = argparse.SUPPRESS
     parser.add_argument("--evaluation", metavar="CASE", help=hidden)
     parser.add_argument("--count", type=int, default=20, help=hidden)
+    parser.add_argument("--joint", default=CORRECTED_JOINT, help=hidden)
     parser.add_argument("--vtcr-stiff", metavar="CASE", help=hidden)
     parser.add_argument("--fem-search", metavar="SPEC", help=hidden)
     parser.add_argument("--fem", metavar="SPEC", help=hidden)
@@ -854,13 +925,15 @@ def parse_args(argv=None):
     args = parser.parse_args(argv)
     if min(args.sizes) < 2:
         parser.error("--sizes: every N must be at least 2 (a grid needs joints)")
+    if args.panels and min(args.panels) < 2:
+        parser.error("--panels: every panel needs at least 2 bays (one weld)")
     return args
 
 
 def hidden_mode(args):
     """The result of the hidden mode ``args`` asks for, or None for a normal run."""
     if args.evaluation:
-        return evaluation_mode(args.evaluation, CORRECTED_JOINT, args.count)
+        return evaluation_mode(args.evaluation, args.joint, args.count)
     if args.vtcr_stiff:
         return vtcr_stiff_mode(args.vtcr_stiff, args.repeats, args.w)
     if args.fem_search:

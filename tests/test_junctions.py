@@ -233,6 +233,20 @@ def test_tee_is_localised_and_its_member_curve_drawn(tmp_path, capsys):
         in err[0]
 
 
+def test_a_junction_member_has_no_line_mass_to_identify(tmp_path):
+    """``identify = ["stiffness", "mass"]`` identifies a line mass where a joint has one
+    (coplanar joints): a junction member is identified in stiffness alone, with no crash and
+    no mass interval."""
+    path = tmp_path / "tee.toml"
+    path.write_text(TEE_TOML + '\n[updating]\nidentify = ["stiffness", "mass"]\n'
+                    "[truth.joints.W1]\nlog10_stiffness = { T1 = 0.5 }\n")
+    out = tmp_path / "tee.json"
+    assert main(["update", str(path), "--quiet", "--json", str(out)]) in (0, 3)
+    identified = json.loads(out.read_text())["identified"]
+    assert set(identified) == {"W1.T1"} and "parameters" not in identified["W1.T1"]
+    assert identified["W1.T1"]["log10_stiffness"] == pytest.approx(0.5, abs=0.1)
+
+
 def _body(path):
     return "\n".join(line for line in path.read_text().splitlines()
                      if not line.startswith("#")).strip()

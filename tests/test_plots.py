@@ -298,3 +298,30 @@ def test_plot_without_matplotlib_is_a_one_line_error(tmp_path, command):
     assert done.returncode == 2, done.stderr
     assert done.stderr.splitlines() == [f"vtcr: {MISSING_MATPLOTLIB}"]
     assert not (tmp_path / "out").exists()
+
+
+def test_framed_assembly_field_map_is_drawn_in_space(tmp_path):
+    """A stiffened panel (every plate framed): the field map's grids are placed in space by
+    the frames (the stiffener's surface stands on its weld line, the skin lies at z = 0) and
+    the figure is drawn in 3D."""
+    pytest.importorskip("matplotlib")
+    from assembly import parse_case
+    from assembly.generate import stiffened_panel
+    from updating.plots import draw_field_maps
+
+    case = parse_case(stiffened_panel(2, truth={"W1": 1.0}, spacing=0.2))
+    measurements = simulate_measurements(case)
+    problem = ModifiedProblem(case, measurements)
+    parameters = problem.initial_parameters()
+    data = field_map_data(case, problem, measurements, case.frequencies[0], parameters,
+                          parameters)
+    x, y, z = data.space.surfaces["T1"]
+    assert np.allclose(x, 0.5) and z.min() == 0.0 and z.max() == pytest.approx(0.15)
+    assert np.allclose(data.space.surfaces["B2"][2], 0.0)
+    assert set(data.space.measured) == {"B1", "B2"}
+    assert np.allclose(data.space.joints["W1"][:, 0], 0.5)
+    figure = draw_field_maps(data, "panel")
+    assert sum(ax.name == "3d" for ax in figure.axes) == 3
+    path = tmp_path / "field.png"
+    figure.savefig(path, dpi=120)
+    _check_png(path)

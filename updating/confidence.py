@@ -514,10 +514,13 @@ def confidence_intervals(problem, parameters, joints, stated_noise, misfit, leve
     problem.release_factors()
     direct = problem.direct_factors(parameters)
     tests = {}
+    def identified(joint):  # a line mass only where the joint has one
+        return [n for n in names if n != "mass" or problem.has_line_mass(joint)]
+
     for joint in joints:
         around = problem.neighbourhood(joint)[0]
-        group = [(j, name) for j in joints if j in around for name in names]
-        for name in names:
+        group = [(j, name) for j in joints if j in around for name in identified(j)]
+        for name in identified(joint):
             tests[joint, name] = ScoreTest(problem, parameters, (joint, name), group,
                                            corrections, direct)
     del direct, corrections

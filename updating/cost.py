@@ -227,6 +227,12 @@ class ModifiedProblem:
         """``{joint: {log10_stiffness, loss_factor, mass}}`` of the model."""
         return self.case.updatable_parameters()
 
+    def has_line_mass(self, joint):
+        """Whether ``joint`` carries a line mass to identify: coplanar joints do; hinges and
+        junction members hold their line fixed."""
+        jid, member = self.case.updatable_joints()[joint]
+        return member is None and self.case.joints[jid].kind == "coplanar"
+
     def joint_weights(self, system):
         """Per joint, the weight of its energy (J) in E_mod^2: alpha (1 - r) / E_ref."""
         return {jid: (1.0 - self.r) * a / system.e_ref for jid, a in self.alpha.items()}

@@ -59,6 +59,7 @@ __all__ = [
     "FieldMapData",
     "FrequencyResponseData",
     "ResidualBarsData",
+    "SpaceLayout",
     "cost_curve_data",
     "draw_cost_curve",
     "draw_field_maps",
@@ -184,6 +185,51 @@ def cost_curve_data(rows, joint, identified=None, true=None, initial=None, inter
 
 
 @dataclass(frozen=True)
+class SpaceLayout:
+    """What a field map draws, placed in 3D by the plates' frames (every plate framed).
+
+    Attributes
+    ----------
+    surfaces : dict of str to (X, Y, Z)
+        Per plate, the 3D coordinates of :attr:`FieldMapData.grids`' points, (ny, nx) each.
+    measured : dict of str to ndarray, shape (n, 3)
+        The measurement points.
+    outlines : dict of str to ndarray, shape (5, 3)
+    joints : dict of str to ndarray, shape (2, 3)
+        Each joint's line (the first member edge's ends).
+    forces : ndarray, shape (n, 3)
+        Point forces.
+    """
+
+    surfaces: dict
+    measured: dict
+    outlines: dict
+    joints: dict
+    forces: np.ndarray
+
+
+def _space_layout(case, local_grids, measured_points):
+    """A :class:`SpaceLayout` from plate-local grids ``{pid: (x, y)}`` and points
+    ``{pid: (n, 2)}``, or None unless every plate has a frame."""
+    if any(plate.frame is None for plate in case.plates.values()):
+        return None
+    surfaces = {pid: tuple(np.moveaxis(case.plates[pid].frame.to_space(x, y), -1, 0))
+                for pid, (x, y) in local_grids.items()}
+    measured = {pid: case.plates[pid].frame.to_space(p[:, 0], p[:, 1])
+                for pid, p in measured_points.items()}
+    outlines = {}
+    for pid, plate in case.plates.items():
+        lx, ly = plate.size
+        outlines[pid] = plate.frame.to_space(np.array([0.0, lx, lx, 0.0, 0.0]),
+                                             np.array([0.0, 0.0, ly, ly, 0.0]))
+    joints = {jid: np.array(case.plates[j.sides[0].plate].edge_in_space(j.sides[0].edge)[:2])
+              for jid, j in case.joints.items()}
+    forces = [case.plates[load.plate].frame.to_space(*load.at)
+              for load in case.loads if load.kind == "point_force"]
+    return SpaceLayout(surfaces, measured, outlines, joints, np.array(forces).reshape(-1, 3))
+
+
+@dataclass(frozen=True)
 class FieldMapData:
     r"""Measured and model fields at one frequency, in the assembly plane.
 
@@ -222,6 +268,9 @@ class FieldMapData:
         colour bar says so with arrows.
     loads : (ndarray (n, 2), list of ndarray (2, 2))
         Point forces and loaded edges in the assembly plane, marked on every panel.
+    space : SpaceLayout or None
+        The same grids, points and lines placed in 3D when every plate has a frame (the
+        figure is then drawn in 3D); None for a plane layout.
     """
 
     frequency: float
@@ -240,6 +289,7 @@ class FieldMapData:
     n_frequencies: int
     limits: tuple
     loads: tuple = (np.zeros((0, 2)), [])
+    space: SpaceLayout | None = None
 
 
 def _transform(values, quantity):
@@ -329,14 +379,14 @@ def field_map_data(case, problem, measurements, frequency, initial, updated,
             fields[name] = problem.field(frequency, s)
         else:
             fields[name] = _direct_amplitudes(system, parameters, problem.alpha)
-    grids, model = {}, {"initial": {}, "updated": {}}
+    grids, local_grids, model = {}, {}, {"initial": {}, "updated": {}}
     for pid, plate in case.plates.items():
         nx, ny = _grid_counts(plate.size, system.problems[pid].kappa.real, points_per_wavelength)
         x, y = np.meshgrid(np.linspace(0.0, plate.size[0], nx),
                            np.linspace(0.0, plate.size[1], ny))
         points = np.column_stack([x.ravel(), y.ravel()])
         gx, gy = plate.to_global(x, y)
-        grids[pid] = (gx, gy)
+        grids[pid], local_grids[pid] = (gx, gy), (x, y)
         for name, values in model.items():
             w = _plate_w(system, fields[name], pid, points)
             values[pid] = _transform(w, quantity).reshape(x.shape)
@@ -368,7 +418,8 @@ def field_map_data(case, problem, measurements, frequency, initial, updated,
         {jid: _joint_line(case, j) for jid, j in case.joints.items()}, cells,
         (evaluations["initial"].e_mod, evaluations["updated"].e_mod),
         tuple(math.sqrt(residual[n] / reference) for n in ("initial", "updated")), source,
-        len(problem.frequencies), limits, _load_marks(case))
+        len(problem.frequencies), limits, _load_marks(case),
+        _space_layout(case, local_grids, {pid: p for pid, (p, _) in measured.items()}))
 
 
 def _load_marks(case):
@@ -628,7 +679,12 @@ def _draw_plate_frame(ax, data, labels=False):
 
 
 def draw_field_maps(data, title=""):
-    """Three panels (measured, initial, updated) of a :class:`FieldMapData`, one colour scale."""
+    """Three panels (measured, initial, updated) of a :class:`FieldMapData`, one colour scale;
+    in 3D when its plates are placed in space."""
+    if data.space is not None:
+        from updating.plots_space import draw_field_maps_in_space
+
+        return draw_field_maps_in_space(data, title)
     every = np.vstack(list(data.outlines.values()))
     span = every.max(axis=0) - every.min(axis=0)
     stacked = span[0] > 2.2 * span[1]

@@ -212,7 +212,8 @@ def correct_joint(problem, parameters, joint, bounds, identify=("stiffness",)):
         lambda v: local.cost(log10_stiffness=v), bounds, SCAN_POINTS)
     low, high = _neighbourhood_interval(local, grid, value)
     updated = with_joint(parameters, joint, log10_stiffness=value)
-    extra = [name for name in ("damping", "mass") if name in identify]
+    extra = [name for name in ("damping", "mass") if name in identify
+             and (name != "mass" or problem.has_line_mass(joint))]
     if extra:
         updated = _optimise_more(local, updated, joint, bounds, extra)
     return updated, (low, high), local.evaluate(**updated[joint])
