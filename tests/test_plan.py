@@ -40,7 +40,8 @@ def test_sensitivities_and_damping_share_match_direct_solves():
     and the share of the injected power the joint dissipates, against solves of the changed
     descriptions (same discretisation: they agree to the solves' round-off, 1e-6 here)."""
     case = load_case(CASES / "two_plates.toml")
-    plans, _ = identifiability_plan(case, simulate_measurements(case))
+    plans, _, estimates = identifiability_plan(case, simulate_measurements(case))
+    assert estimates == {}  # not asked for
     plan = plans["G1"]
     frequency = case.frequencies[0]
     layout = measurement_layout(case)
@@ -63,11 +64,15 @@ def test_plan_command_on_the_four_plates(tmp_path, capsys):
     """Every joint of the four-plate model is identifiable at its 80 planned values per
     frequency with ±10 % noise; the expected interval holds the model value (the data are its
     prediction), the JSON carries per joint its sensitivities, interval and verdict, and the
-    information shares sum to one."""
+    information shares sum to one; beside them, the model's estimated discretisation error at
+    each frequency (the sensitivities are read against it)."""
     out = tmp_path / "plan.json"
     assert main(["plan", str(CASES / "four_plates.toml"), "--json", str(out)]) == 0
     result = json.loads(out.read_text())
     assert result["confidence"] == 0.9 and "±10 %" in result["noise"]
+    estimate = result["error_estimate"]
+    assert set(estimate["frequencies"]) == {"218", "248", "309.4"}
+    assert 0.0 < estimate["total"] < 1e-2
     assert set(result["joints"]) == {"G1", "G2", "G3", "G4"}
     for joint in result["joints"].values():
         assert joint["verdict"] == "identifiable"

@@ -525,9 +525,10 @@ def cmd_plan(args):
         _warn(console, f"{args.case}: [measurement] noise is 0: the plan assumes ±1 % uniform "
                        "noise; state the planned test's, e.g. noise = 0.05")
     level = case.updating.confidence if args.confidence is None else args.confidence
-    plans, noise = identifiability_plan(case, points, level=level,
-                                        resolution=_resolution_for_tolerance(case, console),
-                                        threads=_threads(args, case))
+    plans, noise, estimates = identifiability_plan(
+        case, points, level=level, resolution=_resolution_for_tolerance(case, console),
+        threads=_threads(args, case), estimate=not args.no_estimate)
+    _estimate_lines(console, estimates, " of the model")
     frequencies = points.frequencies
     table = Table(title=f"{case.name}: what {points.count(frequencies[0])} planned values per "
                         f"frequency can tell ({noise.description})")
@@ -558,6 +559,7 @@ def cmd_plan(args):
         write_json_atomic(args.json, {
             **_provenance(args, case, None), "case": case.name, "noise": noise.description,
             "confidence": level, "frequencies": list(frequencies),
+            "error_estimate": _estimates_json(estimates),
             "joints": {joint: plan.to_json() for joint, plan in plans.items()}})
     if args.plot:
         from updating.plots import write_plan_figure
@@ -1010,6 +1012,7 @@ def build_parser():
     _measurement_options(plan, "the planned points (their values are not used)",
                          "the description's [measurement] grid and points")
     _confidence_option(plan, "the expected intervals")
+    _estimate_option(plan)
     plan.add_argument("--json", help="write the sensitivities, expected intervals and "
                                      "verdicts to this JSON file")
     plan.add_argument("--plot", metavar="DIR",

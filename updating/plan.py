@@ -81,13 +81,16 @@ class JointPlan:
                                                     key=lambda item: -item[1])]}
 
 
-def identifiability_plan(case, layout_measurements, level=None, resolution=None, threads=1):
-    """``({joint: JointPlan}, noise)`` of ``case`` measured at the points of
-    ``layout_measurements`` (their values are not used: the problem is given the model's own
-    prediction there)."""
+def identifiability_plan(case, layout_measurements, level=None, resolution=None, threads=1,
+                         estimate=False):
+    """``({joint: JointPlan}, noise, {frequency: ErrorEstimate})`` of ``case`` measured at the
+    points of ``layout_measurements`` (their values are not used: the problem is given the
+    model's own prediction there); the estimates of the model's discretisation error, which
+    the sensitivities are read against, with ``estimate`` (else empty)."""
     level = case.updating.confidence if level is None else level
     problem = ModifiedProblem(case, layout_measurements, resolution=resolution,
-                              threads=threads)
+                              threads=threads, estimate=estimate)
+    estimates = problem.error_estimates
     parameters = problem.initial_parameters()
     prediction = problem.synthetic_data(parameters, 0.0, realisations=1)[0]
     problem = problem.with_data(prediction)
@@ -129,7 +132,7 @@ def identifiability_plan(case, layout_measurements, level=None, resolution=None,
         plans[joint] = JointPlan(joint, theta, stiffness, damping, interval, share,
                                  max(damping.values()) > threshold,
                                  {key: v / total for key, v in information.items()})
-    return plans, noise
+    return plans, noise, estimates
 
 
 def _relative_change(moved, base, norm):
