@@ -423,3 +423,27 @@ def test_redraws_through_the_measured_values_equal_redraws_one_by_one():
     assert through_values[0] == pytest.approx(one_by_one[0], rel=1e-12)
     scale = np.max(np.abs(one_by_one[1]))
     assert np.max(np.abs(through_values[1][:n - 10] - one_by_one[1])) < 1e-12 * scale
+
+
+def test_an_estimate_outside_its_interval_is_said_to_be_biased():
+    """The score test's interval is calibrated whatever the estimator's bias, so an estimate
+    may lie outside it (the four plates' G2: 4.18 with >= 4.25): the line says why, unless
+    the value is on an end within the printed digits."""
+    from types import SimpleNamespace
+
+    from updating.confidence import ConfidenceInterval
+    from updating.report import OUTSIDE, identified_lines
+
+    def line(value, low, high):
+        kind = "two-sided" if low is not None and high is not None else (
+            "lower" if low is not None else "upper")
+        result = SimpleNamespace(
+            intervals={"G1": ConfidenceInterval(low, high, 0.9, kind, "test")},
+            parameters={"G1": {"log10_stiffness": value}}, parameter_intervals={})
+        return identified_lines(result)[0]
+
+    assert not line(1.50, 1.45, 1.54).endswith(OUTSIDE)
+    assert not line(1.5405, 1.45, 1.5376).endswith(OUTSIDE)  # prints as 1.54 in [1.45, 1.54]
+    assert line(4.18, 4.25, None).endswith(OUTSIDE)
+    assert line(2.07, 1.64, 2.01).endswith(OUTSIDE)
+    assert not line(0.61, None, 0.75).endswith(OUTSIDE)

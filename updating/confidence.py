@@ -140,6 +140,12 @@ class ConfidenceInterval:
                 "method": self.method, "only": {"lower": "lower bound",
                                                 "upper": "upper bound"}.get(self.kind)}
 
+    def holds(self, value, tolerance=0.0):
+        """Whether ``value`` lies in the interval widened by ``tolerance`` on each side (an
+        unbounded side holds everything)."""
+        return ((self.low is None or self.low - tolerance <= value)
+                and (self.high is None or value <= self.high + tolerance))
+
     def span(self, bounds):
         """``(low, high)`` with an unbounded side at the bound (to shade a figure)."""
         return (bounds[0] if self.low is None else self.low,
