@@ -41,6 +41,7 @@ conditions the VTCR imposes weakly.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 
@@ -61,7 +62,9 @@ class PowerFlow:
 
     ``injected``, ``kinetic`` and ``dissipated`` are per plate; ``joint_dissipated`` and
     ``transmitted`` (from the joint's first plate to its second; for a junction, from its first
-    member to the others) per joint.
+    member to the others) per joint; ``delivered`` per joint and member plate: the power the
+    joint's loads put into that plate (a passive joint's sum over its members is minus its
+    dissipated power).
     """
 
     frequency: float
@@ -70,6 +73,7 @@ class PowerFlow:
     dissipated: dict
     joint_dissipated: dict
     transmitted: dict
+    delivered: dict = dataclasses.field(default_factory=dict)
 
     @property
     def total_injected(self) -> float:
@@ -94,7 +98,8 @@ class PowerFlow:
                 "plates": {pid: {"injected": self.injected[pid], "kinetic_energy": self.kinetic[pid],
                                  "dissipated": self.dissipated[pid]} for pid in self.injected},
                 "joints": {jid: {"transmitted": self.transmitted[jid],
-                                 "dissipated": self.joint_dissipated[jid]}
+                                 "dissipated": self.joint_dissipated[jid],
+                                 "delivered": dict(self.delivered.get(jid, {}))}
                            for jid in self.transmitted}}
 
 
@@ -216,7 +221,7 @@ def power_flow(case, solution) -> PowerFlow:
         problem, basis, x = plate.problem, plate.basis, plate.amplitudes
         injected[pid], dissipated[pid] = plate_powers(problem, basis, x)
         kinetic[pid] = kinetic_energy(problem, basis, x)
-    joint_dissipated, transmitted = {}, {}
+    joint_dissipated, transmitted, delivered = {}, {}, {}
     system = getattr(solution, "system", None)
     if case.joints and system is not None:
         from solver.substructure import joint_parameters
@@ -229,8 +234,9 @@ def power_flow(case, solution) -> PowerFlow:
             jump = channel.kinematic.residual(s)  # Gauss weights folded in: int |[q]|^2 ds
             c = params[channel.name, channel.kind]
             joint_dissipated[channel.joint] += 0.5 * omega * c.imag * float(np.vdot(jump, jump).real)
-        for jid in case.joints:
-            to_first, *to_others = _side_powers(case, system, jid, amplitudes, s)
+        for jid, joint in case.joints.items():
+            to_first, *to_others = powers = _side_powers(case, system, jid, amplitudes, s)
             transmitted[jid] = 0.5 * (sum(to_others) - to_first)
+            delivered[jid] = {side.plate: p for side, p in zip(joint.sides, powers)}
     return PowerFlow(solution.frequency, injected, kinetic, dissipated, joint_dissipated,
-                     transmitted)
+                     transmitted, delivered)
