@@ -30,6 +30,7 @@ try:
 except ModuleNotFoundError:  # Python 3.10: the same parser, as the tomli package
     import tomli as tomllib  # type: ignore[no-redef]
 
+from .checks import View, cross_check
 from .errors import DescriptionError, Issue, format_path
 from .models import (
     Boundary,
@@ -55,10 +56,8 @@ from .models import (
     Positive,
     Truth,
     Updating,
-    _cross_check,
     _did_you_mean,
     _show,
-    _View,
 )
 
 __all__ = ["load_case", "load_case_text", "parse_case"]
@@ -386,7 +385,7 @@ def _located_issues(exc: ValidationError, data: dict[str, Any]) -> list[tuple[Lo
         schema_failed = True
         issues.append(_translate(err))
     if schema_failed:
-        issues.extend(_cross_check(_partial_view(data)))
+        issues.extend(cross_check(_partial_view(data)))
     order = {name: i for i, name in enumerate(Case.model_fields)}
     unique = list(dict.fromkeys(issues))
     unique.sort(key=lambda item: order.get(item[0][0], len(order)) if item[0] else -1)
@@ -566,7 +565,7 @@ def _plate_geometry(raw: object) -> Plate | None:
     )
 
 
-def _partial_view(data: Mapping[str, Any]) -> _View:
+def _partial_view(data: Mapping[str, Any]) -> View:
     """Validate each table and item on its own; None marks what is absent or invalid."""
 
     def table(name: str, check: Callable[[object], Any], required: bool) -> Any:
@@ -586,7 +585,7 @@ def _partial_view(data: Mapping[str, Any]) -> _View:
     def section(name: str, model: type[BaseModel]) -> Any:
         return model() if name not in data else _try(model, data[name])
 
-    return _View(
+    return View(
         materials=table("materials", lambda v: _try(Material, v), required=True),
         plates=table("plates", _plate_geometry, required=True),
         joints=table("joints", lambda v: _try(_JOINT_ADAPTER, v), required=False),

@@ -1,0 +1,493 @@
+"""Cross-reference checks of a description: what a single table cannot check alone.
+
+:class:`assembly.models.Case` validation calls :func:`cross_check` on a view of its tables and
+raises :class:`assembly.models.CrossReferenceError` with every problem found, each as
+``(loc, message)``: the joints' edges and members, the frames of plates placed in 3D, the
+boundaries and loads, the measurement points and the truth tables, each message naming the
+fix.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from assembly.models import (
+    FRAME_TOLERANCE,
+    Boundary,
+    CoplanarJoint,
+    Discretisation,
+    EdgeId,
+    EdgeMoment,
+    EdgeShear,
+    HingeJoint,
+    JointTruth,
+    JunctionJoint,
+    Loc,
+    Material,
+    Measurement,
+    Plate,
+    PointForce,
+    Truth,
+    Updating,
+    _did_you_mean,
+    _listing,
+    _on_grid,
+    default_spacing,
+    parse_edge_ref,
+)
+
+__all__ = ["View", "cross_check"]
+
+
+@dataclass
+class View:
+    """What the cross-reference checks look at; None marks an invalid or absent part.
+
+    Mappings and sequences may hold None for items that failed their own validation:
+    their ids are known but their content is not checked further.
+    """
+
+    materials: Mapping[str, Material | None] | None
+    plates: Mapping[str, Plate | None] | None
+    joints: Mapping[str, CoplanarJoint | HingeJoint | JunctionJoint | None] | None
+    boundaries: Sequence[Boundary | None] | None
+    loads: Sequence[EdgeShear | EdgeMoment | PointForce | None] | None
+    discretisation: Discretisation | None
+    measurement: Measurement | None
+    updating: Updating | None
+    truth: Truth | None
+    has_frequency: bool
+    has_frequencies: bool
+
+
+def _member_issues(
+    jid: str, joint: Any, ids: list[EdgeId], ends: list[Any], loc: Loc
+) -> list[tuple[Loc, str]]:
+    """Problems of a joint's edges taken together: repeated edges or plates, lengths,
+    a junction's stiffness tables and its need of frames."""
+    issues: list[tuple[Loc, str]] = []
+    refs = joint.between
+    for i, edge in enumerate(ids):
+        for j in range(i):
+            if edge == ids[j]:
+                issues.append((loc, f"joins edge {refs[i]!r} to itself; a joint connects edges "
+                               "of different plates, fix the edge references"))
+            elif edge.plate == ids[j].plate:
+                issues.append((loc, f"joins two edges of the same plate {edge.plate!r} "
+                               f"({refs[j]!r} and {refs[i]!r}); a joint connects different "
+                               "plates, fix the edge references"))
+    if issues or any(end is None for end in ends):
+        return issues
+    lengths = [plate.edge_length(edge.edge) for edge, plate in ends]
+    for i in range(1, len(ids)):
+        la, lb = lengths[0], lengths[i]
+        if abs(la - lb) > 1e-9 * max(la, lb):
+            issues.append((loc, f"the joined edges differ in length: {refs[0]!r} is {la:g} m "
+                           f"and {refs[i]!r} is {lb:g} m; join edges of equal length (check "
+                           "the plates' size or the edge references)"))
+    if not isinstance(joint, JunctionJoint):
+        return issues
+    members = [edge.plate for edge in ids]
+    for name in ("log10_stiffness", "loss_factor"):
+        table = getattr(joint, name)
+        if not isinstance(table, Mapping):
+            continue
+        for plate in table:
+            if plate not in members:
+                issues.append((("joints", jid, name, plate), f"plate {plate!r} is not a "
+                               f"member of junction {jid!r} (members: {', '.join(members)}); "
+                               "name member plates only"))
+        missing = [p for p in members if p not in table]
+        if name == "log10_stiffness" and missing:
+            issues.append((("joints", jid, name), f"gives no stiffness for member "
+                           f"{', '.join(missing)}; give every member a value (inf: rigid)"))
+    without = [pid for (_, plate), pid in zip(ends, members) if plate.frame is None]
+    if len(ids) > 2 and without:
+        issues.append((loc, f"a junction of {len(ids)} members needs a frame on every member "
+                       f"plate; add [plates.{without[0]}] frame = {{ origin = [x, y, z], "
+                       "x_axis = [...], y_axis = [...] }"))
+    return issues
+
+
+def _frame_issues(
+    joints: Mapping[str, Any], plates: Mapping[str, Plate | None]
+) -> list[tuple[Loc, str]]:
+    """Problems of plates placed in 3D: all plates framed or none, joined edges coinciding in
+    space, coplanar joints between parallel plates, two-edge joints along opposite edges."""
+    known = {pid: p for pid, p in plates.items() if p is not None}
+    framed = [pid for pid, p in known.items() if p.frame is not None]
+    if not framed:
+        return []
+    issues: list[tuple[Loc, str]] = []
+    unframed = [pid for pid in known if known[pid].frame is None]
+    if unframed:
+        return [(("plates", unframed[0], "frame"), f"plate {unframed[0]!r} has no frame while "
+                 f"plate {framed[0]!r} has one; give every plate a frame, or none")]
+    for jid, joint in joints.items():
+        if joint is None or any(side.plate not in known for side in joint.sides):
+            continue
+        loc = ("joints", jid, "between")
+        sides = joint.sides
+        first = known[sides[0].plate].edge_in_space(sides[0].edge)
+        length = float(np.linalg.norm(first[1] - first[0]))
+        directions = []
+        for i, side in enumerate(sides[1:], start=1):
+            start, end, _ = known[side.plate].edge_in_space(side.edge)
+            same = max(np.linalg.norm(start - first[0]), np.linalg.norm(end - first[1]))
+            reversed_ = max(np.linalg.norm(start - first[1]), np.linalg.norm(end - first[0]))
+            gap = float(min(same, reversed_))
+            if gap > FRAME_TOLERANCE * length:
+                issues.append(((*loc, i), f"edges {joint.between[0]!r} and {joint.between[i]!r} "
+                               f"do not meet in space (ends {gap:.3g} m apart); fix the plates' "
+                               "frame or size, or the edge references"))
+            directions.append(same <= reversed_)
+        if isinstance(joint, JunctionJoint) or len(directions) != 1 or issues:
+            continue
+        a, b = (known[side.plate].frame for side in sides)
+        if directions[0]:
+            issues.append((loc, f"edges {joint.between[0]!r} and {joint.between[1]!r} run the "
+                           "same way along the line, so the plates' normals do not match a "
+                           f"{joint.kind} joint; reverse one plate's frame (y_axis -> -y_axis) "
+                           'or describe the line as kind = "junction"'))
+        elif joint.kind == "coplanar" and float(a.normal @ b.normal) < 1.0 - FRAME_TOLERANCE:
+            angle = math.degrees(math.acos(max(-1.0, min(1.0, float(a.normal @ b.normal)))))
+            issues.append((loc, f"joins plates whose normals are {angle:.3g} degrees apart; a "
+                           'coplanar joint needs coplanar plates, use kind = "hinge" or '
+                           '"junction" for a fold'))
+    return issues
+
+
+def _truth_form_issues(jid: str, joint: Any, true: JointTruth) -> list[tuple[Loc, str]]:
+    """A joint's truth takes the joint's form: finite numbers for a two-edge joint, numbers or
+    tables by member plate for a junction."""
+    issues: list[tuple[Loc, str]] = []
+    if joint is None:
+        return issues
+    for name in ("log10_stiffness", "loss_factor"):
+        value = getattr(true, name)
+        loc = ("truth", "joints", jid, name)
+        if value is None:
+            continue
+        if isinstance(joint, JunctionJoint):
+            if isinstance(value, Mapping):
+                issues += [(loc, f"plate {p!r} is not a member of junction {jid!r} (members: "
+                            f"{', '.join(joint.plates)}); name member plates only")
+                           for p in value if p not in joint.plates]
+        elif isinstance(value, Mapping):
+            issues.append((loc, f"joint {jid!r} is a {joint.kind} joint: give one number, not "
+                           "a table by plate (tables are for junctions)"))
+        elif not math.isfinite(value):
+            issues.append((loc, f"joint {jid!r} is a {joint.kind} joint, whose stiffness must "
+                           f"be finite (got {value!r}); give a number in [-50, 50]"))
+    return issues
+
+
+def cross_check(view: View) -> list[tuple[Loc, str]]:  # noqa: C901 (a flat list of checks)
+    """Return every cross-reference problem of an assembly, as ``(loc, message)``."""
+    issues: list[tuple[Loc, str]] = []
+    plates = view.plates
+    plate_list = _listing(plates) if plates is not None else ""
+
+    # frequency XOR frequencies
+    if view.has_frequency and view.has_frequencies:
+        issues.append(
+            (("frequencies",), "both `frequency` and `frequencies` are given; keep only one")
+        )
+    elif not (view.has_frequency or view.has_frequencies):
+        issues.append(
+            (
+                ("frequency",),
+                "no frequency given; add frequency = 155.0 (Hz) or "
+                "frequencies = [150.0, 155.0]",
+            )
+        )
+
+    def edge_of(ref: str, loc: Loc) -> tuple[EdgeId, Plate] | None:
+        """Resolve an (already well-formed) edge reference; report an unknown plate."""
+        if plates is None:
+            return None
+        edge = parse_edge_ref(ref)
+        if edge.plate not in plates:
+            issues.append(
+                (
+                    loc,
+                    f"plate {edge.plate!r} is not in the assembly (plates: {plate_list})"
+                    f"{_did_you_mean(edge.plate, plates)}; fix the edge reference",
+                )
+            )
+            return None
+        plate = plates[edge.plate]
+        return None if plate is None else (edge, plate)
+
+    def known_plate(plate_id: str, loc: Loc, fix: str) -> Plate | None:
+        if plates is None:
+            return None
+        if plate_id not in plates:
+            issues.append(
+                (
+                    loc,
+                    f"plate {plate_id!r} is not in the assembly (plates: {plate_list})"
+                    f"{_did_you_mean(plate_id, plates)}; {fix}",
+                )
+            )
+            return None
+        return plates[plate_id]
+
+    # plates -> materials
+    if plates is not None and view.materials is not None:
+        for pid, plate in plates.items():
+            if (
+                plate is not None
+                and isinstance(plate.material, str)
+                and plate.material not in view.materials
+            ):
+                m = plate.material
+                issues.append(
+                    (
+                        ("plates", pid, "material"),
+                        f"material {m!r} is not defined (materials: {_listing(view.materials)})"
+                        f"{_did_you_mean(m, view.materials)}; add a [materials.{m}] table "
+                        "or use a defined material",
+                    )
+                )
+
+    # joints
+    joined: dict[EdgeId, str] = {}
+    if view.joints is not None:
+        for jid, joint in view.joints.items():
+            if joint is None:
+                continue
+            loc = ("joints", jid, "between")
+            ids = [parse_edge_ref(ref) for ref in joint.between]
+            ends = [edge_of(ref, (*loc, i)) for i, ref in enumerate(joint.between)]
+            issues += _member_issues(jid, joint, ids, ends, loc)
+            for i, edge in enumerate(ids):
+                if edge in ids[:i]:
+                    continue
+                if edge in joined:
+                    issues.append(
+                        (
+                            (*loc, i),
+                            f"edge {edge.ref!r} is already joined by joint {joined[edge]!r}; "
+                            "an edge carries at most one joint, fix the edge reference or "
+                            "remove one of the joints",
+                        )
+                    )
+                else:
+                    joined[edge] = jid
+        if plates is not None:
+            issues += _frame_issues(view.joints, plates)
+
+    # boundary conditions
+    conditions: dict[EdgeId, tuple[str, int]] = {}
+    if view.boundaries is not None:
+        for i, bc in enumerate(view.boundaries):
+            if bc is None:
+                continue
+            loc = ("boundaries", i, "edge")
+            edge_of(bc.edge, loc)
+            edge = parse_edge_ref(bc.edge)
+            if edge in joined:
+                issues.append(
+                    (
+                        loc,
+                        f"edge {bc.edge!r} is joined by joint {joined[edge]!r}, so it cannot "
+                        "also have a boundary condition; remove this [[boundaries]] entry "
+                        "(or the joint)",
+                    )
+                )
+            if edge in conditions:
+                cond, j = conditions[edge]
+                issues.append(
+                    (
+                        loc,
+                        f"edge {bc.edge!r} already has a boundary condition ({cond} in "
+                        f"boundaries[{j}]); give each edge one condition, remove one entry",
+                    )
+                )
+            else:
+                conditions[edge] = (bc.condition, i)
+
+    # loads
+    edge_loads: dict[tuple[EdgeId, str], int] = {}
+    if view.loads is not None:
+        for i, load in enumerate(view.loads):
+            if load is None:
+                continue
+            if isinstance(load, PointForce):
+                plate = known_plate(load.plate, ("loads", i, "plate"), "fix the plate id")
+                if plate is not None and not plate.contains(*load.at):
+                    x, y = load.at
+                    issues.append(
+                        (
+                            ("loads", i, "at"),
+                            f"point ({x:g}, {y:g}) is not strictly inside plate "
+                            f"{load.plate!r} (0 < x < {plate.lx:g}, 0 < y < {plate.ly:g}, "
+                            "plate-local m); move the force inside the plate",
+                        )
+                    )
+                continue
+            loc = ("loads", i, "edge")
+            edge_of(load.edge, loc)
+            edge = parse_edge_ref(load.edge)
+            if (edge, load.kind) in edge_loads:
+                issues.append(
+                    (
+                        loc,
+                        f"edge {load.edge!r} already carries an {load.kind} load "
+                        f"(loads[{edge_loads[edge, load.kind]}]); give one {load.kind} per "
+                        "edge, e.g. with the amplitudes summed",
+                    )
+                )
+            edge_loads.setdefault((edge, load.kind), i)
+            cond = conditions.get(edge, ("free", -1))[0]
+            if isinstance(load, EdgeShear):
+                if edge in joined:
+                    why = f"joined by joint {joined[edge]!r}, which sets its Kirchhoff shear K_n"
+                elif cond in ("clamped", "simply_supported"):
+                    state = cond.replace("_", " ")
+                    why = f"{state}: w = 0 there, so its Kirchhoff shear K_n is a reaction"
+                else:
+                    why = None
+                if why:
+                    issues.append(
+                        (
+                            loc,
+                            f"an edge_shear load cannot act on edge {load.edge!r}: the edge "
+                            f"is {why}; load a free edge or use a point_force",
+                        )
+                    )
+            else:
+                if edge in joined:
+                    why = f"joined by joint {joined[edge]!r}, which sets its bending moment M_n"
+                elif cond == "clamped":
+                    why = "clamped: its rotation is fixed, so its bending moment M_n is a reaction"
+                else:
+                    why = None
+                if why:
+                    issues.append(
+                        (
+                            loc,
+                            f"an edge_moment load cannot act on edge {load.edge!r}: the edge "
+                            f"is {why}; load a free or simply supported edge",
+                        )
+                    )
+
+    # discretisation overrides
+    if view.discretisation is not None:
+        for pid in view.discretisation.plates:
+            known_plate(
+                pid, ("discretisation", "plates", pid), "fix the plate id or remove the table"
+            )
+
+    # measurement
+    if view.measurement is not None:
+        seen: set[str] = set()
+        for i, pid in enumerate(view.measurement.plates or ()):
+            known_plate(pid, ("measurement", "plates", i), "fix the plate id")
+            if pid in seen:
+                issues.append(
+                    (("measurement", "plates", i), f"plate {pid!r} is listed twice; list it once")
+                )
+            seen.add(pid)
+        gridded = set(plates or ()) if view.measurement.plates is None else seen
+        spacing = view.measurement.spacing or default_spacing(plates or {})
+        earlier: dict[tuple[str, float, float], str] = {}
+        for i, point in enumerate(view.measurement.points):
+            plate = known_plate(
+                point.plate, ("measurement", "points", i, "plate"), "fix the plate id"
+            )
+            x, y = point.at
+            if plate is not None and not plate.contains(x, y, strict=False):
+                issues.append(
+                    (
+                        ("measurement", "points", i, "at"),
+                        f"point ({x:g}, {y:g}) is outside plate {point.plate!r} "
+                        f"(0 <= x <= {plate.lx:g}, 0 <= y <= {plate.ly:g}, plate-local m); "
+                        "move the point onto the plate",
+                    )
+                )
+                continue
+            key = (point.plate, round(x, 9), round(y, 9))
+            twin = earlier.get(key)
+            if twin is None and plate is not None and point.plate in gridded:
+                if _on_grid(plate.size, spacing, x, y):
+                    twin = "a point of the measurement grid"
+            if twin is not None:
+                issues.append(
+                    (
+                        ("measurement", "points", i, "at"),
+                        f"point ({x:g}, {y:g}) of plate {point.plate!r} is already "
+                        f"{twin}; a point is measured once, remove this one",
+                    )
+                )
+            earlier.setdefault(key, f"measurement.points[{i}]")
+        if view.measurement.plates is not None and not view.measurement.plates and not (
+            view.measurement.points
+        ):
+            issues.append(
+                (
+                    ("measurement", "plates"),
+                    "is empty and no `points` are given, so nothing is measured; list the "
+                    'measured plates, e.g. plates = ["P1"], or add points = [{plate = "P1", '
+                    "at = [0.1, 0.2]}]",
+                )
+            )
+
+    joints = view.joints
+    joint_list = _listing(joints) if joints is not None else ""
+
+    def known_joint(jid: str, loc: Loc, fix: str) -> bool:
+        if joints is None:
+            return False
+        if jid not in joints:
+            where = f"joints: {joint_list}" if joints else "the assembly has no joints"
+            issues.append(
+                (
+                    loc,
+                    f"joint {jid!r} is not in the assembly ({where})"
+                    f"{_did_you_mean(jid, joints)}; {fix}",
+                )
+            )
+            return False
+        return True
+
+    # updating weights
+    if view.updating is not None and view.updating.alpha is not None:
+        alpha = view.updating.alpha
+        all_known = True
+        for jid in alpha:
+            all_known &= known_joint(
+                jid, ("updating", "alpha", jid), "fix the joint id or remove its weight"
+            )
+        if all_known and joints and sum(alpha.get(j, 1.0) for j in joints) <= 0.0:
+            issues.append(
+                (
+                    ("updating", "alpha"),
+                    "the joint weights sum to 0; give at least one joint a positive weight "
+                    "(joints not listed weigh 1)",
+                )
+            )
+
+    # truth
+    if view.truth is not None:
+        for jid, true in view.truth.joints.items():
+            loc = ("truth", "joints", jid)
+            if not known_joint(jid, loc, "fix the joint id or remove its table"):
+                continue
+            joint = joints[jid] if joints is not None else None
+            issues += _truth_form_issues(jid, joint, true)
+            if isinstance(joint, (HingeJoint, JunctionJoint)) and true.mass is not None:
+                issues.append(
+                    (
+                        (*loc, "mass"),
+                        f"joint {jid!r} is a {joint.kind}, which has no line mass (its joint "
+                        "line is fixed); remove `mass`",
+                    )
+                )
+    return issues
