@@ -371,3 +371,19 @@ def test_an_unreachable_scheduler_is_one_line_and_exit_2(tmp_path, capsys, monke
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and f"scheduler tcp://127.0.0.1:{port}: cannot connect" in err[0]
     assert not out.exists()
+
+
+def test_uff_geometry_of_plates_placed_in_space():
+    """With frames, the UFF geometry (dataset 15) places each probe's node in space: a
+    stiffener's probes stand on its weld line above the skin, the skin's lie at z = 0."""
+    pytest.importorskip("pyuff")
+    from assembly.generate import stiffened_panel
+
+    from updating.uff_export import sweep_datasets
+
+    case = parse_case(stiffened_panel(2))
+    points = {"B2": np.array([[0.1, 0.2]]), "T1": np.array([[0.12, 0.3]])}
+    sweep = frequency_sweep(case, (249.0, 250.0), points, count=2, tolerance=1.0)
+    geometry = sweep_datasets(case, sweep, [("B2", 0), ("T1", 0)])[1]
+    np.testing.assert_allclose(np.c_[geometry["x"], geometry["y"], geometry["z"]],
+                               [[0.6, 0.2, 0.0], [0.5, 0.3, 0.12]], atol=1e-15)

@@ -7,7 +7,8 @@ sweep and a test can be compared in the same tool, and it reads back through
 * dataset 164, units: SI (metre, newton, kelvin offsets as the standard gives them), every
   conversion factor 1;
 * dataset 15, geometry: one node per probe point at its place in the description's layout
-  (``Plate.to_global``, z = 0), in the global frame;
+  (``Plate.to_global``, z = 0), or in space for plates placed by a ``frame``
+  (``PlateFrame.to_space``: a stiffened panel's stiffeners stand on its skin);
 * one dataset 58 per probe point, response direction +Z (the plate's +w, local z = x × y),
   abscissa the sweep's frequencies in Hz (uneven where the sweep was refined), complex double
   ordinates; ASCII (12 significant digits; the standard gives an uneven abscissa only 6,
@@ -58,6 +59,13 @@ def frf_force(case):
     return None
 
 
+def _node_position(plate, x, y):
+    """A probe's node: in space by the plate's frame, else in the layout plane at z = 0."""
+    if plate.frame is not None:
+        return plate.frame.to_space(x, y)
+    return np.array([*np.ravel(plate.to_global(x, y)), 0.0])
+
+
 def sweep_datasets(case, sweep, order, nodes=None, binary=False):
     """The pyuff dictionaries of a sweep: units (164), geometry (15), one 58 per probe.
 
@@ -75,13 +83,14 @@ def sweep_datasets(case, sweep, order, nodes=None, binary=False):
     pyuff = _pyuff()
     nodes = list(range(1, len(order) + 1)) if nodes is None else [int(n) for n in nodes]
     force = frf_force(case)
-    global_xy = np.array([case.plates[pid].to_global(*sweep.points[pid][i]) for pid, i in order])
+    placed = np.array([_node_position(case.plates[pid], *sweep.points[pid][i])
+                       for pid, i in order])
     datasets = [
         pyuff.prepare_164(units_code=1, units_description="SI", temp_mode=2, length=1.0,
                           force=1.0, temp=1.0, temp_offset=273.15),
         pyuff.prepare_15(node_nums=nodes, def_cs=[0] * len(nodes), disp_cs=[0] * len(nodes),
-                         color=[1] * len(nodes), x=global_xy[:, 0], y=global_xy[:, 1],
-                         z=np.zeros(len(nodes))),
+                         color=[1] * len(nodes), x=placed[:, 0], y=placed[:, 1],
+                         z=placed[:, 2]),
     ]
     reference = {"ref_node": 0, "ref_ent_name": "NONE", "ref_dir": 0}
     if force is not None:
