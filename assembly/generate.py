@@ -37,6 +37,39 @@ def grid_joint_ids(n_x: int, n_y: int) -> list[str]:
     return ids
 
 
+def _description(name, frequency, loss_factor, plates, joints, boundaries, force,
+                 measurement, resolution, truth_joints):
+    """A generated description: steel plates of ``loss_factor``, one unit point force
+    ``(plate, at)``, ``r = 0.8`` and bounds [-1, 6]; ``frequency`` one value or a sequence
+    (``frequencies``); no ``boundaries`` table when ``boundaries`` is None, no
+    ``[discretisation]`` when ``resolution`` is None, no ``[truth]`` without ``truth_joints``.
+    The keys are in the order the generated case files hold them."""
+    description = {
+        "name": name,
+        **({"frequencies": list(frequency)} if isinstance(frequency, (list, tuple))
+           else {"frequency": frequency}),
+        "materials": {"steel": {**STEEL, "loss_factor": loss_factor}},
+        "plates": plates,
+        "joints": joints,
+        **({} if boundaries is None else {"boundaries": boundaries}),
+        "loads": [{"kind": "point_force", "plate": force[0], "at": list(force[1]),
+                   "amplitude": 1.0}],
+        "measurement": measurement,
+        "updating": {"r": 0.8, "bounds": [-1.0, 6.0]},
+    }
+    if resolution is not None:
+        description["discretisation"] = {"resolution": resolution}
+    if truth_joints:
+        description["truth"] = {"joints": truth_joints}
+    return description
+
+
+def _framed_plate(size, origin, x_axis, y_axis, thickness):
+    """A steel plate placed in space by its frame."""
+    return {"material": "steel", "thickness": thickness, "size": list(size),
+            "frame": {"origin": list(origin), "x_axis": list(x_axis), "y_axis": list(y_axis)}}
+
+
 def _joint_sides(joint_id):
     kind, rest = joint_id[0], joint_id[1:]
     i, j = (int(v) for v in rest.split("_"))
@@ -93,26 +126,13 @@ def plate_grid(n_x: int, n_y: int, *, plate_size=(0.5, 0.4), thickness=0.001, fr
                 if outer:
                     boundaries.append({"edge": f"P{i}_{j}.{edge}",
                                        "condition": "simply_supported"})
-    description = {
-        "name": name or f"grid-{n_x}x{n_y}",
-        "frequency": frequency,
-        "materials": {"steel": {**STEEL, "loss_factor": loss_factor}},
-        "plates": plates,
-        "joints": {jid: {"between": _joint_sides(jid), "kind": "coplanar",
-                         "log10_stiffness": log10_stiffness, "loss_factor": 0.0, "mass": 0.0}
-                   for jid in joints},
-        "boundaries": boundaries,
-        "loads": [{"kind": "point_force", "plate": "P1_1", "at": list(force_at),
-                   "amplitude": 1.0}],
-        "measurement": {"spacing": spacing, "noise": noise, "seed": seed},
-        "updating": {"r": 0.8, "bounds": [-1.0, 6.0]},
-    }
-    if resolution is not None:
-        description["discretisation"] = {"resolution": resolution}
-    if truth:
-        description["truth"] = {"joints": {jid: {"log10_stiffness": value}
-                                           for jid, value in truth.items()}}
-    return description
+    return _description(
+        name or f"grid-{n_x}x{n_y}", frequency, loss_factor, plates,
+        {jid: {"between": _joint_sides(jid), "kind": "coplanar",
+               "log10_stiffness": log10_stiffness, "loss_factor": 0.0, "mass": 0.0}
+         for jid in joints},
+        boundaries, ("P1_1", force_at), {"spacing": spacing, "noise": noise, "seed": seed},
+        resolution, {jid: {"log10_stiffness": value} for jid, value in (truth or {}).items()})
 
 
 
@@ -158,45 +178,28 @@ def stiffened_panel(n_bays: int, *, bay_size=(0.5, 0.4), stiffener_height=0.15,
         raise ValueError(f"truth names welds the {n_bays}-bay panel does not have: "
                          f"{', '.join(unknown)} (welds W1..W{n_bays - 1})")
     lx, ly = bay_size
-
-    def framed(size, origin, x_axis, h):
-        return {"material": "steel", "thickness": h, "size": list(size),
-                "frame": {"origin": list(origin), "x_axis": list(x_axis),
-                          "y_axis": [0.0, 1.0, 0.0]}}
-
-    plates = {f"B{i}": framed(bay_size, [(i - 1) * lx, 0.0, 0.0], [1.0, 0.0, 0.0],
-                                 thickness)
+    along_y = (0.0, 1.0, 0.0)
+    plates = {f"B{i}": _framed_plate(bay_size, ((i - 1) * lx, 0.0, 0.0), (1.0, 0.0, 0.0),
+                                     along_y, thickness)
               for i in range(1, n_bays + 1)}
-    plates.update({f"T{i}": framed((stiffener_height, ly), [i * lx, 0.0, 0.0],
-                                   [0.0, 0.0, 1.0], stiffener_thickness)
+    plates.update({f"T{i}": _framed_plate((stiffener_height, ly), (i * lx, 0.0, 0.0),
+                                          (0.0, 0.0, 1.0), along_y, stiffener_thickness)
                    for i in range(1, n_bays)})
     supported = ["B1.left", f"B{n_bays}.right"]
     supported += [f"{p}.{e}" for p in plates for e in ("bottom", "top")]
-    description = {
-        "name": name or f"stiffened-panel-{n_bays}",
-        **({"frequencies": list(frequency)} if isinstance(frequency, (list, tuple))
-           else {"frequency": frequency}),
-        "materials": {"steel": {**STEEL, "loss_factor": loss_factor}},
-        "plates": plates,
-        "joints": {f"W{i}": {"kind": "junction",
-                             "between": [f"B{i}.right", f"B{i + 1}.left", f"T{i}.left"],
-                             "log10_stiffness": {f"B{i}": math.inf, f"B{i + 1}": math.inf,
-                                                 f"T{i}": log10_stiffness},
-                             "loss_factor": 0.0}
-                   for i in range(1, n_bays)},
-        "boundaries": [{"edge": edge, "condition": "simply_supported"} for edge in supported],
-        "loads": [{"kind": "point_force", "plate": "B1", "at": list(force_at),
-                   "amplitude": 1.0}],
-        "measurement": {"spacing": spacing, "noise": noise, "seed": seed,
-                        "plates": [f"B{i}" for i in range(1, n_bays + 1)]},
-        "updating": {"r": 0.8, "bounds": [-1.0, 6.0]},
-    }
-    if resolution is not None:
-        description["discretisation"] = {"resolution": resolution}
-    if truth:
-        description["truth"] = {"joints": {
-            weld: {"log10_stiffness": {f"T{weld[1:]}": value}} for weld, value in truth.items()}}
-    return description
+    welds = {f"W{i}": {"kind": "junction",
+                       "between": [f"B{i}.right", f"B{i + 1}.left", f"T{i}.left"],
+                       "log10_stiffness": {f"B{i}": math.inf, f"B{i + 1}": math.inf,
+                                           f"T{i}": log10_stiffness},
+                       "loss_factor": 0.0}
+             for i in range(1, n_bays)}
+    return _description(
+        name or f"stiffened-panel-{n_bays}", frequency, loss_factor, plates, welds,
+        [{"edge": edge, "condition": "simply_supported"} for edge in supported],
+        ("B1", force_at), {"spacing": spacing, "noise": noise, "seed": seed,
+                           "plates": [f"B{i}" for i in range(1, n_bays + 1)]},
+        resolution, {weld: {"log10_stiffness": {f"T{weld[1:]}": value}}
+                     for weld, value in (truth or {}).items()})
 
 
 def _edge_ends(plate, edge):
@@ -255,7 +258,7 @@ def box_with_wall(*, size=(0.5, 0.4, 0.3), wall_at=0.3, thickness=0.001,
         raise ValueError(f"wall_at must lie inside (0, {a}), got {wall_at}")
     x, y, z = (1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)
     minus = {x: (-1.0, 0.0, 0.0), y: (0.0, -1.0, 0.0)}
-    faces = {}  # name: (size, origin, x_axis, y_axis, thickness)
+    faces = {}  # name: (size, origin, x_axis, y_axis)
     for part, (x0, lx) in (("1", (0.0, wall_at)), ("2", (wall_at, a - wall_at))):
         faces["Top" + part] = ((lx, b), (x0, 0.0, c), x, y)
         faces["Bottom" + part] = ((lx, b), (x0, b, 0.0), x, minus[y])
@@ -264,10 +267,8 @@ def box_with_wall(*, size=(0.5, 0.4, 0.3), wall_at=0.3, thickness=0.001,
     faces["Left"] = ((b, c), (0.0, b, 0.0), minus[y], z)
     faces["Right"] = ((b, c), (a, 0.0, 0.0), y, z)
     faces["Wall"] = ((b, c), (wall_at, 0.0, 0.0), y, z)
-    plates = {n: {"material": "steel", "size": list(size_),
-                  "thickness": wall_thickness if n == "Wall" else thickness,
-                  "frame": {"origin": list(origin), "x_axis": list(xa), "y_axis": list(ya)}}
-              for n, (size_, origin, xa, ya) in faces.items()}
+    plates = {n: _framed_plate(*face, wall_thickness if n == "Wall" else thickness)
+              for n, face in faces.items()}
     joints = {}
     for members in _shared_edges(plates):
         owners = [m.split(".")[0] for m in members]
@@ -285,26 +286,12 @@ def box_with_wall(*, size=(0.5, 0.4, 0.3), wall_at=0.3, thickness=0.001,
     if unknown:
         raise ValueError(f"truth names joints the box does not have: {', '.join(unknown)} "
                          f"(joints: {', '.join(joints)})")
-    description = {
-        "name": name,
-        **({"frequencies": list(frequency)} if isinstance(frequency, (list, tuple))
-           else {"frequency": frequency}),
-        "materials": {"steel": {**STEEL, "loss_factor": loss_factor}},
-        "plates": plates,
-        "joints": joints,
-        "loads": [{"kind": "point_force", "plate": "Top1", "at": list(force_at),
-                   "amplitude": 1.0}],
-        "measurement": {"spacing": spacing, "noise": noise, "seed": seed,
-                        "plates": [n for n in plates if n != "Wall"]},
-        "updating": {"r": 0.8, "bounds": [-1.0, 6.0]},
-    }
-    if resolution is not None:
-        description["discretisation"] = {"resolution": resolution}
-    if truth:
-        description["truth"] = {"joints": {
-            jid: {"log10_stiffness": ({"Wall": value} if jid.startswith("W_") else value)}
-            for jid, value in truth.items()}}
-    return description
+    return _description(
+        name, frequency, loss_factor, plates, joints, None, ("Top1", force_at),
+        {"spacing": spacing, "noise": noise, "seed": seed,
+         "plates": [n for n in plates if n != "Wall"]},
+        resolution, {jid: {"log10_stiffness": {"Wall": value} if jid.startswith("W_") else value}
+                     for jid, value in (truth or {}).items()})
 
 def _value(value):
     """A TOML value: strings and booleans as TOML, floats by ``repr`` (they round-trip)."""

@@ -1671,6 +1671,15 @@ class Case(_Model):
         return {name: self.updating.alpha[jid]
                 for name, (jid, _) in self.updatable_joints().items()}
 
+    def true_log10_stiffness(self) -> dict[str, float]:
+        """``{updatable joint: true log10 k}`` of the joints whose ``[truth]`` gives a
+        stiffness (every finite member of such a junction; members it does not name keep
+        their model values)."""
+        true = self.true_case().updatable_parameters()
+        return {name: true[name]["log10_stiffness"]
+                for name, (jid, _) in self.updatable_joints().items()
+                if jid in self.truth.joints and self.truth.joints[jid].log10_stiffness is not None}
+
     def true_case(self) -> Case:
         """Return the assembly with its joints replaced by the ``[truth]`` parameters.
 

@@ -76,7 +76,6 @@ from solver.plate import (
     boundary_traces,
     edge_projection,
     edge_values,
-    evaluate_field,
     factorise_dense,
 )
 from solver.interface import Block, factorise_interface, residual_weight
@@ -88,6 +87,7 @@ __all__ = [
     "Channel",
     "AssemblySystem",
     "build_assembly_system",
+    "channel_parameters",
     "joint_parameters",
     "channel_blocks",
     "solve_interface",
@@ -475,7 +475,7 @@ def build_assembly_system(case, frequency, resolution=None) -> AssemblySystem:
 
     system = AssemblySystem(frequency, problems, bases, unknowns, u0, transfer, n_s, layout,
                             None, [], rcond)
-    rows, rhs, channels = [], [], []  # constraint rows as Blocks of one or more rows
+    rows, channels = [], []  # constraint rows as Blocks of one or more rows
     for jid, joint in case.joints.items():
         if joint.kind == "junction":
             junction_rows, junction_channels = _junction_line(case, system, jid, k_max, counts)
@@ -615,20 +615,20 @@ def _constraint_matrix(rows, n_s):
 # parameters, reduced solve
 # ----------------------------------------------------------------------------------------------
 
+def channel_parameters(parameters, omega):
+    r"""``{(channel name, kind): c}`` from ``{name: {log10_stiffness, loss_factor, mass}}``
+    (:meth:`assembly.Case.updatable_parameters`): the rotation channel's
+    :math:`k(1 + j\zeta)` and the mass channel's :math:`\omega^2\mu`."""
+    out = {}
+    for name, p in parameters.items():
+        out[name, "rotation"] = 10.0 ** p["log10_stiffness"] * (1.0 + 1j * p["loss_factor"])
+        out[name, "mass"] = omega**2 * p["mass"] + 0j
+    return out
+
+
 def joint_parameters(case, omega):
-    """Channel parameters ``{(channel name, kind): c}`` from the description's joints."""
-    params = {}
-    for jid, joint in case.joints.items():
-        if joint.kind == "junction":
-            for plate in joint.finite_members():
-                params[f"{jid}.{plate}", "rotation"] = (
-                    10.0 ** joint.member_log10_stiffness(plate)
-                    * (1.0 + 1j * joint.member_loss_factor(plate)))
-            continue
-        params[jid, "rotation"] = 10.0 ** joint.log10_stiffness * (1.0 + 1j * joint.loss_factor)
-        if joint.kind == "coplanar":
-            params[jid, "mass"] = omega**2 * joint.mass + 0j
-    return params
+    """Channel parameters ``{(channel name, kind): c}`` of the description's joints."""
+    return channel_parameters(case.updatable_parameters(), omega)
 
 
 def channel_blocks(system, params, weights):

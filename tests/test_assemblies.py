@@ -38,7 +38,7 @@ def chain_description(joints, resolution=1.0, left="simply_supported", right="cl
                             "origin": [sum(lengths[:i]), 0.0]} for i in range(n)}
     boundaries = [{"edge": f"P{i + 1}.{e}", "condition": "simply_supported"}
                   for i in range(n) for e in ("bottom", "top")]
-    for edge, condition in ((f"P1.left", left), (f"P{n}.right", right)):
+    for edge, condition in (("P1.left", left), (f"P{n}.right", right)):
         if condition != "free":
             boundaries.append({"edge": edge, "condition": condition})
     loads = list(edge_loads)

@@ -11,7 +11,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from exact import EdgeLoad, Section, complex_rigidity, coplanar, levy_chain
+from exact import EdgeLoad, Section, coplanar, levy_chain
 
 from assembly import load_case
 from solver import field_grid, solve_case

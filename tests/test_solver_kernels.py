@@ -10,7 +10,6 @@ import pytest
 from scipy import integrate, special
 
 from solver.kirchhoff import (
-    bending_wavenumber,
     complex_bending_stiffness,
     point_force_derivatives,
     point_force_radial,

@@ -545,7 +545,7 @@ def cmd_plan(args):
                    + ("" if plan.damping_identifiable else " (below the noise)"))
         table.add_row(joint, f"{plan.value:.2f}",
                       *[f"{100 * plan.stiffness_sensitivity[f]:.2f}" for f in frequencies],
-                      _expected_text(plan.interval), plan.verdict, damping)
+                      plan.interval.brief, plan.verdict, damping)
     console.print(table)
     for joint, plan in plans.items():
         if plan.verdict != "identifiable" and plan.best_source:
@@ -569,25 +569,12 @@ def cmd_plan(args):
     return 0
 
 
-def _expected_text(interval):
-    if interval.kind == "two-sided":
-        return f"[{interval.low:.2f}, {interval.high:.2f}]"
-    if interval.kind == "lower":
-        return f">= {interval.low:.2f}"
-    if interval.kind == "upper":
-        return f"<= {interval.high:.2f}"
-    return "none"
-
-
 def _truth(case, args):
     """``{joint: true log10 k}`` of a simulated experiment (none with measured data); a
     junction's every finite member when its truth gives a stiffness."""
     if getattr(args, "measurements", None):
         return {}
-    true = case.true_case().updatable_parameters()
-    return {name: true[name]["log10_stiffness"]
-            for name, (jid, _) in case.updatable_joints().items()
-            if jid in case.truth.joints and case.truth.joints[jid].log10_stiffness is not None}
+    return case.true_log10_stiffness()
 
 
 def _run_path(args):

@@ -152,6 +152,17 @@ class ConfidenceInterval:
                 bounds[1] if self.high is None else self.high)
 
     @property
+    def brief(self) -> str:
+        """``[low, high]``, ``>= low``, ``<= high`` or ``none``: a table cell."""
+        if self.kind == "two-sided":
+            return f"[{self.low:.2f}, {self.high:.2f}]"
+        if self.kind == "lower":
+            return f">= {self.low:.2f}"
+        if self.kind == "upper":
+            return f"<= {self.high:.2f}"
+        return "none"
+
+    @property
     def text(self) -> str:
         pct = f"{100 * self.level:g} %"
         fmt = ".2f" if self.parameter == "log10_stiffness" else ".3g"

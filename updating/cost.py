@@ -40,6 +40,7 @@ from solver.rays import ray_field
 from solver.substructure import (
     build_assembly_system,
     channel_blocks,
+    channel_parameters,
     joint_residuals,
     solve_assembly,
     solve_interface,
@@ -73,15 +74,6 @@ def with_joint(parameters, joint, **values):
     trial = {jid: dict(p) for jid, p in parameters.items()}
     trial[joint].update(values)
     return trial
-
-
-def channel_parameters(parameters, omega):
-    """``{(joint, channel): c}`` from ``{joint: {log10_stiffness, loss_factor, mass}}``."""
-    out = {}
-    for jid, p in parameters.items():
-        out[jid, "rotation"] = 10.0 ** p["log10_stiffness"] * (1.0 + 1j * p["loss_factor"])
-        out[jid, "mass"] = omega**2 * p["mass"] + 0j
-    return out
 
 
 def direct_factor(system, parameters, alpha):

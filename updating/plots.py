@@ -100,11 +100,7 @@ def _true_parameters(case):
 
 
 def _true_log_k(case, joint):
-    jid, _ = case.updatable_joints()[joint]
-    true = case.truth.joints.get(jid)
-    if true is None or true.log10_stiffness is None:
-        return None
-    return case.true_case().updatable_parameters()[joint]["log10_stiffness"]
+    return case.true_log10_stiffness().get(joint)
 
 
 def _direct_amplitudes(system, parameters, alpha):
@@ -678,6 +674,24 @@ def _draw_plate_frame(ax, data, labels=False):
     ax.set_ylabel("y [m]")
 
 
+def field_colours(quantity):
+    """``(colour map, colour-bar label)`` of a field map of ``|w|`` or ``Re w``."""
+    return ("viridis", "|w| [m]") if quantity == "abs" else ("RdBu_r", "Re w [m]")
+
+
+def costs_text(data):
+    """:math:`E_{mod}^2` at the initial and updated parameters of a :class:`FieldMapData`."""
+    summed = f" (sum over {data.n_frequencies} frequencies)" if data.n_frequencies > 1 else ""
+    return (f"$E_{{mod}}^2$ {100 * data.e_mod[0]:.2f} % initial, "
+            f"{100 * data.e_mod[1]:.2f} % updated{summed}")
+
+
+def powers_of_ten_bar(bar):
+    """A colour bar's ticks with a ``1e-5``-style multiplier, not 0.00001 ticks."""
+    bar.formatter.set_powerlimits((-2, 3))
+    bar.update_ticks()
+
+
 def draw_field_maps(data, title=""):
     """Three panels (measured, initial, updated) of a :class:`FieldMapData`, one colour scale;
     in 3D when its plates are placed in space."""
@@ -700,10 +714,7 @@ def draw_field_maps(data, title=""):
         bar_height = float(np.clip(panel * ratio / (panel * ratio + 1.0), 0.5, 0.9))
         axes = _figure(figsize=figsize).subplots(1, 3, sharex=True, sharey=True)
     figure = axes[0].figure
-    if data.quantity == "abs":
-        cmap, label = "viridis", "|w| [m]"
-    else:
-        cmap, label = "RdBu_r", "Re w [m]"
+    cmap, label = field_colours(data.quantity)
     norm = {"vmin": data.limits[0], "vmax": data.limits[1], "cmap": cmap}
     mappable = None
     ax = axes[0]
@@ -755,14 +766,11 @@ def draw_field_maps(data, title=""):
               (True, True): "both"}[low < data.limits[0], high > data.limits[1]]
     bar = figure.colorbar(mappable, ax=list(axes), label=label, pad=0.015, fraction=0.03,
                           shrink=bar_height, extend=extend)
-    bar.formatter.set_powerlimits((-2, 3))  # 1e-5 as a multiplier, not 0.00001 ticks
-    bar.update_ticks()
+    powers_of_ten_bar(bar)
     source = ("model panels: minimisers of $E_{mod}^2$ at the initial and updated joints"
               if data.source == "modified" else
               "model panels: response of the model with the initial and updated joints")
-    summed = f" (sum over {data.n_frequencies} frequencies)" if data.n_frequencies > 1 else ""
-    costs = (f"$E_{{mod}}^2$ {100 * data.e_mod[0]:.2f} % initial, "
-             f"{100 * data.e_mod[1]:.2f} % updated{summed}")
+    costs = costs_text(data)
     misfit = r"misfit = $\|w - \tilde w\| / \|\tilde w\|$ there"
     figure.suptitle(f"{title or 'field'} at {data.frequency:g} Hz; {costs}\n{source}; dots: "
                     f"measurement points; {misfit}", fontsize="medium")

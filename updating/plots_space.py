@@ -10,7 +10,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from updating.plots import _figure, require_matplotlib
+from updating.plots import (
+    _figure,
+    costs_text,
+    field_colours,
+    powers_of_ten_bar,
+    require_matplotlib,
+)
 
 __all__ = ["draw_field_maps_in_space"]
 
@@ -65,7 +71,8 @@ def draw_field_maps_in_space(data, title=""):
     space = data.space
     figure = _figure(figsize=(15.0, 5.6))
     axes = [figure.add_subplot(1, 3, i + 1, projection="3d") for i in range(3)]
-    cmap = colormaps["viridis" if data.quantity == "abs" else "RdBu_r"]
+    cmap_name, label = field_colours(data.quantity)
+    cmap = colormaps[cmap_name]
     norm = Normalize(*data.limits)
     ax = axes[0]
     for pid, (_, values) in data.measured.items():
@@ -83,14 +90,9 @@ def draw_field_maps_in_space(data, title=""):
     for i, ax in enumerate(axes):
         _frame_lines(ax, space, labels=(i == 0))
         _equal_box(ax, space)
-    label = "|w| [m]" if data.quantity == "abs" else "Re w [m]"
-    bar = figure.colorbar(ScalarMappable(norm, cmap), ax=axes, label=label, fraction=0.02,
-                          shrink=0.7, pad=0.02)
-    bar.formatter.set_powerlimits((-2, 3))
-    bar.update_ticks()
-    summed = f" (sum over {data.n_frequencies} frequencies)" if data.n_frequencies > 1 else ""
-    figure.suptitle(f"{title or 'field'} at {data.frequency:g} Hz; $E_{{mod}}^2$ "
-                    f"{100 * data.e_mod[0]:.2f} % initial, {100 * data.e_mod[1]:.2f} % "
-                    f"updated{summed}\nplates placed in space by their frames; dots: "
-                    "measurement points; star: point force", fontsize="medium")
+    powers_of_ten_bar(figure.colorbar(ScalarMappable(norm, cmap), ax=axes, label=label,
+                                      fraction=0.02, shrink=0.7, pad=0.02))
+    figure.suptitle(f"{title or 'field'} at {data.frequency:g} Hz; {costs_text(data)}\nplates "
+                    "placed in space by their frames; dots: measurement points; star: point "
+                    "force", fontsize="medium")
     return figure
