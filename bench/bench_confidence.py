@@ -67,6 +67,19 @@ def damped_chain_case():
     return case, simulate_measurements(case, noise=0.0)
 
 
+def massive_chain_case():
+    """Two plates whose joint's stiffness and line mass are both wrong in the model (log10 k
+    2.0 and 0.02 kg/m against 3.0 and 0.1 kg/m) and both identified; the experiment simulated
+    at the finer measurement resolution, ±10 % noise."""
+    joints = [{"kind": "coplanar", "log10_stiffness": 2.0, "loss_factor": 0.05, "mass": 0.02}]
+    description = chain_description(joints, 1.0, force=(0, 0.12, 0.31))
+    description["truth"] = {"joints": {"G1": {"log10_stiffness": 3.0, "mass": 0.1}}}
+    description["measurement"] = {"spacing": 0.08, "noise": NOISE}
+    description["updating"] = {"identify": ["stiffness", "mass"], "bounds": [-1.0, 6.0]}
+    case = parse_case(description)
+    return case, simulate_measurements(case, noise=0.0)
+
+
 def four_plates_case():
     case = load_case(ROOT / "cases" / "four_plates.toml")
     return case, simulate_measurements(case, noise=0.0)
@@ -77,6 +90,7 @@ CASES = {
     "two-plate Levy chain": functools.partial(levy_chain_case, (2.0,), (0.5, 0.45)),
     "three-plate Levy chain": functools.partial(levy_chain_case, (2.0, 3.0), (0.5, 0.45, 0.55)),
     "damped two-plate chain": damped_chain_case,
+    "massive two-plate chain": massive_chain_case,
 }
 
 
@@ -139,8 +153,9 @@ def main():
     with Executor(args.workers) as executor:
         for name_of_case in args.cases:
             case, _, problem = _problem(name_of_case)
-            names = ["log10_stiffness"] + (["loss_factor"] if "damping" in case.updating.identify
-                                           else [])
+            names = (["log10_stiffness"]
+                     + (["loss_factor"] if "damping" in case.updating.identify else [])
+                     + (["mass"] if "mass" in case.updating.identify else []))
             truth = {(j, n): getattr(case.truth.joints[j], n) for j in case.truth.joints
                      for n in names if getattr(case.truth.joints[j], n) is not None}
             truth_parameters = problem.initial_parameters()
@@ -159,7 +174,8 @@ def main():
                 widths = [hi - lo for lo, hi, kind in intervals if kind == "two-sided"]
                 n = len(intervals)
                 lo_range, hi_range = binomial_range(n, args.level) if n else (math.nan,) * 2
-                label = joint if name == "log10_stiffness" else f"{joint} eta"
+                label = {"log10_stiffness": joint, "loss_factor": f"{joint} eta",
+                         "mass": f"{joint} mu"}[name]
                 sens = (f"{100 * sensitivity(problem, truth_parameters, joint):>11.2f}"
                         if name == "log10_stiffness" else f"{'-':>11}")
                 print(

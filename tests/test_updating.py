@@ -421,6 +421,7 @@ def test_redraws_through_the_measured_values_equal_redraws_one_by_one():
     through_values = test.statistics(2.05, [noise])  # more redraws than values
     one_by_one = test.statistics(2.05, [noise[:, :n - 10]])  # fewer
     assert through_values[0] == pytest.approx(one_by_one[0], rel=1e-12)
+    assert through_values[2] == pytest.approx(one_by_one[2], rel=1e-12)
     scale = np.max(np.abs(one_by_one[1]))
     assert np.max(np.abs(through_values[1][:n - 10] - one_by_one[1])) < 1e-12 * scale
 

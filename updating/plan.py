@@ -9,7 +9,9 @@ description's grid, or a measurement file's points), per joint:
   of the model response (:class:`solver.interface.JointCondensation`), no new factorisation.
 * **Expected interval**: the confidence interval (:mod:`updating.confidence`) that the stated
   noise (:data:`ASSUMED_NOISE` when none is stated) gives when the measured values are the
-  model's own prediction: the typical interval of a test of a right model. Two-sided:
+  model's own prediction plus typical noise (the statistic of the noise-free prediction moved
+  by the noise's mean effect on it: ``confidence_interval(expected=True)``): the typical
+  interval of a test of a right model. Two-sided:
   *identifiable*; one bound only: *bounded* (a near-rigid or near-hinge joint); neither:
   *invisible* at these points and frequencies.
 * **Damping**: the share of the injected power the joint dissipates, and whether the field
@@ -82,11 +84,16 @@ class JointPlan:
 
 
 def identifiability_plan(case, layout_measurements, level=None, resolution=None, threads=1,
-                         estimate=False):
+                         estimate=False, joints=None, on_joint=None):
     """``({joint: JointPlan}, noise, {frequency: ErrorEstimate})`` of ``case`` measured at the
     points of ``layout_measurements`` (their values are not used: the problem is given the
     model's own prediction there); the estimates of the model's discretisation error, which
-    the sensitivities are read against, with ``estimate`` (else empty)."""
+    the sensitivities are read against, with ``estimate`` (else empty).
+
+    ``joints`` restricts the plan to those updatable joints (default: every one): each joint
+    costs two condensations (solves through the factorisations, about a third of a
+    factorisation each in a large structure), so a large structure is planned region by
+    region. ``on_joint(joint)`` is called after each joint (progress)."""
     level = case.updating.confidence if level is None else level
     problem = ModifiedProblem(case, layout_measurements, resolution=resolution,
                               threads=threads, estimate=estimate)
@@ -102,7 +109,8 @@ def identifiability_plan(case, layout_measurements, level=None, resolution=None,
     threshold = 2.0 * noise.deviation / math.sqrt(max(n_values, 1))
     direct = problem.direct_factors(parameters)
     plans = {}
-    for joint in problem.joints:
+    for joint in (problem.joints if joints is None else
+                  [j for j in problem.joints if j in set(joints)]):
         target = (joint, "log10_stiffness")
         # the test's condensation of the model response on the joint gives the sensitivities
         test = ScoreTest(problem, parameters, target, [target], direct=direct)
@@ -128,10 +136,12 @@ def identifiability_plan(case, layout_measurements, level=None, resolution=None,
                                                                     freq.system.omega), joint)
         total = sum(information.values()) or 1.0
         interval = confidence_interval(problem, parameters, target, [target], noise, level,
-                                       case.updating.bounds, test=test)
+                                       case.updating.bounds, test=test, expected=True)
         plans[joint] = JointPlan(joint, theta, stiffness, damping, interval, share,
                                  max(damping.values()) > threshold,
                                  {key: v / total for key, v in information.items()})
+        if on_joint:
+            on_joint(joint)
     return plans, noise, estimates
 
 

@@ -171,6 +171,7 @@ def _step_problems(steps, case):
     joints = set(case.updatable_joints())
     lo, hi = case.updating.bounds
     initial = case.updatable_parameters()
+    previous = initial  # each step after the first is checked against the one before it
     for n, step in enumerate(steps):
         where = f"steps[{n}]"
         if step.step != n:
