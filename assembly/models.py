@@ -1148,6 +1148,11 @@ class Updating(_Model):
     confidence : float, optional
         Level of the confidence interval reported for every corrected joint, in (0, 1).
         Default 0.9.
+    misfit : {"global", "per_plate"}, optional
+        Normalisation of ``E_mes^2``: the whole data's squared norm (``"global"``, the
+        paper's; default), or the mean over the measured plates of each plate's misfit
+        relative to its own data (``"per_plate"``: under relative noise, plates far from the
+        load count as much as the loaded ones; for large structures).
     """
 
     r: Annotated[float, Strict(), Field(gt=0, le=1)] = 0.8
@@ -1160,6 +1165,7 @@ class Updating(_Model):
     stop_ratio: Annotated[float, Strict(), Field(gt=1)] = 3.0
     min_decrease: Annotated[float, Strict(), Field(ge=0, lt=1)] = 0.01
     confidence: Annotated[float, Strict(), Field(gt=0, lt=1)] = 0.9
+    misfit: Literal["global", "per_plate"] = "global"
 
 
 class Compute(_Model):

@@ -83,13 +83,20 @@ def wrong_joints(n):
     return {"H1_1": 0.5, "V1_1": 4.0, f"H{min(middle, n - 1)}_{middle}": 3.5}
 
 
-def write_cases(n, frequency, stiff_frequency, directory):
-    """Write the n x n grid with wrong joints and the stiff grid; return their paths."""
+def _with_misfit(description, misfit):
+    """``description`` with ``[updating] misfit`` set (the generators leave the default)."""
+    description["updating"] = {**description["updating"], "misfit": misfit}
+    return description
+
+
+def write_cases(n, frequency, stiff_frequency, directory, misfit="global"):
+    """Write the n x n grid with wrong joints (its ``[updating] misfit`` set) and the stiff
+    grid; return their paths."""
     from assembly.generate import description_toml, plate_grid
 
     grid = directory / f"grid_{n}x{n}.toml"
     grid.write_text(description_toml(
-        plate_grid(n, n, frequency=frequency, truth=wrong_joints(n)),
+        _with_misfit(plate_grid(n, n, frequency=frequency, truth=wrong_joints(n)), misfit),
         header=f"bench_scale.py: {n} x {n} grid, wrong joints {wrong_joints(n)}"))
     stiff = directory / f"stiff_{n}x{n}.toml"
     stiff.write_text(description_toml(
@@ -104,14 +111,14 @@ def wrong_welds(n):
     return {f"W{i}": 2.0 for i in sorted({1, max(1, n // 2), n - 1})}
 
 
-def write_panel(n, frequency, directory):
+def write_panel(n, frequency, directory, misfit="global"):
     """Write the n-bay stiffened panel with wrong welds; return its path."""
     from assembly.generate import description_toml, stiffened_panel
 
     panel = directory / f"panel_{n}.toml"
     panel.write_text(description_toml(
-        stiffened_panel(n, log10_stiffness=PANEL_WELD_LOG10_K, truth=wrong_welds(n),
-                        frequency=frequency),
+        _with_misfit(stiffened_panel(n, log10_stiffness=PANEL_WELD_LOG10_K,
+                                     truth=wrong_welds(n), frequency=frequency), misfit),
         header=f"bench_scale.py: {n}-bay stiffened panel, wrong welds {wrong_welds(n)}"))
     return panel
 
@@ -766,7 +773,8 @@ def report(result, commands):
         f"{m['scikit-fem']}, BLAS {m['blas']}; every process on one BLAS thread ("
         + ", ".join(f"{k}={v}" for k, v in m["threads"].items()) + ")")
     say(f"grids: N x N plates 0.5 x 0.4 m, h 1 mm, at {settings['frequency']:g} Hz, model "
-        f"log10 k = 2; wrong joints (true log10 k): " + "; ".join(
+        f"log10 k = 2, misfit {settings.get('misfit', 'global')}; wrong joints (true log10 k): "
+        + "; ".join(
             f"N = {r['n']}: " + ", ".join(f"{j} {v}" for j, v in r["wrong_joints"].items())
             for r in result["rows"]))
     say(f"each run is a fresh process, timeout {settings['timeout']:g} s; peak memory = max "
@@ -835,7 +843,8 @@ def bench(args, log):
             baselines = import_baselines(runner) if args.stiff else {}
             for n in args.sizes:
                 grid, stiff = write_cases(n, args.frequency,
-                                          stiff_frequencies.get(n, args.frequency), runner.workdir)
+                                          stiff_frequencies.get(n, args.frequency), runner.workdir,
+                                          args.misfit)
                 row = {"n": n, "wrong_joints": wrong_joints(n),
                        "size": problem_size(load_case(grid)),
                        "commands": measure_commands(f"N = {n}", grid, args.commands, runner,
@@ -856,7 +865,7 @@ def bench(args, log):
                                                for n in args.sizes},
                          "fem_sizes": args.fem_sizes, "commands": args.commands,
                          "timeout": args.timeout, "evaluations": args.evaluations,
-                         "repeats": args.repeats},
+                         "repeats": args.repeats, "misfit": args.misfit},
             "rows": rows, "fits": growth_exponents(rows), "import_baselines": baselines,
             "panel_rows": panel_rows, "panel_fits": growth_exponents(panel_rows, PANEL_FIT_FROM)}
 
@@ -865,7 +874,7 @@ def measure_panel(n, args, runner, log):
     """The commands and one correction's evaluation on the n-bay stiffened panel."""
     from assembly import load_case
 
-    panel = write_panel(n, args.frequency, runner.workdir)
+    panel = write_panel(n, args.frequency, runner.workdir, args.misfit)
     row = {"n": n, "panel": True, "wrong_joints": wrong_welds(n),
            "size": problem_size(load_case(panel)),
            "commands": measure_commands(f"{n} bays", panel, args.commands, runner, log)}
@@ -908,6 +917,8 @@ def parse_args(argv=None):
                              "other sizes: --frequency)")
     parser.add_argument("--repeats", type=int, default=3,
                         help="stiff grid and FE: best of this many solves per process")
+    parser.add_argument("--misfit", choices=("global", "per_plate"), default="global",
+                        help="[updating] misfit of the grids and panels (default global)")
     parser.add_argument("--json", metavar="OUT", help="also save the results as JSON")
     hidden = argparse.SUPPRESS
     parser.add_argument("--evaluation", metavar="CASE", help=hidden)

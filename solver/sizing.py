@@ -36,6 +36,9 @@ BYTES_PER_FACTOR_ENTRY = 30.0
 FACTOR_SECONDS = (0.52, 2.8e6, 1.22)  # seconds for a fill, and the exponent of the growth
 PLATE_SECONDS = 0.02  # rays, traces, dense plate solve and transfer operator, per plate
 LOCALISATION_SOLVES = 3  # per frequency: modified problem, direct model, the noise draws (one)
+SOLVE_SECONDS_PER_ENTRY = 1.2e-9  # one right-hand side through the LU factors, per entry
+CONDENSED_PER_SAMPLE = 1.3  # a condensation's right-hand sides per joint sample (compressed)
+PLAN_SOLVES = 3  # per frequency: the model response, the modified problem, the model again
 
 
 @dataclass(frozen=True)
@@ -53,6 +56,8 @@ class SizeEstimate:
     factor_entries: float
     frequencies: int
     max_steps: int
+    joint_samples: int = 0  # residual samples of the joints' channels (no measured values)
+    channels: int = 0  # updatable joints (a junction's finite members each)
 
     @property
     def solve_bytes(self) -> float:
@@ -74,6 +79,21 @@ class SizeEstimate:
         return self.frequencies * (self.solve_seconds + localisations * LOCALISATION_SOLVES
                                    * self.factorisation_seconds)
 
+    @property
+    def plan_seconds_per_joint(self) -> float:
+        """``vtcr plan``'s two condensations of one joint (model response and modified
+        problem): per frequency, a solve through the factors for each of its compressed
+        samples."""
+        per_joint = CONDENSED_PER_SAMPLE * self.joint_samples / max(self.channels, 1)
+        return (self.frequencies * 2 * per_joint * SOLVE_SECONDS_PER_ENTRY
+                * self.factor_entries)
+
+    def plan_seconds(self, joints=None) -> float:
+        """``vtcr plan`` of ``joints`` updatable joints (default every one)."""
+        joints = self.channels if joints is None else joints
+        return (PLATE_SECONDS * self.plates + self.frequencies * PLAN_SOLVES
+                * self.factorisation_seconds + joints * self.plan_seconds_per_joint)
+
     def lines(self):
         """Human-readable lines for ``vtcr check``."""
         gb = self.solve_bytes / 1e9
@@ -86,7 +106,9 @@ class SizeEstimate:
             f"{self.factor_entries:.2g}); update at most about "
             f"{self.update_seconds:.2g} s ({self.frequencies} frequencies, "
             f"{LOCALISATION_SOLVES} factorisations per localisation, at most "
-            f"{2 * self.max_steps + 1} localisations)",
+            f"{2 * self.max_steps + 1} localisations); plan about "
+            f"{self.plan_seconds():.2g} s, {self.plan_seconds_per_joint:.2g} s per joint "
+            f"(plan --joints plans some)",
         ]
 
 
@@ -129,6 +151,7 @@ def estimate_size(case, frequency=None, resolution=None) -> SizeEstimate:
         if joint.kind == "coplanar":
             constraints += counts[jid]
             entries += counts[jid] * seen
+    joint_samples = samples
     for pid, points in _measured_points(case).items():
         samples += points
         entries += points * len(unknowns[pid])
@@ -137,7 +160,8 @@ def estimate_size(case, frequency=None, resolution=None) -> SizeEstimate:
     return SizeEstimate(frequency, len(case.plates), len(case.joints),
                         sum(b.n_dof for b in bases.values()), n_s, constraints, samples,
                         matrix_entries, matrix_entries * math.sqrt(len(case.plates)),
-                        len(case.frequencies), case.updating.max_steps)
+                        len(case.frequencies), case.updating.max_steps, joint_samples,
+                        len(case.updatable_joints()))
 
 
 def _measured_points(case):

@@ -995,7 +995,8 @@ def build_parser():
     simulate = sub.add_parser("simulate", help="simulated experiment from the true joints")
     simulate.add_argument("case", help="assembly description (TOML)")
     simulate.add_argument("--out", required=True, help="measurement CSV to write")
-    simulate.add_argument("--noise", type=float, help="uniform noise fraction (default [measurement] noise)")
+    simulate.add_argument("--noise", type=float,
+                          help="uniform noise fraction (default [measurement] noise)")
     simulate.add_argument("--seed", type=int, help="noise seed (default [measurement] seed)")
     _compute_options(simulate)
     simulate.set_defaults(run=cmd_simulate)
@@ -1017,8 +1018,9 @@ def build_parser():
     _confidence_option(plan, "the expected intervals")
     plan.add_argument("--joints", nargs="+", metavar="JOINT",
                       help="plan only these joints (default: every updatable one); each costs "
-                           "about two thirds of a factorisation of the interface problem, so "
-                           "plan a large structure region by region")
+                           "about 40 %% of a factorisation of the interface problem (vtcr "
+                           "check prints the estimate), so plan a large structure region by "
+                           "region")
     _estimate_option(plan)
     plan.add_argument("--json", help="write the sensitivities, expected intervals and "
                                      "verdicts to this JSON file")

@@ -224,7 +224,7 @@ class ScoreTest:
             condensation = JointCondensation.combined(
                 [c.condensation(frequency) for c in corrections])
             channels = [ch for j in joints for ch in system.channels if ch.name == j]
-            data_map = freq.scale(problem.r) * condensation.kept_rows.conj().T
+            data_map = condensation.kept_rows.conj().T * freq.value_scale(problem.r)[None, :]
             own = [ch for ch in system.channels if ch.name == target[0]]
             prediction = JointCondensation(
                 direct[frequency], [(ch.load, ch.kinematic, problem.alpha[target[0]],

@@ -5,11 +5,19 @@ For each measured frequency (``vtcr-formulation.md`` sections 6.3 and 7):
 .. math::
     E_{mod}^2(p) = \min_{S:\ GS = g}\ (1 - r)\sum_\Gamma\alpha_\Gamma E_\Gamma^2(S; p)
                    + r\,E_{mes}^2(S),\qquad
-    E_{mes}^2 = \frac{\sum_n|\Pi_n u(S) - \tilde u_n|^2}{\sum_n|\tilde u_n|^2},
+    E_{mes}^2 = \frac{\sum_n|\Pi_n u(S) - \tilde u_n|^2}{\sum_n|\tilde u_n|^2}
+    \quad\text{or}\quad
+    E_{mes}^2 = \frac1P\sum_p\frac{\sum_{n\in p}|\Pi_n u(S) - \tilde u_n|^2}
+                                    {\sum_{n\in p}|\tilde u_n|^2},
 
 where the plate fields are :math:`u_i = \Phi_i(U_i^0 + T_iS) + w_{p,i}` (admissibility holds
 exactly for every S). Both terms are sums of squares of residual samples affine in S; the
-measurement term has the linear part that the paper's printed eq. 30 omits. With several
+measurement term has the linear part that the paper's printed eq. 30 omits. The first
+:math:`E_{mes}^2` is the paper's (``[updating] misfit = "global"``, the default); the second
+(``"per_plate"``) is the mean over the P measured plates of each plate's misfit relative to
+its own measured field: under relative noise a plate far from the load, whose field is weak,
+then counts as much as the loaded one, and a joint there is judged by its own data rather
+than by a fraction of the whole structure's. With several
 frequencies the costs are summed, each with its own fixed normalisation (its :math:`E_{ref}`
 and :math:`\|\tilde u\|^2`).
 
@@ -105,6 +113,15 @@ def _norm2(values):
     return sum(float(np.vdot(v, v).real) for v in values)
 
 
+def _norms(values, per_plate):
+    r"""Per measured plate, what its squared misfit is divided by: every plate the whole
+    data's :math:`\|\tilde u\|^2` (``[updating] misfit = "global"``), or its own
+    :math:`P\,\|\tilde u_p\|^2` (``"per_plate"``, P measured plates)."""
+    if per_plate:
+        return np.array([len(values) * float(np.vdot(v, v).real) for v in values])
+    return np.full(len(values), _norm2(values))
+
+
 @dataclass
 class _Frequency:
     """One measured frequency: its assembly system and, per measured plate, the measured
@@ -116,26 +133,37 @@ class _Frequency:
     data: list  # measured values per measured plate
     initial_s: np.ndarray  # the model response's S at p0 (the E_ref solve)
     estimate: object = None  # solver.estimate.ErrorEstimate of that response, if asked for
+    per_plate: bool = False  # each plate's misfit relative to its own data ([updating] misfit)
+
+    def norms(self, data=None):
+        """Per measured plate, what its squared misfit is divided by (:func:`_norms`), for
+        measured values ``data`` (default the measured ones)."""
+        return _norms(self.data if data is None else data, self.per_plate)
 
     def scale(self, r, data=None, norm=None):
-        r""":math:`\sqrt{r/\|\tilde u\|^2}`, the weight of the measurement rows for measured
-        values ``data`` (default the measured ones) normalised by ``norm`` (default theirs)."""
-        return math.sqrt(r / (_norm2(self.data if data is None else data) if norm is None
-                              else norm))
+        r"""Per measured plate, :math:`\sqrt{r/N_p}`: the weight of its measurement rows for
+        measured values ``data`` (default the measured ones), :math:`N_p` the plates'
+        ``norm`` (default :meth:`norms` of the data)."""
+        return np.sqrt(r / (self.norms(data) if norm is None else norm))
+
+    def value_scale(self, r):
+        """:meth:`scale` of the measured data, one entry per measured value."""
+        return np.repeat(self.scale(r), [len(v) for v in self.data])
 
     def blocks(self, data, r, norm=None):
         r"""The measurement term :math:`r E_{mes}^2` as Blocks, for measured values ``data``
-        normalised by ``norm`` (default theirs, :math:`\|\tilde u\|^2`)."""
-        scale = self.scale(r, data, norm)
+        normalised by ``norm`` (per plate; default :meth:`norms` of the data)."""
+        scales = self.scale(r, data, norm)
         return [Block(op.index, scale * op.matrix, scale * (op.offset - v))
-                for op, v in zip(self.operators, data)]
+                for op, v, scale in zip(self.operators, data, scales)]
 
     def misfits(self, s, data, norm=None):
         """Per measured plate, its part of :math:`E_{mes}^2` at interface unknowns ``s`` for
-        measured values ``data`` (normalised by ``norm``, default all the data's)."""
-        norm = _norm2(data) if norm is None else norm
-        return {pid: _norm2([op.residual(s) - v]) / norm
-                for pid, op, v in zip(self.plates, self.operators, data)}
+        measured values ``data`` (normalised by ``norm``, default :meth:`norms` of the
+        data)."""
+        norm = self.norms(data) if norm is None else norm
+        return {pid: _norm2([op.residual(s) - v]) / n
+                for pid, op, v, n in zip(self.plates, self.operators, data, norm)}
 
 
 def _frequency_data(case, resolution, estimate, task):
@@ -154,7 +182,8 @@ def _frequency_data(case, resolution, estimate, task):
         plates.append(pid)
         operators.append(system.affine_plate_operator(pid, rays, particular))
         data.append(np.asarray(measured))
-    return _Frequency(system, plates, operators, data, initial.interface, error)
+    return _Frequency(system, plates, operators, data, initial.interface, error,
+                      case.updating.misfit == "per_plate")
 
 
 class ModifiedProblem:
@@ -388,7 +417,7 @@ class ModifiedProblem:
             freq = self.frequencies[frequency]
             system = freq.system
             data = [draw[frequency] for draw in draws]
-            norm = float(np.mean([_norm2(values) for values in data]))
+            norm = np.mean([freq.norms(values) for values in data], axis=0)
             params = channel_parameters(parameters, system.omega)
             blocks = channel_blocks(system, params, self.joint_weights(system))
             factor = solve_interface(system, blocks + freq.blocks(data[0], self.r, norm))
@@ -505,7 +534,8 @@ class JointCorrection:
                     if pid in plates]
         index = np.unique(np.concatenate([ch.kinematic.index for ch in channels]
                                          + [op.index for _, op, _ in measured]))
-        return freq.system, channels, measured, index, _norm2(freq.data)
+        norms = dict(zip(freq.plates, freq.norms()))
+        return freq.system, channels, measured, index, norms
 
     def _channels(self, values):
         """Per frequency, the joint's channel parameters with ``values`` set."""
@@ -536,7 +566,7 @@ class JointCorrection:
             for ch in channels:
                 residuals[ch.name] += ch.energy(s, all_params[ch.name, ch.kind]) / system.e_ref
             for pid, op, v in measured:
-                misfits[pid] += _norm2([op.residual(s) - v]) / norm
+                misfits[pid] += _norm2([op.residual(s) - v]) / norm[pid]
         return self.problem.neighbourhood_cost(self.joint, residuals, misfits)
 
     def evaluate(self, **values) -> Evaluation:

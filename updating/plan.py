@@ -91,8 +91,8 @@ def identifiability_plan(case, layout_measurements, level=None, resolution=None,
     the sensitivities are read against, with ``estimate`` (else empty).
 
     ``joints`` restricts the plan to those updatable joints (default: every one): each joint
-    costs two condensations (solves through the factorisations, about a third of a
-    factorisation each in a large structure), so a large structure is planned region by
+    costs two condensations (solves through the factorisations, together about 40 % of a
+    factorisation in a large structure; :meth:`solver.sizing.SizeEstimate.plan_seconds`), so a large structure is planned region by
     region. ``on_joint(joint)`` is called after each joint (progress)."""
     level = case.updating.confidence if level is None else level
     problem = ModifiedProblem(case, layout_measurements, resolution=resolution,

@@ -454,7 +454,8 @@ def read_uff(path, case, uff_map):
     InputError
         pyuff missing; no map given; every problem of the map; datasets that cannot be read
         or used (named by their 1-based position in the file, node and direction); map nodes
-        without exactly one usable Z response; frequencies not on a measured line; non-finite values.
+        without exactly one usable Z response; frequencies not on a measured line; non-finite
+        values.
 
     Examples
     --------
