@@ -518,7 +518,11 @@ def _updatable_joint_names(case, args, option, names):
     return names
 
 
+LONG_PLAN_SECONDS = 600.0  # a plan estimated longer than this says so before it starts
+
+
 def cmd_plan(args):
+    from solver.sizing import estimate_size
     from updating.files import write_json_atomic
     from updating.plan import identifiability_plan
     from updating.progress import progress_bar
@@ -542,6 +546,11 @@ def cmd_plan(args):
                        "noise; state the planned test's, e.g. noise = 0.05")
     level = case.updating.confidence if args.confidence is None else args.confidence
     count = len(joints or case.updatable_joints())
+    seconds = estimate_size(case).plan_seconds(count)
+    if seconds > LONG_PLAN_SECONDS:
+        joints_text = f"{count} joint" + ("s" if count != 1 else "")
+        _warn(console, f"{args.case}: planning {joints_text} takes about {seconds / 60:.0f} min "
+                       "on this kind of machine (vtcr check); --joints J1 J2 ... plans some")
     with progress_bar(console, "planning", count) as advance:
         plans, noise, estimates = identifiability_plan(
             case, points, level=level, resolution=_resolution_for_tolerance(case, console),
