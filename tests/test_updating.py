@@ -233,6 +233,23 @@ def test_a_step_of_several_corrections_survives_the_run_file_and_the_json():
     assert out["also_selected"] == {"G6": {"identified_interval": [0.7, 0.9]}}
 
 
+def test_status_1_names_the_joints_that_still_stand_out():
+    """A loop that stops because no correction helps (status 1) says which joints still stand
+    out of their floors and how far, largest first, at most five of them."""
+    from assembly.models import Updating
+    from updating.strategy import TERMINATION_MESSAGES, Step, _message
+
+    joints = [f"J{i}" for i in range(8)]
+    parameters = {j: {"log10_stiffness": 2.0, "loss_factor": 0.0, "mass": 0.0} for j in joints}
+    residuals = {j: r for j, r in zip(joints, (1, 3.5, 9, 2, 4, 5, 6, 7))}
+    step = Step(3, None, parameters, residuals, dict.fromkeys(joints, 1.0), 1.0, 1.0, 1.0)
+    message = _message(1, step, Updating())
+    assert message.startswith(TERMINATION_MESSAGES[1])
+    assert "J2 9.0, J7 7.0, J6 6.0, J5 5.0, J4 4.0 and 1 more" in message
+    assert "J0" not in message and "J3" not in message
+    assert _message(0, step, Updating()) == TERMINATION_MESSAGES[0]
+
+
 def test_a_loop_that_stops_without_converging_exits_3_with_its_outputs(tmp_path, capsys,
                                                                       monkeypatch):
     """``max_steps = 1`` on the four-plate case (three joints wrong): status 2 in the JSON,

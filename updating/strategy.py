@@ -355,8 +355,24 @@ def finished_result(problem, steps, status, settings, noise=0.0):
                                             settings.confidence, settings.bounds,
                                             settings.identify)
                        if corrected else ({}, {}))
-    return UpdateResult(tuple(steps), status, TERMINATION_MESSAGES[status], final, intervals,
-                        more)
+    return UpdateResult(tuple(steps), status, _message(status, steps[-1], settings), final,
+                        intervals, more)
+
+
+def _message(status, last, settings):
+    """:data:`TERMINATION_MESSAGES` of ``status``; for status 1, followed by the joints that
+    still stand out of their floors and how far (their corrections were undone): in a large
+    structure the residuals of right joints reach a few times their floors by noise alone."""
+    message = TERMINATION_MESSAGES[status]
+    if status != 1:
+        return message
+    ratio = {j: last.residuals[j] / max(last.floors[j], 1e-300) for j in last.residuals}
+    standing = sorted((j for j in ratio if ratio[j] > settings.stop_ratio), key=ratio.get,
+                      reverse=True)
+    shown = ", ".join(f"{j} {ratio[j]:.1f}" for j in standing[:5])
+    more = f" and {len(standing) - 5} more" if len(standing) > 5 else ""
+    return (f"{message} (still above {settings.stop_ratio:g} times their floors: {shown}{more}; "
+            "their corrections were undone)")
 
 
 def _neighbourhood_interval(local, grid, value):
