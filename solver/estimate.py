@@ -137,7 +137,25 @@ def relative_l2_errors(solution, enriched):
     return out
 
 
-def estimate_error(case, solution, resolution=None) -> ErrorEstimate:
+def enriched_plates(case, frequency, resolution=None):
+    """``(plates, reason, seconds)``: the enriched solve's :class:`solver.plate.PlateSolution`
+    of every plate (every count of the rule at ``resolution`` times :data:`ENRICHMENT`), or
+    None and why it was not made (:mod:`solver.sizing` estimates it too long or too large),
+    and the time it took."""
+    from solver.vtcr import solve_case
+
+    t0 = time.perf_counter()
+    resolution = {pid: plate_resolution(case, pid, resolution) for pid in case.plates}
+    enriched_resolution = {pid: ENRICHMENT * r for pid, r in resolution.items()}
+    if case.joints:
+        reason = _enriched_solve_unaffordable(case, frequency, enriched_resolution)
+        if reason:
+            return None, reason, time.perf_counter() - t0
+    plates = solve_case(case, frequency, resolution=enriched_resolution, residuals=False).plates
+    return plates, "", time.perf_counter() - t0
+
+
+def estimate_error(case, solution, resolution=None, enriched=None) -> ErrorEstimate:
     """Estimate the relative L2 error of ``w`` of ``solution`` (see the module docstring).
 
     Parameters
@@ -148,20 +166,18 @@ def estimate_error(case, solution, resolution=None) -> ErrorEstimate:
     resolution : float or mapping of str to float, optional
         The resolution factor ``solution`` was solved with, for every plate or per plate
         (default: the description's).
+    enriched : (dict or None, str, float), optional
+        :func:`enriched_plates` of the same solve, if already made.
     """
-    from solver.vtcr import solve_case
-
     t0 = time.perf_counter()
+    plates, reason, seconds = enriched or enriched_plates(case, solution.frequency, resolution)
+    t0 -= seconds if enriched else 0.0  # the estimate's cost includes its enriched solve
     resolution = {pid: plate_resolution(case, pid, resolution) for pid in case.plates}
     enriched_resolution = {pid: ENRICHMENT * r for pid, r in resolution.items()}
-    if case.joints:
-        reason = _enriched_solve_unaffordable(case, solution.frequency, enriched_resolution)
-        if reason:
-            return ErrorEstimate(None, {}, _compact(resolution), _compact(enriched_resolution),
-                                 time.perf_counter() - t0, "skipped", reason)
-    enriched = solve_case(case, solution.frequency, resolution=enriched_resolution,
-                          residuals=False).plates
-    integrals = relative_l2_errors(solution, enriched)
+    if plates is None:
+        return ErrorEstimate(None, {}, _compact(resolution), _compact(enriched_resolution),
+                             time.perf_counter() - t0, "skipped", reason)
+    integrals = relative_l2_errors(solution, plates)
     error2 = sum(e for e, _ in integrals.values())
     norm2 = sum(n for _, n in integrals.values())
     plates = {pid: math.sqrt(e / n) if n > 0.0 else 0.0 for pid, (e, n) in integrals.items()}

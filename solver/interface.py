@@ -28,8 +28,8 @@ symmetric equilibration; ``bench/bench_interface.py`` compares the alternatives.
 **Condensation on one joint** (:class:`JointCondensation`). While one joint's parameters
 :math:`c` vary, only its residual rows change: its residual samples are
 :math:`r(c) = y_L - c\,y_R` with :math:`y = PS + p` (:math:`P` the sampled load and kinematic
-operators, weights :math:`W^{1/2}` folded in), and its energy is :math:`y^HM(c)y` with the
-:math:`2n_q\times2n_q` matrix
+operators on the joint's :math:`n_f` load functions, weights :math:`W^{1/2}` folded in), and
+its energy is :math:`y^HM(c)y` with the :math:`2n_f\times2n_f` matrix
 
 .. math:: M(c) = \frac{\kappa}{2\,\mathrm{Re}\,c}\begin{bmatrix} I & -cI\\ -\bar cI & |c|^2I
           \end{bmatrix},\qquad \kappa = \alpha_\Gamma(1-r)/E_{ref}.
@@ -46,9 +46,8 @@ constrained minimum), the cost
 
 .. math:: E(c) = E(c_0) + t^HZt + y^H\Delta M\,y,\qquad t = \Delta M\,y .
 
-One evaluation is a dense solve of the size of the joint's residual samples (:math:`2n_q`,
-compressed to :math:`n_q` plus its load functions, :class:`JointCondensation`): its cost does
-not depend on the size of the structure.
+One evaluation is a dense solve of the size of the joint's residual samples (:math:`2n_f` per
+channel, :class:`JointCondensation`): its cost does not depend on the size of the structure.
 """
 
 from __future__ import annotations
@@ -58,7 +57,6 @@ import warnings
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.linalg
 import scipy.sparse
 import scipy.sparse.linalg
 
@@ -234,18 +232,9 @@ class JointCondensation:
     See the module docstring: built once from the factorisation at the current parameters
     :math:`c_0`, each :meth:`cost` is a dense solve of the size of the joint's residual samples.
 
-    **Compressed samples.** A channel's load samples :math:`y_L = W^{1/2}(LS + l)` lie in the
-    span of the few load functions it carries (:math:`\rho` columns, an orthonormal basis
-    :math:`Q`), while its :math:`n_q` kinematic samples :math:`y_R` do not. In the unitary
-    coordinates :math:`a = Q^Hy_L`, :math:`b = Q^Hy_R`, :math:`p = Q_\perp^Hy_R`, the channel's
-    energy is
-
-    .. math:: y^HM(c)y = \kappa g(c)\left(|a|^2 - 2\,\mathrm{Re}(c\,a^Hb)
-              + |c|^2(|b|^2 + |p|^2)\right),
-
-    the same number, so the dense solves are of size :math:`n_q + \rho` instead of
-    :math:`2n_q` (about a third of the work for the joints' Gauss rules) and the solves through
-    the factorisation have as many fewer right-hand sides.
+    Each channel's load and kinematic samples are :math:`n_f` numbers each (the joint's
+    residual on its load functions, :func:`solver.substructure._on_load_functions`), so a
+    joint's dense solves are of size :math:`2n_f` per channel.
 
     Parameters
     ----------
@@ -270,20 +259,14 @@ class JointCondensation:
         operators, offsets, self._slices = [], [], []
         start = 0
         for load, kinematic, *_ in channels:
-            basis = scipy.linalg.orth(np.column_stack([load.matrix, load.offset]))
-            complement = scipy.linalg.null_space(basis.conj().T)
-            rank = basis.shape[1]
-            for block, coordinates in ((load, basis), (kinematic, basis),
-                                       (kinematic, complement)):
-                rows = np.zeros((coordinates.shape[1], len(index)), dtype=complex)
-                rows[:, np.searchsorted(index, block.index)] = coordinates.conj().T @ block.matrix
+            for block in (load, kinematic):
+                rows = np.zeros((len(block.offset), len(index)), dtype=complex)
+                rows[:, np.searchsorted(index, block.index)] = block.matrix
                 operators.append(rows)
-                offsets.append(coordinates.conj().T @ block.offset)
-            n_perp = complement.shape[1]
-            self._slices.append((slice(start, start + rank),
-                                 slice(start + rank, start + 2 * rank),
-                                 slice(start + 2 * rank, start + 2 * rank + n_perp)))
-            start += 2 * rank + n_perp
+                offsets.append(block.offset)
+            n = len(load.offset)
+            self._slices.append((slice(start, start + n), slice(start + n, start + 2 * n)))
+            start += 2 * n
         self.index, self.operator = index, np.vstack(operators)  # P over its unknowns
         self.weights = [kappa for _, _, kappa, _, _ in channels]
         self.base = [c0 for _, _, _, c0, _ in channels]
@@ -336,24 +319,22 @@ class JointCondensation:
 
     def apply(self, coefficients, v):
         r""":math:`\Delta M\,v` (or any matrix of the same structure: per channel 2 x 2
-        ``coefficients``, None for zero) in the compressed coordinates, for ``v`` of shape
+        ``coefficients``, None for zero) on the channels' samples, for ``v`` of shape
         (samples,) or (samples, k)."""
         out = np.zeros_like(v)
-        for d, (a, b, perp) in zip(coefficients, self._slices):
+        for d, (a, b) in zip(coefficients, self._slices):
             if d is None:
                 continue
             out[a] = d[0, 0] * v[a] + d[0, 1] * v[b]
             out[b] = d[1, 0] * v[a] + d[1, 1] * v[b]
-            out[perp] = d[1, 1] * v[perp]
         return out
 
     def _system(self, deltas):
         r""":math:`I + Z\,\Delta M` for the channels' :math:`\Delta M` coefficients."""
         z_delta = np.empty_like(self.z)  # Z dM by columns: dM's blocks are multiples of I
-        for d, (a, b, perp) in zip(deltas, self._slices):
+        for d, (a, b) in zip(deltas, self._slices):
             z_delta[:, a] = self.z[:, a] * d[0, 0] + self.z[:, b] * d[1, 0]
             z_delta[:, b] = self.z[:, a] * d[0, 1] + self.z[:, b] * d[1, 1]
-            z_delta[:, perp] = self.z[:, perp] * d[1, 1]
         z_delta[np.diag_indices_from(z_delta)] += 1.0
         return z_delta
 

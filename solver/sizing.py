@@ -36,9 +36,11 @@ BYTES_PER_FACTOR_ENTRY = 30.0
 FACTOR_SECONDS = (0.52, 2.8e6, 1.22)  # seconds for a fill, and the exponent of the growth
 PLATE_SECONDS = 0.02  # rays, traces, dense plate solve and transfer operator, per plate
 LOCALISATION_SOLVES = 3  # per frequency: modified problem, direct model, the noise draws (one)
-SOLVE_SECONDS_PER_ENTRY = 1.2e-9  # one right-hand side through the LU factors, per entry
-CONDENSED_PER_SAMPLE = 1.3  # a condensation's right-hand sides per joint sample (compressed)
-PLAN_SOLVES = 3  # per frequency: the model response, the modified problem, the model again
+PLAN_SECONDS_PER_ENTRY = 1.2e-7
+"""``vtcr plan``'s work per joint and frequency per LU entry (its two condensations and its
+expected interval), measured on the 6 x 6 and 10 x 10 grids of ``bench/bench_scale.py``."""
+PLAN_SOLVES = 6  # per frequency: the model response, its enriched solve (three), the modified
+# problem and the model again
 
 
 @dataclass(frozen=True)
@@ -56,7 +58,6 @@ class SizeEstimate:
     factor_entries: float
     frequencies: int
     max_steps: int
-    joint_samples: int = 0  # residual samples of the joints' channels (no measured values)
     channels: int = 0  # updatable joints (a junction's finite members each)
 
     @property
@@ -81,12 +82,8 @@ class SizeEstimate:
 
     @property
     def plan_seconds_per_joint(self) -> float:
-        """``vtcr plan``'s two condensations of one joint (model response and modified
-        problem): per frequency, a solve through the factors for each of its compressed
-        samples."""
-        per_joint = CONDENSED_PER_SAMPLE * self.joint_samples / max(self.channels, 1)
-        return (self.frequencies * 2 * per_joint * SOLVE_SECONDS_PER_ENTRY
-                * self.factor_entries)
+        """``vtcr plan``'s work for one joint (:data:`PLAN_SECONDS_PER_ENTRY`)."""
+        return self.frequencies * PLAN_SECONDS_PER_ENTRY * self.factor_entries
 
     def plan_seconds(self, joints=None) -> float:
         """``vtcr plan`` of ``joints`` updatable joints (default every one)."""
@@ -127,31 +124,27 @@ def estimate_size(case, frequency=None, resolution=None) -> SizeEstimate:
     -------
     SizeEstimate
     """
-    from solver.substructure import interface_layout, joint_gauss
+    from solver.substructure import interface_layout
 
     frequency = max(case.frequencies) if frequency is None else float(frequency)
     problems = {pid: plate_problem(case, pid, frequency) for pid in case.plates}
     bases = {pid: plate_basis(case, pid, problems[pid], resolution) for pid in case.plates}
-    k_max = {pid: float(np.max(np.abs(b.k))) for pid, b in bases.items()}
-    counts, layout, _, corners, n_s, unknowns = interface_layout(case, problems, k_max,
-                                                                 resolution)
+    counts, layout, _, corners, n_s, unknowns = interface_layout(case, problems, resolution)
 
     entries = samples = constraints = 0
     for jid, joint in case.joints.items():
         seen = len(np.unique(np.concatenate([unknowns[p] for p in joint.plates])))
-        n_q = len(joint_gauss(case.edge_length(joint.sides[0]),
-                              max(k_max[p] for p in joint.plates))[0])
+        n_f = counts[jid]  # a channel's samples: its residual on the load functions
         if joint.kind == "junction":  # a channel per finite member, balance and rigid rows
             channels = len(joint.finite_members())
             constraints += counts[jid] * max(1, len(joint.plates) - channels)
         else:
             channels = 2 if "FA" in layout[jid] else 1
-        samples += channels * n_q
-        entries += channels * n_q * seen
+        samples += channels * n_f
+        entries += channels * n_f * seen
         if joint.kind == "coplanar":
             constraints += counts[jid]
             entries += counts[jid] * seen
-    joint_samples = samples
     for pid, points in _measured_points(case).items():
         samples += points
         entries += points * len(unknowns[pid])
@@ -160,7 +153,7 @@ def estimate_size(case, frequency=None, resolution=None) -> SizeEstimate:
     return SizeEstimate(frequency, len(case.plates), len(case.joints),
                         sum(b.n_dof for b in bases.values()), n_s, constraints, samples,
                         matrix_entries, matrix_entries * math.sqrt(len(case.plates)),
-                        len(case.frequencies), case.updating.max_steps, joint_samples,
+                        len(case.frequencies), case.updating.max_steps,
                         len(case.updatable_joints()))
 
 

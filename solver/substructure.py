@@ -39,11 +39,15 @@ None of :math:`K_i, F_i, B_i, T_i`, nor the constraints, depends on the joint pa
     r_{rot} = C - k^*(\theta_A + \theta_B),\qquad
     r_{mass} = F_A + F_B - \omega^2\mu\,\tfrac12(w_A + w_B),
 
-    e_\Gamma^2 = \int_\Gamma \frac{|r_{rot}|^2}{2k}\,d\sigma
-               + \int_\Gamma \frac{|r_{mass}|^2}{2\omega^2\mu}\,d\sigma ,\qquad
+    e_\Gamma^2 = \frac{\|\Pi_\psi r_{rot}\|_\Gamma^2}{2k}
+               + \frac{\|\Pi_\psi r_{mass}\|_\Gamma^2}{2\omega^2\mu} ,\qquad
     E_\Gamma^2 = e_\Gamma^2 / E_{ref},\qquad E_{int}^2 = \sum_\Gamma \alpha_\Gamma E_\Gamma^2 ,
 
-(the constitutive-relation error in the energy norm; :math:`e^2` in J). :math:`E_{ref}` is a
+(the constitutive-relation error in the energy norm; :math:`e^2` in J), where
+:math:`\Pi_\psi` is the :math:`L^2(\Gamma)` projection on the joint's Legendre functions,
+those that carry its loads (:func:`_on_load_functions`): the law is imposed as far as the
+discretised loads can carry it, and the part of the plates' traces beyond them, which no load
+of the discretisation balances, is left to the error estimate. :math:`E_{ref}` is a
 fixed energy, twice the time-averaged kinetic energy of the r = 0 solution at the initial
 parameters, :math:`\tfrac12\omega^2\sum_i\rho_ih_i\int_{\Omega_i}|w_i|^2dA`, so every
 :math:`E_\Gamma^2` is dimensionless and unchanged by the unit system or the load level.
@@ -51,23 +55,27 @@ parameters, :math:`\tfrac12\omega^2\sum_i\rho_ih_i\int_{\Omega_i}|w_i|^2dA`, so 
 Every residual sample is affine in :math:`S` and in the parameter :math:`c` (:math:`k^*` or
 :math:`\omega^2\mu`): :math:`r = (L S + l) - c\,(R S + \rho)`, and its samples involve only the
 interface unknowns that the joint's two plates see (their transfer operators :math:`T_i` span
-the unknowns of their own joints and corners). The samples (times the square roots of the
-Gauss weights) are stored per channel, so that memory grows linearly with the assembly;
-a cost for new parameters is a weighted sum of them (:meth:`Channel.block`).
+the unknowns of their own joints and corners). The samples (the Gauss samples times the
+square roots of the Gauss weights, taken on an orthonormal basis of the load functions: one
+per function) are stored per channel, so that memory grows linearly with the assembly; a cost
+for new parameters is a weighted sum of them (:meth:`Channel.block`).
 
 **Direct problem (r = 0).** Minimise :math:`E_{int}^2` subject to the constraints
-:math:`GS = g`, a sparse constrained least-squares problem (:mod:`solver.interface`). Its
-minimum is zero for the exact solution, so the minimiser is the assembly's forced response and
-the minimum is the discretisation floor.
+:math:`GS = g`, a sparse constrained least-squares problem (:mod:`solver.interface`). The
+projected laws can be met exactly (as many as the loads they constrain), so the minimum is
+zero to round-off and the minimiser is the assembly's forced response; the discretisation
+floor of the updating comes from the enriched solve (:mod:`updating.cost`).
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 from dataclasses import dataclass, field
 
 import numpy as np
+import scipy.linalg
 import scipy.sparse
 
 from solver.plate import (
@@ -109,13 +117,42 @@ rigid to 1e-3 of the plates' rotations; above it the residual is measured in com
 
 
 def interface_function_count(kappa0, length, resolution=1.0):
-    r"""Legendre functions per interface unknown: :math:`M = \lceil 0.75\,s\,\kappa_0 L\rceil + 8`.
+    r"""Legendre functions per interface unknown: :math:`M = \lceil 0.75\,s\,\kappa_0 L\rceil + 2`.
 
     A Legendre series resolves :math:`e^{j\beta\sigma}` on :math:`[0, L]` once
     :math:`M > \beta L/2`; the joint loads carry wavenumbers up to about :math:`1.5\kappa_0`
-    (propagating waves plus the slower part of the edge boundary layers).
+    (propagating waves plus the slower part of the edge boundary layers). More functions than
+    the plates' rays can answer make the loads' system ill-posed: against the Levy series of a
+    three-plate chain from 60 to 600 Hz and log10 k = 2 to 8, ``+ 2`` was near the best count
+    everywhere, and ``+ 8`` up to ten times less accurate at stiff joints and low
+    :math:`\kappa_0L` (``bench/README.md``).
     """
-    return math.ceil(0.75 * resolution * kappa0 * length) + 8
+    return math.ceil(0.75 * resolution * kappa0 * length) + 2
+
+
+def load_function_basis(root_w, psi):
+    r""":math:`Q`, an orthonormal basis (columns) of the joint's weighted load functions
+    :math:`W^{1/2}\psi` at its Gauss points."""
+    return scipy.linalg.orth(root_w[:, None] * psi)
+
+
+def _on_load_functions(channel, basis):
+    r"""``channel`` measured on its load functions: its load and kinematic samples replaced by
+    their coordinates on ``basis`` (:math:`Q^H W^{1/2}(\cdot)`, :func:`load_function_basis`).
+
+    The residual :math:`r = (LS + l) - c(RS + \rho)` then counts through its :math:`L^2`
+    projection on the functions that carry the loads, :math:`\|Q^HW^{1/2}r\|^2`: the joint law
+    is imposed as far as the loads can carry it. The part of the plates' traces outside those
+    functions, which no load of the discretisation can balance, is not counted; measuring it
+    made each channel's rows as many as its Gauss points (instead of its functions) and, with
+    the functions a plate's rays can answer, left a floor of that part in every residual
+    (``bench/README.md``)."""
+    q = basis.conj().T
+    return dataclasses.replace(
+        channel,
+        load=Block(channel.load.index, q @ channel.load.matrix, q @ channel.load.offset),
+        kinematic=Block(channel.kinematic.index, q @ channel.kinematic.matrix,
+                        q @ channel.kinematic.offset))
 
 
 def legendre_values(sigma, length, n):
@@ -126,11 +163,13 @@ def legendre_values(sigma, length, n):
 
 @dataclass(frozen=True)
 class Channel:
-    r"""One residual channel of one joint, sampled at Gauss points of the joint line.
+    r"""One residual channel of one joint, on the joint's load functions.
 
     The residual is :math:`r = (LS + l) - c\,(RS + \rho)`; both parts are
-    :class:`solver.interface.Block` samples multiplied by :math:`\sqrt{\omega_q}` (the Gauss
-    weights), so that the channel's energy is :math:`\|r\|^2 / (2\,\mathrm{Re}\,c)`.
+    :class:`solver.interface.Block` samples: the Gauss samples multiplied by
+    :math:`\sqrt{\omega_q}` (the Gauss weights) and taken on an orthonormal basis :math:`Q`
+    of the weighted load functions (:func:`_on_load_functions`), so that the channel's energy
+    is :math:`\|r\|^2 / (2\,\mathrm{Re}\,c)` of the projected law.
 
     Attributes
     ----------
@@ -138,9 +177,9 @@ class Channel:
         The description's joint.
     kind : {"rotation", "mass"}
     load : Block
-        :math:`W^{1/2}(LS + l)`, over the joint's own load unknowns.
+        :math:`Q^HW^{1/2}(LS + l)`, over the joint's own load unknowns.
     kinematic : Block
-        :math:`W^{1/2}(RS + \rho)`, over the interface unknowns its two plates see.
+        :math:`Q^HW^{1/2}(RS + \rho)`, over the interface unknowns its two plates see.
     member : str or None
         The member plate of a junction's spring channel (:attr:`name` ``JOINT.PLATE``).
     """
@@ -255,10 +294,10 @@ def _has_mass_channel(joint, identify):
     return joint.kind == "coplanar" and (joint.mass > 0.0 or "mass" in identify)
 
 
-def _layout(case, counts, line_samples):
+def _layout(case, counts):
     """Slices of S: per joint ``C`` and ``F`` (or ``FA``, ``FB``), per junction ``C.PLATE``
-    for each member and, without a rigid member, ``T`` (the line's rotation at its
-    ``line_samples`` Gauss points); then the corner forces."""
+    for each member and, without a rigid member, ``T`` (the line's rotation, on the joint's
+    Legendre functions); then the corner forces."""
     layout, start = {}, 0
     identify = case.updating.identify
     for jid, joint in case.joints.items():
@@ -268,8 +307,8 @@ def _layout(case, counts, line_samples):
                                        else ["F"], counts[jid]))
         elif joint.kind == "junction":
             sizes = {f"C.{plate}": counts[jid] for plate in joint.plates}
-            if jid in line_samples:
-                sizes["T"] = line_samples[jid]
+            if not _rigid_members(joint):
+                sizes["T"] = counts[jid]
         layout[jid] = {}
         for name, size in sizes.items():
             layout[jid][name] = slice(start, start + size)
@@ -354,12 +393,11 @@ def _scaled(block, factor):
     return Block(block.index, (factor.T * block.matrix.T).T, factor * block.offset)
 
 
-def interface_layout(case, problems, k_max, resolution=None):
+def interface_layout(case, problems, resolution=None):
     """The interface unknowns of an assembly, counted from its description.
 
-    ``k_max`` is the largest ray wavenumber of each plate (rad/m; it sets the joints' Gauss
-    rules, :func:`joint_gauss`); ``resolution`` is None (the description's), one factor, or a
-    mapping by plate; a joint's interface functions follow the finest of its plates.
+    ``resolution`` is None (the description's), one factor, or a mapping by plate; a joint's
+    interface functions follow the finest of its plates.
 
     Returns
     -------
@@ -375,16 +413,14 @@ def interface_layout(case, problems, k_max, resolution=None):
     unknowns : dict of str to ndarray of int
         Per plate, the interface unknowns it sees.
     """
-    counts, line_samples = {}, {}
+    counts = {}
     for jid, joint in case.joints.items():
         length = case.edge_length(joint.sides[0])
         kappa0 = max(problems[plate].kappa.real for plate in joint.plates)
         joint_scale = max(plate_resolution(case, side.plate, resolution) for side in joint.sides)
         counts[jid] = (case.discretisation.interface_functions
                        or interface_function_count(kappa0, length, joint_scale))
-        if joint.kind == "junction" and not _rigid_members(joint):
-            line_samples[jid] = len(joint_gauss(length, max(k_max[p] for p in joint.plates))[0])
-    layout, n_s = _layout(case, counts, line_samples)
+    layout, n_s = _layout(case, counts)
     junctions = _junctions(case, problems)
     corner_columns = {}
     for flags in junctions:
@@ -463,7 +499,7 @@ def build_assembly_system(case, frequency, resolution=None) -> AssemblySystem:
     k_max = {pid: float(np.max(np.abs(b.k))) for pid, b in bases.items()}
 
     counts, layout, junctions, corner_columns, n_s, unknowns = interface_layout(
-        case, problems, k_max, resolution)
+        case, problems, resolution)
 
     sides, corners = _plate_sides(case, corner_columns)
     u0, transfer, rcond = {}, {}, {}
@@ -504,12 +540,15 @@ def build_assembly_system(case, frequency, resolution=None) -> AssemblySystem:
         rotation_jump = _scaled(_union(ta["slope"], tb["slope"]), root_w)
         stiffness, kappa0 = max((problems[p].bending_stiffness.real, problems[p].kappa.real)
                                 for p in (a.plate, b.plate))
-        channels.append(Channel(jid, "rotation", unknown("C"), rotation_jump,
-                                RIGID_CROSSOVER * stiffness * kappa0))
+        basis = load_function_basis(root_w, psi)
+        channels.append(_on_load_functions(
+            Channel(jid, "rotation", unknown("C"), rotation_jump,
+                    RIGID_CROSSOVER * stiffness * kappa0), basis))
         if "FA" in slots:
             mean_w = _scaled(_union(ta["w"], tb["w"]), 0.5 * root_w)
-            channels.append(Channel(jid, "mass", unknown("FA", "FB"), mean_w,
-                                    RIGID_CROSSOVER * stiffness * kappa0**3))
+            channels.append(_on_load_functions(
+                Channel(jid, "mass", unknown("FA", "FB"), mean_w,
+                        RIGID_CROSSOVER * stiffness * kappa0**3), basis))
         if joint.kind == "coplanar":
             gap = _union(ta["w"], _scaled(tb["w"], -1.0))
             weighted = psi.T * wq
@@ -545,7 +584,7 @@ def _junction_line(case, system, jid, k_max, counts):
     Member :math:`i` (direction :math:`s_i`, :meth:`assembly.Case.member_directions`)
     rotates by :math:`\Theta_i = -s_i\theta_i` about the line. The line's rotation
     :math:`\Theta_J` is that of the first rigid member, or, without one, its own unknown
-    values ``T`` at the Gauss points. Reliable: :math:`\sum_iC_i = 0` (per Legendre
+    ``T`` on the joint's Legendre functions. Reliable: :math:`\sum_iC_i = 0` (per Legendre
     coefficient) and :math:`\int(\Theta_i - \Theta_J)\psi_m = 0` for the other rigid
     members; each finite member's spring :math:`C_i = k_i^*(\Theta_J - \Theta_i)` is a
     channel ``JOINT.PLATE``, load :math:`C_i`, kinematic :math:`\Theta_J + s_i\theta_i`.
@@ -570,8 +609,8 @@ def _junction_line(case, system, jid, k_max, counts):
     if rigid:
         line = rotation[rigid[0]]
     else:
-        line = Block(np.arange(slots["T"].start, slots["T"].stop),
-                     np.eye(len(sigma), dtype=complex), np.zeros(len(sigma), dtype=complex))
+        line = Block(np.arange(slots["T"].start, slots["T"].stop), psi.astype(complex),
+                     np.zeros(len(sigma), dtype=complex))
     weighted = psi.T * wq
     rows = []
     for plate in rigid[1:]:
@@ -585,13 +624,15 @@ def _junction_line(case, system, jid, k_max, counts):
     stiffness, kappa0 = max((system.problems[p].bending_stiffness.real,
                              system.problems[p].kappa.real) for p in joint.plates)
     channels = []
+    basis = load_function_basis(root_w, psi)
     for plate in joint.finite_members():
         moment = slots[f"C.{plate}"]
         load = Block(np.arange(moment.start, moment.stop), root_w[:, None] * psi,
                      np.zeros(len(sigma), dtype=complex))
         kinematic = _scaled(_union(line, _scaled(rotation[plate], -1.0)), root_w)
-        channels.append(Channel(jid, "rotation", load, kinematic,
-                                2.0 * RIGID_CROSSOVER * stiffness * kappa0, member=plate))
+        channels.append(_on_load_functions(
+            Channel(jid, "rotation", load, kinematic, 2.0 * RIGID_CROSSOVER * stiffness * kappa0,
+                    member=plate), basis))
     return rows, channels
 
 

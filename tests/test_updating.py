@@ -381,8 +381,11 @@ def test_sharply_identified_joints_get_narrow_two_sided_intervals():
 
 def test_noise_free_data_get_the_discretisation_floor_as_width():
     """Exact Levy fields without noise: the interval is calibrated against the misfit the
-    model's discretisation leaves (Gaussian, 0.04 % here), so it is narrow but not empty and
-    holds the truth (the estimate is 2e-4 decade off it)."""
+    model's discretisation leaves (Gaussian, 0.02 % here), so it is narrow but not empty, and
+    the shift the model's estimated discretisation error gives the estimate (8.6e-5 decade,
+    against the estimate's actual 7.8e-5 off the truth) is added to its half-width in
+    quadrature: [1.99983, 2.00003] holds the truth, where the interval from the misfit alone,
+    1.1e-4 wide, missed it by 1.5e-5."""
     case, exact = levy_chain_experiment((2.0,))
     clean = exact_measurements(case, exact)
     problem = ModifiedProblem(case, clean)
@@ -445,7 +448,7 @@ def test_redraws_through_the_measured_values_equal_redraws_one_by_one():
 
 def test_an_estimate_outside_its_interval_is_said_to_be_biased():
     """The score test's interval is calibrated whatever the estimator's bias, so an estimate
-    may lie outside it (the four plates' G2: 4.18 with >= 4.25): the line says why, unless
+    may lie outside it (the four plates' G2: 4.20 with >= 4.29): the line says why, unless
     the value is on an end within the printed digits."""
     from types import SimpleNamespace
 
@@ -465,3 +468,23 @@ def test_an_estimate_outside_its_interval_is_said_to_be_biased():
     assert line(4.18, 4.25, None).endswith(OUTSIDE)
     assert line(2.07, 1.64, 2.01).endswith(OUTSIDE)
     assert not line(0.61, None, 0.75).endswith(OUTSIDE)
+
+
+def test_floors_hold_the_discretisation_error_and_say_when_they_cannot(monkeypatch):
+    """With noise-free data the floors are what the model's discretisation error alone leaves
+    (the enriched solve's w+ - w_h at the measured points): nonzero, and zero to round-off
+    without it; when the enriched solve is too large for the machine the problem says that its
+    floors hold the noise only."""
+    case, exact = levy_chain_experiment((2.0,))
+    clean = exact_measurements(case, exact)
+    problem = ModifiedProblem(case, clean)
+    assert problem.warnings == ()
+    floors, _ = problem.noise_floor(problem.initial_parameters(), 0.0, realisations=1)
+    assert floors["G1"] > 1e-12
+    monkeypatch.setattr("solver.estimate._enriched_solve_unaffordable",
+                        lambda *args: "too large for this test")
+    bare = ModifiedProblem(case, clean)
+    (line,) = bare.warnings
+    assert "floors hold the measurement noise only" in line and "too large for this test" in line
+    floors, _ = bare.noise_floor(bare.initial_parameters(), 0.0, realisations=1)
+    assert floors["G1"] < 1e-20

@@ -41,7 +41,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from solver.estimate import estimate_error
+from solver.estimate import enriched_plates, estimate_error
 from solver.interface import Block, JointCondensation
 from solver.plate import particular_field
 from solver.rays import ray_field
@@ -134,6 +134,8 @@ class _Frequency:
     initial_s: np.ndarray  # the model response's S at p0 (the E_ref solve)
     estimate: object = None  # solver.estimate.ErrorEstimate of that response, if asked for
     per_plate: bool = False  # each plate's misfit relative to its own data ([updating] misfit)
+    discretisation: list | None = None  # per measured plate, w+ - w_h at its points (p0)
+    no_discretisation: str = ""  # why ``discretisation`` is None (the enriched solve's cost)
 
     def norms(self, data=None):
         """Per measured plate, what its squared misfit is divided by (:func:`_norms`), for
@@ -173,8 +175,9 @@ def _frequency_data(case, resolution, estimate, task):
     frequency, measured_plates = task
     system = build_assembly_system(case, frequency, resolution)
     initial = solve_assembly(case, frequency, resolution, system=system)  # fixes E_ref at p0
-    error = estimate_error(case, initial, resolution) if estimate else None
-    plates, operators, data = [], [], []
+    enriched = enriched_plates(case, frequency, resolution)
+    error = estimate_error(case, initial, resolution, enriched) if estimate else None
+    plates, operators, data, offsets = [], [], [], []
     for pid, (points, measured) in measured_plates.items():
         problem, basis = system.problems[pid], system.bases[pid]
         rays = ray_field(basis, points)["w"]
@@ -182,8 +185,12 @@ def _frequency_data(case, resolution, estimate, task):
         plates.append(pid)
         operators.append(system.affine_plate_operator(pid, rays, particular))
         data.append(np.asarray(measured))
+        if enriched[0] is not None:
+            offsets.append(enriched[0][pid].field(points)["w"] - operators[-1].residual(
+                initial.interface))
     return _Frequency(system, plates, operators, data, initial.interface, error,
-                      case.updating.misfit == "per_plate")
+                      case.updating.misfit == "per_plate", offsets if enriched[0] else None,
+                      enriched[1])
 
 
 class ModifiedProblem:
@@ -357,13 +364,18 @@ class ModifiedProblem:
             kept[joint] = JointCorrection(self, parameters, joint, self._last[1])
         return kept[joint]
 
-    def synthetic_data(self, parameters, noise, seed=0, realisations=4):
+    def synthetic_data(self, parameters, noise, seed=0, realisations=4, discretisation=False):
         r"""Measured values of synthetic experiments on the measured points.
 
         The data are the model's own prediction at ``parameters`` (the interface solution of
         :math:`E_{int}^2` alone) times :math:`1 + e`, :math:`e\sim U[-noise, noise]`: what the
         measurements would be if the model were right and only the stated noise were at work.
-        Returns ``realisations`` dicts ``{frequency: [values per measured plate]}``.
+        With ``discretisation``, the prediction is first moved by the model's discretisation
+        error at the measured points, estimated at p0 by the enriched solve
+        (:math:`w^+ - w_h`, :func:`solver.estimate.enriched_plates`): what they would be if the
+        model's joints were right and its discretisation and the noise were at work (the
+        error changes little with the joint parameters). Returns ``realisations`` dicts
+        ``{frequency: [values per measured plate]}``.
         """
         rng = np.random.default_rng(seed)
         at_start = parameters == self.initial_parameters()  # solved in the set-up already
@@ -374,6 +386,10 @@ class ModifiedProblem:
             interfaces = {f: factor.s for f, factor in self.direct_factors(parameters).items()}
         predictions = {f: [op.residual(interfaces[f]) for op in freq.operators]
                        for f, freq in self.frequencies.items()}
+        if discretisation:
+            predictions = {f: [w + d for w, d in zip(plates, self.frequencies[f].discretisation)]
+                           if self.frequencies[f].discretisation is not None else plates
+                           for f, plates in predictions.items()}
         return [{f: [w * (1.0 + rng.uniform(-noise, noise, w.shape)) for w in plates]
                  for f, plates in predictions.items()}
                 for _ in range(realisations)]
@@ -402,16 +418,19 @@ class ModifiedProblem:
         return factors
 
     def noise_floor(self, parameters, noise, seed=0, realisations=4):
-        r"""What a correct model would show under measurement noise alone.
+        r"""What a model with right joints would show under measurement noise and its own
+        discretisation error.
 
-        Means over :meth:`synthetic_data` realisations: ``({joint: E_Gamma^2}, E_mod^2)``, the
+        Means over :meth:`synthetic_data` realisations (the prediction moved by the discretisation
+        error the enriched solve estimates, then the noise): ``({joint: E_Gamma^2}, E_mod^2)``, the
         levels below which a joint's residual, and the cost, cannot be told from noise and
-        discretisation error. The draws of one frequency are normalised by the mean of their
-        norms :math:`\|\tilde u_k\|^2` (which differ by about noise / sqrt(points)) rather
-        than each by its own, so that one factorisation of the interface problem serves them
-        all.
+        discretisation error. Without the enriched solve (too large for the machine,
+        :attr:`_Frequency.no_discretisation`) the noise alone. The draws of one frequency are
+        normalised by the mean of their norms :math:`\|\tilde u_k\|^2` (which differ by about noise
+        / sqrt(points)) rather than each by its own, so that one factorisation of the interface
+        problem serves them all.
         """
-        draws = self.synthetic_data(parameters, noise, seed, realisations)
+        draws = self.synthetic_data(parameters, noise, seed, realisations, discretisation=True)
 
         def floor(frequency):
             freq = self.frequencies[frequency]
@@ -472,11 +491,17 @@ class ModifiedProblem:
 
     @property
     def warnings(self):
-        """Condition warnings of the plate solves, one line each (as ``CaseSolution.warnings``)."""
+        """Condition warnings of the plate solves, one line each (as ``CaseSolution.warnings``),
+        and the frequencies whose floors lack the discretisation error (its enriched solve was
+        not made)."""
         from solver.vtcr import condition_warnings
 
-        return tuple(line for f, d in self.frequencies.items()
-                     for line in condition_warnings(d.system.rcond, f))
+        lines = [line for f, d in self.frequencies.items()
+                 for line in condition_warnings(d.system.rcond, f)]
+        lines += [f"{f:g} Hz: the floors hold the measurement noise only, not the model's "
+                  f"discretisation error: {d.no_discretisation}"
+                  for f, d in self.frequencies.items() if d.discretisation is None]
+        return tuple(lines)
 
     @property
     def size(self):

@@ -90,10 +90,10 @@ def identifiability_plan(case, layout_measurements, level=None, resolution=None,
     model's own prediction there); the estimates of the model's discretisation error, which
     the sensitivities are read against, with ``estimate`` (else empty).
 
-    ``joints`` restricts the plan to those updatable joints (default: every one): each joint
-    costs two condensations (solves through the factorisations, together about 40 % of a
-    factorisation in a large structure; :meth:`solver.sizing.SizeEstimate.plan_seconds`), so a large structure is planned region by
-    region. ``on_joint(joint)`` is called after each joint (progress)."""
+    ``joints`` restricts the plan to those updatable joints (default: every one): each joint costs
+    two condensations (solves through the factorisations, together about 40 % of a factorisation in
+    a large structure; :meth:`solver.sizing.SizeEstimate.plan_seconds`), so a large structure is
+    planned region by region. ``on_joint(joint)`` is called after each joint (progress)."""
     level = case.updating.confidence if level is None else level
     problem = ModifiedProblem(case, layout_measurements, resolution=resolution,
                               threads=threads, estimate=estimate)

@@ -19,7 +19,7 @@ OUTSIDE = ("; the estimate lies outside it: the noise biases the estimate, while
            "is calibrated at each candidate value")
 """Said of an identified value outside its own interval: the score test's interval holds the
 truth at its level whatever the estimator's bias (:mod:`updating.confidence`), and with noise
-the estimate is biased by about its own spread (the four plates' G2: 4.18 with ``>= 4.25``,
+the estimate is biased by about its own spread (the four plates' G2: 4.20 with ``>= 4.29``,
 true 4.5)."""
 
 
