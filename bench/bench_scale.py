@@ -27,7 +27,7 @@ experiment, and measures:
    (``fem_argyris.solve_fem``); evaluating w at the points is timed for neither.
 
 Run: ``pip install -e '.[bench]' && python bench/bench_scale.py [--sizes 2 3 4 6 8 10]``
-(about an hour with the defaults; ``--sizes 2 3 --fem-sizes 2 --panels 4`` in about half a
+(about 16 min with the defaults; ``--sizes 2 3 --fem-sizes 2 --panels 4`` in about half a
 minute).
 """
 
