@@ -296,7 +296,7 @@ CATALOGUE: list[Bad] = [
     Bad("update-over-an-unfinished-run", ["update", "{dir}/case.toml", "--run", "{dir}/r.json",
                                           "--json", "{dir}/out.json"],
         ("run file", "r.json", "holds an unfinished run", "--resume", "--force"),
-        files={"case.toml": TWO, "r.json": '{"format": "vtcr-run/1", "finished": false}'}),
+        files={"case.toml": TWO, "r.json": '{"format": "vtcr-run/2", "finished": false}'}),
     Bad("update-over-another-file", ["update", "{dir}/case.toml", "--run", "{dir}/notes.txt",
                                      "--json", "{dir}/out.json"],
         ("notes.txt", "holds a file that is not a vtcr run", "--force"),

@@ -129,7 +129,8 @@ def test_resume_refuses_a_run_of_another_description(one_frequency_case, tmp_pat
 @pytest.mark.parametrize("content, message", [
     (None, "cannot read the run file"),
     ("{not json", "not valid JSON"),
-    ('{"format": "something-else"}', "not a vtcr-run/1 run file"),
+    ('{"format": "something-else"}', "not a vtcr-run/2 run file"),
+    ('{"format": "vtcr-run/1", "finished": true}', "a run of an earlier vtcr (vtcr-run/1)"),
 ])
 def test_resume_rejects_bad_run_files(one_frequency_case, tmp_path, capsys, content, message):
     run = tmp_path / "run.json"

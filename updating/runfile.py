@@ -41,7 +41,9 @@ except ImportError:  # pragma: no cover - not POSIX
 __all__ = ["RUN_FORMAT", "fingerprint", "RunFile", "read_run", "load_run", "RunLock",
            "refuse_replacing"]
 
-RUN_FORMAT = "vtcr-run/1"
+RUN_FORMAT = "vtcr-run/2"
+"""``vtcr-run/1`` runs measured the joint residual at the Gauss points, with floors of the
+noise alone: their steps are not steps of this version's problem, and are not resumed."""
 
 
 def fingerprint(case, measurements):
@@ -211,6 +213,10 @@ def read_run(path):
             from None
     except ValueError as err:
         raise InputError(f"--resume {path}: not valid JSON ({err}); {_FIX}") from None
+    if isinstance(data, dict) and data.get("format") == "vtcr-run/1":
+        raise InputError(f"--resume {path}: a run of an earlier vtcr (vtcr-run/1), whose joint "
+                         "residual and floors differ from this version's; start a new run (with "
+                         f"--force over it, or another --run)")
     if not isinstance(data, dict) or data.get("format") != RUN_FORMAT:
         raise InputError(f"--resume {path}: not a {RUN_FORMAT} run file; {_FIX}")
     return text, data
