@@ -64,6 +64,14 @@ def _description(name, frequency, loss_factor, plates, joints, boundaries, force
     return description
 
 
+def _check_truth(truth, names, what, hint):
+    """A ValueError naming the ``truth`` entries that are not in ``names`` (``what`` and
+    ``hint`` say what the generated description has)."""
+    unknown = sorted(set(truth or {}) - set(names))
+    if unknown:
+        raise ValueError(f"truth names {what} does not have: {', '.join(unknown)} ({hint})")
+
+
 def _framed_plate(size, origin, x_axis, y_axis, thickness):
     """A steel plate placed in space by its frame."""
     return {"material": "steel", "thickness": thickness, "size": list(size),
@@ -111,10 +119,8 @@ def plate_grid(n_x: int, n_y: int, *, plate_size=(0.5, 0.4), thickness=0.001, fr
     if n_x < 1 or n_y < 1 or n_x * n_y < 2:
         raise ValueError(f"a plate grid needs n_x, n_y >= 1 and two plates, got {n_x} x {n_y}")
     joints = grid_joint_ids(n_x, n_y)
-    unknown = sorted(set(truth or {}) - set(joints))
-    if unknown:
-        raise ValueError(f"truth names joints the {n_x} x {n_y} grid does not have: "
-                         f"{', '.join(unknown)} (joints H{{i}}_{{j}} and V{{i}}_{{j}})")
+    _check_truth(truth, joints, f"joints the {n_x} x {n_y} grid",
+                 "joints H{i}_{j} and V{i}_{j}")
     lx, ly = plate_size
     plates, boundaries = {}, []
     for j in range(1, n_y + 1):
@@ -173,10 +179,7 @@ def stiffened_panel(n_bays: int, *, bay_size=(0.5, 0.4), stiffener_height=0.15,
     if n_bays < 2:
         raise ValueError(f"a stiffened panel needs at least 2 bays, got {n_bays}")
     welds = [f"W{i}" for i in range(1, n_bays)]
-    unknown = sorted(set(truth or {}) - set(welds))
-    if unknown:
-        raise ValueError(f"truth names welds the {n_bays}-bay panel does not have: "
-                         f"{', '.join(unknown)} (welds W1..W{n_bays - 1})")
+    _check_truth(truth, welds, f"welds the {n_bays}-bay panel", f"welds W1..W{n_bays - 1}")
     lx, ly = bay_size
     along_y = (0.0, 1.0, 0.0)
     plates = {f"B{i}": _framed_plate(bay_size, ((i - 1) * lx, 0.0, 0.0), (1.0, 0.0, 0.0),
@@ -282,10 +285,7 @@ def box_with_wall(*, size=(0.5, 0.4, 0.3), wall_at=0.3, thickness=0.001,
             joints["_".join(o.lower() for o in owners)] = {
                 "kind": "hinge", "between": members,
                 "log10_stiffness": fold_log10_stiffness, "loss_factor": 0.0}
-    unknown = sorted(set(truth or {}) - set(joints))
-    if unknown:
-        raise ValueError(f"truth names joints the box does not have: {', '.join(unknown)} "
-                         f"(joints: {', '.join(joints)})")
+    _check_truth(truth, joints, "joints the box", f"joints: {', '.join(joints)}")
     return _description(
         name, frequency, loss_factor, plates, joints, None, ("Top1", force_at),
         {"spacing": spacing, "noise": noise, "seed": seed,

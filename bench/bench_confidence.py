@@ -54,30 +54,27 @@ def levy_chain_case(truths, lengths):
     return case, exact_measurements(case, exact)
 
 
-def damped_chain_case():
-    """Two plates whose joint's stiffness and loss factor are both wrong in the model (log10 k
-    2.0 and 0.02 against 3.0 and 0.3) and both identified; the experiment simulated at the finer
-    measurement resolution, ±10 % noise."""
-    joints = [{"kind": "coplanar", "log10_stiffness": 2.0, "loss_factor": 0.02}]
-    description = chain_description(joints, 1.0, force=(0, 0.12, 0.31))
-    description["truth"] = {"joints": {"G1": {"log10_stiffness": 3.0, "loss_factor": 0.3}}}
+def simulated_chain_case(model, truth, identify):
+    """Two plates whose joint is ``model`` in the description and ``truth`` in the simulated
+    experiment (the finer measurement resolution, ±10 % noise), the parameters ``identify``
+    names identified."""
+    description = chain_description([{"kind": "coplanar", **model}], 1.0,
+                                    force=(0, 0.12, 0.31))
+    description["truth"] = {"joints": {"G1": truth}}
     description["measurement"] = {"spacing": 0.08, "noise": NOISE}
-    description["updating"] = {"identify": ["stiffness", "damping"], "bounds": [-1.0, 6.0]}
+    description["updating"] = {"identify": ["stiffness", identify], "bounds": [-1.0, 6.0]}
     case = parse_case(description)
     return case, simulate_measurements(case, noise=0.0)
 
 
-def massive_chain_case():
-    """Two plates whose joint's stiffness and line mass are both wrong in the model (log10 k
-    2.0 and 0.02 kg/m against 3.0 and 0.1 kg/m) and both identified; the experiment simulated
-    at the finer measurement resolution, ±10 % noise."""
-    joints = [{"kind": "coplanar", "log10_stiffness": 2.0, "loss_factor": 0.05, "mass": 0.02}]
-    description = chain_description(joints, 1.0, force=(0, 0.12, 0.31))
-    description["truth"] = {"joints": {"G1": {"log10_stiffness": 3.0, "mass": 0.1}}}
-    description["measurement"] = {"spacing": 0.08, "noise": NOISE}
-    description["updating"] = {"identify": ["stiffness", "mass"], "bounds": [-1.0, 6.0]}
-    case = parse_case(description)
-    return case, simulate_measurements(case, noise=0.0)
+# stiffness and loss factor both wrong (log10 k 2.0 and 0.02 against 3.0 and 0.3)
+damped_chain_case = functools.partial(
+    simulated_chain_case, {"log10_stiffness": 2.0, "loss_factor": 0.02},
+    {"log10_stiffness": 3.0, "loss_factor": 0.3}, "damping")
+# stiffness and line mass both wrong (2.0 and 0.02 kg/m against 3.0 and 0.1 kg/m)
+massive_chain_case = functools.partial(
+    simulated_chain_case, {"log10_stiffness": 2.0, "loss_factor": 0.05, "mass": 0.02},
+    {"log10_stiffness": 3.0, "mass": 0.1}, "mass")
 
 
 def four_plates_case():

@@ -231,7 +231,8 @@ def power_flow(case, solution) -> PowerFlow:
         amplitudes = {pid: p.amplitudes for pid, p in solution.plates.items()}
         joint_dissipated = dict.fromkeys(case.joints, 0.0)
         for channel in system.channels:
-            jump = channel.kinematic.residual(s)  # Gauss weights folded in: int |[q]|^2 ds
+            # the jump on the load functions: the power the joint's loads do on it
+            jump = channel.kinematic.residual(s)
             c = params[channel.name, channel.kind]
             joint_dissipated[channel.joint] += 0.5 * omega * c.imag * float(np.vdot(jump, jump).real)
         for jid, joint in case.joints.items():

@@ -197,17 +197,17 @@ class Channel:
         return self.joint if self.member is None else f"{self.joint}.{self.member}"
 
     def samples(self, s, c):
-        """Weighted residual samples :math:`W^{1/2}r` at interface unknowns ``s``."""
+        """Residual samples :math:`Q^HW^{1/2}r` at interface unknowns ``s``."""
         return self.load.residual(s) - c * self.kinematic.residual(s)
 
     def energy(self, s, c):
-        r""":math:`e^2 = g(c)\int|r|^2\,d\sigma` (J), :math:`g = 1/(2\,\mathrm{Re}\,c)` below
-        the crossover (:func:`solver.interface.residual_weight`)."""
+        r""":math:`e^2 = g(c)\|\Pi_\psi r\|_\Gamma^2` (J), :math:`g = 1/(2\,\mathrm{Re}\,c)`
+        below the crossover (:func:`solver.interface.residual_weight`)."""
         r = self.samples(s, c)
         return float(np.vdot(r, r).real) * residual_weight(c, self.crossover)
 
     def block(self, c, kappa):
-        r"""The rows :math:`\sqrt{\kappa g(c)}\,W^{1/2}r` as one Block over
+        r"""The rows :math:`\sqrt{\kappa g(c)}\,Q^HW^{1/2}r` as one Block over
         :attr:`kinematic` ``.index`` (the load unknowns are a subset of it)."""
         scale = math.sqrt(kappa * residual_weight(c, self.crossover))
         matrix = -c * self.kinematic.matrix

@@ -489,9 +489,9 @@ def test_modified_problem_collects_condition_warnings() -> None:
 
     fake = SimpleNamespace(frequencies={
         150.0: SimpleNamespace(system=SimpleNamespace(rcond={"P1": 1e-12, "P2": 1e-25}),
-                               discretisation=[]),
+                               no_discretisation=""),
         155.0: SimpleNamespace(system=SimpleNamespace(rcond={"P1": 1e-30, "P2": 1e-12}),
-                               discretisation=[])})
+                               no_discretisation="")})
     lines = ModifiedProblem.warnings.fget(fake)
     assert [line.split(":")[0] for line in lines] == ["plate P2 at 150 Hz", "plate P1 at 155 Hz"]
 

@@ -384,7 +384,7 @@ def test_noise_free_data_get_the_discretisation_floor_as_width():
     model's discretisation leaves (Gaussian, 0.02 % here), so it is narrow but not empty, and
     the shift the model's estimated discretisation error gives the estimate (8.6e-5 decade,
     against the estimate's actual 7.8e-5 off the truth) is added to its half-width in
-    quadrature: [1.99983, 2.00003] holds the truth, where the interval from the misfit alone,
+    quadrature: [1.99982, 2.00002] holds the truth, where the interval from the misfit alone,
     1.1e-4 wide, missed it by 1.5e-5."""
     case, exact = levy_chain_experiment((2.0,))
     clean = exact_measurements(case, exact)

@@ -395,8 +395,9 @@ def cmd_simulate(args):
     return 0
 
 
-def _modified_problem(case, args, measurements=None):
-    """The updating problem on ``measurements`` (default: read or simulated per ``args``)."""
+def _modified_problem(case, args, measurements=None, discretisation=True):
+    """The updating problem on ``measurements`` (default: read or simulated per ``args``);
+    ``discretisation``: see :class:`updating.cost.ModifiedProblem`."""
     from updating.cost import ModifiedProblem
 
     if measurements is None:
@@ -405,7 +406,7 @@ def _modified_problem(case, args, measurements=None):
     executor = _executor(args, case)
     problem = ModifiedProblem(case, measurements, resolution=resolution, executor=executor,
                               estimate=not getattr(args, "no_estimate", True),
-                              threads=executor.threads)
+                              threads=executor.threads, discretisation=discretisation)
     _problem_warnings(args, problem)
     _estimate_lines(_console(args), problem.error_estimates,
                     " of the model at its initial parameters")
@@ -738,7 +739,7 @@ def cmd_curve(args):
         from updating.plots import require_matplotlib
 
         require_matplotlib()
-    problem = _modified_problem(case, args)
+    problem = _modified_problem(case, args, discretisation=False)  # no floor, no interval
     with progress_bar(_console(args), f"cost curve of {args.joint}", args.points) as advance:
         rows = cost_curve(problem, problem.initial_parameters(), args.joint,
                           log_grid(case.updating.bounds, args.points), on_point=advance)

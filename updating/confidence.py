@@ -239,6 +239,8 @@ class ScoreTest:
                 freq.operators, parameters, system.omega,
                 None if freq.discretisation is None else np.concatenate(freq.discretisation)))
         self.sensitivity = self._observed_hessian()
+        s = self.sensitivity  # the nuisances' first-order effect, projected out of the score
+        self._nuisance = np.linalg.solve(s[1:, 1:], s[1:, 0]) if len(self.group) > 1 else None
 
     @property
     def frequencies(self):
@@ -294,10 +296,7 @@ class ScoreTest:
     def _efficient(self, scores):
         """The target's score freed from the nuisances' to first order (rows: the group's
         scores)."""
-        if len(self.group) == 1:
-            return scores[0]
-        s = self.sensitivity
-        return scores[0] - np.linalg.solve(s[1:, 1:], s[1:, 0]) @ scores[1:]
+        return scores[0] if self._nuisance is None else scores[0] - self._nuisance @ scores[1:]
 
     def discretisation_shift(self):
         r"""How far the estimate moves when the model's own prediction :math:`p(\hat\theta)` is
@@ -313,14 +312,12 @@ class ScoreTest:
         for f in self._frequencies:
             if f.discretisation is None:
                 return 0.0
-            base = f.condensation.y0 + f.data_map @ (f.predicted(self.values) - f.observed)
+            base = f.samples(f.predicted(self.values))
             columns.append(np.column_stack([base, base - f.data_map @ f.discretisation]))
         scores = self._efficient(self._scores(self.values, columns))
-        score = scores[1] - scores[0]
         s = self.sensitivity
-        curvature = s[0, 0] - (s[0, 1:] @ np.linalg.solve(s[1:, 1:], s[1:, 0])
-                               if len(self.group) > 1 else 0.0)
-        return float(-score / curvature) if curvature != 0.0 else 0.0
+        curvature = s[0, 0] - (0.0 if self._nuisance is None else s[0, 1:] @ self._nuisance)
+        return float((scores[0] - scores[1]) / curvature) if curvature != 0.0 else 0.0
 
     def separation(self, a, b, deviation):
         r"""How many noise standard deviations apart the model's predictions with the joint
@@ -349,7 +346,7 @@ class ScoreTest:
             # a redraw p (1 + e) has samples y0 + D (p - observed) + D diag(p) e: solved through
             # the measured values when they are fewer than the redraws, else redraw by redraw
             y0 = f.condensation.y0
-            base = y0 + f.data_map @ (predicted - f.observed)
+            base = f.samples(predicted)
             response = f.data_map * predicted
             if e.shape[0] < e.shape[1]:
                 columns.append(np.column_stack([y0, base]))
@@ -390,6 +387,11 @@ class _Frequency:
         """Interface unknowns of the model response with ``thetas`` set (the nuisances are at
         their identified values: only the target joint's channels change)."""
         return self.prediction.interface(self._values(thetas, self.own))
+
+    def samples(self, values):
+        r"""The samples :math:`y_0 + D\,(v - \tilde u)` of measured values ``v`` (linear in
+        them: the condensation's response to the measurement rows' offsets)."""
+        return self.condensation.y0 + self.data_map @ (values - self.observed)
 
     def predicted(self, thetas):
         """The model's values at the measured points with ``thetas`` set."""

@@ -70,7 +70,7 @@ PARAMETER_BOUNDS = {"loss_factor": (0.0, 10.0), "mass": (SMALLEST_MASS, 10.0)}
 
 KEPT_FACTOR_ENTRIES = 5e6
 """LU entries (all frequencies) up to which the model response's factors are kept between
-calls (80 MB of complex entries); the 10 x 10 grid's hold 6.8e7."""
+calls (80 MB of complex entries); the 10 x 10 grid's hold 2.0e7."""
 
 MAX_KEPT_CORRECTIONS = 8
 """Condensations kept per set of parameters: each holds, per frequency, the joint's solves
@@ -168,15 +168,20 @@ class _Frequency:
                 for pid, op, v, n in zip(self.plates, self.operators, data, norm)}
 
 
-def _frequency_data(case, resolution, estimate, task):
+def _frequency_data(case, resolution, estimate, discretisation, task):
     """One measured frequency's :class:`_Frequency` (a task of :class:`ModifiedProblem`'s
     executor): its system, :math:`E_{ref}` at p0, the measurement operators and, if
-    ``estimate``, the discretisation error estimate of the model's response at p0."""
+    ``estimate``, the discretisation error estimate of the model's response at p0; with
+    ``discretisation``, that response's error at the measured points (the floors' and the
+    intervals'). Both come from one enriched solve, made only when one of them is asked for."""
     frequency, measured_plates = task
     system = build_assembly_system(case, frequency, resolution)
     initial = solve_assembly(case, frequency, resolution, system=system)  # fixes E_ref at p0
-    enriched = enriched_plates(case, frequency, resolution)
+    enriched = (enriched_plates(case, frequency, resolution) if estimate or discretisation
+                else (None, "", 0.0))
     error = estimate_error(case, initial, resolution, enriched) if estimate else None
+    if not discretisation:
+        enriched = (None, "", 0.0)
     plates, operators, data, offsets = [], [], [], []
     for pid, (points, measured) in measured_plates.items():
         problem, basis = system.problems[pid], system.bases[pid]
@@ -210,13 +215,17 @@ class ModifiedProblem:
     estimate : bool, optional
         Estimate the discretisation error of the model's response at p0 at each frequency
         (:attr:`error_estimates`; an enriched solve each).
+    discretisation : bool, optional
+        Take that response's error at the measured points, from the same enriched solve, into
+        the floors (:meth:`noise_floor`) and the intervals (default True; a cost curve needs
+        neither).
     threads : int, optional
         Threads on which the frequencies of one evaluation are factorised side by side
         (default 1; :func:`updating.executor.frequency_threads` chooses from the memory).
     """
 
     def __init__(self, case, measurements, r=None, resolution=None, executor=None,
-                 estimate=False, threads=1):
+                 estimate=False, threads=1, discretisation=True):
         self.case = case
         self.threads = threads
         self.r = case.updating.r if r is None else r
@@ -229,7 +238,7 @@ class ModifiedProblem:
         self._direct = None  # (parameters, {frequency: InterfaceFactor}) of the model response
         tasks = [(frequency, measurements.data[frequency])
                  for frequency in measurements.frequencies]
-        build = functools.partial(_frequency_data, case, resolution, estimate)
+        build = functools.partial(_frequency_data, case, resolution, estimate, discretisation)
         built = executor.map(build, tasks) if executor else thread_map(build, tasks, threads)
         self.frequencies = {frequency: data for (frequency, _), data in zip(tasks, built)}
 
@@ -500,7 +509,7 @@ class ModifiedProblem:
                  for line in condition_warnings(d.system.rcond, f)]
         lines += [f"{f:g} Hz: the floors hold the measurement noise only, not the model's "
                   f"discretisation error: {d.no_discretisation}"
-                  for f, d in self.frequencies.items() if d.discretisation is None]
+                  for f, d in self.frequencies.items() if d.no_discretisation]
         return tuple(lines)
 
     @property
@@ -552,7 +561,7 @@ class JointCorrection:
     @staticmethod
     def _local_data(freq, neighbourhood):
         """The neighbourhood's channels and measured plates at one frequency, the interface
-        unknowns they see, and the frequency's data norm."""
+        unknowns they see, and each measured plate's misfit norm (:meth:`_Frequency.norms`)."""
         joints, plates = neighbourhood
         channels = [ch for ch in freq.system.channels if ch.name in joints]
         measured = [(pid, op, v) for pid, op, v in zip(freq.plates, freq.operators, freq.data)

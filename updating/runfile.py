@@ -216,7 +216,7 @@ def read_run(path):
     if isinstance(data, dict) and data.get("format") == "vtcr-run/1":
         raise InputError(f"--resume {path}: a run of an earlier vtcr (vtcr-run/1), whose joint "
                          "residual and floors differ from this version's; start a new run (with "
-                         f"--force over it, or another --run)")
+                         "--force over it, or another --run)")
     if not isinstance(data, dict) or data.get("format") != RUN_FORMAT:
         raise InputError(f"--resume {path}: not a {RUN_FORMAT} run file; {_FIX}")
     return text, data

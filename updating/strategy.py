@@ -244,9 +244,14 @@ def _optimise_more(local, parameters, joint, bounds, extra):
     return with_joint(parameters, joint, **values(result.x))
 
 
+def _ratios(step):
+    """Each joint's residual over its floor in ``step``."""
+    return {j: step.residuals[j] / max(step.floors[j], 1e-300) for j in step.residuals}
+
+
 def _candidates(step, settings, corrected, exhausted):
     """Joints to try next and whether they are re-corrections (rule steps 2 and 5)."""
-    ratio = {j: step.residuals[j] / max(step.floors[j], 1e-300) for j in step.residuals}
+    ratio = _ratios(step)
     by_ratio = sorted(step.residuals, key=ratio.get, reverse=True)
     standing = [j for j in by_ratio if ratio[j] > settings.stop_ratio]
     if standing:
@@ -366,7 +371,7 @@ def _message(status, last, settings):
     message = TERMINATION_MESSAGES[status]
     if status != 1:
         return message
-    ratio = {j: last.residuals[j] / max(last.floors[j], 1e-300) for j in last.residuals}
+    ratio = _ratios(last)
     standing = sorted((j for j in ratio if ratio[j] > settings.stop_ratio), key=ratio.get,
                       reverse=True)
     shown = ", ".join(f"{j} {ratio[j]:.1f}" for j in standing[:5])
