@@ -182,6 +182,8 @@ class Channel:
         :math:`Q^HW^{1/2}(RS + \rho)`, over the interface unknowns its two plates see.
     member : str or None
         The member plate of a junction's spring channel (:attr:`name` ``JOINT.PLATE``).
+    group : int
+        The joint's group of interface unknowns (:attr:`AssemblySystem.unknown_groups`).
     """
 
     joint: str
@@ -190,6 +192,7 @@ class Channel:
     kinematic: Block
     crossover: float = math.inf
     member: str | None = None
+    group: int = -1
 
     @property
     def name(self) -> str:
@@ -213,7 +216,7 @@ class Channel:
         matrix = -c * self.kinematic.matrix
         matrix[:, np.searchsorted(self.kinematic.index, self.load.index)] += self.load.matrix
         return Block(self.kinematic.index, scale * matrix,
-                     scale * (self.load.offset - c * self.kinematic.offset))
+                     scale * (self.load.offset - c * self.kinematic.offset), self.group)
 
 
 @dataclass
@@ -247,6 +250,11 @@ class AssemblySystem:
     e_ref : float or None
         Reference energy (J), fixed by the first direct solve.
     timings : dict of str to float
+    unknown_groups, constraint_groups : ndarray of int, shape (n_s,) and (n_g,)
+        Group of each interface unknown and constraint row: the joint's index in the
+        description for its load unknowns, its residual and constraint rows; one group per
+        junction corner after them. Each group holds as many rows as unknowns, which lets the
+        interface problem be factorised group by group (:mod:`solver.multifrontal`).
     """
 
     frequency: float
@@ -262,6 +270,8 @@ class AssemblySystem:
     rcond: dict
     e_ref: float | None = None
     timings: dict = field(default_factory=dict)
+    unknown_groups: np.ndarray | None = None
+    constraint_groups: np.ndarray | None = None
 
     @property
     def omega(self) -> float:
@@ -511,10 +521,13 @@ def build_assembly_system(case, frequency, resolution=None) -> AssemblySystem:
 
     system = AssemblySystem(frequency, problems, bases, unknowns, u0, transfer, n_s, layout,
                             None, [], rcond)
+    group_of = {jid: i for i, jid in enumerate(case.joints)}
     rows, channels = [], []  # constraint rows as Blocks of one or more rows
     for jid, joint in case.joints.items():
+        group = group_of[jid]
         if joint.kind == "junction":
-            junction_rows, junction_channels = _junction_line(case, system, jid, k_max, counts)
+            junction_rows, junction_channels = _junction_line(case, system, jid, k_max, counts,
+                                                              group)
             rows += junction_rows
             channels += junction_channels
             continue
@@ -543,18 +556,22 @@ def build_assembly_system(case, frequency, resolution=None) -> AssemblySystem:
         basis = load_function_basis(root_w, psi)
         channels.append(_on_load_functions(
             Channel(jid, "rotation", unknown("C"), rotation_jump,
-                    RIGID_CROSSOVER * stiffness * kappa0), basis))
+                    RIGID_CROSSOVER * stiffness * kappa0, group=group), basis))
         if "FA" in slots:
             mean_w = _scaled(_union(ta["w"], tb["w"]), 0.5 * root_w)
             channels.append(_on_load_functions(
                 Channel(jid, "mass", unknown("FA", "FB"), mean_w,
-                        RIGID_CROSSOVER * stiffness * kappa0**3), basis))
+                        RIGID_CROSSOVER * stiffness * kappa0**3, group=group), basis))
         if joint.kind == "coplanar":
             gap = _union(ta["w"], _scaled(tb["w"], -1.0))
             weighted = psi.T * wq
-            rows.append(Block(gap.index, weighted @ gap.matrix, -(weighted @ gap.offset)))
+            rows.append(Block(gap.index, weighted @ gap.matrix, -(weighted @ gap.offset), group))
 
-    for flags in junctions:
+    unknown_groups = np.empty(n_s, dtype=int)
+    for jid, slots in layout.items():
+        for part in slots.values():
+            unknown_groups[part] = group_of[jid]
+    for group, flags in enumerate(junctions, start=len(case.joints)):
         values = {(pid, c): system.affine_plate_operator(pid, boundaries[pid].corner_w[c][None, :],
                                                           boundaries[pid].corner_w_p[c:c + 1])
                   for (pid, c), _ in flags}
@@ -563,22 +580,26 @@ def build_assembly_system(case, frequency, resolution=None) -> AssemblySystem:
         if kinematic:
             for corner in static:
                 rows.append(Block(values[corner].index, values[corner].matrix,
-                                  -values[corner].offset))
+                                  -values[corner].offset, group))
         else:
             reference = values[static[0]]
             for corner in static[1:]:
                 gap = _union(values[corner], _scaled(reference, -1.0))
-                rows.append(Block(gap.index, gap.matrix, -gap.offset))
+                rows.append(Block(gap.index, gap.matrix, -gap.offset, group))
             columns = np.array(sorted(corner_columns[corner] for corner in static))
             rows.append(Block(columns, np.ones((1, len(columns)), dtype=complex),
-                              np.zeros(1, dtype=complex)))
+                              np.zeros(1, dtype=complex), group))
+        unknown_groups[[corner_columns[corner] for corner in static]] = group
     system.constraints = _constraint_matrix(rows, n_s)
+    system.unknown_groups = unknown_groups
+    system.constraint_groups = np.repeat([b.group for b in rows],
+                                         [len(b.offset) for b in rows]).astype(int)
     system.channels = channels
     system.timings = {"plates": t1 - t0, "interface": time.perf_counter() - t1}
     return system
 
 
-def _junction_line(case, system, jid, k_max, counts):
+def _junction_line(case, system, jid, k_max, counts, group):
     r"""Constraint rows and spring channels of a junction line (formulation notes 6.2b).
 
     Member :math:`i` (direction :math:`s_i`, :meth:`assembly.Case.member_directions`)
@@ -615,12 +636,13 @@ def _junction_line(case, system, jid, k_max, counts):
     rows = []
     for plate in rigid[1:]:
         gap = _union(rotation[plate], _scaled(line, -1.0))
-        rows.append(Block(gap.index, weighted @ gap.matrix, -(weighted @ gap.offset)))
+        rows.append(Block(gap.index, weighted @ gap.matrix, -(weighted @ gap.offset), group))
     moments = np.concatenate([np.arange(slots[f"C.{p}"].start, slots[f"C.{p}"].stop)
                               for p in joint.plates])
     order = np.argsort(moments)
     balance = np.hstack([np.eye(counts[jid], dtype=complex)] * len(joint.plates))
-    rows.append(Block(moments[order], balance[:, order], np.zeros(counts[jid], dtype=complex)))
+    rows.append(Block(moments[order], balance[:, order], np.zeros(counts[jid], dtype=complex),
+                      group))
     stiffness, kappa0 = max((system.problems[p].bending_stiffness.real,
                              system.problems[p].kappa.real) for p in joint.plates)
     channels = []
@@ -632,7 +654,7 @@ def _junction_line(case, system, jid, k_max, counts):
         kinematic = _scaled(_union(line, _scaled(rotation[plate], -1.0)), root_w)
         channels.append(_on_load_functions(
             Channel(jid, "rotation", load, kinematic, 2.0 * RIGID_CROSSOVER * stiffness * kappa0,
-                    member=plate), basis))
+                    member=plate, group=group), basis))
     return rows, channels
 
 
@@ -695,7 +717,8 @@ def channel_blocks(system, params, weights):
 
 def solve_interface(system, blocks):
     """Minimise the sum of the Blocks' squares under the constraints; an InterfaceFactor."""
-    return factorise_interface(system.n_s, blocks, system.constraints)
+    return factorise_interface(system.n_s, blocks, system.constraints,
+                               (system.unknown_groups, system.constraint_groups))
 
 
 def reference_energy(system, amplitudes):
