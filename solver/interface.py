@@ -243,7 +243,8 @@ def factorise_interface(n_s, blocks, constraints, groups=None):
     # symmetric equilibration: the rows mix residuals, energies per unit load and displacements
     row_max = abs(matrix).max(axis=1).toarray().ravel()
     scale = 1.0 / np.sqrt(np.maximum(row_max, np.finfo(float).tiny))
-    scaled = (scipy.sparse.diags(scale) @ matrix @ scipy.sparse.diags(scale)).tocsc()
+    scaled = matrix  # scaled in place: the matrix is the largest array besides the factors
+    scaled.data *= scale[scaled.indices] * np.repeat(scale, np.diff(scaled.indptr))
     lu, x = None, None
     variable_groups = (_variable_groups(blocks, n_rho, groups)
                        if groups is not None and matrix.shape[0] >= GROUPED_MIN_SIZE else None)

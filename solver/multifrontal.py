@@ -143,7 +143,7 @@ class GroupedLU:
     """
 
     def __init__(self, matrix, groups):
-        matrix = matrix.tocoo()
+        matrix = matrix.tocoo(copy=False)
         n = matrix.shape[0]
         groups = np.asarray(groups)
         n_groups = int(groups.max()) + 1 if n else 0
@@ -159,8 +159,8 @@ class GroupedLU:
         # each entry is assembled in the front of the first of its two groups to be eliminated
         first = np.minimum(front_of_group[groups[matrix.row]], front_of_group[groups[matrix.col]])
         by_front = np.argsort(first, kind="stable")
-        rows, cols, values = matrix.row[by_front], matrix.col[by_front], matrix.data[by_front]
         bounds = np.searchsorted(first[by_front], np.arange(len(fronts) + 1))
+        del first
 
         self.n = n
         self.factors = []  # per front: own, coupled, lu, perm, l21, u12
@@ -175,8 +175,9 @@ class GroupedLU:
             local[index] = np.arange(size)
             front = np.zeros((size, size), dtype=complex)
             flat = front.reshape(-1)
-            a, b = bounds[k], bounds[k + 1]
-            flat[local[rows[a:b]] * size + local[cols[a:b]]] = values[a:b]
+            entries = by_front[bounds[k]:bounds[k + 1]]
+            flat[local[matrix.row[entries]] * size + local[matrix.col[entries]]] = \
+                matrix.data[entries]
             for child in child_fronts:
                 child_index, contribution = contributions.pop(child)
                 at = local[child_index]
