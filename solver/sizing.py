@@ -7,17 +7,25 @@ the sparse augmented interface matrix (:mod:`solver.interface`):
 
 .. math:: \mathrm{nnz} = \sum_b \mathrm{rows}_b\,|I_b|\ (\times 2) + 2\,\mathrm{nnz}(G) + n_\rho ,
 
-where :math:`I_b` are the interface unknowns a block's plates see. The LU factors of that matrix
-are the dominant cost. Their fill was measured with SuperLU (COLAMD ordering) on
-:math:`N\times N` grids of plates (:math:`P = N^2`): fill / nnz = 1.6, 3.8, 5.6, 10.1 for
-N = 2, 4, 6, 10, i.e. about :math:`\sqrt P` (the separators of a plate grid grow like its side);
-the estimate uses :math:`\mathrm{fill} = \mathrm{nnz}\,\sqrt P`, pessimistic for chains.
-The peak memory of ``vtcr solve`` was about 30 bytes per factor entry (complex factors,
-SuperLU's work space, the matrix and the plate data: 2.0 GB for 6.8e7 entries at N = 10), and
-the factorisation time grew like
-:math:`\mathrm{fill}^{1.22}` (0.52 s for 2.8e6 entries, 25.6 s for 6.8e7, one core of the
-2-core reference machine). These are estimates to a factor of about two, for deciding before a
-run whether it fits, not measurements.
+where :math:`I_b` are the interface unknowns a block's plates see. The factors of that matrix
+are the dominant cost, and how they grow depends on the path :func:`solver.interface.
+factorise_interface` takes:
+
+- **by groups** (:class:`solver.multifrontal.GroupedLU`, from
+  :data:`solver.interface.GROUPED_MIN_SIZE` variables on): fill / nnz = 5.0, 5.7, 6.3 on the
+  :math:`N\times N` grids of plates (:math:`P = N^2`) for N = 6, 8, 10, i.e.
+  :math:`1.4\ln P` (the separators are lines of joints); factorisation 0.21, 0.52, 1.03 s for
+  2.6e6, 5.9e6, 1.08e7 entries (``bench/bench_interface.py``), :math:`\mathrm{fill}^{1.13}`;
+  peak memory of ``vtcr solve --no-estimate`` 0.20, 0.32, 0.48 GB, i.e. 36 bytes per factor
+  entry above a start-up of 0.1 GB;
+- **SuperLU** (COLAMD ordering; small systems): fill / nnz = 1.6, 3.8, 5.6, 10.1 for
+  N = 2, 4, 6, 10, about :math:`\sqrt P` (pessimistic for chains); about 30 bytes per factor
+  entry (complex factors, SuperLU's work space, the matrix and the plate data: 2.0 GB for
+  6.8e7 entries at N = 10), and the factorisation time grew like :math:`\mathrm{fill}^{1.22}`
+  (0.52 s for 2.8e6 entries, 25.6 s for 6.8e7).
+
+All on one core of the 2-core reference machine. These are estimates to a factor of about
+two, for deciding before a run whether it fits, not measurements.
 """
 
 from __future__ import annotations
@@ -28,12 +36,16 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from solver.interface import GROUPED_MIN_SIZE
 from solver.problems import plate_basis, plate_problem
 
 __all__ = ["SizeEstimate", "estimate_size", "available_memory"]
 
-BYTES_PER_FACTOR_ENTRY = 30.0
-FACTOR_SECONDS = (0.52, 2.8e6, 1.22)  # seconds for a fill, and the exponent of the growth
+BYTES_PER_FACTOR_ENTRY = 30.0  # SuperLU
+FACTOR_SECONDS = (0.52, 2.8e6, 1.22)  # SuperLU: seconds for a fill, and the exponent of the growth
+GROUPED_FILL_PER_LOG_PLATES = 1.4  # factor entries / matrix entries, per ln P
+GROUPED_BYTES = (36.0, 1e8)  # per factor entry, and the start-up
+GROUPED_FACTOR_SECONDS = (0.21, 2.63e6, 1.13)
 PLATE_SECONDS = 0.02  # rays, traces, dense plate solve and transfer operator, per plate
 LOCALISATION_SOLVES = 3  # per frequency: modified problem, direct model, the noise draws (one)
 PLAN_SECONDS_PER_ENTRY = 1.2e-7
@@ -59,14 +71,18 @@ class SizeEstimate:
     frequencies: int
     max_steps: int
     channels: int = 0  # updatable joints (a junction's finite members each)
+    grouped: bool = False  # factorised by groups (large enough), else by SuperLU
 
     @property
     def solve_bytes(self) -> float:
+        if self.grouped:
+            per_entry, start_up = GROUPED_BYTES
+            return start_up + per_entry * self.factor_entries
         return BYTES_PER_FACTOR_ENTRY * self.factor_entries
 
     @property
     def factorisation_seconds(self) -> float:
-        t, fill, power = FACTOR_SECONDS
+        t, fill, power = GROUPED_FACTOR_SECONDS if self.grouped else FACTOR_SECONDS
         return t * (self.factor_entries / fill) ** power
 
     @property
@@ -150,11 +166,13 @@ def estimate_size(case, frequency=None, resolution=None) -> SizeEstimate:
         entries += points * len(unknowns[pid])
     constraints += len(corners)
     matrix_entries = 2 * entries + samples
-    return SizeEstimate(frequency, len(case.plates), len(case.joints),
+    grouped = samples + n_s + constraints >= GROUPED_MIN_SIZE
+    plates = len(case.plates)
+    fill = (GROUPED_FILL_PER_LOG_PLATES * math.log(plates) if grouped else math.sqrt(plates))
+    return SizeEstimate(frequency, plates, len(case.joints),
                         sum(b.n_dof for b in bases.values()), n_s, constraints, samples,
-                        matrix_entries, matrix_entries * math.sqrt(len(case.plates)),
-                        len(case.frequencies), case.updating.max_steps,
-                        len(case.updatable_joints()))
+                        matrix_entries, matrix_entries * fill, len(case.frequencies),
+                        case.updating.max_steps, len(case.updatable_joints()), grouped)
 
 
 def _measured_points(case):
