@@ -162,6 +162,8 @@ class InterfaceFactor:
 
     Attributes
     ----------
+    lu : SuperLU or GroupedLU or None
+        The factorisation; None when it was not kept (``factorise_interface(keep=False)``).
     s : ndarray of complex, shape (n_s,)
         The minimiser.
     residuals : list of ndarray
@@ -215,7 +217,7 @@ class InterfaceFactor:
         return float(sum(np.vdot(r, r).real for r in self.residuals))
 
 
-def factorise_interface(n_s, blocks, constraints, groups=None):
+def factorise_interface(n_s, blocks, constraints, groups=None, keep=True):
     """Factorise and solve :math:`\\min\\sum_b\\|A_bS_{I_b}+a_b\\|^2` s.t. :math:`GS = g`.
 
     Parameters
@@ -230,6 +232,11 @@ def factorise_interface(n_s, blocks, constraints, groups=None):
         factorised group by group (:class:`solver.multifrontal.GroupedLU`) when every group
         holds at least as many rows as unknowns, and its solution is kept if its backward
         error is below :data:`BACKWARD_ERROR`; otherwise, and without groups, by SuperLU.
+    keep : bool
+        Keep the factorisation for other right-hand sides (:meth:`InterfaceFactor.solve`,
+        :meth:`InterfaceFactor.resolve`). Without, only the minimiser is wanted: the grouped
+        factorisation applies its lower factor as it goes and keeps half its factors, and
+        the result's ``lu`` is None.
 
     Returns
     -------
@@ -250,8 +257,8 @@ def factorise_interface(n_s, blocks, constraints, groups=None):
                        if groups is not None and matrix.shape[0] >= GROUPED_MIN_SIZE else None)
     if variable_groups is not None:
         try:
-            lu = GroupedLU(scaled, variable_groups)
-            x = lu.solve(rhs * scale)
+            lu = GroupedLU(scaled, variable_groups, None if keep else rhs * scale)
+            x = lu.solve(rhs * scale) if keep else lu.solution
         except GroupPivotError:
             lu = None
         if lu is not None and backward_error(scaled, x, rhs * scale) > BACKWARD_ERROR:
@@ -266,7 +273,7 @@ def factorise_interface(n_s, blocks, constraints, groups=None):
         x = lu.solve(rhs * scale)
     x = x * scale
     s = x[n_rho:n_rho + n_s]
-    return InterfaceFactor(lu, scale, n_rho, n_s, s, [b.residual(s) for b in blocks],
+    return InterfaceFactor(lu if keep else None, scale, n_rho, n_s, s, [b.residual(s) for b in blocks],
                            np.asarray(g_rhs, dtype=complex))
 
 

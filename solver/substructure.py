@@ -505,18 +505,21 @@ def build_assembly_system(case, frequency, resolution=None) -> AssemblySystem:
     t0 = time.perf_counter()
     problems = {pid: plate_problem(case, pid, frequency) for pid in case.plates}
     bases = {pid: plate_basis(case, pid, problems[pid], resolution) for pid in case.plates}
-    boundaries = {pid: boundary_traces(problems[pid], bases[pid]) for pid in case.plates}
     k_max = {pid: float(np.max(np.abs(b.k))) for pid, b in bases.items()}
 
     counts, layout, junctions, corner_columns, n_s, unknowns = interface_layout(
         case, problems, resolution)
 
     sides, corners = _plate_sides(case, corner_columns)
-    u0, transfer, rcond = {}, {}, {}
+    u0, transfer, rcond, corner_w = {}, {}, {}, {}
     for pid in case.plates:
-        loads = plate_loads(case, boundaries[pid], sides[pid], corners[pid], counts, layout,
+        # a plate's boundary traces are the largest data of the build: used and dropped here,
+        # all but the corner deflections the junction corners need
+        boundary = boundary_traces(problems[pid], bases[pid])
+        loads = plate_loads(case, boundary, sides[pid], corners[pid], counts, layout,
                             unknowns[pid])
-        u0[pid], transfer[pid], rcond[pid] = plate_transfer(problems[pid], boundaries[pid], loads)
+        u0[pid], transfer[pid], rcond[pid] = plate_transfer(problems[pid], boundary, loads)
+        corner_w[pid] = boundary.corner_w, boundary.corner_w_p
     t1 = time.perf_counter()
 
     system = AssemblySystem(frequency, problems, bases, unknowns, u0, transfer, n_s, layout,
@@ -572,8 +575,8 @@ def build_assembly_system(case, frequency, resolution=None) -> AssemblySystem:
         for part in slots.values():
             unknown_groups[part] = group_of[jid]
     for group, flags in enumerate(junctions, start=len(case.joints)):
-        values = {(pid, c): system.affine_plate_operator(pid, boundaries[pid].corner_w[c][None, :],
-                                                          boundaries[pid].corner_w_p[c:c + 1])
+        values = {(pid, c): system.affine_plate_operator(pid, corner_w[pid][0][c][None, :],
+                                                          corner_w[pid][1][c:c + 1])
                   for (pid, c), _ in flags}
         static = [corner for corner, kinematic in flags if not kinematic]
         kinematic = [corner for corner, kin in flags if kin]
@@ -715,10 +718,12 @@ def channel_blocks(system, params, weights):
     return blocks
 
 
-def solve_interface(system, blocks):
-    """Minimise the sum of the Blocks' squares under the constraints; an InterfaceFactor."""
+def solve_interface(system, blocks, keep=True):
+    """Minimise the sum of the Blocks' squares under the constraints; an InterfaceFactor
+    (without ``keep``, one that holds the minimiser only:
+    :func:`solver.interface.factorise_interface`)."""
     return factorise_interface(system.n_s, blocks, system.constraints,
-                               (system.unknown_groups, system.constraint_groups))
+                               (system.unknown_groups, system.constraint_groups), keep)
 
 
 def reference_energy(system, amplitudes):
@@ -780,7 +785,8 @@ def solve_assembly(case, frequency, resolution=None, system=None,
     system = system or build_assembly_system(case, frequency, resolution)
     t0 = time.perf_counter()
     params = joint_parameters(case, system.omega)
-    s = solve_interface(system, channel_blocks(system, params, case.updatable_alpha())).s
+    s = solve_interface(system, channel_blocks(system, params, case.updatable_alpha()),
+                        keep=False).s
     amplitudes = system.plate_amplitudes(s)
     if system.e_ref is None and residuals:
         system.e_ref = reference_energy(system, amplitudes)

@@ -77,6 +77,12 @@ def test_grouped_lu_solves_a_block_sparse_system(zero_diagonal):
     # extend-add error shows at order 1
     assert np.linalg.norm(lu.solve(rhs) - exact) < 1e-11 * np.linalg.norm(exact)
     assert np.linalg.norm(lu.solve(rhs[:, 0]) - exact[:, 0]) < 1e-11 * np.linalg.norm(exact)
+    # solved during the factorisation, without keeping the lower factor
+    once = GroupedLU(scipy.sparse.csc_matrix(dense), groups, rhs)
+    assert np.linalg.norm(once.solution - exact) < 1e-11 * np.linalg.norm(exact)
+    assert once.nnz < lu.nnz
+    with pytest.raises(RuntimeError):
+        once.solve(rhs)
 
 
 def test_a_chain_of_groups_is_eliminated_without_fill():
@@ -114,6 +120,8 @@ def test_the_grouped_and_superlu_paths_agree_on_a_grid():
     superlu = interface.factorise_interface(system.n_s, blocks, system.constraints)
     assert isinstance(grouped.lu, GroupedLU)
     assert isinstance(superlu.lu, scipy.sparse.linalg.SuperLU)
+    minimiser = solve_interface(system, blocks, keep=False)
+    assert minimiser.lu is None and np.array_equal(minimiser.s, grouped.s)
     # measured 2e-12: both backward stable on a system of condition about 1e10
     assert field_difference(system, grouped.s, superlu.s) < 1e-9
     ref = joint_residuals(system, params, superlu.s)
