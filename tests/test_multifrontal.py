@@ -179,3 +179,42 @@ def test_superlu_takes_over_where_groups_cannot_pivot(monkeypatch):
     assert isinstance(factor.lu, scipy.sparse.linalg.SuperLU)
     monkeypatch.setattr(interface, "BACKWARD_ERROR", 1e-14)
     assert isinstance(solve_interface(system, blocks).lu, GroupedLU)
+
+
+def test_corrections_and_floors_through_the_grouped_factorisation(monkeypatch):
+    """The condensation on one joint (solves with many right-hand sides through the kept
+    factorisation) and the noise floors (the factorisation re-solved with the offsets of each
+    noise draw) give, through GroupedLU, what they give through SuperLU."""
+    case = load_case(CASES / "four_plates.toml")
+    measurements = simulate_measurements(case)
+    values = [{"log10_stiffness": v} for v in (-1.0, 1.5, 5.0)]
+    reference = ModifiedProblem(case, measurements)
+    base = reference.initial_parameters()
+    expected = [reference.correction(base, "G4").cost(**v) for v in values]
+    expected_floors, expected_e_mod = reference.noise_floor(base, 0.1)
+
+    def no_superlu(*args, **kwargs):
+        raise AssertionError("SuperLU used where the grouped factorisation should be")
+
+    made = []
+
+    class CountedLU(GroupedLU):
+        def __init__(self, *args):
+            super().__init__(*args)
+            made.append(self)
+
+    monkeypatch.setattr(interface, "GROUPED_MIN_SIZE", 0)
+    monkeypatch.setattr(interface.scipy.sparse.linalg, "splu", no_superlu)
+    monkeypatch.setattr(interface, "GroupedLU", CountedLU)
+    problem = ModifiedProblem(case, measurements)
+    grouped = problem.correction(base, "G4")
+    for v, cost in zip(values, expected):
+        # measured 1e-12: the same minimisers through two backward-stable factorisations
+        assert grouped.cost(**v) == pytest.approx(cost, rel=1e-9), v
+    floors, e_mod = problem.noise_floor(base, 0.1)
+    assert made
+    # measured up to 2e-9: the floors' draws go through the enriched solve and the modified
+    # problem, both factorised anew, the same minimisers to the conditioning of those systems
+    assert e_mod == pytest.approx(expected_e_mod, rel=1e-7)
+    for name, value in expected_floors.items():
+        assert floors[name] == pytest.approx(value, rel=1e-7), name
