@@ -36,6 +36,7 @@ problem at once.
 from __future__ import annotations
 
 import difflib
+import functools
 import math
 import numbers
 from collections.abc import Iterable, Mapping, Sequence
@@ -214,6 +215,14 @@ def parse_edge_ref(ref: str) -> EdgeId:
     """
     if not isinstance(ref, str):
         raise AssemblyError(f"an edge reference must be a string 'PLATE.EDGE', got {_show(ref)}")
+    return _split_edge_ref(ref)
+
+
+@functools.lru_cache(maxsize=65536)
+def _split_edge_ref(ref: str) -> EdgeId:
+    """:func:`parse_edge_ref` of a string, remembered: a joint's ``sides`` are read every time
+    a plate's subproblem is set up, for every plate (tens of thousands of times on a grid of
+    a hundred plates)."""
     problem = _edge_ref_problem(ref)
     if problem is not None:
         raise AssemblyError(problem)

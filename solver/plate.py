@@ -345,8 +345,13 @@ def boundary_traces(problem, basis: RayBasis) -> PlateBoundary:
     )
 
 
-def edge_values(problem, basis, edge_name, s):
+def edge_values(problem, basis, edge_name, s, cache=None):
     r"""Deflection and outward slope of the shape functions at arc lengths ``s`` of an edge.
+
+    ``cache`` (a dict, optional) keeps the rays' values by basis object, plate stiffness, edge
+    and points: identical plates sharing one basis (:func:`solver.substructure.
+    build_assembly_system`) then compute their joint traces once. The particular solution,
+    which differs with the loads, is computed every time.
 
     Returns
     -------
@@ -356,11 +361,19 @@ def edge_values(problem, basis, edge_name, s):
         The same quantities of the particular solution.
     """
     edge = plate_edges(problem.size)[EDGES.index(edge_name)]
-    points = edge.start + np.asarray(s)[:, None] * edge.tangent
-    nodal = node_exponentials(basis, points)
-    w, slope = basis.sector_means(nodal, _trace_factors(problem, basis, edge, ("w", "slope")))
+    s = np.asarray(s, dtype=float)
+    points = edge.start + s[:, None] * edge.tangent
+    key = (id(basis), problem.bending_stiffness, problem.poisson_ratio, edge_name, s.tobytes())
+    rays = None if cache is None else cache.get(key)
+    if rays is None:
+        nodal = node_exponentials(basis, points)
+        w, slope = basis.sector_means(nodal,
+                                      _trace_factors(problem, basis, edge, ("w", "slope")))
+        rays = {"w": w, "slope": slope}
+        if cache is not None:
+            cache[key] = rays
     part = particular_traces(problem, points, edge.normal, edge.tangent)
-    return {"w": w, "slope": slope}, {"w": part["w"], "slope": part["slope"]}
+    return rays, {"w": part["w"], "slope": part["slope"]}
 
 
 def _edge_terms(condition: EdgeCondition):

@@ -88,7 +88,7 @@ from solver.plate import (
 )
 from solver.interface import Block, factorise_interface, residual_weight
 from solver.power import kinetic_energy
-from solver.problems import plate_basis, plate_problem, plate_resolution
+from solver.problems import plate_basis, plate_problem, plate_ray_counts, plate_resolution
 from solver.rays import EDGES
 
 __all__ = [
@@ -504,7 +504,7 @@ def build_assembly_system(case, frequency, resolution=None) -> AssemblySystem:
     """
     t0 = time.perf_counter()
     problems = {pid: plate_problem(case, pid, frequency) for pid in case.plates}
-    bases = {pid: plate_basis(case, pid, problems[pid], resolution) for pid in case.plates}
+    bases = _plate_bases(case, problems, resolution)
     k_max = {pid: float(np.max(np.abs(b.k))) for pid, b in bases.items()}
 
     counts, layout, junctions, corner_columns, n_s, unknowns = interface_layout(
@@ -525,12 +525,13 @@ def build_assembly_system(case, frequency, resolution=None) -> AssemblySystem:
     system = AssemblySystem(frequency, problems, bases, unknowns, u0, transfer, n_s, layout,
                             None, [], rcond)
     group_of = {jid: i for i, jid in enumerate(case.joints)}
+    traces_cache = {}  # the rays' joint traces, shared by plates with one basis
     rows, channels = [], []  # constraint rows as Blocks of one or more rows
     for jid, joint in case.joints.items():
         group = group_of[jid]
         if joint.kind == "junction":
             junction_rows, junction_channels = _junction_line(case, system, jid, k_max, counts,
-                                                              group)
+                                                              group, traces_cache)
             rows += junction_rows
             channels += junction_channels
             continue
@@ -541,7 +542,8 @@ def build_assembly_system(case, frequency, resolution=None) -> AssemblySystem:
         psi = legendre_values(sigma, length, counts[jid])
         traces = {}
         for side, s in ((a, sigma), (b, length - sigma)):
-            rays, part = edge_values(problems[side.plate], bases[side.plate], side.edge, s)
+            rays, part = edge_values(problems[side.plate], bases[side.plate], side.edge, s,
+                                     traces_cache)
             traces[side.plate, side.edge] = {
                 key: system.affine_plate_operator(side.plate, rays[key], part[key])
                 for key in ("w", "slope")}
@@ -602,7 +604,20 @@ def build_assembly_system(case, frequency, resolution=None) -> AssemblySystem:
     return system
 
 
-def _junction_line(case, system, jid, k_max, counts, group):
+def _plate_bases(case, problems, resolution):
+    """Each plate's ray basis; plates of the same size, wavenumber and ray counts share one
+    object (a grid's or a panel's identical plates), so that their joint traces are computed
+    once (:func:`solver.plate.edge_values`' cache)."""
+    bases, shared = {}, {}
+    for pid, problem in problems.items():
+        key = (problem.size, problem.kappa, plate_ray_counts(case, pid, problem, resolution))
+        if key not in shared:
+            shared[key] = plate_basis(case, pid, problem, resolution)
+        bases[pid] = shared[key]
+    return bases
+
+
+def _junction_line(case, system, jid, k_max, counts, group, traces_cache):
     r"""Constraint rows and spring channels of a junction line (formulation notes 6.2b).
 
     Member :math:`i` (direction :math:`s_i`, :meth:`assembly.Case.member_directions`)
@@ -626,7 +641,7 @@ def _junction_line(case, system, jid, k_max, counts, group):
     for side, direction in zip(sides, directions):
         arc = sigma if direction > 0 else length - sigma
         rays, part = edge_values(system.problems[side.plate], system.bases[side.plate],
-                                 side.edge, arc)
+                                 side.edge, arc, traces_cache)
         slope = system.affine_plate_operator(side.plate, rays["slope"], part["slope"])
         rotation[side.plate] = _scaled(slope, -float(direction))
     rigid = _rigid_members(joint)

@@ -189,3 +189,28 @@ def test_six_by_six_stiff_grid_is_the_single_plate_of_navier():
     # measured 5.3e-3 at the default resolution (deterministic; the 2 x 2 test of
     # test_assemblies holds the same 1e-2): a wrong junction or joint term shows at order 1
     assert np.sqrt(num / den) < 1e-2
+
+
+def test_identical_plates_share_their_basis_and_nothing_changes(monkeypatch):
+    """The plates of a grid share one ray basis, and their joint traces are computed once;
+    the system is the same, to the bit, as with a basis of its own for every plate."""
+    from solver import substructure
+    from solver.problems import plate_basis
+
+    case = parse_case(plate_grid(3, 3))
+    shared = build_assembly_system(case, 250.0)
+    assert len({id(b) for b in shared.bases.values()}) == 1
+
+    def own_bases(case, problems, resolution):
+        return {pid: plate_basis(case, pid, p, resolution) for pid, p in problems.items()}
+
+    monkeypatch.setattr(substructure, "_plate_bases", own_bases)
+    alone = build_assembly_system(case, 250.0)
+    assert len({id(b) for b in alone.bases.values()}) == len(case.plates)
+    for a, b in zip(shared.channels, alone.channels):
+        for part in ("load", "kinematic"):
+            assert np.array_equal(getattr(a, part).matrix, getattr(b, part).matrix)
+            assert np.array_equal(getattr(a, part).offset, getattr(b, part).offset)
+    assert (shared.constraints[0] != alone.constraints[0]).nnz == 0
+    for pid in case.plates:
+        assert np.array_equal(shared.transfer[pid], alone.transfer[pid])
