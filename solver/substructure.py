@@ -487,13 +487,15 @@ def plate_loads(case, boundary, sides, corners, counts, layout, unknowns):
     return loads
 
 
-def plate_transfer(problem, boundary, loads):
-    r"""Admissibility of one plate: :math:`U_i^0 = K_i^{-1}F_i`, :math:`T_i = K_i^{-1}B_i` (with
-    ``loads`` :math:`B_i`) and the reciprocal condition estimate of :math:`K_i`."""
-    K, F = assemble_plate(problem, boundary)
-    solve, rcond = factorise_dense(K)
-    solution = solve(np.column_stack([F, loads]))
-    return solution[:, 0], solution[:, 1:], rcond
+def plate_block(problem, basis):
+    r"""One plate's VTCR block, factorised: ``(boundary traces, F_i, solve with K_i,
+    reciprocal condition estimate of K_i)``. The plate's admissibility is then
+    :math:`U_i^0 = K_i^{-1}F_i` and :math:`T_i = K_i^{-1}B_i`, with its loads :math:`B_i`
+    (:func:`plate_loads`)."""
+    boundary = boundary_traces(problem, basis)
+    matrix, force = assemble_plate(problem, boundary)
+    solve, rcond = factorise_dense(matrix)
+    return boundary, force, solve, rcond
 
 
 def build_assembly_system(case, frequency, resolution=None) -> AssemblySystem:
@@ -512,14 +514,23 @@ def build_assembly_system(case, frequency, resolution=None) -> AssemblySystem:
 
     sides, corners = _plate_sides(case, corner_columns)
     u0, transfer, rcond, corner_w = {}, {}, {}, {}
+    plate_blocks = {}  # identical unforced plates share their traces and factorised block
     for pid in case.plates:
-        # a plate's boundary traces are the largest data of the build: used and dropped here,
-        # all but the corner deflections the junction corners need
-        boundary = boundary_traces(problems[pid], bases[pid])
+        problem = problems[pid]
+        key = None if problem.point_forces else _plate_signature(problem, bases[pid])
+        # a plate's boundary traces are the largest data of the build: kept only for plates
+        # that share them, else used and dropped here, all but the corner deflections the
+        # junction corners need
+        block = plate_blocks.get(key) or plate_block(problem, bases[pid])
+        if key is not None:
+            plate_blocks[key] = block
+        boundary, force, solve, plate_rcond = block
         loads = plate_loads(case, boundary, sides[pid], corners[pid], counts, layout,
                             unknowns[pid])
-        u0[pid], transfer[pid], rcond[pid] = plate_transfer(problems[pid], boundary, loads)
+        solution = solve(np.column_stack([force, loads]))
+        u0[pid], transfer[pid], rcond[pid] = solution[:, 0], solution[:, 1:], plate_rcond
         corner_w[pid] = boundary.corner_w, boundary.corner_w_p
+    del plate_blocks
     t1 = time.perf_counter()
 
     system = AssemblySystem(frequency, problems, bases, unknowns, u0, transfer, n_s, layout,
@@ -602,6 +613,13 @@ def build_assembly_system(case, frequency, resolution=None) -> AssemblySystem:
     system.channels = channels
     system.timings = {"plates": t1 - t0, "interface": time.perf_counter() - t1}
     return system
+
+
+def _plate_signature(problem, basis):
+    """What a plate's VTCR block depends on besides its point forces: its basis object
+    (:func:`_plate_bases`), material, frequency and edge conditions with their data."""
+    return (id(basis), problem.size, problem.bending_stiffness, problem.poisson_ratio,
+            problem.mass_per_area, problem.omega, repr(sorted(problem.edges.items())))
 
 
 def _plate_bases(case, problems, resolution):

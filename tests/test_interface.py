@@ -192,8 +192,9 @@ def test_six_by_six_stiff_grid_is_the_single_plate_of_navier():
 
 
 def test_identical_plates_share_their_basis_and_nothing_changes(monkeypatch):
-    """The plates of a grid share one ray basis, and their joint traces are computed once;
-    the system is the same, to the bit, as with a basis of its own for every plate."""
+    """The plates of a grid share one ray basis, their joint traces are computed once, and
+    the unforced plates with the same edges share their factorised block; the system is the
+    same, to the bit, as with a basis of its own for every plate."""
     from solver import substructure
     from solver.problems import plate_basis
 
@@ -214,3 +215,5 @@ def test_identical_plates_share_their_basis_and_nothing_changes(monkeypatch):
     assert (shared.constraints[0] != alone.constraints[0]).nnz == 0
     for pid in case.plates:
         assert np.array_equal(shared.transfer[pid], alone.transfer[pid])
+        assert np.array_equal(shared.u0[pid], alone.u0[pid])
+        assert shared.rcond[pid] == alone.rcond[pid]
