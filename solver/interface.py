@@ -29,7 +29,7 @@ minimum-degree order of the graph of groups that see a common plate, with row in
 inside each group (:class:`solver.multifrontal.GroupedLU`). The general sparse LU with partial
 pivoting (SuperLU, ``scipy.sparse.linalg.splu``, COLAMD ordering) must allow for interchanges
 between any rows, and its fill follows the wider graph of joints two plates apart: on the
-10 x 10 grid, 2.0e7 entries in 5.7 s against 1.1e7 in 1.3 s. SuperLU remains the path for small
+10 x 10 grid, 2.0e7 entries in 5.3 s against 1.1e7 in 1.0 s. SuperLU remains the path for small
 systems, where it is faster, for groups with fewer rows than unknowns, and whenever the
 grouped solution's backward error exceeds :data:`BACKWARD_ERROR`. ``bench/bench_interface.py``
 compares the alternatives.
