@@ -128,32 +128,31 @@ class Block:
 
 
 def _augmented_matrix(n_s, blocks, g_mat):
-    """The Hermitian augmented matrix ``[-I A 0; A^H 0 G^H; 0 G 0]`` in CSC form."""
+    """The Hermitian augmented matrix ``[-I A 0; A^H 0 G^H; 0 G 0]`` in COO form (no entry
+    twice), and the number of residual rows."""
     rows, cols, vals = [], [], []
     start = 0
     for block in blocks:
         n_rows, m = block.matrix.shape
-        r = np.repeat(np.arange(start, start + n_rows), m)
-        c = np.tile(block.index, n_rows)
-        rows.append(r)
-        cols.append(c)
+        rows.append(np.repeat(np.arange(start, start + n_rows, dtype=np.int32), m))
+        cols.append(np.tile(block.index.astype(np.int32), n_rows))
         vals.append(block.matrix.ravel())
         start += n_rows
     n_rho = start
-    a_rows = np.concatenate(rows) if rows else np.zeros(0, dtype=int)
-    a_cols = np.concatenate(cols) + n_rho if cols else np.zeros(0, dtype=int)
+    a_rows = np.concatenate(rows) if rows else np.zeros(0, dtype=np.int32)
+    a_cols = np.concatenate(cols) + n_rho if cols else np.zeros(0, dtype=np.int32)
     a_vals = np.concatenate(vals) if vals else np.zeros(0, dtype=complex)
     g = g_mat.tocoo()
-    g_rows = g.row + n_rho + n_s
-    g_cols = g.col + n_rho
-    diag = np.arange(n_rho)
+    g_rows = (g.row + n_rho + n_s).astype(np.int32)
+    g_cols = (g.col + n_rho).astype(np.int32)
+    diag = np.arange(n_rho, dtype=np.int32)
     n = n_rho + n_s + g_mat.shape[0]
     matrix = scipy.sparse.coo_matrix(
         (np.concatenate([-np.ones(n_rho), a_vals, a_vals.conj(), g.data, g.data.conj()]),
          (np.concatenate([diag, a_rows, a_cols, g_rows, g_cols]),
           np.concatenate([diag, a_cols, a_rows, g_cols, g_rows]))),
         shape=(n, n), dtype=complex)
-    return matrix.tocsc(), n_rho
+    return matrix, n_rho
 
 
 @dataclass
@@ -248,10 +247,11 @@ def factorise_interface(n_s, blocks, constraints, groups=None, keep=True):
                           else np.zeros(0, dtype=complex),
                           np.zeros(n_s, dtype=complex), np.asarray(g_rhs, dtype=complex)])
     # symmetric equilibration: the rows mix residuals, energies per unit load and displacements
-    row_max = abs(matrix).max(axis=1).toarray().ravel()
+    row_max = np.zeros(matrix.shape[0])
+    np.maximum.at(row_max, matrix.row, np.abs(matrix.data))
     scale = 1.0 / np.sqrt(np.maximum(row_max, np.finfo(float).tiny))
     scaled = matrix  # scaled in place: the matrix is the largest array besides the factors
-    scaled.data *= scale[scaled.indices] * np.repeat(scale, np.diff(scaled.indptr))
+    scaled.data *= scale[scaled.row] * scale[scaled.col]
     lu, x = None, None
     variable_groups = (_variable_groups(blocks, n_rho, groups)
                        if groups is not None and matrix.shape[0] >= GROUPED_MIN_SIZE else None)
@@ -269,19 +269,21 @@ def factorise_interface(n_s, blocks, constraints, groups=None, keep=True):
         # backward stable, and accuracy is judged on fields and energies.
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", scipy.sparse.linalg.MatrixRankWarning)
-            lu = scipy.sparse.linalg.splu(scaled, permc_spec="COLAMD", diag_pivot_thresh=0.1)
+            lu = scipy.sparse.linalg.splu(scaled.tocsc(), permc_spec="COLAMD",
+                                          diag_pivot_thresh=0.1)
         x = lu.solve(rhs * scale)
     x = x * scale
     s = x[n_rho:n_rho + n_s]
-    return InterfaceFactor(lu if keep else None, scale, n_rho, n_s, s, [b.residual(s) for b in blocks],
-                           np.asarray(g_rhs, dtype=complex))
+    return InterfaceFactor(lu if keep else None, scale, n_rho, n_s, s,
+                           [b.residual(s) for b in blocks], np.asarray(g_rhs, dtype=complex))
 
 
 def backward_error(matrix, x, rhs):
     r"""Normwise backward error :math:`\|Ax - b\|_\infty / (\|A\|_\infty\|x\|_\infty +
     \|b\|_\infty)` of a solution ``x`` of :math:`Ax = b`."""
     residual = matrix @ x - rhs
-    norm = scipy.sparse.linalg.norm(matrix, np.inf)
+    entries = matrix.tocoo()
+    norm = np.bincount(entries.row, np.abs(entries.data), entries.shape[0]).max()
     return float(np.max(np.abs(residual)) / (norm * np.max(np.abs(x)) + np.max(np.abs(rhs))))
 
 

@@ -49,7 +49,6 @@ function is needed.
 
 from __future__ import annotations
 
-import functools
 import math
 from dataclasses import dataclass, field
 
@@ -60,6 +59,7 @@ from solver.kirchhoff import point_force_derivatives, wave_edge_factors
 from solver.rays import (
     EDGES,
     RayBasis,
+    gauss_legendre,
     line_exponentials,
     node_exponentials,
     plate_edges,
@@ -212,11 +212,6 @@ def edge_rule_size(length, k_max, sources, edge):
     return min(q, 4000)
 
 
-@functools.lru_cache(maxsize=64)
-def _gauss_legendre(n):
-    return np.polynomial.legendre.leggauss(n)
-
-
 def particular_traces(problem, points, normal, tangent):
     """Edge quantities of the point-force particular solution at ``points``.
 
@@ -270,7 +265,7 @@ def _pair_traces(problem, basis, edges, q, keys):
     """
     axis = int(np.argmax(np.abs(edges[0].tangent)))
     length = edges[0].length
-    x, w = _gauss_legendre(q)
+    x, w = gauss_legendre(q)
     s, weights = 0.5 * length * (x + 1.0), 0.5 * length * w
     u = np.concatenate([[0.0], s, [length]])  # symmetric: u[::-1] = length - u
     shared, constants = line_exponentials(basis, axis, u, [e.start[1 - axis] for e in edges])

@@ -50,7 +50,7 @@ import numpy as np
 from solver.kirchhoff import wave_edge_factors
 from solver.plate import (edge_rule_size, edge_values, evaluate_field, particular_field,
                           particular_traces)
-from solver.rays import node_exponentials, plate_edges, tensor_grid_field
+from solver.rays import gauss_legendre, node_exponentials, plate_edges, tensor_grid_field
 
 __all__ = ["PowerFlow", "power_flow", "plate_powers", "kinetic_energy", "plate_gauss_axes",
            "grid_deflection"]
@@ -129,7 +129,7 @@ def plate_powers(problem, basis, amplitudes):
         w = evaluate_field(problem, basis, amplitudes, np.array([force.position]))["w"][0]
         forces += force.amplitude * np.conj(w)
     for edge in plate_edges(problem.size):
-        x, wq = np.polynomial.legendre.leggauss(edge_rule_size(edge.length, k_max, sources, edge))
+        x, wq = gauss_legendre(edge_rule_size(edge.length, k_max, sources, edge))
         s, wq = 0.5 * edge.length * (x + 1.0), 0.5 * edge.length * wq
         field = _edge_field(problem, basis, amplitudes, edge, s)
         boundary += wq @ (field["shear_q"] * np.conj(field["w"])
@@ -152,7 +152,7 @@ def plate_gauss_axes(problem):
     energy and of the error estimate's L2 integrals."""
     rules = []
     for length in problem.size:
-        x, w = np.polynomial.legendre.leggauss(math.ceil(problem.kappa.real * length) + 12)
+        x, w = gauss_legendre(math.ceil(problem.kappa.real * length) + 12)
         rules.append((0.5 * length * (x + 1.0), 0.5 * length * w))
     return tuple(rules)
 

@@ -64,6 +64,7 @@ __all__ = [
     "ray_field",
     "node_exponentials",
     "line_exponentials",
+    "gauss_legendre",
 ]
 
 EDGES = ("bottom", "right", "top", "left")
@@ -230,7 +231,7 @@ def _sector_nodes(lower, upper, n_sectors, n_q):
 
 def _sector_nodes_mapped(edges, n_q):
     """Gauss–Legendre nodes and normalised weights on the sectors ``[edges[i], edges[i+1]]``."""
-    x, w = _gauss_legendre(n_q)
+    x, w = gauss_legendre(n_q)
     half = 0.5 * (edges[1:] - edges[:-1])
     mid = 0.5 * (edges[1:] + edges[:-1])
     nodes = (mid[:, None] + half[:, None] * x[None, :]).ravel()
@@ -257,9 +258,13 @@ def _circle_nodes(n_sectors, n_q):
     return np.stack([c, s], axis=1), w
 
 
-@functools.lru_cache(maxsize=32)
-def _gauss_legendre(n):
-    return np.polynomial.legendre.leggauss(n)
+@functools.lru_cache(maxsize=256)
+def gauss_legendre(n):
+    """Gauss–Legendre points and weights on [-1, 1] (``numpy``'s ``leggauss``), computed once
+    per ``n`` and read-only: every plate edge, joint and sector of a build asks for them."""
+    x, w = np.polynomial.legendre.leggauss(n)
+    x.flags.writeable = w.flags.writeable = False
+    return x, w
 
 
 def _root_positive_real(z):

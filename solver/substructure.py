@@ -89,7 +89,7 @@ from solver.plate import (
 from solver.interface import Block, factorise_interface, residual_weight
 from solver.power import kinetic_energy
 from solver.problems import plate_basis, plate_problem, plate_ray_counts, plate_resolution
-from solver.rays import EDGES
+from solver.rays import EDGES, gauss_legendre
 
 __all__ = [
     "Channel",
@@ -296,7 +296,7 @@ class AssemblySystem:
 def joint_gauss(length, k_max):
     r"""Gauss points and weights on a joint line of ``length`` (m): :math:`\lceil k_{max}L\rceil + 16`
     points, where :math:`k_{max}` is the largest ray wavenumber of the two plates."""
-    x, w = np.polynomial.legendre.leggauss(math.ceil(k_max * length) + 16)
+    x, w = gauss_legendre(math.ceil(k_max * length) + 16)
     return 0.5 * length * (x + 1.0), 0.5 * length * w
 
 
