@@ -196,6 +196,7 @@ def test_identical_plates_share_their_basis_and_nothing_changes(monkeypatch):
     the unforced plates with the same edges share their factorised block; the system is the
     same, to the bit, as with a basis of its own for every plate."""
     from solver import substructure
+    from solver.plate import edge_values
     from solver.problems import plate_basis
 
     case = parse_case(plate_grid(3, 3))
@@ -205,7 +206,11 @@ def test_identical_plates_share_their_basis_and_nothing_changes(monkeypatch):
     def own_bases(case, problems, resolution):
         return {pid: plate_basis(case, pid, p, resolution) for pid, p in problems.items()}
 
+    def uncached_edge_values(problem, basis, edge, s, cache=None):
+        return edge_values(problem, basis, edge, s)
+
     monkeypatch.setattr(substructure, "_plate_bases", own_bases)
+    monkeypatch.setattr(substructure, "edge_values", uncached_edge_values)
     alone = build_assembly_system(case, 250.0)
     assert len({id(b) for b in alone.bases.values()}) == len(case.plates)
     for a, b in zip(shared.channels, alone.channels):
@@ -217,3 +222,23 @@ def test_identical_plates_share_their_basis_and_nothing_changes(monkeypatch):
         assert np.array_equal(shared.transfer[pid], alone.transfer[pid])
         assert np.array_equal(shared.u0[pid], alone.u0[pid])
         assert shared.rcond[pid] == alone.rcond[pid]
+
+
+def test_the_trace_cache_tells_edges_and_points_apart():
+    """Cached joint traces equal fresh ones for every edge and both directions of travel, asked
+    in any order (a key missing the edge or the points would hand one edge's to another)."""
+    from solver.plate import edge_values
+    from solver.substructure import joint_gauss
+
+    case = parse_case(plate_grid(2, 2))
+    system = build_assembly_system(case, 250.0)
+    problem, basis = system.problems["P1_1"], system.bases["P1_1"]
+    sigma, _ = joint_gauss(0.4, float(np.max(np.abs(basis.k))))
+    cache = {}
+    for edge in ("left", "right", "bottom", "top"):
+        for s in (sigma, 0.4 - sigma):
+            rays, _ = edge_values(problem, basis, edge, s, cache)
+            fresh, _ = edge_values(problem, basis, edge, s)
+            assert np.array_equal(rays["w"], fresh["w"]), edge
+            assert np.array_equal(rays["slope"], fresh["slope"]), edge
+    assert len(cache) == 8
