@@ -50,7 +50,11 @@ PLATE_SECONDS = 0.02  # rays, traces, dense plate solve and transfer operator, p
 LOCALISATION_SOLVES = 3  # per frequency: modified problem, direct model, the noise draws (one)
 PLAN_SECONDS_PER_ENTRY = 1.2e-7
 """``vtcr plan``'s work per joint and frequency per LU entry (its two condensations and its
-expected interval), measured on the 6 x 6 and 10 x 10 grids of ``bench/bench_scale.py``."""
+expected interval), measured with SuperLU on the 6 x 6 and 10 x 10 grids of
+``bench/bench_scale.py``."""
+GROUPED_PLAN_SECONDS_PER_ENTRY = 5e-8
+"""The same through the grouped factorisation, whose solves are faster: the whole plan of
+``cases/grid_10x10.toml`` (180 joints, 1.3e7 estimated factor entries) took 127 s."""
 PLAN_SOLVES = 6  # per frequency: the model response, its enriched solve (three), the modified
 # problem and the model again
 
@@ -98,8 +102,10 @@ class SizeEstimate:
 
     @property
     def plan_seconds_per_joint(self) -> float:
-        """``vtcr plan``'s work for one joint (:data:`PLAN_SECONDS_PER_ENTRY`)."""
-        return self.frequencies * PLAN_SECONDS_PER_ENTRY * self.factor_entries
+        """``vtcr plan``'s work for one joint (:data:`PLAN_SECONDS_PER_ENTRY`,
+        :data:`GROUPED_PLAN_SECONDS_PER_ENTRY`)."""
+        per_entry = GROUPED_PLAN_SECONDS_PER_ENTRY if self.grouped else PLAN_SECONDS_PER_ENTRY
+        return self.frequencies * per_entry * self.factor_entries
 
     def plan_seconds(self, joints=None) -> float:
         """``vtcr plan`` of ``joints`` updatable joints (default every one)."""
