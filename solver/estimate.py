@@ -32,13 +32,15 @@ solutions differ by about their common floor and the estimate stays of the order
 Near the floor (about 1e-6) the estimate is dominated by round-off and only says "small".
 
 **Large assemblies.** The enriched assembly solve refactorises an interface problem with 1.5
-times the unknowns, about three times the cost of the solve. When :mod:`solver.sizing`
-estimates it above :data:`ENRICHED_SOLVE_SECONDS`, or beyond half the available memory, the
-estimate is not made and says why (:func:`estimate_error` returns an estimate whose ``total``
-is None): a wrong number would be worse than none. A cheaper per-plate estimate (each plate
-solved again alone with enriched rays under the interface loads of the solution) was measured
-and rejected: effectivity 0.43–1.1 on Levy chains but 14 on a 4 x 4 grid, whose coarse
-interface loads carry components the coarse rays absorb and the enriched ones do not.
+times the unknowns, one and a half to three times the cost of the solve (10 x 10 grid of
+``bench/bench_scale.py``: 3.4 s against 2.3 s, the factorisations 2.3 s against 1.1 s). When
+:mod:`solver.sizing` estimates it above :data:`ENRICHED_SOLVE_SECONDS`, or beyond half the
+available memory, the estimate is not made and says why (:func:`estimate_error` returns an
+estimate whose ``total`` is None): a wrong number would be worse than none. A cheaper
+per-plate estimate (each plate solved again alone with enriched rays under the interface loads
+of the solution) was measured and rejected: effectivity 0.43–1.1 on Levy chains but 14 on a
+4 x 4 grid, whose coarse interface loads carry components the coarse rays absorb and the
+enriched ones do not.
 
 The :math:`L^2` integrals are tensor Gauss rules on each plate with
 :math:`\lceil\kappa_0L\rceil + 12` points per side (the kinetic energy's rule): on the simply
