@@ -252,16 +252,17 @@ def factorise_interface(n_s, blocks, constraints, groups=None, keep=True):
     scale = 1.0 / np.sqrt(np.maximum(row_max, np.finfo(float).tiny))
     scaled = matrix  # scaled in place: the matrix is the largest array besides the factors
     scaled.data *= scale[scaled.row] * scale[scaled.col]
+    scaled_rhs = rhs * scale
     lu, x = None, None
     variable_groups = (_variable_groups(blocks, n_rho, groups)
                        if groups is not None and matrix.shape[0] >= GROUPED_MIN_SIZE else None)
     if variable_groups is not None:
         try:
-            lu = GroupedLU(scaled, variable_groups, None if keep else rhs * scale)
-            x = lu.solve(rhs * scale) if keep else lu.solution
+            lu = GroupedLU(scaled, variable_groups, None if keep else scaled_rhs)
+            x = lu.solve(scaled_rhs) if keep else lu.solution
         except GroupPivotError:
             lu = None
-        if lu is not None and backward_error(scaled, x, rhs * scale) > BACKWARD_ERROR:
+        if lu is not None and backward_error(scaled, x, scaled_rhs) > BACKWARD_ERROR:
             lu = None
     if lu is None:
         # The transfer operators of enriched Trefftz bases make this system as ill-conditioned
@@ -271,7 +272,7 @@ def factorise_interface(n_s, blocks, constraints, groups=None, keep=True):
             warnings.simplefilter("ignore", scipy.sparse.linalg.MatrixRankWarning)
             lu = scipy.sparse.linalg.splu(scaled.tocsc(), permc_spec="COLAMD",
                                           diag_pivot_thresh=0.1)
-        x = lu.solve(rhs * scale)
+        x = lu.solve(scaled_rhs)
     x = x * scale
     s = x[n_rho:n_rho + n_s]
     return InterfaceFactor(lu if keep else None, scale, n_rho, n_s, s,
@@ -292,12 +293,11 @@ def _variable_groups(blocks, n_rho, groups):
     S, then the multipliers — or None when a group holds fewer rows than unknowns (its pivot
     block would be singular: a joint without residual weight, say)."""
     unknown_groups, constraint_groups = groups
-    own = np.concatenate([[b.group] * len(b.offset) for b in blocks]) if blocks else np.zeros(0)
-    own = np.asarray(own, dtype=int)
+    sizes = [len(b.offset) for b in blocks]
+    own = np.repeat(np.array([b.group for b in blocks], dtype=int), sizes)
     alone = own < 0  # rows of their own: a group per block
     first = max(unknown_groups.max(initial=-1), constraint_groups.max(initial=-1)) + 1
-    block_of_row = np.repeat(np.arange(len(blocks)), [len(b.offset) for b in blocks])
-    own[alone] = first + block_of_row[alone]
+    own[alone] = first + np.repeat(np.arange(len(blocks)), sizes)[alone]
     labels = np.concatenate([own, unknown_groups, constraint_groups])
     _, labels = np.unique(labels, return_inverse=True)
     is_row = np.ones(len(labels), dtype=bool)

@@ -186,7 +186,6 @@ class GroupedLU:
         bounds = np.searchsorted(first[by_front], np.arange(len(fronts) + 1))
         del first
 
-        self.n = n
         self.factors = []  # per front: own, coupled, lu, perm, l21 (None with rhs), u12
         self._lower_kept = rhs is None
         forward = None if rhs is None else _columns(rhs)

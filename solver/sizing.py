@@ -71,11 +71,24 @@ class SizeEstimate:
     constraints: int
     residual_samples: int
     matrix_entries: int
-    factor_entries: float
     frequencies: int
     max_steps: int
     channels: int = 0  # updatable joints (a junction's finite members each)
-    grouped: bool = False  # factorised by groups (large enough), else by SuperLU
+
+    @property
+    def grouped(self) -> bool:
+        """Factorised by groups (:data:`solver.interface.GROUPED_MIN_SIZE` variables or more),
+        else by SuperLU."""
+        return (self.residual_samples + self.interface_unknowns + self.constraints
+                >= GROUPED_MIN_SIZE)
+
+    @property
+    def factor_entries(self) -> float:
+        r"""Entries of the interface problem's factors: the matrix entries times
+        :math:`1.4\ln P` by groups, :math:`\sqrt P` by SuperLU (module docstring)."""
+        fill = (GROUPED_FILL_PER_LOG_PLATES * math.log(self.plates) if self.grouped
+                else math.sqrt(self.plates))
+        return self.matrix_entries * fill
 
     @property
     def solve_bytes(self) -> float:
@@ -172,13 +185,10 @@ def estimate_size(case, frequency=None, resolution=None) -> SizeEstimate:
         entries += points * len(unknowns[pid])
     constraints += len(corners)
     matrix_entries = 2 * entries + samples
-    grouped = samples + n_s + constraints >= GROUPED_MIN_SIZE
-    plates = len(case.plates)
-    fill = (GROUPED_FILL_PER_LOG_PLATES * math.log(plates) if grouped else math.sqrt(plates))
-    return SizeEstimate(frequency, plates, len(case.joints),
+    return SizeEstimate(frequency, len(case.plates), len(case.joints),
                         sum(b.n_dof for b in bases.values()), n_s, constraints, samples,
-                        matrix_entries, matrix_entries * fill, len(case.frequencies),
-                        case.updating.max_steps, len(case.updatable_joints()), grouped)
+                        matrix_entries, len(case.frequencies), case.updating.max_steps,
+                        len(case.updatable_joints()))
 
 
 def _measured_points(case):

@@ -619,7 +619,7 @@ def _plate_signature(problem, basis):
     """What a plate's VTCR block depends on besides its point forces: its basis object
     (:func:`_plate_bases`), material, frequency and edge conditions with their data."""
     return (id(basis), problem.size, problem.bending_stiffness, problem.poisson_ratio,
-            problem.mass_per_area, problem.omega, repr(sorted(problem.edges.items())))
+            problem.mass_per_area, problem.omega, tuple(sorted(problem.edges.items())))
 
 
 def _plate_bases(case, problems, resolution):

@@ -178,10 +178,9 @@ def _frequency_data(case, resolution, estimate, discretisation, task):
     system = build_assembly_system(case, frequency, resolution)
     initial = solve_assembly(case, frequency, resolution, system=system)  # fixes E_ref at p0
     enriched = (enriched_plates(case, frequency, resolution) if estimate or discretisation
-                else (None, "", 0.0))
+                else None)
     error = estimate_error(case, initial, resolution, enriched) if estimate else None
-    if not discretisation:
-        enriched = (None, "", 0.0)
+    finer, reason, _ = enriched if discretisation else (None, "", 0.0)
     plates, operators, data, offsets = [], [], [], []
     for pid, (points, measured) in measured_plates.items():
         problem, basis = system.problems[pid], system.bases[pid]
@@ -190,12 +189,12 @@ def _frequency_data(case, resolution, estimate, discretisation, task):
         plates.append(pid)
         operators.append(system.affine_plate_operator(pid, rays, particular))
         data.append(np.asarray(measured))
-        if enriched[0] is not None:
-            offsets.append(enriched[0][pid].field(points)["w"] - operators[-1].residual(
+        if finer is not None:
+            offsets.append(finer[pid].field(points)["w"] - operators[-1].residual(
                 initial.interface))
     return _Frequency(system, plates, operators, data, initial.interface, error,
-                      case.updating.misfit == "per_plate", offsets if enriched[0] else None,
-                      enriched[1])
+                      case.updating.misfit == "per_plate",
+                      offsets if finer is not None else None, reason)
 
 
 class ModifiedProblem:

@@ -109,8 +109,8 @@ def identifiability_plan(case, layout_measurements, level=None, resolution=None,
     threshold = 2.0 * noise.deviation / math.sqrt(max(n_values, 1))
     direct = problem.direct_factors(parameters)
     plans = {}
-    for joint in (problem.joints if joints is None else
-                  [j for j in problem.joints if j in set(joints)]):
+    planned = problem.joints if joints is None else set(joints)
+    for joint in (j for j in problem.joints if j in planned):
         target = (joint, "log10_stiffness")
         # the test's condensation of the model response on the joint gives the sensitivities
         test = ScoreTest(problem, parameters, target, [target], direct=direct)
