@@ -172,6 +172,7 @@ _EXAMPLES: dict[str, str] = {
     "updating.stop_ratio": "stop_ratio = 3.0 (> 1)",
     "updating.min_decrease": "min_decrease = 0.01 (in [0, 1))",
     "updating.confidence": "confidence = 0.9 (a level in (0, 1))",
+    "updating.significance": "significance = 0.05 (in (0, 0.5))",
     "truth": "a [truth.joints.ID] table",
     "truth.joints": "[truth.joints.G1] tables",
     "truth.joints.*": "a [truth.joints.ID] table",

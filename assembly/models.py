@@ -1150,7 +1150,11 @@ class Updating(_Model):
         Maximum number of correction steps, >= 1.  Default 8.
     stop_ratio : float, optional
         A joint is selected for correction only if its residual exceeds `stop_ratio` times
-        the median/floor of the residuals; > 1.  Default 3.0.
+        its floor (the residual a right model shows on average); > 1.  Default 3.0.
+    significance : float, optional
+        ... and the residual a right model exceeds at any of the joints with probability
+        `significance` (familywise: among hundreds of joints, some stand several times above
+        their floors by noise alone), in (0, 0.5).  Default 0.05.
     min_decrease : float, optional
         Smallest relative decrease of ``E_mod`` for a correction to count, in [0, 1).
         Default 0.01.
@@ -1172,6 +1176,7 @@ class Updating(_Model):
     ] = ("stiffness",)
     max_steps: Annotated[int, Strict(), Field(ge=1)] = 8
     stop_ratio: Annotated[float, Strict(), Field(gt=1)] = 3.0
+    significance: Annotated[float, Strict(), Field(gt=0, lt=0.5)] = 0.05
     min_decrease: Annotated[float, Strict(), Field(ge=0, lt=1)] = 0.01
     confidence: Annotated[float, Strict(), Field(gt=0, lt=1)] = 0.9
     misfit: Literal["global", "per_plate"] = "global"

@@ -1,6 +1,7 @@
 """Updating: cost curves (paper Figs. 6–7), identification from measurements vtcr did not
 compute (exact Levy chain), the localisation–correction loop and its command line."""
 
+import dataclasses
 import json
 from pathlib import Path
 
@@ -235,7 +236,8 @@ def test_a_step_of_several_corrections_survives_the_run_file_and_the_json():
 
 def test_status_1_names_the_joints_that_still_stand_out():
     """A loop that stops because no correction helps (status 1) says which joints still stand
-    out of their floors and how far, largest first, at most five of them."""
+    out of their thresholds and by how much, largest first, at most five of them; a step
+    without calibrated thresholds (an older run file) stands on ``stop_ratio`` x floor."""
     from assembly.models import Updating
     from updating.strategy import TERMINATION_MESSAGES, Step, _message
 
@@ -245,9 +247,11 @@ def test_status_1_names_the_joints_that_still_stand_out():
     step = Step(3, None, parameters, residuals, dict.fromkeys(joints, 1.0), 1.0, 1.0, 1.0)
     message = _message(1, step, Updating())
     assert message.startswith(TERMINATION_MESSAGES[1])
-    assert "J2 9.0, J7 7.0, J6 6.0, J5 5.0, J4 4.0 and 1 more" in message
+    assert "J2 3.00, J7 2.33, J6 2.00, J5 1.67, J4 1.33 and 1 more" in message
     assert "J0" not in message and "J3" not in message
     assert _message(0, step, Updating()) == TERMINATION_MESSAGES[0]
+    calibrated = dataclasses.replace(step, thresholds={**dict.fromkeys(joints, 8.0), "J3": 1.0})
+    assert "by: J3 2.00, J2 1.12; their" in _message(1, calibrated, Updating())
 
 
 def test_a_loop_that_stops_without_converging_exits_3_with_its_outputs(tmp_path, capsys,

@@ -470,18 +470,21 @@ def _estimates_json(estimates):
 
 def cmd_localise(args):
     from updating.files import write_json_atomic
-    from updating.strategy import localise
+    from updating.strategy import localise, thresholds
 
     case = _load(args)
     measurements = _checked_measurements(case, args)
     problem = _modified_problem(case, args, measurements)
     step = localise(problem, problem.initial_parameters(), noise=case.measurement.noise)
+    limits = thresholds(step, case.updating.stop_ratio)
     table = Table(title=f"{case.name}: joint residuals (E_mod^2 = {100 * step.e_mod:.3f} %)")
-    for column in ("joint", "log10 k", "E_Gamma^2 %", "floor %"):
+    for column in ("joint", "log10 k", "E_Gamma^2 %", "floor %", "threshold %", "stands out"):
         table.add_column(column, justify="right")
     for joint in sorted(step.residuals, key=step.residuals.get, reverse=True):
         table.add_row(joint, f"{step.parameters[joint]['log10_stiffness']:.2f}",
-                      f"{100 * step.residuals[joint]:.3f}", f"{100 * step.floors[joint]:.3f}")
+                      f"{100 * step.residuals[joint]:.3f}", f"{100 * step.floors[joint]:.3f}",
+                      f"{100 * limits[joint]:.3f}",
+                      "yes" if step.residuals[joint] > limits[joint] else "")
     _console(args).print(table)
     if args.json:
         write_json_atomic(args.json, {**_provenance(args, case, measurements),

@@ -427,16 +427,22 @@ class ModifiedProblem:
 
     def noise_floor(self, parameters, noise, seed=0, realisations=4):
         r"""What a model with right joints would show under measurement noise and its own
-        discretisation error.
+        discretisation error: ``({joint: E_Gamma^2}, E_mod^2)``, the means over the draws of
+        :meth:`floor_draws`, the levels below which a joint's residual, and the cost, cannot
+        be told from noise and discretisation error."""
+        draws, e_mod = self.floor_draws(parameters, noise, seed, realisations)
+        return dict(zip(self.joints, draws.mean(axis=1))), float(e_mod.mean())
 
-        Means over :meth:`synthetic_data` realisations (the prediction moved by the discretisation
-        error the enriched solve estimates, then the noise): ``({joint: E_Gamma^2}, E_mod^2)``, the
-        levels below which a joint's residual, and the cost, cannot be told from noise and
-        discretisation error. Without the enriched solve (too large for the machine,
-        :attr:`_Frequency.no_discretisation`) the noise alone. The draws of one frequency are
-        normalised by the mean of their norms :math:`\|\tilde u_k\|^2` (which differ by about noise
-        / sqrt(points)) rather than each by its own, so that one factorisation of the interface
-        problem serves them all.
+    def floor_draws(self, parameters, noise, seed=0, realisations=4):
+        r"""The residuals and cost of a model with right joints in ``realisations`` synthetic
+        experiments (:meth:`synthetic_data`: the prediction moved by the discretisation error
+        the enriched solve estimates, then the noise): ``(draws, e_mod)``, ``draws[j, k]`` the
+        :math:`E_\Gamma^2` of joint ``self.joints[j]`` in experiment k (summed over the
+        frequencies), ``e_mod[k]`` its :math:`E_{mod}^2`. Without the enriched solve (too large
+        for the machine, :attr:`_Frequency.no_discretisation`) the noise alone. The draws of one
+        frequency are normalised by the mean of their norms :math:`\|\tilde u_k\|^2` (which
+        differ by about noise / sqrt(points)) rather than each by its own, so that one
+        factorisation of the interface problem serves them all.
         """
         draws = self.synthetic_data(parameters, noise, seed, realisations, discretisation=True)
 
@@ -450,21 +456,20 @@ class ModifiedProblem:
             factor = solve_interface(system, blocks + freq.blocks(data[0], self.r, norm))
             offsets = [[b.offset for b in blocks + freq.blocks(values, self.r, norm)]
                        for values in data]
-            out = []
-            for s, values in zip(factor.resolve(offsets), data):
-                residuals = joint_residuals(system, params, s)
-                e_mes = sum(freq.misfits(s, values, norm).values())
-                out.append((residuals, e_mes))
-            return out
+            residuals = np.zeros((len(self.joints), realisations))
+            e_mes = np.zeros(realisations)
+            for k, (s, values) in enumerate(zip(factor.resolve(offsets), data)):
+                at_draw = joint_residuals(system, params, s)
+                residuals[:, k] = [at_draw[jid] for jid in self.joints]
+                e_mes[k] = sum(freq.misfits(s, values, norm).values())
+            return residuals, e_mes
 
-        floors, e_mod = dict.fromkeys(self.joints, 0.0), 0.0
-        for draws_at_frequency in self._map(floor, self.frequencies):
-            for residuals, e_mes in draws_at_frequency:
-                e_int = sum(self.alpha[jid] * value for jid, value in residuals.items())
-                e_mod += ((1.0 - self.r) * e_int + self.r * e_mes) / realisations
-                for jid, value in residuals.items():
-                    floors[jid] += value / realisations
-        return floors, e_mod
+        alpha = np.array([self.alpha[jid] for jid in self.joints])
+        residuals, e_mod = np.zeros((len(self.joints), realisations)), np.zeros(realisations)
+        for at_frequency, e_mes in self._map(floor, self.frequencies):
+            residuals += at_frequency
+            e_mod += (1.0 - self.r) * alpha @ at_frequency + self.r * e_mes
+        return residuals, e_mod
 
     def field(self, frequency, interface):
         """Plate amplitudes for interface unknowns S (to plot or export the updated field)."""

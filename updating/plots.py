@@ -52,6 +52,7 @@ from updating.cost import (
     log_grid,
 )
 from updating.files import InputError, atomic_output
+from updating.strategy import thresholds
 
 __all__ = [
     "MISSING_MATPLOTLIB",
@@ -438,7 +439,8 @@ class ResidualBarsData:
     residuals : ndarray, shape (n_steps, n_joints)
         :math:`E_{\Gamma_i}^2` in %.
     thresholds : ndarray, shape (n_steps, n_joints)
-        ``stop_ratio`` x floor in % (a joint above it stands out).
+        Each joint's threshold in % (a joint above it stands out:
+        :func:`updating.strategy.thresholds`).
     selected : tuple of (int or None)
         Column of the joint corrected in each step.
     e_mod : ndarray, shape (n_steps,)
@@ -460,14 +462,14 @@ def residual_bars_data(result, stop_ratio=1.0):
     joints = tuple(result.steps[0].parameters)
     labels = tuple("initial" if s.step == 0 else f"step {s.step}" for s in result.steps)
     residuals = np.array([[100.0 * s.residuals[j] for j in joints] for s in result.steps])
-    thresholds = np.array([[100.0 * stop_ratio * s.floors[j] for j in joints]
-                           for s in result.steps])
+    limits = [thresholds(s, stop_ratio) for s in result.steps]
+    levels = np.array([[100.0 * at_step[j] for j in joints] for at_step in limits])
     selected = tuple(joints.index(s.selected) if s.selected in joints else None
                      for s in result.steps)
     e_mod = np.array([100.0 * s.e_mod for s in result.steps])
     log10_k = np.array([[s.parameters[j]["log10_stiffness"] for j in joints]
                         for s in result.steps])
-    return ResidualBarsData(labels, joints, residuals, thresholds, selected, e_mod, log10_k)
+    return ResidualBarsData(labels, joints, residuals, levels, selected, e_mod, log10_k)
 
 
 @dataclass(frozen=True)
@@ -804,7 +806,7 @@ def draw_residual_bars(data, title=""):
     from matplotlib.lines import Line2D
 
     handles.append(Line2D([], [], marker="_", ls="none", color="black", ms=10, mew=1.5,
-                          label="stop threshold (stop_ratio x floor)"))
+                          label="threshold (stands out above)"))
     top.legend(handles=handles, fontsize="small", loc="upper left", bbox_to_anchor=(1.01, 1.0))
     top.grid(True, axis="y", which="major", alpha=0.4)
     width = int(figure.get_figwidth() * 11)  # characters per title line

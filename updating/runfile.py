@@ -138,6 +138,7 @@ class _StepRecord(pydantic.BaseModel, extra="forbid"):
     e_mod_floor: NonNegative = 0.0
     misfits: dict[str, NonNegative] = {}
     also: dict[str, Interval] = {}
+    thresholds: dict[str, NonNegative] = {}
 
 
 class _RunRecord(pydantic.BaseModel):
@@ -178,9 +179,9 @@ def _step_problems(steps, case):
         where = f"steps[{n}]"
         if step.step != n:
             return f"{where}.step: is {step.step}, the {n}-th step must be step {n}"
-        for name in ("parameters", "residuals", "floors"):
+        for name in ("parameters", "residuals", "floors", "thresholds"):
             keys = set(getattr(step, name))
-            if keys != joints:
+            if keys != joints and (name != "thresholds" or keys):
                 return (f"{where}.{name}: has joints {sorted(keys)}, the description has "
                         f"{sorted(joints)}")
         for joint in (*step.also, *([step.selected] if step.selected is not None else [])):

@@ -3,14 +3,19 @@
 Rule (configurable in ``[updating]``):
 
 1. **Localise**: solve the modified problem at the current parameters and rank the joints by
-   :math:`E_\\Gamma^2`. The *floor* of each joint is the residual it would show if the model
-   were right and only the measurement noise (``[measurement] noise``) and the discretisation
-   were at work (:meth:`ModifiedProblem.noise_floor`).
-2. **Select** among the joints whose residual stands out of its floor
-   (:math:`E_\\Gamma^2 >` ``stop_ratio`` x floor) and that are not *exhausted* the one that
-   stands out most (largest residual-to-floor ratio: in a large structure the floors differ
-   by an order of magnitude between the loaded region and the rest, and the largest residual
-   is often a noisy joint near the load, not the most significant one).
+   :math:`E_\\Gamma^2`. The *floor* of each joint is the residual it would show on average if
+   the model were right and only the measurement noise (``[measurement] noise``) and the
+   discretisation were at work, its *threshold* the residual such a right model exceeds at any
+   of the joints with probability ``significance`` (familywise), both from
+   :data:`~updating.significance.FLOOR_DRAWS` synthetic experiments on the model
+   (:meth:`ModifiedProblem.floor_draws`, :mod:`updating.significance`), and never below
+   ``stop_ratio`` x floor. Among 180 joints a ratio to the floor is exceeded several times
+   by noise alone; the threshold counts the joints.
+2. **Select** among the joints whose residual stands out (:math:`E_\\Gamma^2 >` threshold) and
+   that are not *exhausted* the one that stands out most (largest residual-to-threshold
+   ratio: in a large structure the floors differ by an order of magnitude between the loaded
+   region and the rest, and the largest residual is often a noisy joint near the load, not
+   the most significant one).
 3. **Correct** only that joint: a bounded optimisation of its log10 k (a scan over
    ``bounds`` then Brent's method around the best point), with its loss factor and line mass
    too when ``identify`` asks for them. The cost is condensed once on the joint
@@ -33,7 +38,7 @@ Rule (configurable in ``[updating]``):
 5. **Re-correct** when no joint stands out any more: a joint corrected while other joints were
    still wrong has compensated for them, and its residual can sit near the floor while its
    value is biased (the paper's Table 4 re-corrects Γ1 and Γ2 for this reason). The joints
-   corrected so far are tried again, largest residual-to-floor ratio first, under the same
+   corrected so far are tried again, largest residual-to-threshold ratio first, under the same
    ``min_decrease`` rule; an accepted re-correction starts a new localisation.
 
 The loop stops when no joint stands out and no re-correction lowers its neighbourhood's cost
@@ -56,9 +61,10 @@ from scipy import optimize
 
 from updating.confidence import confidence_intervals
 from updating.cost import PARAMETER_BOUNDS, SMALLEST_MASS, log_grid, with_joint
+from updating.significance import FLOOR_DRAWS, standing_thresholds
 
 __all__ = ["Step", "UpdateResult", "TERMINATION_MESSAGES", "correct_joint", "update_joints",
-           "localise", "flat_interval", "finished_result"]
+           "localise", "thresholds", "flat_interval", "finished_result"]
 
 TERMINATION_MESSAGES = {
     0: "no joint's residual stands out of the noise and discretisation floor, and re-correcting "
@@ -88,6 +94,9 @@ class Step:
     e_mod_floor: float = 0.0  # E_mod^2 a correct model shows under the stated noise
     misfits: dict = field(default_factory=dict)  # measured plate -> its part of E_mes^2
     also: dict = field(default_factory=dict)  # joint -> interval: corrected in the same step
+    # joint -> residual above which it stands out (empty in run files written before the
+    # thresholds were calibrated: stop_ratio x floor then)
+    thresholds: dict = field(default_factory=dict)
 
     @property
     def corrected(self):
@@ -118,6 +127,8 @@ class Step:
                 "mass": p["mass"], "residual_percent": 100.0 * self.residuals[jid],
                 "floor_percent": 100.0 * self.floors[jid],
             }
+            if jid in self.thresholds:
+                joints[jid]["threshold_percent"] = 100.0 * self.thresholds[jid]
         out = {"step": self.step, "selected": self.selected, "e_mod_percent": 100.0 * self.e_mod,
                "e_int_percent": 100.0 * self.e_int, "e_mes_percent": 100.0 * self.e_mes,
                "e_mod_floor_percent": 100.0 * self.e_mod_floor, "joints": joints}
@@ -152,15 +163,27 @@ class UpdateResult:
 
 
 def localise(problem, parameters, step=0, selected=None, interval=None, noise=0.0,
-             recorrection=False, also=None):
-    """Evaluate the modified problem and the floors at ``parameters``; returns a :class:`Step`."""
+             recorrection=False, also=None, settings=None):
+    """Evaluate the modified problem at ``parameters``, with each joint's floor and its
+    threshold from :data:`FLOOR_DRAWS` synthetic experiments on the model; returns a
+    :class:`Step`.
+
+    The threshold is the residual a right model exceeds at any joint with probability
+    ``settings.significance`` (:mod:`updating.significance`), and never below
+    ``settings.stop_ratio`` times the floor (default ``settings``: the description's)."""
+    settings = problem.case.updating if settings is None else settings
     evaluation = problem.evaluate(parameters)
     # without noise the floor is deterministic (discretisation only): one realisation
-    floors, e_mod_floor = problem.noise_floor(parameters, noise,
-                                              realisations=4 if noise > 0 else 1)
+    draws, e_mod_draws = problem.floor_draws(parameters, noise,
+                                             realisations=FLOOR_DRAWS if noise > 0 else 1)
+    floors = dict(zip(problem.joints, draws.mean(axis=1)))
+    calibrated = standing_thresholds(draws, settings.significance)
+    thresholds = {j: max(settings.stop_ratio * floors[j], float(t))
+                  for j, t in zip(problem.joints, calibrated)}
     return Step(step, selected, {j: dict(p) for j, p in parameters.items()}, evaluation.residuals,
                 floors, evaluation.e_mod, evaluation.e_int, evaluation.e_mes, interval,
-                recorrection, e_mod_floor, evaluation.misfits, dict(also or {}))
+                recorrection, float(e_mod_draws.mean()), evaluation.misfits, dict(also or {}),
+                thresholds)
 
 
 def flat_interval(grid, costs, best, value, best_cost):
@@ -244,19 +267,26 @@ def _optimise_more(local, parameters, joint, bounds, extra):
     return with_joint(parameters, joint, **values(result.x))
 
 
-def _ratios(step):
-    """Each joint's residual over its floor in ``step``."""
-    return {j: step.residuals[j] / max(step.floors[j], 1e-300) for j in step.residuals}
+def thresholds(step, stop_ratio):
+    """Each joint's threshold in ``step`` (:attr:`Step.thresholds`); ``stop_ratio`` times its
+    floor in a step of a run file written before the thresholds were calibrated."""
+    return {j: step.thresholds.get(j, stop_ratio * step.floors[j]) for j in step.residuals}
+
+
+def _excess(step, stop_ratio):
+    """Each joint's residual over its threshold in ``step`` (above 1: it stands out)."""
+    limits = thresholds(step, stop_ratio)
+    return {j: step.residuals[j] / max(limits[j], 1e-300) for j in step.residuals}
 
 
 def _candidates(step, settings, corrected, exhausted):
     """Joints to try next and whether they are re-corrections (rule steps 2 and 5)."""
-    ratio = _ratios(step)
-    by_ratio = sorted(step.residuals, key=ratio.get, reverse=True)
-    standing = [j for j in by_ratio if ratio[j] > settings.stop_ratio]
+    excess = _excess(step, settings.stop_ratio)
+    by_excess = sorted(step.residuals, key=excess.get, reverse=True)
+    standing = [j for j in by_excess if excess[j] > 1.0]
     if standing:
         return [j for j in standing if j not in exhausted], False
-    return [j for j in by_ratio if j in corrected and j not in exhausted], True
+    return [j for j in by_excess if j in corrected and j not in exhausted], True
 
 
 def _apart(problem, candidates):
@@ -279,7 +309,8 @@ def update_joints(problem, settings, noise=0.0, start=None, on_step=None, on_cor
     ----------
     problem : updating.cost.ModifiedProblem
     settings : assembly.models.Updating
-        ``bounds``, ``identify``, ``max_steps``, ``stop_ratio``, ``min_decrease``.
+        ``bounds``, ``identify``, ``max_steps``, ``stop_ratio``, ``significance``,
+        ``min_decrease``.
     noise : float
         Measurement noise level used for the floors.
     start : sequence of Step, optional
@@ -297,7 +328,8 @@ def update_joints(problem, settings, noise=0.0, start=None, on_step=None, on_cor
     """
     steps = list(start or [])
     if not steps:
-        steps.append(localise(problem, problem.initial_parameters(), noise=noise))
+        steps.append(localise(problem, problem.initial_parameters(), noise=noise,
+                              settings=settings))
         if on_step:
             on_step(steps[-1])
     if not steps[-1].misfits:  # a run file written before steps carried per-plate misfits
@@ -335,7 +367,7 @@ def update_joints(problem, settings, noise=0.0, start=None, on_step=None, on_cor
             parameters[joint] = dict(values)
         first, *others = accepted
         step = localise(problem, parameters, len(steps), first, accepted[first][1], noise,
-                        recorrection, {j: accepted[j][1] for j in others})
+                        recorrection, {j: accepted[j][1] for j in others}, settings)
         exhausted.clear()
         corrected.update(accepted)
         steps.append(step)
@@ -371,12 +403,11 @@ def _message(status, last, settings):
     message = TERMINATION_MESSAGES[status]
     if status != 1:
         return message
-    ratio = _ratios(last)
-    standing = sorted((j for j in ratio if ratio[j] > settings.stop_ratio), key=ratio.get,
-                      reverse=True)
-    shown = ", ".join(f"{j} {ratio[j]:.1f}" for j in standing[:5])
+    excess = _excess(last, settings.stop_ratio)
+    standing = sorted((j for j in excess if excess[j] > 1.0), key=excess.get, reverse=True)
+    shown = ", ".join(f"{j} {excess[j]:.2f}" for j in standing[:5])
     more = f" and {len(standing) - 5} more" if len(standing) > 5 else ""
-    return (f"{message} (still above {settings.stop_ratio:g} times their floors: {shown}{more}; "
+    return (f"{message} (still above their thresholds, by: {shown}{more}; "
             "their corrections were undone)")
 
 
