@@ -7,10 +7,21 @@ import pytest
 from scipy import stats
 
 from updating.significance import (
+    chi_square_quantile,
+    chi_square_tail,
     familywise_level,
     scaled_chi_square,
     standing_thresholds,
 )
+
+
+def test_chi_square_tail_and_quantile_are_scipy_stats():
+    """The incomplete-gamma forms against ``scipy.stats.chi2`` (to round-off)."""
+    x, dof = np.array([0.3, 4.0, 40.0]), np.array([2.0, 5.5, 11.0])
+    np.testing.assert_allclose(chi_square_tail(x, dof), stats.chi2.sf(x, dof), rtol=1e-12)
+    tail = np.array([0.5, 1e-3, 1e-6])
+    np.testing.assert_allclose(chi_square_quantile(tail, dof), stats.chi2.isf(tail, dof),
+                               rtol=1e-10)
 
 
 def test_scaled_chi_square_recovers_scale_and_dof():
