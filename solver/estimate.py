@@ -147,8 +147,7 @@ def enriched_plates(case, frequency, resolution=None):
     from solver.vtcr import solve_case
 
     t0 = time.perf_counter()
-    resolution = {pid: plate_resolution(case, pid, resolution) for pid in case.plates}
-    enriched_resolution = {pid: ENRICHMENT * r for pid, r in resolution.items()}
+    _, enriched_resolution = _resolutions(case, resolution)
     if case.joints:
         reason = _enriched_solve_unaffordable(case, frequency, enriched_resolution)
         if reason:
@@ -174,8 +173,7 @@ def estimate_error(case, solution, resolution=None, enriched=None) -> ErrorEstim
     t0 = time.perf_counter()
     plates, reason, seconds = enriched or enriched_plates(case, solution.frequency, resolution)
     t0 -= seconds if enriched else 0.0  # the estimate's cost includes its enriched solve
-    resolution = {pid: plate_resolution(case, pid, resolution) for pid in case.plates}
-    enriched_resolution = {pid: ENRICHMENT * r for pid, r in resolution.items()}
+    resolution, enriched_resolution = _resolutions(case, resolution)
     if plates is None:
         return ErrorEstimate(None, {}, _compact(resolution), _compact(enriched_resolution),
                              time.perf_counter() - t0, "skipped", reason)
@@ -187,6 +185,13 @@ def estimate_error(case, solution, resolution=None, enriched=None) -> ErrorEstim
     shares = {pid: e / norm2 if norm2 > 0.0 else 0.0 for pid, (e, _) in integrals.items()}
     return ErrorEstimate(total, plates, _compact(resolution), _compact(enriched_resolution),
                          time.perf_counter() - t0, shares=shares)
+
+
+def _resolutions(case, resolution):
+    """Per plate, the resolution of the solve (``resolution``: one number, a mapping or None
+    for the description's) and of its enriched solve (:data:`ENRICHMENT` times it)."""
+    per_plate = {pid: plate_resolution(case, pid, resolution) for pid in case.plates}
+    return per_plate, {pid: ENRICHMENT * r for pid, r in per_plate.items()}
 
 
 def _compact(resolution):

@@ -72,7 +72,7 @@ import scipy.sparse.linalg
 from solver.multifrontal import GroupedLU, GroupPivotError
 
 __all__ = ["BACKWARD_ERROR", "GROUPED_MIN_SIZE", "Block", "InterfaceFactor", "factorise_interface",
-           "JointCondensation", "backward_error", "residual_weight"]
+           "JointCondensation", "backward_error", "residual_weight", "squared_norm"]
 
 # Largest backward error accepted from the grouped factorisation, whose row interchanges stay
 # inside each group: SuperLU's partial pivoting gives 1e-18 to 1e-16 on these systems, and so
@@ -123,8 +123,17 @@ class Block:
     group: int = -1
 
     def residual(self, s):
-        """:math:`A_bS_{I_b} + a_b` for interface unknowns ``s``."""
-        return self.matrix @ s[self.index] + self.offset
+        """:math:`A_bS_{I_b} + a_b` for interface unknowns ``s`` of shape (n_s,), or of shape
+        (n_s, k) for k sets of them at once (one column each)."""
+        product = self.matrix @ s[self.index]
+        return product + (self.offset if product.ndim == 1 else self.offset[:, None])
+
+
+def squared_norm(r):
+    r""":math:`\|r\|^2` of a vector, or of each column of a matrix (an array of them)."""
+    if np.ndim(r) == 1:
+        return float(np.vdot(r, r).real)
+    return np.einsum("ij,ij->j", r.conj(), r).real
 
 
 def _augmented_matrix(n_s, blocks, g_mat):

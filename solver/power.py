@@ -231,10 +231,8 @@ def power_flow(case, solution) -> PowerFlow:
         amplitudes = {pid: p.amplitudes for pid, p in solution.plates.items()}
         joint_dissipated = dict.fromkeys(case.joints, 0.0)
         for channel in system.channels:
-            # the jump on the load functions: the power the joint's loads do on it
-            jump = channel.kinematic.residual(s)
-            c = params[channel.name, channel.kind]
-            joint_dissipated[channel.joint] += 0.5 * omega * c.imag * float(np.vdot(jump, jump).real)
+            joint_dissipated[channel.joint] += channel.dissipated_power(
+                s, params[channel.name, channel.kind], omega)
         for jid, joint in case.joints.items():
             to_first, *to_others = powers = _side_powers(case, system, jid, amplitudes, s)
             transmitted[jid] = 0.5 * (sum(to_others) - to_first)

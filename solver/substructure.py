@@ -86,7 +86,7 @@ from solver.plate import (
     edge_values,
     factorise_dense,
 )
-from solver.interface import Block, factorise_interface, residual_weight
+from solver.interface import Block, factorise_interface, residual_weight, squared_norm
 from solver.power import kinetic_energy
 from solver.problems import plate_basis, plate_problem, plate_ray_counts, plate_resolution
 from solver.rays import EDGES, gauss_legendre
@@ -205,9 +205,15 @@ class Channel:
 
     def energy(self, s, c):
         r""":math:`e^2 = g(c)\|\Pi_\psi r\|_\Gamma^2` (J), :math:`g = 1/(2\,\mathrm{Re}\,c)`
-        below the crossover (:func:`solver.interface.residual_weight`)."""
-        r = self.samples(s, c)
-        return float(np.vdot(r, r).real) * residual_weight(c, self.crossover)
+        below the crossover (:func:`solver.interface.residual_weight`); one per column of a
+        matrix ``s`` (:meth:`solver.interface.Block.residual`)."""
+        return squared_norm(self.samples(s, c)) * residual_weight(c, self.crossover)
+
+    def dissipated_power(self, s, c, omega):
+        r"""Power dissipated in the channel, :math:`\tfrac12\omega\,\mathrm{Im}\,c\,
+        \|\Pi_\psi[q]\|^2`: the power its loads do on the jump (kinematic samples) on the
+        joint's load functions."""
+        return 0.5 * omega * c.imag * squared_norm(self.kinematic.residual(s))
 
     def block(self, c, kappa):
         r"""The rows :math:`\sqrt{\kappa g(c)}\,Q^HW^{1/2}r` as one Block over
@@ -768,7 +774,8 @@ def reference_energy(system, amplitudes):
 
 def joint_residuals(system, params, s):
     """``{channel name: E_Gamma^2}`` (dimensionless) at interface unknowns ``s``: per joint,
-    and per finite member ``JOINT.PLATE`` of a junction."""
+    and per finite member ``JOINT.PLATE`` of a junction (arrays, one value per column, for a
+    matrix ``s``)."""
     out = {}
     for channel in system.channels:
         energy = channel.energy(s, params[channel.name, channel.kind])

@@ -42,7 +42,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from solver.estimate import enriched_plates, estimate_error
-from solver.interface import Block, JointCondensation
+from solver.interface import Block, JointCondensation, squared_norm
 from solver.plate import particular_field
 from solver.rays import ray_field
 from solver.substructure import (
@@ -110,7 +110,7 @@ class Evaluation:
 
 
 def _norm2(values):
-    return sum(float(np.vdot(v, v).real) for v in values)
+    return sum(squared_norm(v) for v in values)
 
 
 def _norms(values, per_plate):
@@ -162,9 +162,10 @@ class _Frequency:
     def misfits(self, s, data, norm=None):
         """Per measured plate, its part of :math:`E_{mes}^2` at interface unknowns ``s`` for
         measured values ``data`` (normalised by ``norm``, default :meth:`norms` of the
-        data)."""
+        data). With ``s`` of shape (n_s, k) and each plate's values of shape (points, k), one
+        part per column (``norm`` given: the columns share it)."""
         norm = self.norms(data) if norm is None else norm
-        return {pid: _norm2([op.residual(s) - v]) / n
+        return {pid: squared_norm(op.residual(s) - v) / n
                 for pid, op, v, n in zip(self.plates, self.operators, data, norm)}
 
 
@@ -456,13 +457,11 @@ class ModifiedProblem:
             factor = solve_interface(system, blocks + freq.blocks(data[0], self.r, norm))
             offsets = [[b.offset for b in blocks + freq.blocks(values, self.r, norm)]
                        for values in data]
-            residuals = np.zeros((len(self.joints), realisations))
-            e_mes = np.zeros(realisations)
-            for k, (s, values) in enumerate(zip(factor.resolve(offsets), data)):
-                at_draw = joint_residuals(system, params, s)
-                residuals[:, k] = [at_draw[jid] for jid in self.joints]
-                e_mes[k] = sum(freq.misfits(s, values, norm).values())
-            return residuals, e_mes
+            columns = factor.resolve(offsets).T  # the draws' interface unknowns, by columns
+            at_draws = joint_residuals(system, params, columns)
+            by_plate = [np.column_stack(plate) for plate in zip(*data)]  # points x draws
+            return (np.array([at_draws[jid] for jid in self.joints]),
+                    sum(freq.misfits(columns, by_plate, norm).values()))
 
         alpha = np.array([self.alpha[jid] for jid in self.joints])
         residuals, e_mod = np.zeros((len(self.joints), realisations)), np.zeros(realisations)

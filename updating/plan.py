@@ -151,11 +151,10 @@ def _relative_change(moved, base, norm):
 
 def _dissipated_share(system, s, own, params, joint):
     r"""Power the joint dissipates at interface unknowns ``s``,
-    :math:`\tfrac12\omega\,\mathrm{Im}\,c\,\|\Pi_\psi[q]\|^2` (the power its loads do on the
-    jump, :func:`solver.power.power_flow`), over the power the loads inject (the plates' and the
-    joints' dissipation together, the model's power balance)."""
-    joint_power = sum(0.5 * system.omega * params[joint, ch.kind].imag
-                      * float(np.vdot(ch.kinematic.residual(s), ch.kinematic.residual(s)).real)
+    :math:`\tfrac12\omega\,\mathrm{Im}\,c\,\|\Pi_\psi[q]\|^2`
+    (:meth:`solver.substructure.Channel.dissipated_power`), over the power the loads inject
+    (the plates' and the joints' dissipation together, the model's power balance)."""
+    joint_power = sum(ch.dissipated_power(s, params[joint, ch.kind], system.omega)
                       for ch in own)
     amplitudes = system.plate_amplitudes(s)
     injected = sum(plate_powers(system.problems[pid], system.bases[pid], amplitudes[pid])[0]
