@@ -68,7 +68,7 @@ def _tail(values, scale, dof):
     """:math:`P(g\\chi^2_\\nu > x)`; 1 where the joint has no spread (never stands out by the
     tail: its threshold is its floor)."""
     spread = scale > 0
-    out = np.ones(np.broadcast(values, scale).shape)
+    out = np.ones(values.shape)
     out[spread] = chi_square_tail(values[spread] / scale[spread], dof[spread])
     return out
 
