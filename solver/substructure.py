@@ -95,6 +95,7 @@ __all__ = [
     "Channel",
     "AssemblySystem",
     "build_assembly_system",
+    "plate_bases",
     "channel_parameters",
     "joint_parameters",
     "channel_blocks",
@@ -512,7 +513,7 @@ def build_assembly_system(case, frequency, resolution=None) -> AssemblySystem:
     """
     t0 = time.perf_counter()
     problems = {pid: plate_problem(case, pid, frequency) for pid in case.plates}
-    bases = _plate_bases(case, problems, resolution)
+    bases = plate_bases(case, problems, resolution)
     k_max = {pid: float(np.max(np.abs(b.k))) for pid, b in bases.items()}
 
     counts, layout, junctions, corner_columns, n_s, unknowns = interface_layout(
@@ -623,12 +624,12 @@ def build_assembly_system(case, frequency, resolution=None) -> AssemblySystem:
 
 def _plate_signature(problem, basis):
     """What a plate's VTCR block depends on besides its point forces: its basis object
-    (:func:`_plate_bases`), material, frequency and edge conditions with their data."""
+    (:func:`plate_bases`), material, frequency and edge conditions with their data."""
     return (id(basis), problem.size, problem.bending_stiffness, problem.poisson_ratio,
             problem.mass_per_area, problem.omega, tuple(sorted(problem.edges.items())))
 
 
-def _plate_bases(case, problems, resolution):
+def plate_bases(case, problems, resolution):
     """Each plate's ray basis; plates of the same size, wavenumber and ray counts share one
     object (a grid's or a panel's identical plates), so that their joint traces are computed
     once (:func:`solver.plate.edge_values`' cache)."""

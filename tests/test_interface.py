@@ -209,7 +209,7 @@ def test_identical_plates_share_their_basis_and_nothing_changes(monkeypatch):
     def uncached_edge_values(problem, basis, edge, s, cache=None):
         return edge_values(problem, basis, edge, s)
 
-    monkeypatch.setattr(substructure, "_plate_bases", own_bases)
+    monkeypatch.setattr(substructure, "plate_bases", own_bases)
     monkeypatch.setattr(substructure, "edge_values", uncached_edge_values)
     alone = build_assembly_system(case, 250.0)
     assert len({id(b) for b in alone.bases.values()}) == len(case.plates)

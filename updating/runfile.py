@@ -31,7 +31,6 @@ import numpy as np
 import pydantic
 
 from updating.files import InputError, write_json_atomic
-from updating.strategy import Step
 
 try:  # advisory locks where the system has them (POSIX); elsewhere runs are not locked
     import fcntl
@@ -253,6 +252,8 @@ def load_run(path, case, digests):
     problem = _step_problems(record.steps, case)
     if problem:
         raise InputError(f"--resume {path}: damaged run file, {problem}; {_FIX}")
+    from updating.strategy import Step  # the loop's modules: not for a solve's provenance
+
     steps = [Step.from_record(step.model_dump()) for step in record.steps]
     return RunFile(path, case.name, digests, steps,
                    (record.status, record.message) if record.finished else None)
