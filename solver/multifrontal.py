@@ -53,14 +53,17 @@ class GroupPivotError(np.linalg.LinAlgError):
     """A group's pivot block is singular: restricted pivoting cannot factorise the matrix."""
 
 
-def group_graph(rows, cols, groups, n_groups):
-    """Adjacency (CSR, symmetric, no diagonal) of the groups coupled by the entries at
-    ``rows``, ``cols`` of a matrix over the variables (``groups[i]``: variable i's group)."""
-    a, b = groups[rows], groups[cols]
-    coupled = scipy.sparse.csr_matrix((np.ones(len(a)), (a, b)), shape=(n_groups, n_groups))
-    adjacency = ((coupled + coupled.T) > 0).astype(float).tocsr()
-    adjacency.setdiag(0.0)
-    adjacency.eliminate_zeros()
+def group_graph(row_groups, col_groups, n_groups):
+    """Adjacency (CSR, symmetric, no diagonal) of the groups coupled by a matrix's entries,
+    given the groups of each entry's row and column. The distinct pairs are found by one sort
+    of their codes: a sparse matrix built from every entry would sum millions of duplicates
+    (0.3 s against 0.06 s for the 3.4e6 entries of the 10 x 10 grid's enriched problem)."""
+    codes = np.unique(row_groups.astype(np.int64) * n_groups + col_groups)
+    a, b = np.divmod(codes, n_groups)
+    off = a != b
+    a, b = np.concatenate([a[off], b[off]]), np.concatenate([b[off], a[off]])
+    adjacency = scipy.sparse.csr_matrix((np.ones(len(a)), (a, b)), shape=(n_groups, n_groups))
+    adjacency.data[:] = 1.0  # a pair present in both orders was summed
     return adjacency
 
 
@@ -209,15 +212,21 @@ class GroupedLU:
         n_groups = int(groups.max()) + 1 if n else 0
         by_group = np.argsort(groups, kind="stable")
         members = np.split(by_group, np.cumsum(np.bincount(groups, minlength=n_groups))[:-1])
-        adjacency = group_graph(matrix.row, matrix.col, groups, n_groups)
+        # the smallest integer type: gathers over millions of entries and the sort of them by
+        # front (a radix sort up to 16 bits) run several times faster than on int64
+        label = np.min_scalar_type(n_groups)
+        row_groups = groups.astype(label)[matrix.row]
+        col_groups = groups.astype(label)[matrix.col]
+        adjacency = group_graph(row_groups, col_groups, n_groups)
         order = minimum_degree_order(adjacency, [len(m) for m in members])
         later, children = _elimination_structure(adjacency, order)
         fronts = _supernodes(order, later, children)
-        front_of_group = np.empty(n_groups, dtype=int)
+        front_of_group = np.empty(n_groups, dtype=np.min_scalar_type(len(fronts)))
         for k, (own, _, _) in enumerate(fronts):
             front_of_group[own] = k
         # each entry is assembled in the front of the first of its two groups to be eliminated
-        first = np.minimum(front_of_group[groups[matrix.row]], front_of_group[groups[matrix.col]])
+        first = np.minimum(front_of_group[row_groups], front_of_group[col_groups])
+        del row_groups, col_groups
         by_front = np.argsort(first, kind="stable")
         bounds = np.searchsorted(first[by_front], np.arange(len(fronts) + 1))
         del first
