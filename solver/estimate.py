@@ -57,7 +57,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from solver.power import grid_deflection, plate_gauss_axes
+from solver.power import grid_deflections, plate_gauss_axes
 from solver.problems import plate_resolution
 from solver.rays import QUASI_STATIC_KAPPA_R
 
@@ -127,15 +127,16 @@ def plate_l2_rule(problem):
 def relative_l2_errors(solution, enriched):
     r"""Per plate :math:`(\int|w^+ - w_h|^2, \int|w^+|^2)` over the plate's Gauss rule;
     ``enriched`` maps each plate to its enriched :class:`solver.plate.PlateSolution`."""
+    w_h = grid_deflections({pid: (p.problem, p.basis, p.amplitudes)
+                            for pid, p in solution.plates.items()})
+    w_plus = grid_deflections({pid: (p.problem, p.basis, p.amplitudes)
+                               for pid, p in enriched.items()})
     out = {}
     for pid, plate in solution.plates.items():
-        (x, wx), (y, wy) = plate_gauss_axes(plate.problem)
+        (_, wx), (_, wy) = plate_gauss_axes(plate.problem)
         weights = np.outer(wx, wy)
-        w_h = grid_deflection(plate.problem, plate.basis, plate.amplitudes, x, y)
-        finer = enriched[pid]
-        w_plus = grid_deflection(finer.problem, finer.basis, finer.amplitudes, x, y)
-        out[pid] = (float(np.sum(weights * np.abs(w_plus - w_h) ** 2)),
-                    float(np.sum(weights * np.abs(w_plus) ** 2)))
+        out[pid] = (float(np.sum(weights * np.abs(w_plus[pid] - w_h[pid]) ** 2)),
+                    float(np.sum(weights * np.abs(w_plus[pid]) ** 2)))
     return out
 
 

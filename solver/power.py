@@ -52,8 +52,8 @@ from solver.plate import (edge_rule_size, edge_values, evaluate_field, particula
                           particular_traces)
 from solver.rays import gauss_legendre, node_exponentials, plate_edges, tensor_grid_field
 
-__all__ = ["PowerFlow", "power_flow", "plate_powers", "kinetic_energy", "plate_gauss_axes",
-           "grid_deflection"]
+__all__ = ["PowerFlow", "power_flow", "plate_powers", "kinetic_energies", "plate_gauss_axes",
+           "grid_deflection", "grid_deflections"]
 
 
 @dataclass(frozen=True)
@@ -166,12 +166,38 @@ def grid_deflection(problem, basis, amplitudes, x, y):
     return tensor_grid_field(basis, amplitudes, x, y) + particular.reshape(X.shape)
 
 
-def kinetic_energy(problem, basis, amplitudes):
-    r""":math:`\tfrac14\omega^2\rho h\int|w|^2dA` (J) on the rule of :func:`plate_gauss_axes`."""
-    (x, wx), (y, wy) = plate_gauss_axes(problem)
-    w = grid_deflection(problem, basis, amplitudes, x, y)
-    integral = float(np.sum(np.outer(wx, wy) * np.abs(w) ** 2))
-    return 0.25 * problem.omega**2 * problem.mass_per_area * integral
+def grid_deflections(plates):
+    r"""``{key: w}`` on each plate's Gauss grid (:func:`plate_gauss_axes`) for ``plates``
+    ``{key: (problem, basis, amplitudes)}``, as :func:`grid_deflection` gives it: the plates
+    that share a basis object (hence size and wavenumber: a grid's identical plates) are
+    evaluated together, their rays' exponentials computed once."""
+    by_basis = {}
+    for key, (problem, basis, amplitudes) in plates.items():
+        by_basis.setdefault(id(basis), []).append(key)
+    out = {}
+    for keys in by_basis.values():
+        problem, basis, _ = plates[keys[0]]
+        (x, _), (y, _) = plate_gauss_axes(problem)
+        rays = tensor_grid_field(basis, np.column_stack([plates[k][2] for k in keys]), x, y)
+        X, Y = np.meshgrid(x, y, indexing="ij")
+        points = np.c_[X.ravel(), Y.ravel()]
+        for key, field in zip(keys, rays):
+            particular = particular_field(plates[key][0], points)["w"]
+            out[key] = field + particular.reshape(X.shape)
+    return out
+
+
+def kinetic_energies(plates):
+    r"""``{key:`` :math:`\tfrac14\omega^2\rho h\int|w|^2dA` ``}`` (J), the time-averaged
+    kinetic energy of each of ``plates`` ``{key: (problem, basis, amplitudes)}`` on the rule of
+    :func:`plate_gauss_axes` (fields by :func:`grid_deflections`)."""
+    fields = grid_deflections(plates)
+    energies = {}
+    for key, (problem, _, _) in plates.items():
+        (_, wx), (_, wy) = plate_gauss_axes(problem)
+        integral = float(np.sum(np.outer(wx, wy) * np.abs(fields[key]) ** 2))
+        energies[key] = 0.25 * problem.omega**2 * problem.mass_per_area * integral
+    return energies
 
 
 def _side_powers(case, system, jid, amplitudes, s):
@@ -216,11 +242,12 @@ def power_flow(case, solution) -> PowerFlow:
     (:class:`solver.substructure.AssemblySolution`); a plate without joints has none.
     """
     omega = 2.0 * math.pi * solution.frequency
-    injected, kinetic, dissipated = {}, {}, {}
+    injected, dissipated = {}, {}
     for pid, plate in solution.plates.items():
         problem, basis, x = plate.problem, plate.basis, plate.amplitudes
         injected[pid], dissipated[pid] = plate_powers(problem, basis, x)
-        kinetic[pid] = kinetic_energy(problem, basis, x)
+    kinetic = kinetic_energies({pid: (plate.problem, plate.basis, plate.amplitudes)
+                                for pid, plate in solution.plates.items()})
     joint_dissipated, transmitted, delivered = {}, {}, {}
     system = getattr(solution, "system", None)
     if case.joints and system is not None:

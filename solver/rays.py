@@ -415,19 +415,24 @@ def ray_field(basis, points, quantities=("w",)):
 
 
 def tensor_grid_field(basis, amplitudes, xs, ys):
-    r"""The rays' part of :math:`w` on the tensor grid ``xs`` x ``ys``, shape (len(xs), len(ys)).
+    r"""The rays' part of :math:`w` on the tensor grid ``xs`` x ``ys``, shape (len(xs), len(ys));
+    for amplitudes of shape (n_dof, m), m fields of one basis, shape (m, len(xs), len(ys)).
 
     Every node exponential separates, :math:`e^{k_x(x - x_r) + k_y(y - y_r)} =
     e^{k_x(x - x_r)}e^{k_y(y - y_r)}`, so the field is one matrix product
     :math:`W = E_x^T\,\mathrm{diag}(\omega_q U_{i(q)})\,E_y` with :math:`E_x` (n_nodes, n_x) and
     :math:`E_y` (n_nodes, n_y): :math:`n_q(n_x + n_y)` exponentials instead of
-    :math:`n_qn_xn_y`. Each factor is bounded on the plate, as the full exponential is (edge
-    and corner rays decay away from their own edge or corner in each coordinate).
+    :math:`n_qn_xn_y`, and those are the cost, so the fields of the plates that share a basis
+    are evaluated together. Each factor is bounded on the plate, as the full exponential is
+    (edge and corner rays decay away from their own edge or corner in each coordinate).
     """
-    node_amplitudes = basis.weight * np.repeat(np.asarray(amplitudes), basis.n_q)
+    amplitudes = np.asarray(amplitudes)
+    columns = amplitudes.reshape(len(amplitudes), -1)
+    node_amplitudes = basis.weight[:, None] * np.repeat(columns, basis.n_q, axis=0)
     ex = np.exp(basis.k[:, 0, None] * (np.asarray(xs)[None, :] - basis.origin[:, 0, None]))
     ey = np.exp(basis.k[:, 1, None] * (np.asarray(ys)[None, :] - basis.origin[:, 1, None]))
-    return ex.T @ (node_amplitudes[:, None] * ey)
+    fields = np.stack([ex.T @ (a[:, None] * ey) for a in node_amplitudes.T])
+    return fields[0] if amplitudes.ndim == 1 else fields
 
 
 def node_exponentials(basis, points):

@@ -87,7 +87,7 @@ from solver.plate import (
     factorise_dense,
 )
 from solver.interface import Block, factorise_interface, residual_weight, squared_norm
-from solver.power import kinetic_energy
+from solver.power import kinetic_energies
 from solver.problems import plate_basis, plate_problem, plate_ray_counts, plate_resolution
 from solver.rays import EDGES, gauss_legendre
 
@@ -768,9 +768,9 @@ def solve_interface(system, blocks, keep=True):
 
 def reference_energy(system, amplitudes):
     r""":math:`E_{ref} = \tfrac12\omega^2\sum_i\rho_ih_i\int_{\Omega_i}|w_i|^2dA` (J): twice the
-    plates' time-averaged kinetic energy (:func:`solver.power.kinetic_energy`)."""
-    return 2.0 * sum(kinetic_energy(problem, system.bases[pid], amplitudes[pid])
-                     for pid, problem in system.problems.items())
+    plates' time-averaged kinetic energy (:func:`solver.power.kinetic_energies`)."""
+    return 2.0 * sum(kinetic_energies({pid: (problem, system.bases[pid], amplitudes[pid])
+                                       for pid, problem in system.problems.items()}).values())
 
 
 def joint_residuals(system, params, s):
