@@ -13,7 +13,7 @@ from solver.kirchhoff import complex_bending_stiffness
 from solver.plate import EdgeCondition, EdgeLoad, PlateProblem, PointForce
 from solver.rays import EDGES, RayCounts, automatic_ray_counts, build_ray_basis
 
-__all__ = ["plate_problem", "plate_ray_counts", "plate_basis", "joint_edge_kinds",
+__all__ = ["plate_problem", "plate_problems", "plate_ray_counts", "plate_basis", "joint_edge_kinds",
            "description_issues", "check_description", "UNDER_RESOLVED", "UNDER_RESOLVED_WARNING",
            "MAX_RAYS_PER_PLATE", "MAX_GRID_POINTS", "KIRCHHOFF_WAVELENGTH"]
 
@@ -96,43 +96,55 @@ def plate_problem(case, plate_id, frequency):
     Joined edges carry no data here (their loads are interface unknowns, see
     :func:`joint_edge_kinds`).
     """
-    plate = case.plates[plate_id]
-    material = case.materials[plate.material]
-    conditions = {name: "free" for name in EDGES}
+    return plate_problems(case, frequency, [plate_id])[plate_id]
+
+
+def plate_problems(case, frequency, plate_ids=None):
+    """``{plate: PlateProblem}`` (:func:`plate_problem`) of ``plate_ids`` (default every plate),
+    from one pass over the joints, boundaries and loads: plate by plate, the passes would cost
+    plates x joints."""
+    plate_ids = list(case.plates) if plate_ids is None else list(plate_ids)
+    conditions = {pid: dict.fromkeys(EDGES, "free") for pid in plate_ids}
     for (pid, edge), kind in joint_edge_kinds(case).items():
-        if pid == plate_id:
-            conditions[edge] = kind
+        if pid in conditions:
+            conditions[pid][edge] = kind
     for boundary in case.boundaries:
         side = case.edge(boundary.edge)
-        if side.plate == plate_id:
-            conditions[side.edge] = boundary.condition
-    shear, moment, forces = {}, {}, []
+        if side.plate in conditions:
+            conditions[side.plate][side.edge] = boundary.condition
+    shear = {pid: {} for pid in plate_ids}
+    moment = {pid: {} for pid in plate_ids}
+    forces = {pid: [] for pid in plate_ids}
     for load in case.loads:
         if load.kind == "point_force":
-            if load.plate == plate_id:
-                forces.append(PointForce(tuple(load.at), complex(load.amplitude)))
+            if load.plate in forces:
+                forces[load.plate].append(PointForce(tuple(load.at), complex(load.amplitude)))
             continue
         side = case.edge(load.edge)
-        if side.plate != plate_id:
+        if side.plate not in conditions:
             continue
-        target = shear if load.kind == "edge_shear" else moment
+        target = (shear if load.kind == "edge_shear" else moment)[side.plate]
         if side.edge in target:
             raise ValueError(f"two {load.kind} loads on {load.edge}: give their sum")
         target[side.edge] = EdgeLoad(complex(load.amplitude), load.distribution)
-    edges = {
-        name: EdgeCondition(conditions[name], shear.get(name), moment.get(name)) for name in EDGES
-    }
-    return PlateProblem(
-        size=tuple(plate.size),
-        bending_stiffness=complex_bending_stiffness(
-            material.young_modulus, plate.thickness, material.poisson_ratio,
-            material.loss_factor),
-        poisson_ratio=material.poisson_ratio,
-        mass_per_area=material.density * plate.thickness,
-        omega=2.0 * math.pi * frequency,
-        edges=edges,
-        point_forces=tuple(forces),
-    )
+    problems = {}
+    for pid in plate_ids:
+        plate = case.plates[pid]
+        material = case.materials[plate.material]
+        edges = {name: EdgeCondition(conditions[pid][name], shear[pid].get(name),
+                                     moment[pid].get(name)) for name in EDGES}
+        problems[pid] = PlateProblem(
+            size=tuple(plate.size),
+            bending_stiffness=complex_bending_stiffness(
+                material.young_modulus, plate.thickness, material.poisson_ratio,
+                material.loss_factor),
+            poisson_ratio=material.poisson_ratio,
+            mass_per_area=material.density * plate.thickness,
+            omega=2.0 * math.pi * frequency,
+            edges=edges,
+            point_forces=tuple(forces[pid]),
+        )
+    return problems
 
 
 def plate_resolution(case, plate_id, resolution=None):
@@ -353,8 +365,9 @@ def description_issues(case, frequencies=None, need_loads=False):
     simulation = settings.resolution * case.measurement.resolution
     scaled = {"error": [], "warning": [], "simulation": []}
     huge = {}
+    problems = plate_problems(case, f)
     for pid, plate in case.plates.items():
-        problem = plate_problem(case, pid, f)
+        problem = problems[pid]
         kappa0 = problem.kappa.real
         wavelength = 2.0 * math.pi / kappa0
         lx, ly = plate.size

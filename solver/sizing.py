@@ -37,7 +37,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from solver.interface import GROUPED_MIN_SIZE
-from solver.problems import plate_problem
+from solver.problems import plate_problems
 
 __all__ = ["SizeEstimate", "estimate_size", "available_memory"]
 
@@ -162,7 +162,7 @@ def estimate_size(case, frequency=None, resolution=None) -> SizeEstimate:
     from solver.substructure import interface_layout, plate_bases
 
     frequency = max(case.frequencies) if frequency is None else float(frequency)
-    problems = {pid: plate_problem(case, pid, frequency) for pid in case.plates}
+    problems = plate_problems(case, frequency)
     bases = plate_bases(case, problems, resolution)
     counts, layout, _, corners, n_s, unknowns = interface_layout(case, problems, resolution)
 

@@ -88,7 +88,7 @@ from solver.plate import (
 )
 from solver.interface import Block, factorise_interface, residual_weight, squared_norm
 from solver.power import kinetic_energies
-from solver.problems import plate_basis, plate_problem, plate_ray_counts, plate_resolution
+from solver.problems import plate_basis, plate_problems, plate_ray_counts, plate_resolution
 from solver.rays import EDGES, gauss_legendre
 
 __all__ = [
@@ -512,7 +512,7 @@ def build_assembly_system(case, frequency, resolution=None) -> AssemblySystem:
     frequency; every piece spans one plate's or one joint's unknowns only.
     """
     t0 = time.perf_counter()
-    problems = {pid: plate_problem(case, pid, frequency) for pid in case.plates}
+    problems = plate_problems(case, frequency)
     bases = plate_bases(case, problems, resolution)
     k_max = {pid: float(np.max(np.abs(b.k))) for pid, b in bases.items()}
 
