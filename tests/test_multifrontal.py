@@ -33,9 +33,9 @@ CASES = Path(__file__).resolve().parents[1] / "cases"
 
 
 def lattice_system(n_x, n_y, seed=0, zero_diagonal=False, size=None):
-    """A random Hermitian matrix coupling the groups of an n_x x n_y lattice to their four
+    """A random complex matrix coupling the groups of an n_x x n_y lattice to their four
     neighbours (group sizes 2 to 6, or all ``size``), and its group labels. With
-    ``zero_diagonal`` every group's block is ``[[0, B], [B^H, 0]]`` (as a KKT block: no
+    ``zero_diagonal`` every group's block is ``[[0, B], [C, 0]]`` (as a KKT block: no
     diagonal pivot exists)."""
     rng = np.random.default_rng(seed)
     sizes = rng.integers(2, 7, n_x * n_y) if size is None else np.full(n_x * n_y, size)
@@ -52,8 +52,7 @@ def lattice_system(n_x, n_y, seed=0, zero_diagonal=False, size=None):
         for j in range(n_y):
             g = i * n_y + j
             m = sizes[g]
-            block = rng.normal(size=(m, m)) + 1j * rng.normal(size=(m, m))
-            block = block + block.conj().T + 3 * np.eye(m)
+            block = rng.normal(size=(m, m)) + 1j * rng.normal(size=(m, m)) + 3 * np.eye(m)
             if zero_diagonal:
                 h = m // 2
                 block[:h, :h] = 0.0
@@ -63,7 +62,7 @@ def lattice_system(n_x, n_y, seed=0, zero_diagonal=False, size=None):
                 if i + di < n_x and j + dj < n_y:
                     k = (i + di) * n_y + j + dj
                     dense[part(g), part(k)] = 0.3 * rng.normal(size=(m, sizes[k]))
-                    dense[part(k), part(g)] = dense[part(g), part(k)].conj().T
+                    dense[part(k), part(g)] = 0.3 * rng.normal(size=(sizes[k], m))
     return dense, np.repeat(np.arange(n_x * n_y), sizes)
 
 
