@@ -558,37 +558,44 @@ def build_assembly_system(case, frequency, resolution=None) -> AssemblySystem:
         sigma, wq = joint_gauss(length, max(k_max[a.plate], k_max[b.plate]))
         root_w = np.sqrt(wq)
         psi = legendre_values(sigma, length, counts[jid])
+        slots = layout[jid]
+        # Each trace is taken on the joint's functions (Q^H W^(1/2), a channel's samples, as
+        # _on_load_functions takes them; psi^T W, the moments of the translation constraint)
+        # before the plate's transfer operator multiplies it: n_f rows instead of the Gauss
+        # points', a third of the products of the build.
+        on_functions = load_function_basis(root_w, psi).conj().T * root_w
+        moments = psi.T * wq
+        projections = {"slope": ("slope", on_functions)}
+        if "FA" in slots:
+            projections["w"] = ("w", on_functions)
+        if joint.kind == "coplanar":
+            projections["w moments"] = ("w", moments)
         traces = {}
         for side, s in ((a, sigma), (b, length - sigma)):
             rays, part = edge_values(problems[side.plate], bases[side.plate], side.edge, s,
                                      traces_cache)
             traces[side.plate, side.edge] = {
-                key: system.affine_plate_operator(side.plate, rays[key], part[key])
-                for key in ("w", "slope")}
+                name: system.affine_plate_operator(side.plate, weights @ rays[key],
+                                                   weights @ part[key])
+                for name, (key, weights) in projections.items()}
         ta, tb = traces[a.plate, a.edge], traces[b.plate, b.edge]
-        slots = layout[jid]
 
         def unknown(*names):
             columns = np.concatenate([np.arange(slots[n].start, slots[n].stop) for n in names])
-            return Block(columns, root_w[:, None] * np.hstack([psi] * len(names)),
-                         np.zeros(len(sigma), dtype=complex))
+            return Block(columns, on_functions @ np.hstack([psi] * len(names)),
+                         np.zeros(len(on_functions), dtype=complex))
 
-        rotation_jump = _scaled(_union(ta["slope"], tb["slope"]), root_w)
         stiffness, kappa0 = max((problems[p].bending_stiffness.real, problems[p].kappa.real)
                                 for p in (a.plate, b.plate))
-        basis = load_function_basis(root_w, psi)
-        channels.append(_on_load_functions(
-            Channel(jid, "rotation", unknown("C"), rotation_jump,
-                    RIGID_CROSSOVER * stiffness * kappa0, group=group), basis))
+        channels.append(Channel(jid, "rotation", unknown("C"), _union(ta["slope"], tb["slope"]),
+                                RIGID_CROSSOVER * stiffness * kappa0, group=group))
         if "FA" in slots:
-            mean_w = _scaled(_union(ta["w"], tb["w"]), 0.5 * root_w)
-            channels.append(_on_load_functions(
-                Channel(jid, "mass", unknown("FA", "FB"), mean_w,
-                        RIGID_CROSSOVER * stiffness * kappa0**3, group=group), basis))
+            channels.append(Channel(jid, "mass", unknown("FA", "FB"),
+                                    _scaled(_union(ta["w"], tb["w"]), 0.5),
+                                    RIGID_CROSSOVER * stiffness * kappa0**3, group=group))
         if joint.kind == "coplanar":
-            gap = _union(ta["w"], _scaled(tb["w"], -1.0))
-            weighted = psi.T * wq
-            rows.append(Block(gap.index, weighted @ gap.matrix, -(weighted @ gap.offset), group))
+            gap = _union(ta["w moments"], _scaled(tb["w moments"], -1.0))
+            rows.append(Block(gap.index, gap.matrix, -gap.offset, group))
 
     unknown_groups = np.empty(n_s, dtype=int)
     for jid, slots in layout.items():
