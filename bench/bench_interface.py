@@ -5,7 +5,7 @@ direct problem r = 0) is factorised in the ways a pure-SciPy (or METIS-assisted)
 
 * ``grouped``: the Hermitian augmented system ``[-I A 0; A^H 0 G^H; 0 G 0]`` of
   :mod:`solver.interface` (the residual samples as unknowns) factorised group by group by
-  :class:`solver.multifrontal.GroupedLU` (vtcr's path from 1500 variables on);
+  :class:`solver.multifrontal.GroupedLDL` (vtcr's path from 1500 variables on);
 * ``augmented``: the same system, SuperLU with the COLAMD (vtcr's path below 1500 variables
   and its fallback) and the MMD(A^T + A) column orderings;
 * ``normal``: the KKT system of the normal equations ``[sum A^H A, G^H; G, 0]`` (the
@@ -101,13 +101,13 @@ def sparse_variant(matrix, rhs, offset, n_s, permc, repeats, perm=None):
 
 
 def grouped_variant(matrix, rhs, offset, system, blocks, repeats):
-    """Factorise with GroupedLU, the groups of vtcr's path; returns (seconds, entries, S)."""
-    from solver.multifrontal import GroupedLU
+    """Factorise with GroupedLDL, the groups of vtcr's path; returns (seconds, entries, S)."""
+    from solver.multifrontal import GroupedLDL
 
     scaled, scale = equilibrated(matrix)
     groups = interface._variable_groups(blocks, offset,
                                         (system.unknown_groups, system.constraint_groups))
-    seconds, lu = timed(lambda: GroupedLU(scaled, groups), repeats)
+    seconds, lu = timed(lambda: GroupedLDL(scaled, groups), repeats)
     x = lu.solve(rhs * scale)
     return seconds, lu.nnz, (x * scale)[offset:offset + system.n_s]
 

@@ -25,11 +25,12 @@ in the size of each neighbourhood, and the condition number is that of :math:`A`
 square. After a symmetric equilibration it is factorised group by group: each joint's load
 unknowns, residual rows and constraint rows form a group with as many rows as unknowns, whose
 block is the joint's compliance to its own loads, and the groups are eliminated in a
-minimum-degree order of the graph of groups that see a common plate, with row interchanges
-inside each group (:class:`solver.multifrontal.GroupedLU`). The general sparse LU with partial
-pivoting (SuperLU, ``scipy.sparse.linalg.splu``, COLAMD ordering) must allow for interchanges
-between any rows, and its fill follows the wider graph of joints two plates apart: on the
-10 x 10 grid, 2.0e7 entries in 5.3 s against 1.1e7 in 1.0 s. SuperLU remains the path for small
+minimum-degree order of the graph of groups that see a common plate, with symmetric
+(Bunch–Kaufman) interchanges inside each group (:class:`solver.multifrontal.GroupedLDL`). The
+general sparse LU with partial pivoting (SuperLU, ``scipy.sparse.linalg.splu``, COLAMD
+ordering) must allow for interchanges between any rows, and its fill follows the wider graph
+of joints two plates apart: on the 10 x 10 grid, 2.0e7 entries in 5.3 s against 1.1e7 in
+1.0 s (the grouped LU then; 0.73 s now). SuperLU remains the path for small
 systems, where it is faster, for groups with fewer rows than unknowns, and whenever the
 grouped solution's backward error exceeds :data:`BACKWARD_ERROR`. ``bench/bench_interface.py``
 compares the alternatives.
@@ -69,7 +70,7 @@ import numpy as np
 import scipy.sparse
 import scipy.sparse.linalg
 
-from solver.multifrontal import GroupedLU, GroupPivotError
+from solver.multifrontal import GroupedLDL, GroupPivotError
 
 __all__ = ["BACKWARD_ERROR", "GROUPED_MIN_SIZE", "Block", "InterfaceFactor", "factorise_interface",
            "JointCondensation", "backward_error", "residual_weight", "squared_norm"]
@@ -170,7 +171,7 @@ class InterfaceFactor:
 
     Attributes
     ----------
-    lu : SuperLU or GroupedLU or None
+    lu : SuperLU or GroupedLDL or None
         The factorisation; None when it was not kept (``factorise_interface(keep=False)``).
     s : ndarray of complex, shape (n_s,)
         The minimiser.
@@ -237,14 +238,13 @@ def factorise_interface(n_s, blocks, constraints, groups=None, keep=True):
     groups : (ndarray (n_s,), ndarray (n_g,)) of int, optional
         Group of each interface unknown and constraint row (``Block.group`` gives the blocks'
         rows theirs). With them, a system of at least :data:`GROUPED_MIN_SIZE` variables is
-        factorised group by group (:class:`solver.multifrontal.GroupedLU`) when every group
+        factorised group by group (:class:`solver.multifrontal.GroupedLDL`) when every group
         holds at least as many rows as unknowns, and its solution is kept if its backward
         error is below :data:`BACKWARD_ERROR`; otherwise, and without groups, by SuperLU.
     keep : bool
         Keep the factorisation for other right-hand sides (:meth:`InterfaceFactor.solve`,
-        :meth:`InterfaceFactor.resolve`). Without, only the minimiser is wanted: the grouped
-        factorisation applies its lower factor as it goes and keeps half its factors, and
-        the result's ``lu`` is None.
+        :meth:`InterfaceFactor.resolve`). Without, only the minimiser is wanted and the
+        result's ``lu`` is None (the factors are freed on return).
 
     Returns
     -------
@@ -267,8 +267,8 @@ def factorise_interface(n_s, blocks, constraints, groups=None, keep=True):
                        if groups is not None and matrix.shape[0] >= GROUPED_MIN_SIZE else None)
     if variable_groups is not None:
         try:
-            lu = GroupedLU(scaled, variable_groups, None if keep else scaled_rhs)
-            x = lu.solve(scaled_rhs) if keep else lu.solution
+            lu = GroupedLDL(scaled, variable_groups)
+            x = lu.solve(scaled_rhs)
         except GroupPivotError:
             lu = None
         if lu is not None and backward_error(scaled, x, scaled_rhs) > BACKWARD_ERROR:

@@ -11,13 +11,15 @@ where :math:`I_b` are the interface unknowns a block's plates see. The factors o
 are the dominant cost, and how they grow depends on the path :func:`solver.interface.
 factorise_interface` takes:
 
-- **by groups** (:class:`solver.multifrontal.GroupedLU`, from
-  :data:`solver.interface.GROUPED_MIN_SIZE` variables on): fill / nnz = 5.0, 5.7, 6.3 on the
+- **by groups** (:class:`solver.multifrontal.GroupedLDL`, from
+  :data:`solver.interface.GROUPED_MIN_SIZE` variables on): fill / nnz = 2.6, 3.0, 3.3 on the
   :math:`N\times N` grids of plates (:math:`P = N^2`) for N = 6, 8, 10, i.e.
-  :math:`1.4\ln P` (the separators are lines of joints); factorisation 0.21, 0.52, 1.03 s for
-  2.6e6, 5.9e6, 1.08e7 entries (``bench/bench_interface.py``), :math:`\mathrm{fill}^{1.13}`;
-  peak memory of ``vtcr solve --no-estimate`` 0.20, 0.32, 0.48 GB, i.e. 36 bytes per factor
-  entry above a start-up of 0.1 GB;
+  :math:`0.72\ln P` (the separators are lines of joints; the factors are each front's
+  :math:`L` and :math:`M = D^{-1}L^{-1}F_{12}`); factorisation 0.20, 0.41, 0.84 s for 1.7e6,
+  3.7e6, 6.6e6 entries, :math:`\mathrm{fill}^{1.03}`; peak memory of ``vtcr solve
+  --no-estimate`` 0.20, 0.28, 0.40 GB, i.e. 45-58 bytes per factor entry above a start-up of
+  0.1 GB (the front being factorised and the contributions waiting for their parents besides
+  the factors; measured on a 2-core AMD EPYC, one BLAS thread);
 - **SuperLU** (COLAMD ordering; small systems): fill / nnz = 1.6, 3.8, 5.6, 10.1 for
   N = 2, 4, 6, 10, about :math:`\sqrt P` (pessimistic for chains); about 30 bytes per factor
   entry (complex factors, SuperLU's work space, the matrix and the plate data: 2.0 GB for
@@ -43,18 +45,19 @@ __all__ = ["SizeEstimate", "estimate_size", "available_memory"]
 
 BYTES_PER_FACTOR_ENTRY = 30.0  # SuperLU
 FACTOR_SECONDS = (0.52, 2.8e6, 1.22)  # SuperLU: seconds for a fill, and the exponent of the growth
-GROUPED_FILL_PER_LOG_PLATES = 1.4  # factor entries / matrix entries, per ln P
-GROUPED_BYTES = (36.0, 1e8)  # per factor entry, and the start-up
-GROUPED_FACTOR_SECONDS = (0.21, 2.63e6, 1.13)
+GROUPED_FILL_PER_LOG_PLATES = 0.72  # factor entries / matrix entries, per ln P
+GROUPED_BYTES = (50.0, 1e8)  # per factor entry, and the start-up
+GROUPED_FACTOR_SECONDS = (0.20, 1.66e6, 1.03)
 PLATE_SECONDS = 0.02  # rays, traces, dense plate solve and transfer operator, per plate
 LOCALISATION_SOLVES = 3  # per frequency: modified problem, direct model, the noise draws (one)
 PLAN_SECONDS_PER_ENTRY = 1.2e-7
 """``vtcr plan``'s work per joint and frequency per LU entry (its two condensations and its
 expected interval), measured with SuperLU on the 6 x 6 and 10 x 10 grids of
 ``bench/bench_scale.py``."""
-GROUPED_PLAN_SECONDS_PER_ENTRY = 5e-8
+GROUPED_PLAN_SECONDS_PER_ENTRY = 1e-7
 """The same through the grouped factorisation, whose solves are faster: the whole plan of
-``cases/grid_10x10.toml`` (180 joints, 1.3e7 estimated factor entries) took 127 s."""
+``cases/grid_10x10.toml`` (180 joints, 1.3e7 estimated LU factor entries, 6.6e6 of
+:math:`LDL^H`) took 127 s."""
 PLAN_SOLVES = 6  # per frequency: the model response, its enriched solve (three), the modified
 # problem and the model again
 
@@ -85,7 +88,7 @@ class SizeEstimate:
     @property
     def factor_entries(self) -> float:
         r"""Entries of the interface problem's factors: the matrix entries times
-        :math:`1.4\ln P` by groups, :math:`\sqrt P` by SuperLU (module docstring)."""
+        :math:`0.72\ln P` by groups, :math:`\sqrt P` by SuperLU (module docstring)."""
         fill = (GROUPED_FILL_PER_LOG_PLATES * math.log(self.plates) if self.grouped
                 else math.sqrt(self.plates))
         return self.matrix_entries * fill
