@@ -216,8 +216,8 @@ class _BlockDiagonal:
         return out
 
 
-def _subtract_lower(schur, zh, m):
-    r"""``schur -= zh @ m`` on and below the diagonal (and on some blocks above it), by panels
+def _subtract_lower(schur, z, m):
+    r"""``schur -= z^H @ m`` on and below the diagonal (and on some blocks above it), by panels
     of rows: the Schur complement :math:`Z^HD^{-1}Z` is Hermitian, so its lower triangle is all
     the elimination needs, and the panels cost :math:`\tfrac12(1 + 1/n_{panels})` of the full
     product."""
@@ -225,7 +225,7 @@ def _subtract_lower(schur, zh, m):
     panel = max(PANEL_ROWS, -(-n // PANELS))
     for start in range(0, n, panel):
         stop = min(start + panel, n)
-        schur[start:stop, :stop] -= zh[start:stop] @ m[:, :stop]
+        schur[start:stop, :stop] -= z[:, start:stop].conj().T @ m[:, :stop]
 
 
 class GroupedLDL:
@@ -293,12 +293,15 @@ class GroupedLDL:
             diagonal = _BlockDiagonal(np.diagonal(lower).real.copy(), below, pairs)
             m = np.zeros((s, 0), dtype=complex)
             if size > s:
-                # F12 = F21^H: the front's lower triangle holds everything
-                z = ztrsm(1.0, lower, front[s:, :s].conj().T[perm], lower=1, diag=1)
+                # F12[perm] = F21[:, perm]^H: the front's lower triangle holds everything
+                coupling = front[s:, :s][:, perm]
+                np.conjugate(coupling, out=coupling)
+                z = ztrsm(1.0, lower, coupling.T, lower=1, diag=1, overwrite_b=1)
+                del coupling
                 m = diagonal.solve(z)
                 # a compact copy, so that the front itself is freed before its parent's
                 schur = np.array(front[s:, s:])
-                _subtract_lower(schur, z.conj().T, m)
+                _subtract_lower(schur, z, m)
                 del z
                 contributions[k] = (coupled, schur)
             self.factors.append((own, coupled, lower, diagonal, perm, m))
