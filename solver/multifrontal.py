@@ -43,7 +43,6 @@ both triangles of the coupling).
 from __future__ import annotations
 
 import heapq
-from dataclasses import dataclass
 
 import numpy as np
 import scipy.sparse
@@ -190,29 +189,32 @@ def _symmetric_pivots(ipiv):
     return perm, np.array(pairs, dtype=int)
 
 
-@dataclass(frozen=True)
 class _BlockDiagonal:
-    r"""The block-diagonal :math:`D` of a Bunch–Kaufman factorisation: its diagonal, and at the
-    first index :math:`k` of each 2 x 2 block its entry :math:`D_{k+1,k}` (Hermitian:
-    :math:`D_{k,k+1} = \bar D_{k+1,k}`)."""
+    r""":math:`D^{-1}` of a Bunch–Kaufman factorisation, from its diagonal and, at the first index
+    :math:`k` of each 2 x 2 block, its entry :math:`D_{k+1,k}` (Hermitian:
+    :math:`D_{k,k+1} = \bar D_{k+1,k}`): the 1 x 1 blocks' reciprocals and each 2 x 2 block's
+    explicit inverse, formed once and applied by every solve."""
 
-    diagonal: np.ndarray
-    below: np.ndarray
-    pairs: np.ndarray
+    def __init__(self, diagonal, below, pairs):
+        self.pairs = pairs
+        self.reciprocal = np.zeros(len(diagonal), dtype=complex)
+        single = np.ones(len(diagonal), dtype=bool)
+        single[pairs] = single[pairs + 1] = False
+        self.reciprocal[single] = 1.0 / diagonal[single]
+        a, b, c = diagonal[pairs], below[pairs], diagonal[pairs + 1]
+        det = a * c - b * b.conj()
+        # rows k and k + 1 of [[a, conj(b)], [b, c]]^-1
+        self.inverse = np.stack([c, -b.conj(), -b, a]) / det
 
     def solve(self, z):
-        r""":math:`D^{-1}z` for ``z`` of shape (s, k): the 1 x 1 blocks by division, the
-        2 x 2 ones by their explicit inverse, all at once."""
-        out = np.empty_like(z)
-        single = np.ones(len(z), dtype=bool)
-        single[self.pairs] = single[self.pairs + 1] = False
-        out[single] = z[single] / self.diagonal[single, None]
+        r""":math:`D^{-1}z` for ``z`` of shape (s, k)."""
+        out = self.reciprocal[:, None] * z
         if len(self.pairs):
             k = self.pairs
-            a, b, c = self.diagonal[k, None], self.below[k, None], self.diagonal[k + 1, None]
-            det = a * c - b * b.conj()
-            out[k] = (c * z[k] - b.conj() * z[k + 1]) / det
-            out[k + 1] = (a * z[k + 1] - b * z[k]) / det
+            first, second = z[k], z[k + 1]
+            i11, i12, i21, i22 = (entry[:, None] for entry in self.inverse)
+            out[k] = i11 * first + i12 * second
+            out[k + 1] = i21 * first + i22 * second
         return out
 
 
