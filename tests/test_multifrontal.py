@@ -68,7 +68,7 @@ def lattice_system(n_x, n_y, seed=0, zero_diagonal=False, size=None):
 
 
 @pytest.mark.parametrize("zero_diagonal", [False, True], ids=["general", "kkt-blocks"])
-def test_grouped_lu_solves_a_block_sparse_system(zero_diagonal):
+def test_grouped_ldl_solves_a_block_sparse_system(zero_diagonal):
     dense, groups = lattice_system(6, 5, zero_diagonal=zero_diagonal)
     lu = GroupedLDL(scipy.sparse.csc_matrix(dense), groups)
     rng = np.random.default_rng(1)
