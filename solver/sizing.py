@@ -51,7 +51,7 @@ GROUPED_FACTOR_SECONDS = (0.20, 1.66e6, 1.03)
 PLATE_SECONDS = 0.02  # rays, traces, dense plate solve and transfer operator, per plate
 LOCALISATION_SOLVES = 3  # per frequency: modified problem, direct model, the noise draws (one)
 PLAN_SECONDS_PER_ENTRY = 1.2e-7
-"""``vtcr plan``'s work per joint and frequency per LU entry (its two condensations and its
+"""``vtcr plan``'s work per joint and frequency per factor entry (its two condensations and its
 expected interval), measured with SuperLU on the 6 x 6 and 10 x 10 grids of
 ``bench/bench_scale.py``."""
 GROUPED_PLAN_SECONDS_PER_ENTRY = 1e-7
@@ -137,7 +137,8 @@ class SizeEstimate:
             f"{self.plates} plates, {self.interface_unknowns} interface unknowns, "
             f"{self.constraints} constraints, {self.residual_samples} residual samples",
             f"estimated: solve about {gb:.2g} GB and {self.solve_seconds:.2g} s per frequency "
-            f"(sparse interface matrix {self.matrix_entries:.3g} entries, LU factors about "
+            f"(sparse interface matrix {self.matrix_entries:.3g} entries, "
+            f"{'LDL^H by groups' if self.grouped else 'LU'} factors about "
             f"{self.factor_entries:.2g}); update at most about "
             f"{self.update_seconds:.2g} s ({self.frequencies} frequencies, "
             f"{LOCALISATION_SOLVES} factorisations per localisation, at most "
