@@ -148,25 +148,34 @@ def _supernodes(order, later, children):
     return fronts
 
 
-def _extend_add(front, at, contribution):
-    """``front[at][:, at] += contribution`` on and below the diagonal, by blocks of
-    consecutive positions.
+def _extend_add(own, rest, at, contribution):
+    """Add a child's ``contribution`` to a front stored by its lower part: ``own`` its first
+    ``s`` columns (:math:`[F_{11}; F_{21}]`), ``rest`` its trailing block :math:`F_{22}`;
+    ``at`` are the contribution's positions in the front. Entries above the diagonal that fall
+    in :math:`F_{12}` are not needed and not added.
 
     The positions ``at`` increase (groups keep their elimination order in every front) and
     fall in runs, one per group or per several groups adjacent in both fronts; adding block
     by block moves memory at the speed of a copy, where one scatter of every entry took as
     long as the front's update product."""
-    breaks = np.flatnonzero(np.diff(at) != 1) + 1
+    s = own.shape[1]
+    breaks = np.flatnonzero((np.diff(at) != 1) | (at[1:] == s)) + 1
     starts = np.concatenate([[0], breaks])
     stops = np.concatenate([breaks, [len(at)]])
     if len(starts) > 24:  # many short runs: one scatter costs less than their pairs
-        flat = front.reshape(-1)
-        flat[(at[:, None] * front.shape[1] + at[None, :]).ravel()] += contribution.ravel()
+        rows, cols = at[:, None], at[None, :]
+        left = np.broadcast_to(cols < s, contribution.shape)
+        own.reshape(-1)[(rows * s + cols)[left]] += contribution[left]
+        right = (rows >= s) & (cols >= s)
+        rest.reshape(-1)[((rows - s) * rest.shape[1] + cols - s)[right]] += contribution[right]
         return
     spans = [(at[a], at[a] + b - a, a, b) for a, b in zip(starts, stops)]
     for i, (row, row_end, a, b) in enumerate(spans):
         for col, col_end, c, d in spans[:i + 1]:  # the lower triangle's blocks
-            front[row:row_end, col:col_end] += contribution[a:b, c:d]
+            if col < s:
+                own[row:row_end, col:col_end] += contribution[a:b, c:d]
+            else:
+                rest[row - s:row_end - s, col - s:col_end - s] += contribution[a:b, c:d]
 
 
 def _symmetric_pivots(ipiv):
@@ -278,15 +287,22 @@ class GroupedLDL:
             index = np.concatenate([own, coupled])
             s, size = len(own), len(index)
             local[index] = np.arange(size)
-            front = np.zeros((size, size), dtype=complex)
-            flat = front.reshape(-1)
+            # the front by its lower part: its own columns [F11; F21], and F22, which becomes
+            # the contribution to its parent without a copy (F12 = F21^H is not stored)
+            own_part = np.zeros((size, s), dtype=complex)
+            rest = np.zeros((size - s, size - s), dtype=complex)
             entries = by_front[bounds[k]:bounds[k + 1]]
-            flat[local[matrix.row[entries]] * size + local[matrix.col[entries]]] = \
-                matrix.data[entries]
+            rows, cols = local[matrix.row[entries]], local[matrix.col[entries]]
+            left = cols < s
+            own_part.reshape(-1)[rows[left] * s + cols[left]] = matrix.data[entries[left]]
+            right = ~left & (rows >= s)
+            rest.reshape(-1)[(rows[right] - s) * (size - s) + cols[right] - s] = \
+                matrix.data[entries[right]]
+            del rows, cols, left, right
             for child in child_fronts:
                 child_index, contribution = contributions.pop(child)
-                _extend_add(front, local[child_index], contribution)
-            factor, ipiv, info = zhetrf(front[:s, :s], lower=1, lwork=HETRF_WORK * max(s, 1))
+                _extend_add(own_part, rest, local[child_index], contribution)
+            factor, ipiv, info = zhetrf(own_part[:s], lower=1, lwork=HETRF_WORK * max(s, 1))
             if info > 0:
                 raise GroupPivotError(f"the pivot block of groups {own_groups} is singular")
             lower, below, _ = zsyconv(factor, ipiv, lower=1, way=0, overwrite_a=1)
@@ -295,17 +311,15 @@ class GroupedLDL:
             diagonal = _BlockDiagonal(np.diagonal(lower).real.copy(), below, pairs)
             m = np.zeros((s, 0), dtype=complex)
             if size > s:
-                # F12[perm] = F21[:, perm]^H: the front's lower triangle holds everything
-                coupling = front[s:, :s][:, perm]
+                coupling = own_part[s:][:, perm]  # F12[perm] = F21[:, perm]^H
                 np.conjugate(coupling, out=coupling)
                 z = ztrsm(1.0, lower, coupling.T, lower=1, diag=1, overwrite_b=1)
                 del coupling
                 m = diagonal.solve(z)
-                # a compact copy, so that the front itself is freed before its parent's
-                schur = np.array(front[s:, s:])
-                _subtract_lower(schur, z, m)
+                _subtract_lower(rest, z, m)
                 del z
-                contributions[k] = (coupled, schur)
+                contributions[k] = (coupled, rest)
+            del own_part, rest
             self.factors.append((own, coupled, lower, diagonal, perm, m))
 
     @property
