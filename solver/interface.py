@@ -323,7 +323,7 @@ class JointCondensation:
     :math:`c_0`, each :meth:`cost` is a dense solve of the size of the joint's residual samples.
 
     Each channel's load and kinematic samples are :math:`n_f` numbers each (the joint's
-    residual on its load functions, :func:`solver.substructure._on_load_functions`), so a
+    residual on its load functions, :func:`solver.substructure.load_function_projection`), so a
     joint's dense solves are of size :math:`2n_f` per channel.
 
     Parameters

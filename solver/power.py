@@ -161,9 +161,13 @@ def grid_deflection(problem, basis, amplitudes, x, y):
     """``w`` on the tensor grid ``x`` x ``y``, shape (len(x), len(y)): the rays summed as a
     product of 1D exponentials (:func:`solver.rays.tensor_grid_field`), plus the particular
     solution."""
+    return tensor_grid_field(basis, amplitudes, x, y) + _grid_particular(problem, x, y)
+
+
+def _grid_particular(problem, x, y):
+    """The particular solution's ``w`` on the tensor grid ``x`` x ``y``."""
     X, Y = np.meshgrid(x, y, indexing="ij")
-    particular = particular_field(problem, np.c_[X.ravel(), Y.ravel()])["w"]
-    return tensor_grid_field(basis, amplitudes, x, y) + particular.reshape(X.shape)
+    return particular_field(problem, np.c_[X.ravel(), Y.ravel()])["w"].reshape(X.shape)
 
 
 def grid_deflections(plates):
@@ -179,11 +183,8 @@ def grid_deflections(plates):
         problem, basis, _ = plates[keys[0]]
         (x, _), (y, _) = plate_gauss_axes(problem)
         rays = tensor_grid_field(basis, np.column_stack([plates[k][2] for k in keys]), x, y)
-        X, Y = np.meshgrid(x, y, indexing="ij")
-        points = np.c_[X.ravel(), Y.ravel()]
         for key, field in zip(keys, rays):
-            particular = particular_field(plates[key][0], points)["w"]
-            out[key] = field + particular.reshape(X.shape)
+            out[key] = field + _grid_particular(plates[key][0], x, y)
     return out
 
 

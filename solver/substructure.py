@@ -45,7 +45,7 @@ None of :math:`K_i, F_i, B_i, T_i`, nor the constraints, depends on the joint pa
 
 (the constitutive-relation error in the energy norm; :math:`e^2` in J), where
 :math:`\Pi_\psi` is the :math:`L^2(\Gamma)` projection on the joint's Legendre functions,
-those that carry its loads (:func:`_on_load_functions`): the law is imposed as far as the
+those that carry its loads (:func:`load_function_projection`): the law is imposed as far as the
 discretised loads can carry it, and the part of the plates' traces beyond them, which no load
 of the discretisation balances, is left to the error estimate. :math:`E_{ref}` is a
 fixed energy, twice the time-averaged kinetic energy of the r = 0 solution at the initial
@@ -69,7 +69,6 @@ floor of the updating comes from the enriched solve (:mod:`updating.cost`).
 
 from __future__ import annotations
 
-import dataclasses
 import math
 import time
 from dataclasses import dataclass, field
@@ -131,15 +130,10 @@ def interface_function_count(kappa0, length, resolution=1.0):
     return math.ceil(0.75 * resolution * kappa0 * length) + 2
 
 
-def load_function_basis(root_w, psi):
-    r""":math:`Q`, an orthonormal basis (columns) of the joint's weighted load functions
-    :math:`W^{1/2}\psi` at its Gauss points."""
-    return scipy.linalg.orth(root_w[:, None] * psi)
-
-
-def _on_load_functions(channel, basis):
-    r"""``channel`` measured on its load functions: its load and kinematic samples replaced by
-    their coordinates on ``basis`` (:math:`Q^H W^{1/2}(\cdot)`, :func:`load_function_basis`).
+def load_function_projection(root_w, psi):
+    r""":math:`Q^HW^{1/2}`, shape (n_f, Gauss points): the coordinates, on an orthonormal basis
+    :math:`Q` of the joint's weighted load functions :math:`W^{1/2}\psi`, of a quantity sampled
+    at the joint's Gauss points. A channel's load and kinematic samples are taken through it.
 
     The residual :math:`r = (LS + l) - c(RS + \rho)` then counts through its :math:`L^2`
     projection on the functions that carry the loads, :math:`\|Q^HW^{1/2}r\|^2`: the joint law
@@ -148,12 +142,12 @@ def _on_load_functions(channel, basis):
     made each channel's rows as many as its Gauss points (instead of its functions) and, with
     the functions a plate's rays can answer, left a floor of that part in every residual
     (``bench/README.md``)."""
-    q = basis.conj().T
-    return dataclasses.replace(
-        channel,
-        load=Block(channel.load.index, q @ channel.load.matrix, q @ channel.load.offset),
-        kinematic=Block(channel.kinematic.index, q @ channel.kinematic.matrix,
-                        q @ channel.kinematic.offset))
+    return scipy.linalg.orth(root_w[:, None] * psi).conj().T * root_w
+
+
+def _projected(block, projection):
+    """A Block's rows replaced by ``projection`` of them (:func:`load_function_projection`)."""
+    return Block(block.index, projection @ block.matrix, projection @ block.offset)
 
 
 def legendre_values(sigma, length, n):
@@ -169,7 +163,7 @@ class Channel:
     The residual is :math:`r = (LS + l) - c\,(RS + \rho)`; both parts are
     :class:`solver.interface.Block` samples: the Gauss samples multiplied by
     :math:`\sqrt{\omega_q}` (the Gauss weights) and taken on an orthonormal basis :math:`Q`
-    of the weighted load functions (:func:`_on_load_functions`), so that the channel's energy
+    of the weighted load functions (:func:`load_function_projection`), so that the channel's energy
     is :math:`\|r\|^2 / (2\,\mathrm{Re}\,c)` of the projected law.
 
     Attributes
@@ -559,11 +553,11 @@ def build_assembly_system(case, frequency, resolution=None) -> AssemblySystem:
         root_w = np.sqrt(wq)
         psi = legendre_values(sigma, length, counts[jid])
         slots = layout[jid]
-        # Each trace is taken on the joint's functions (Q^H W^(1/2), a channel's samples, as
-        # _on_load_functions takes them; psi^T W, the moments of the translation constraint)
-        # before the plate's transfer operator multiplies it: n_f rows instead of the Gauss
-        # points', a third of the products of the build.
-        on_functions = load_function_basis(root_w, psi).conj().T * root_w
+        # Each trace is taken on the joint's functions (Q^H W^(1/2), a channel's samples;
+        # psi^T W, the moments of the translation constraint) before the plate's transfer
+        # operator multiplies it: n_f rows instead of the Gauss points', a third of the
+        # products of the build.
+        on_functions = load_function_projection(root_w, psi)
         moments = psi.T * wq
         projections = {"slope": ("slope", on_functions)}
         if "FA" in slots:
@@ -696,15 +690,15 @@ def _junction_line(case, system, jid, k_max, counts, group, traces_cache):
     stiffness, kappa0 = max((system.problems[p].bending_stiffness.real,
                              system.problems[p].kappa.real) for p in joint.plates)
     channels = []
-    basis = load_function_basis(root_w, psi)
+    on_functions = load_function_projection(root_w, psi)
     for plate in joint.finite_members():
         moment = slots[f"C.{plate}"]
-        load = Block(np.arange(moment.start, moment.stop), root_w[:, None] * psi,
-                     np.zeros(len(sigma), dtype=complex))
-        kinematic = _scaled(_union(line, _scaled(rotation[plate], -1.0)), root_w)
-        channels.append(_on_load_functions(
-            Channel(jid, "rotation", load, kinematic, 2.0 * RIGID_CROSSOVER * stiffness * kappa0,
-                    member=plate, group=group), basis))
+        load = Block(np.arange(moment.start, moment.stop), on_functions @ psi,
+                     np.zeros(len(on_functions), dtype=complex))
+        kinematic = _projected(_union(line, _scaled(rotation[plate], -1.0)), on_functions)
+        channels.append(Channel(jid, "rotation", load, kinematic,
+                                2.0 * RIGID_CROSSOVER * stiffness * kappa0, member=plate,
+                                group=group))
     return rows, channels
 
 
