@@ -63,7 +63,8 @@ def normal_kkt(n_s, blocks, constraints):
 
 def augmented(n_s, blocks, constraints):
     """The augmented matrix of :mod:`solver.interface`, its right-hand side and S's offset."""
-    matrix, n_rho = interface._augmented_matrix(n_s, blocks, constraints[0])
+    lower, n_rho = interface._augmented_matrix(n_s, blocks, constraints[0])
+    matrix = interface.hermitian_full(lower)
     rhs = np.concatenate([-np.concatenate([b.offset for b in blocks]),
                           np.zeros(n_s, dtype=complex), constraints[1]])
     return matrix, rhs, n_rho

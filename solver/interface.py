@@ -22,7 +22,8 @@ weighted misfit at the measured points of one plate — acts only on the interfa
 :math:`2\sum_b \mathrm{rows}_b|I_b| + 2\,\mathrm{nnz}(G)` entries besides the identity:
 linear in the number of joints, where the Gram matrices :math:`A_b^HA_b` would be quadratic
 in the size of each neighbourhood, and the condition number is that of :math:`A`, not its
-square. After a symmetric equilibration it is factorised group by group: each joint's load
+square. Only its lower triangle (:math:`-I`, :math:`A^H` and :math:`G`) is stored. After a
+symmetric equilibration it is factorised group by group: each joint's load
 unknowns, residual rows and constraint rows form a group with as many rows as unknowns, whose
 block is the joint's compliance to its own loads, and the groups are eliminated in a
 minimum-degree order of the graph of groups that see a common plate, with symmetric
@@ -30,7 +31,7 @@ minimum-degree order of the graph of groups that see a common plate, with symmet
 general sparse LU with partial pivoting (SuperLU, ``scipy.sparse.linalg.splu``, COLAMD
 ordering) must allow for interchanges between any rows, and its fill follows the wider graph
 of joints two plates apart: on the 10 x 10 grid, 2.0e7 entries in 5.3 s against 1.1e7 in
-1.0 s (the grouped LU then; 0.73 s now). SuperLU remains the path for small
+1.0 s (the grouped LU then; 0.67 s and 5.4e6 entries now). SuperLU remains the path for small
 systems, where it is faster, for groups with fewer rows than unknowns, and whenever the
 grouped solution's backward error exceeds :data:`BACKWARD_ERROR`. ``bench/bench_interface.py``
 compares the alternatives.
@@ -73,7 +74,8 @@ import scipy.sparse.linalg
 from solver.multifrontal import GroupedLDL, GroupPivotError
 
 __all__ = ["BACKWARD_ERROR", "GROUPED_MIN_SIZE", "Block", "InterfaceFactor", "factorise_interface",
-           "JointCondensation", "backward_error", "residual_weight", "squared_norm"]
+           "JointCondensation", "backward_error", "hermitian_full", "residual_weight",
+           "squared_norm"]
 
 # Largest backward error accepted from the grouped factorisation, whose row interchanges stay
 # inside each group: SuperLU's partial pivoting gives 1e-18 to 1e-16 on these systems, and so
@@ -138,8 +140,9 @@ def squared_norm(r):
 
 
 def _augmented_matrix(n_s, blocks, g_mat):
-    """The Hermitian augmented matrix ``[-I A 0; A^H 0 G^H; 0 G 0]`` in COO form (no entry
-    twice), and the number of residual rows."""
+    """The lower triangle of the Hermitian augmented matrix ``[-I A 0; A^H 0 G^H; 0 G 0]`` in
+    COO form (:func:`hermitian_full` completes it), and the
+    number of residual rows."""
     rows, cols, vals = [], [], []
     start = 0
     for block in blocks:
@@ -153,16 +156,34 @@ def _augmented_matrix(n_s, blocks, g_mat):
     a_cols = np.concatenate(cols) + n_rho if cols else np.zeros(0, dtype=np.int32)
     a_vals = np.concatenate(vals) if vals else np.zeros(0, dtype=complex)
     g = g_mat.tocoo()
-    g_rows = (g.row + n_rho + n_s).astype(np.int32)
-    g_cols = (g.col + n_rho).astype(np.int32)
     diag = np.arange(n_rho, dtype=np.int32)
     n = n_rho + n_s + g_mat.shape[0]
-    matrix = scipy.sparse.coo_matrix(
-        (np.concatenate([-np.ones(n_rho), a_vals, a_vals.conj(), g.data, g.data.conj()]),
-         (np.concatenate([diag, a_rows, a_cols, g_rows, g_cols]),
-          np.concatenate([diag, a_cols, a_rows, g_cols, g_rows]))),
+    lower = scipy.sparse.coo_matrix(
+        (np.concatenate([-np.ones(n_rho), a_vals.conj(), g.data]),  # -I, A^H and G
+         (np.concatenate([diag, a_cols, (g.row + n_rho + n_s).astype(np.int32)]),
+          np.concatenate([diag, a_rows, (g.col + n_rho).astype(np.int32)]))),
         shape=(n, n), dtype=complex)
-    return matrix, n_rho
+    return lower, n_rho
+
+
+def _hermitian_product(lower, x):
+    """:math:`Hx` for the Hermitian :math:`H` whose lower triangle is ``lower`` (COO, each
+    entry once)."""
+    on = lower.row == lower.col
+    diagonal = np.zeros(lower.shape[0], dtype=lower.dtype)
+    diagonal[lower.row[on]] = lower.data[on]
+    x = np.asarray(x)
+    product = lower @ x + (lower.T @ x.conj()).conj()
+    return product - diagonal.reshape((-1,) + (1,) * (x.ndim - 1)) * x
+
+
+def hermitian_full(lower):
+    """The whole Hermitian matrix (CSC) whose lower triangle is ``lower`` (COO)."""
+    strict = lower.row != lower.col
+    return scipy.sparse.coo_matrix(
+        (np.concatenate([lower.data, lower.data[strict].conj()]),
+         (np.concatenate([lower.row, lower.col[strict]]),
+          np.concatenate([lower.col, lower.row[strict]]))), shape=lower.shape).tocsc()
 
 
 @dataclass
@@ -250,28 +271,25 @@ def factorise_interface(n_s, blocks, constraints, groups=None, keep=True):
     -------
     InterfaceFactor
     """
-    g_mat, g_rhs = constraints
-    matrix, n_rho = _augmented_matrix(n_s, blocks, scipy.sparse.csr_matrix(g_mat))
+    g_mat = scipy.sparse.csr_matrix(constraints[0])
+    g_rhs = np.asarray(constraints[1], dtype=complex)
+    matrix, n_rho, scale = _equilibrated(n_s, blocks, g_mat)
     rhs = np.concatenate([-np.concatenate([b.offset for b in blocks]) if blocks
-                          else np.zeros(0, dtype=complex),
-                          np.zeros(n_s, dtype=complex), np.asarray(g_rhs, dtype=complex)])
-    # symmetric equilibration: the rows mix residuals, energies per unit load and displacements
-    row_max = np.zeros(matrix.shape[0])
-    np.maximum.at(row_max, matrix.row, np.abs(matrix.data))
-    scale = 1.0 / np.sqrt(np.maximum(row_max, np.finfo(float).tiny))
-    scaled = matrix  # scaled in place: the matrix is the largest array besides the factors
-    scaled.data *= scale[scaled.row] * scale[scaled.col]
+                          else np.zeros(0, dtype=complex), np.zeros(n_s, dtype=complex), g_rhs])
     scaled_rhs = rhs * scale
     lu, x = None, None
     variable_groups = (_variable_groups(blocks, n_rho, groups)
                        if groups is not None and matrix.shape[0] >= GROUPED_MIN_SIZE else None)
     if variable_groups is not None:
+        holder = [matrix]  # the factorisation frees the entries as it goes
+        del matrix
         try:
-            lu = GroupedLDL(scaled, variable_groups)
+            lu = GroupedLDL(holder, variable_groups)
             x = lu.solve(scaled_rhs)
         except GroupPivotError:
             lu = None
-        if lu is not None and backward_error(scaled, x, scaled_rhs) > BACKWARD_ERROR:
+        matrix = _equilibrated(n_s, blocks, g_mat)[0]  # again, for the check (0.05 s at most)
+        if lu is not None and backward_error(matrix, x, scaled_rhs) > BACKWARD_ERROR:
             lu = None
     if lu is None:
         # The transfer operators of enriched Trefftz bases make this system as ill-conditioned
@@ -279,21 +297,37 @@ def factorise_interface(n_s, blocks, constraints, groups=None, keep=True):
         # backward stable, and accuracy is judged on fields and energies.
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", scipy.sparse.linalg.MatrixRankWarning)
-            lu = scipy.sparse.linalg.splu(scaled.tocsc(), permc_spec="COLAMD",
+            lu = scipy.sparse.linalg.splu(hermitian_full(matrix), permc_spec="COLAMD",
                                           diag_pivot_thresh=0.1)
         x = lu.solve(scaled_rhs)
     x = x * scale
     s = x[n_rho:n_rho + n_s]
     return InterfaceFactor(lu if keep else None, scale, n_rho, n_s, s,
-                           [b.residual(s) for b in blocks], np.asarray(g_rhs, dtype=complex))
+                           [b.residual(s) for b in blocks], g_rhs)
 
 
-def backward_error(matrix, x, rhs):
-    r"""Normwise backward error :math:`\|Ax - b\|_\infty / (\|A\|_\infty\|x\|_\infty +
-    \|b\|_\infty)` of a solution ``x`` of :math:`Ax = b`."""
-    residual = matrix @ x - rhs
-    entries = matrix.tocoo()
-    norm = np.bincount(entries.row, np.abs(entries.data), entries.shape[0]).max()
+def _equilibrated(n_s, blocks, g_mat):
+    r"""The lower triangle of the augmented matrix scaled symmetrically, ``D H D``, with
+    :math:`D_{ii} = (\max_j|H_{ij}|)^{-1/2}` (its rows mix residuals, energies per unit load
+    and displacements), the number of residual rows and the scale D."""
+    matrix, n_rho = _augmented_matrix(n_s, blocks, g_mat)
+    row_max = np.zeros(matrix.shape[0])
+    np.maximum.at(row_max, matrix.row, np.abs(matrix.data))
+    np.maximum.at(row_max, matrix.col, np.abs(matrix.data))
+    scale = 1.0 / np.sqrt(np.maximum(row_max, np.finfo(float).tiny))
+    matrix.data *= scale[matrix.row] * scale[matrix.col]
+    return matrix, n_rho, scale
+
+
+def backward_error(lower, x, rhs):
+    r"""Normwise backward error :math:`\|Hx - b\|_\infty / (\|H\|_\infty\|x\|_\infty +
+    \|b\|_\infty)` of a solution ``x`` of :math:`Hx = b`, :math:`H` Hermitian given by its
+    lower triangle ``lower`` (COO)."""
+    residual = _hermitian_product(lower, x) - rhs
+    magnitude = np.abs(lower.data)
+    off = np.where(lower.row != lower.col, magnitude, 0.0)
+    norm = (np.bincount(lower.row, magnitude, lower.shape[0])
+            + np.bincount(lower.col, off, lower.shape[0])).max()
     return float(np.max(np.abs(residual)) / (norm * np.max(np.abs(x)) + np.max(np.abs(rhs))))
 
 

@@ -12,13 +12,13 @@ are the dominant cost, and how they grow depends on the path :func:`solver.inter
 factorise_interface` takes:
 
 - **by groups** (:class:`solver.multifrontal.GroupedLDL`, from
-  :data:`solver.interface.GROUPED_MIN_SIZE` variables on): fill / nnz = 2.6, 3.0, 3.3 on the
-  :math:`N\times N` grids of plates (:math:`P = N^2`) for N = 6, 8, 10, i.e.
-  :math:`0.72\ln P` (the separators are lines of joints; the factors are each front's
-  :math:`L` and :math:`M = D^{-1}L^{-1}F_{12}`); factorisation 0.20, 0.41, 0.84 s for 1.7e6,
-  3.7e6, 6.6e6 entries, :math:`\mathrm{fill}^{1.03}`; peak memory of ``vtcr solve
-  --no-estimate`` 0.20, 0.28, 0.40 GB, i.e. 45-58 bytes per factor entry above a start-up of
-  0.1 GB (the front being factorised and the contributions waiting for their parents besides
+  :data:`solver.interface.GROUPED_MIN_SIZE` variables on): fill / nnz = 2.08, 2.41, 2.70 on
+  the :math:`N\times N` grids of plates (:math:`P = N^2`) for N = 6, 8, 10, i.e.
+  :math:`0.58\ln P` (the separators are lines of joints; the factors are each front's
+  :math:`L`, packed, and :math:`M = D^{-1}L^{-1}F_{12}`); factorisation 0.14, 0.33, 0.67 s
+  for 1.3e6, 2.9e6, 5.4e6 entries, :math:`\mathrm{fill}^{1.10}`; peak memory of ``vtcr solve
+  --no-estimate`` 0.16, 0.21, 0.29 GB, i.e. 31 bytes per factor entry above a start-up of
+  0.12 GB (the front being factorised and the contributions waiting for their parents besides
   the factors; measured on a 2-core AMD EPYC, one BLAS thread);
 - **SuperLU** (COLAMD ordering; small systems): fill / nnz = 1.6, 3.8, 5.6, 10.1 for
   N = 2, 4, 6, 10, about :math:`\sqrt P` (pessimistic for chains); about 30 bytes per factor
@@ -45,19 +45,19 @@ __all__ = ["SizeEstimate", "estimate_size", "available_memory"]
 
 BYTES_PER_FACTOR_ENTRY = 30.0  # SuperLU
 FACTOR_SECONDS = (0.52, 2.8e6, 1.22)  # SuperLU: seconds for a fill, and the exponent of the growth
-GROUPED_FILL_PER_LOG_PLATES = 0.72  # factor entries / matrix entries, per ln P
-GROUPED_BYTES = (50.0, 1e8)  # per factor entry, and the start-up
-GROUPED_FACTOR_SECONDS = (0.20, 1.66e6, 1.03)
+GROUPED_FILL_PER_LOG_PLATES = 0.58  # factor entries / matrix entries, per ln P
+GROUPED_BYTES = (31.0, 1.2e8)  # per factor entry, and the start-up
+GROUPED_FACTOR_SECONDS = (0.14, 1.31e6, 1.10)
 PLATE_SECONDS = 0.02  # rays, traces, dense plate solve and transfer operator, per plate
 LOCALISATION_SOLVES = 3  # per frequency: modified problem, direct model, the noise draws (one)
 PLAN_SECONDS_PER_ENTRY = 1.2e-7
 """``vtcr plan``'s work per joint and frequency per factor entry (its two condensations and its
 expected interval), measured with SuperLU on the 6 x 6 and 10 x 10 grids of
 ``bench/bench_scale.py``."""
-GROUPED_PLAN_SECONDS_PER_ENTRY = 1e-7
+GROUPED_PLAN_SECONDS_PER_ENTRY = 1.2e-7
 """The same through the grouped factorisation, whose solves are faster: the whole plan of
-``cases/grid_10x10.toml`` (180 joints, 1.3e7 estimated LU factor entries, 6.6e6 of
-:math:`LDL^H`) took 127 s."""
+``cases/grid_10x10.toml`` (180 joints, 1.3e7 estimated LU factor entries, 5.4e6 of
+:math:`LDL^H` with L packed) took 127 s."""
 PLAN_SOLVES = 6  # per frequency: the model response, its enriched solve (three), the modified
 # problem and the model again
 
@@ -88,7 +88,7 @@ class SizeEstimate:
     @property
     def factor_entries(self) -> float:
         r"""Entries of the interface problem's factors: the matrix entries times
-        :math:`0.72\ln P` by groups, :math:`\sqrt P` by SuperLU (module docstring)."""
+        :math:`0.58\ln P` by groups, :math:`\sqrt P` by SuperLU (module docstring)."""
         fill = (GROUPED_FILL_PER_LOG_PLATES * math.log(self.plates) if self.grouped
                 else math.sqrt(self.plates))
         return self.matrix_entries * fill

@@ -95,6 +95,39 @@ def test_a_chain_of_groups_is_eliminated_without_fill():
     assert order[0] in (0, 11)
 
 
+def test_either_entry_of_each_pair_is_enough():
+    """The factorisation reads a Hermitian matrix from its lower triangle, its upper one, a
+    random choice of one entry per pair, or all of it, and gives the same solution; given in
+    a list, the matrix is taken out of it (the factorisation holds the only reference)."""
+    dense, groups = lattice_system(5, 4, seed=3)
+    rng = np.random.default_rng(4)
+    rhs = rng.normal(size=len(groups)) + 1j * rng.normal(size=len(groups))
+    exact = np.linalg.solve(dense, rhs)
+    lower = np.tril(dense)
+    pick = np.tril(rng.random(dense.shape) < 0.5, -1)
+    mixed = np.where(pick, dense, 0.0) + np.where(pick.T, 0.0, np.triu(dense))
+    for form in (lower, np.triu(dense), mixed, dense):
+        holder = [scipy.sparse.coo_matrix(form)]
+        solution = GroupedLDL(holder, groups).solve(rhs)
+        assert holder == []
+        # as the block-sparse test: an entry read from the wrong side shows at order 1
+        assert np.linalg.norm(solution - exact) < 1e-11 * np.linalg.norm(exact)
+
+
+def test_the_backward_error_of_a_matrix_given_by_its_lower_triangle():
+    """:func:`solver.interface.backward_error` and :func:`solver.interface.hermitian_full`
+    against the dense matrix: the same residual, norm and completion."""
+    dense, _ = lattice_system(3, 3, seed=6)
+    lower = scipy.sparse.coo_matrix(np.tril(dense))
+    assert np.array_equal(interface.hermitian_full(lower).toarray(), dense)
+    rng = np.random.default_rng(7)
+    x = rng.normal(size=len(dense)) + 1j * rng.normal(size=len(dense))
+    rhs = dense @ x + 1e-3 * rng.normal(size=len(dense))
+    expected = (np.max(np.abs(dense @ x - rhs))
+                / (np.abs(dense).sum(axis=1).max() * np.max(np.abs(x)) + np.max(np.abs(rhs))))
+    assert interface.backward_error(lower, x, rhs) == pytest.approx(expected, rel=1e-12)
+
+
 def test_a_singular_group_block_is_refused():
     """Nonsingular as a whole (determinant -2), but the first group's 1 x 1 block is zero."""
     matrix = np.array([[0.0, 1.0, 0.0], [1.0, 1.0, 1.0], [0.0, 1.0, 2.0]], dtype=complex)
