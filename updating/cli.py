@@ -19,12 +19,14 @@ for _variable in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_variable, "1")
 
 
-# Arrays above this are mapped from the system and returned to it when freed. glibc's default
-# raises the threshold to the largest array freed so far (up to 32 MB), after which a large
-# factorisation's fronts and contributions come from the heap and fragment it. On the 10 x 10
-# grid, vtcr solve (with its estimate) peaked at 0.49-0.53 GB against 0.45-0.46 GB with this
-# threshold, and vtcr localise at 0.56-0.58 GB against 0.51-0.52 GB, in the same time (numpy
-# advises huge pages from 4 MB, so mapping costs few page faults). A user's setting wins.
+# Arrays above this are mapped from the system and returned to it when freed, for problems
+# factorised by groups (solver.multifrontal). glibc's default raises the threshold to the
+# largest array freed so far (up to 32 MB), after which a large factorisation's fronts and
+# contributions come from the heap and fragment it. On the 10 x 10 grid, vtcr solve (with its
+# estimate) peaked at 0.49-0.53 GB against 0.45-0.46 GB with this threshold, and vtcr localise
+# at 0.56-0.58 GB against 0.51-0.52 GB, in the same time (numpy advises huge pages from 4 MB,
+# so mapping costs few page faults). Small problems keep the default: the main job took 0.1 s
+# more in page faults with it, for 16 MB less. A user's setting wins.
 MMAP_THRESHOLD = 4 << 20
 
 
@@ -41,9 +43,6 @@ def _map_large_arrays():
         libc.mallopt(-3, MMAP_THRESHOLD)  # M_MMAP_THRESHOLD of <malloc.h>
     except (OSError, AttributeError):  # not glibc: its own policy stays
         pass
-
-
-_map_large_arrays()
 
 import numpy as np
 from rich.console import Console
@@ -231,9 +230,15 @@ def _check_description(args):
     frequencies = None if frequency is None else tuple(frequency)
     if args.command == "frf":  # the band's ends bound every frequency of the sweep
         frequencies = tuple(args.band)
-    for line in check_description(_load(args), args.case, frequencies,
+    case = _load(args)
+    for line in check_description(case, args.case, frequencies,
                                   need_loads=args.command != "check"):
         _warn(_console(args), line)
+    if case.joints:
+        from solver.sizing import estimate_size
+
+        if estimate_size(case, max(frequencies) if frequencies else None).grouped:
+            _map_large_arrays()
 
 
 def _checked_measurements(case, args):
