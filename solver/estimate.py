@@ -62,8 +62,8 @@ from solver.power import grid_deflections, plate_gauss_axes
 from solver.problems import plate_resolution
 from solver.rays import QUASI_STATIC_KAPPA_R
 
-__all__ = ["ENRICHMENT", "ErrorEstimate", "ToleranceError", "estimate_error", "plate_l2_rule",
-           "solve_to_tolerance"]
+__all__ = ["ENRICHMENT", "ErrorEstimate", "ToleranceError", "enriched_size", "estimate_error",
+           "plate_l2_rule", "solve_to_tolerance"]
 
 ENRICHMENT = 1.5
 ENRICHED_SOLVE_SECONDS = 60.0
@@ -200,6 +200,14 @@ def _compact(resolution):
     """One number when every plate has the same resolution, else the mapping."""
     values = set(resolution.values())
     return values.pop() if len(values) == 1 else dict(resolution)
+
+
+def enriched_size(case, frequency=None, resolution=None):
+    """:func:`solver.sizing.estimate_size` of the estimate's enriched solve (every count of
+    the rule at ``resolution``, default the description's, times :data:`ENRICHMENT`)."""
+    from solver.sizing import estimate_size
+
+    return estimate_size(case, frequency, _resolutions(case, resolution)[1])
 
 
 def _enriched_solve_unaffordable(case, frequency, enriched_resolution):

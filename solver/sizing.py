@@ -24,7 +24,12 @@ factorise_interface` takes:
   N = 2, 4, 6, 10, about :math:`\sqrt P` (pessimistic for chains); about 30 bytes per factor
   entry (complex factors, SuperLU's work space, the matrix and the plate data: 2.0 GB for
   6.8e7 entries at N = 10), and the factorisation time grew like :math:`\mathrm{fill}^{1.22}`
-  (0.52 s for 2.8e6 entries, 25.6 s for 6.8e7).
+  (0.52 s for 2.8e6 entries, 25.6 s for 6.8e7); both above the same start-up of 0.12 GB
+  (the four plates' ``vtcr solve`` peaks at 0.12 GB for 8e4 factor entries).
+
+``vtcr solve`` estimates its discretisation error by an enriched solve, every count times
+:data:`solver.estimate.ENRICHMENT`: its memory is that solve's (:func:`solver.estimate.
+enriched_size`; 0.43 GB estimated on the 10 x 10 grid, 0.46-0.48 GB measured).
 
 All on one core of the 2-core reference machine. These are estimates to a factor of about
 two, for deciding before a run whether it fits, not measurements.
@@ -44,9 +49,10 @@ from solver.problems import plate_problems
 __all__ = ["SizeEstimate", "estimate_size", "available_memory"]
 
 BYTES_PER_FACTOR_ENTRY = 30.0  # SuperLU
+START_UP_BYTES = 1.2e8  # the interpreter, the libraries and the description, before any solve
 FACTOR_SECONDS = (0.52, 2.8e6, 1.22)  # SuperLU: seconds for a fill, and the exponent of the growth
 GROUPED_FILL_PER_LOG_PLATES = 0.58  # factor entries / matrix entries, per ln P
-GROUPED_BYTES = (31.0, 1.2e8)  # per factor entry, and the start-up
+GROUPED_BYTES = 31.0  # per factor entry
 GROUPED_FACTOR_SECONDS = (0.14, 1.31e6, 1.10)
 PLATE_SECONDS = 0.02  # rays, traces, dense plate solve and transfer operator, per plate
 LOCALISATION_SOLVES = 3  # per frequency: modified problem, direct model, the noise draws (one)
@@ -95,10 +101,8 @@ class SizeEstimate:
 
     @property
     def solve_bytes(self) -> float:
-        if self.grouped:
-            per_entry, start_up = GROUPED_BYTES
-            return start_up + per_entry * self.factor_entries
-        return BYTES_PER_FACTOR_ENTRY * self.factor_entries
+        per_entry = GROUPED_BYTES if self.grouped else BYTES_PER_FACTOR_ENTRY
+        return START_UP_BYTES + per_entry * self.factor_entries
 
     @property
     def factorisation_seconds(self) -> float:
@@ -129,15 +133,20 @@ class SizeEstimate:
         return (PLATE_SECONDS * self.plates + self.frequencies * PLAN_SOLVES
                 * self.factorisation_seconds + joints * self.plan_seconds_per_joint)
 
-    def lines(self):
-        """Human-readable lines for ``vtcr check``."""
+    def lines(self, enriched=None):
+        """Human-readable lines for ``vtcr check``; ``enriched``, the estimate of the error
+        estimate's enriched solve, adds what ``vtcr solve`` takes with it (its peak memory is
+        the enriched solve's, its time the sum of both)."""
         gb = self.solve_bytes / 1e9
+        with_estimate = "" if enriched is None else (
+            f", with its error estimate about {enriched.solve_bytes / 1e9:.2g} GB and "
+            f"{self.solve_seconds + enriched.solve_seconds:.2g} s")
         return [
             f"unknowns at {self.frequency:g} Hz: {self.ray_unknowns} ray amplitudes in "
             f"{self.plates} plates, {self.interface_unknowns} interface unknowns, "
             f"{self.constraints} constraints, {self.residual_samples} residual samples",
-            f"estimated: solve about {gb:.2g} GB and {self.solve_seconds:.2g} s per frequency "
-            f"(sparse interface matrix {self.matrix_entries:.3g} entries, "
+            f"estimated: solve about {gb:.2g} GB and {self.solve_seconds:.2g} s per frequency"
+            f"{with_estimate} (sparse interface matrix {self.matrix_entries:.3g} entries, "
             f"{'LDL^H by groups' if self.grouped else 'LU'} factors about "
             f"{self.factor_entries:.2g}); update at most about "
             f"{self.update_seconds:.2g} s ({self.frequencies} frequencies, "

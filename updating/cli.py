@@ -90,7 +90,9 @@ def cmd_check(args):
     console = _console(args)
     console.print(summarise(case))
     if case.joints:
-        for line in estimate_size(case).lines():
+        from solver.estimate import enriched_size
+
+        for line in estimate_size(case).lines(enriched_size(case)):
             console.print(line)
     return 0
 
