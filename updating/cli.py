@@ -280,65 +280,71 @@ def _problem_warnings(args, problem):
 
 
 def cmd_solve(args):
-    from solver import field_grid
     from updating.files import read_probes, write_json_atomic
-    from updating.measurements import measurement_layout
 
     case = _load(args)
     probes = read_probes(args.probes, case) if args.probes else None
-    console = _console(args)
     tolerance = args.tolerance if args.tolerance is not None else case.discretisation.tolerance
-    results = []
-    for frequency in _frequencies(case, args):
-        solution, estimate = _solve_with_estimate(case, frequency, tolerance,
-                                                  not args.no_estimate)
-        _solution_warnings(console, solution)
-        _estimate_lines(console, {frequency: estimate} if estimate is not None else {})
-        if probes is None:  # the measurement layout: [measurement] plates, grid and points
-            points = measurement_layout(case) or {
-                pid: field_grid(case, pid, case.measurement.spacing) for pid in case.plates}
-            order = [(pid, i) for pid in points for i in range(len(points[pid]))]
-        else:
-            points, order = probes.by_plate, probes.order
-        values = {pid: solution.w(pid, pts) for pid, pts in points.items()}
-        rows = [
-            {"plate": pid, "x": float(points[pid][i, 0]), "y": float(points[pid][i, 1]),
-             "w": [float(values[pid][i].real), float(values[pid][i].imag)]}
-            for pid, i in order
-        ]
-        residuals = getattr(solution, "residuals", {})
-        system = getattr(solution, "system", None)
-        results.append({
-            "frequency": frequency,
-            "unknowns": solution.n_unknowns,
-            "interface_unknowns": system.n_s if system is not None else 0,
-            "timings": dict({phase: float(t) for phase, t in solution.timings.items()},
-                            **({"estimate": estimate.seconds} if estimate is not None else {})),
-            "condition_estimate": solution.condition_estimate,
-            "error_estimate": estimate.to_json() if estimate is not None else None,
-            "warnings": list(solution.warnings),
-            "joint_residuals": residuals,
-            "probes": rows,
-        })
-        if residuals:
-            console.print("joint residuals E_Gamma^2 (discretisation floor at the model's own "
-                          "parameters): " + ", ".join(f"{j} {v:.1e}" for j, v in residuals.items()))
-        table = Table(title=f"{case.name}: w at {frequency:g} Hz "
-                            f"({solution.n_unknowns} ray unknowns, "
-                            f"condition estimate {solution.condition_estimate:.1e})")
-        for column in ("plate", "x [m]", "y [m]", "|w| [m]", "phase [deg]"):
-            table.add_column(column, justify="right")
-        for row in rows[: args.max_rows]:
-            w = complex(*row["w"])
-            table.add_row(row["plate"], f"{row['x']:.4f}", f"{row['y']:.4f}", f"{abs(w):.4e}",
-                          f"{np.degrees(np.angle(w)):.1f}")
-        if len(rows) > args.max_rows:
-            table.caption = f"{len(rows) - args.max_rows} more rows in the JSON output"
-        console.print(table)
+    # one frequency at a time: each solution (and the system it keeps) is freed before the
+    # next frequency's solves
+    results = [_solve_frequency(args, case, frequency, probes, tolerance)
+               for frequency in _frequencies(case, args)]
     if args.json:  # one shape: the contract's first-frequency keys, then every frequency
         write_json_atomic(args.json, {**_provenance(args, case), **results[0],
                                       "frequencies": results})
     return 0
+
+
+def _solve_frequency(args, case, frequency, probes, tolerance):
+    """``vtcr solve`` at one frequency: prints its table, returns its JSON entry."""
+    from solver import field_grid
+    from updating.measurements import measurement_layout
+
+    console = _console(args)
+    solution, estimate = _solve_with_estimate(case, frequency, tolerance, not args.no_estimate)
+    _solution_warnings(console, solution)
+    _estimate_lines(console, {frequency: estimate} if estimate is not None else {})
+    if probes is None:  # the measurement layout: [measurement] plates, grid and points
+        points = measurement_layout(case) or {
+            pid: field_grid(case, pid, case.measurement.spacing) for pid in case.plates}
+        order = [(pid, i) for pid in points for i in range(len(points[pid]))]
+    else:
+        points, order = probes.by_plate, probes.order
+    values = {pid: solution.w(pid, pts) for pid, pts in points.items()}
+    rows = [
+        {"plate": pid, "x": float(points[pid][i, 0]), "y": float(points[pid][i, 1]),
+         "w": [float(values[pid][i].real), float(values[pid][i].imag)]}
+        for pid, i in order
+    ]
+    residuals = getattr(solution, "residuals", {})
+    system = getattr(solution, "system", None)
+    if residuals:
+        console.print("joint residuals E_Gamma^2 (discretisation floor at the model's own "
+                      "parameters): " + ", ".join(f"{j} {v:.1e}" for j, v in residuals.items()))
+    table = Table(title=f"{case.name}: w at {frequency:g} Hz "
+                        f"({solution.n_unknowns} ray unknowns, "
+                        f"condition estimate {solution.condition_estimate:.1e})")
+    for column in ("plate", "x [m]", "y [m]", "|w| [m]", "phase [deg]"):
+        table.add_column(column, justify="right")
+    for row in rows[: args.max_rows]:
+        w = complex(*row["w"])
+        table.add_row(row["plate"], f"{row['x']:.4f}", f"{row['y']:.4f}", f"{abs(w):.4e}",
+                      f"{np.degrees(np.angle(w)):.1f}")
+    if len(rows) > args.max_rows:
+        table.caption = f"{len(rows) - args.max_rows} more rows in the JSON output"
+    console.print(table)
+    return {
+        "frequency": frequency,
+        "unknowns": solution.n_unknowns,
+        "interface_unknowns": system.n_s if system is not None else 0,
+        "timings": dict({phase: float(t) for phase, t in solution.timings.items()},
+                        **({"estimate": estimate.seconds} if estimate is not None else {})),
+        "condition_estimate": solution.condition_estimate,
+        "error_estimate": estimate.to_json() if estimate is not None else None,
+        "warnings": list(solution.warnings),
+        "joint_residuals": residuals,
+        "probes": rows,
+    }
 
 
 # Problems of one input printed at most (a generated file can hold a million bad keys).
