@@ -141,8 +141,7 @@ def squared_norm(r):
 
 def _augmented_matrix(n_s, blocks, g_mat):
     """The lower triangle of the Hermitian augmented matrix ``[-I A 0; A^H 0 G^H; 0 G 0]`` in
-    COO form (:func:`hermitian_full` completes it), and the
-    number of residual rows."""
+    COO form (:func:`hermitian_full` completes it), and the number of residual rows."""
     rows, cols, vals = [], [], []
     start = 0
     for block in blocks:

@@ -360,7 +360,7 @@ class GroupedLDL:
                 del z
                 contributions[k] = (coupled, rest)
             # L in rectangular full packed form: its triangle only, half the square's memory
-            packed, info = ztrttf(lower, transr="N", uplo="L")
+            packed = ztrttf(lower, transr="N", uplo="L")[0]
             del f11, lower, f21, rest
             self.factors.append((own, coupled, packed, diagonal, perm, m))
 
