@@ -119,7 +119,7 @@ def grid_sum_against_points(repeats):
     """The fields on the plates' Gauss grids (kinetic energy, the estimate's integrals): the
     tensor-grid sum against evaluating every point, same solution, same run."""
     from solver.plate import evaluate_field
-    from solver.power import grid_deflection, plate_gauss_axes
+    from solver.power import grid_deflections, plate_gauss_axes
 
     joints = [{"kind": "coplanar", "log10_stiffness": 1.5, "loss_factor": 0.1, "mass": 0.05},
               {"kind": "hinge", "log10_stiffness": 3.5}]
@@ -127,8 +127,9 @@ def grid_sum_against_points(repeats):
     plates = solve_case(case).plates.values()
 
     def on_grid():
-        return [grid_deflection(p.problem, p.basis, p.amplitudes, *(a for a, _ in
-                                plate_gauss_axes(p.problem))) for p in plates]
+        fields = grid_deflections({i: (p.problem, p.basis, p.amplitudes)
+                                   for i, p in enumerate(plates)})
+        return [fields[i] for i in range(len(plates))]
 
     def point_by_point():
         out = []

@@ -33,8 +33,8 @@ Near the floor (about 1e-6) the estimate is dominated by round-off and only says
 
 **Large assemblies.** The enriched assembly solve refactorises an interface problem with 1.5
 times the unknowns, one and a half to three times the cost of the solve (10 x 10 grid of
-``bench/bench_scale.py``: 2.9 s with the integrals against 1.5 s, the factorisations 1.6 s
-against 0.73 s). When
+``bench/bench_scale.py``: 2.9 s with the integrals against 1.5 s, the factorisations 1.35 s
+against 0.62 s). When
 :mod:`solver.sizing` estimates it above :data:`ENRICHED_SOLVE_SECONDS`, or beyond half the
 available memory, the estimate is not made and says why (:func:`estimate_error` returns an
 estimate whose ``total`` is None): a wrong number would be worse than none. A cheaper

@@ -53,7 +53,7 @@ from solver.plate import (edge_rule_size, edge_values, evaluate_field, particula
 from solver.rays import gauss_legendre, node_exponentials, plate_edges, tensor_grid_field
 
 __all__ = ["PowerFlow", "power_flow", "plate_powers", "kinetic_energies", "plate_gauss_axes",
-           "grid_deflection", "grid_deflections"]
+           "grid_deflections"]
 
 
 @dataclass(frozen=True)
@@ -157,13 +157,6 @@ def plate_gauss_axes(problem):
     return tuple(rules)
 
 
-def grid_deflection(problem, basis, amplitudes, x, y):
-    """``w`` on the tensor grid ``x`` x ``y``, shape (len(x), len(y)): the rays summed as a
-    product of 1D exponentials (:func:`solver.rays.tensor_grid_field`), plus the particular
-    solution."""
-    return tensor_grid_field(basis, amplitudes, x, y) + _grid_particular(problem, x, y)
-
-
 def _grid_particular(problem, x, y):
     """The particular solution's ``w`` on the tensor grid ``x`` x ``y``."""
     X, Y = np.meshgrid(x, y, indexing="ij")
@@ -171,10 +164,11 @@ def _grid_particular(problem, x, y):
 
 
 def grid_deflections(plates):
-    r"""``{key: w}`` on each plate's Gauss grid (:func:`plate_gauss_axes`) for ``plates``
-    ``{key: (problem, basis, amplitudes)}``, as :func:`grid_deflection` gives it: the plates
-    that share a basis object (hence size and wavenumber: a grid's identical plates) are
-    evaluated together, their rays' exponentials computed once."""
+    r"""``{key: w}`` on each plate's Gauss grid (:func:`plate_gauss_axes`), shape (n_x, n_y),
+    for ``plates`` ``{key: (problem, basis, amplitudes)}``: the rays summed as a product of 1D
+    exponentials (:func:`solver.rays.tensor_grid_field`), plus the particular solution. The
+    plates that share a basis object (hence size and wavenumber: a grid's identical plates)
+    are evaluated together, their rays' exponentials computed once."""
     by_basis = {}
     for key, (problem, basis, amplitudes) in plates.items():
         by_basis.setdefault(id(basis), []).append(key)

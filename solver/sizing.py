@@ -61,9 +61,9 @@ PLAN_SECONDS_PER_ENTRY = 1.2e-7
 expected interval), measured with SuperLU on the 6 x 6 and 10 x 10 grids of
 ``bench/bench_scale.py``."""
 GROUPED_PLAN_SECONDS_PER_ENTRY = 1.2e-7
-"""The same through the grouped factorisation, whose solves are faster: the whole plan of
-``cases/grid_10x10.toml`` (180 joints, 1.3e7 estimated LU factor entries, 5.4e6 of
-:math:`LDL^H` with L packed) took 127 s."""
+"""The same through the grouped factorisation: the whole plan of ``cases/grid_10x10.toml``
+(180 joints, 5.4e6 factor entries of :math:`LDL^H` with L packed, estimated 120 s) took 135 s
+on the 2-core AMD EPYC."""
 PLAN_SOLVES = 6  # per frequency: the model response, its enriched solve (three), the modified
 # problem and the model again
 

@@ -18,6 +18,16 @@ import sys
 for _variable in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_variable, "1")
 
+import numpy as np
+from rich.console import Console
+from rich.table import Table
+
+__all__ = ["main", "NOT_CONVERGED"]
+
+NOT_CONVERGED = 3
+"""Exit status of ``vtcr update`` when the loop stops without converging (status 1: joints
+still stand out but no correction helps; status 2: ``max_steps`` reached); its outputs are
+written all the same."""
 
 # Arrays above this are mapped from the system and returned to it when freed, for problems
 # factorised by groups (solver.multifrontal). glibc's default raises the threshold to the
@@ -43,17 +53,6 @@ def _map_large_arrays():
         libc.mallopt(-3, MMAP_THRESHOLD)  # M_MMAP_THRESHOLD of <malloc.h>
     except (OSError, AttributeError):  # not glibc: its own policy stays
         pass
-
-import numpy as np
-from rich.console import Console
-from rich.table import Table
-
-__all__ = ["main", "NOT_CONVERGED"]
-
-NOT_CONVERGED = 3
-"""Exit status of ``vtcr update`` when the loop stops without converging (status 1: joints
-still stand out but no correction helps; status 2: ``max_steps`` reached); its outputs are
-written all the same."""
 
 
 def _console(args):
