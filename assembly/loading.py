@@ -158,7 +158,7 @@ _EXAMPLES: dict[str, str] = {
     "measurement.points[].at": "at = [0.1, 0.2] (plate-local m)",
     "measurement.points[].at[]": "at = [0.1, 0.2] (plate-local m)",
     "updating": "an [updating] table",
-    "updating.r": "r = 0.8 (in (0, 1])",
+    "updating.r": "r = \"auto\" or r = 0.8 (in (0, 1])",
     "updating.alpha": "alpha = {G1 = 1.0, G2 = 0.5}",
     "updating.alpha.*": "G1 = 1.0 (weight >= 0)",
     "updating.bounds": "bounds = [-3.0, 7.0] (log10 k)",

@@ -1129,18 +1129,32 @@ class Measurement(_Model):
     points: tuple[PointMeasurement, ...] = ()
 
 
+def _check_r(value: float | str) -> float | str:
+    if value != "auto" and not 0.0 < value <= 1.0:
+        raise ValueError(f"must be > 0 and <= 1, or \"auto\", got {value:g}; e.g. r = 0.8, "
+                         "or r = \"auto\" (the scale-free weights)")
+    return value
+
+
 class Updating(_Model):
     """Localisation--correction settings (``[updating]``).
 
     Parameters
     ----------
-    r : float, optional
+    r : float or "auto", optional
         Weight of the measurement term in ``E_mod^2 = (1 - r) E_int^2 + r E_mes^2``,
-        in (0, 1].  Default 0.8.
+        in (0, 1], or ``"auto"`` (default): weights that do not depend on the size of the
+        structure (``updating.weights``: each joint's law weighed by the energy of its own
+        plates, each plate's data by its own stated noise, at the fixed `balance`).
     alpha : mapping of str to float, optional
         Joint weights ``alpha_i >= 0`` of the interface error.  Joints not listed weigh 1;
         the weights are normalised to sum 1.  In a validated :class:`Case` this holds every
-        joint, normalised; None (default) = equal weights ``1 / N_joints``.
+        joint, normalised; None (default) = equal weights ``1 / N_joints``.  With
+        ``r = "auto"`` they multiply the scale-free weights (equal: those alone).
+    balance : float, optional
+        With ``r = "auto"``: the weight of a joint's law relative to the data around it,
+        ``beta`` in ``beta e_j^2 / E_j`` against the noise-whitened misfit of its plates
+        (``E_j`` the energy of the joint's plates), > 0.  Default 2000.
     bounds : tuple of float, shape (2,), optional
         ``[lo, hi]`` on ``log10_stiffness``, lo < hi.  Default [-3, 7].
     identify : tuple of {"stiffness", "damping", "mass"}, optional
@@ -1163,12 +1177,14 @@ class Updating(_Model):
         Default 0.9.
     misfit : {"global", "per_plate"}, optional
         Normalisation of ``E_mes^2``: the whole data's squared norm (``"global"``, the
-        paper's; default), or the mean over the measured plates of each plate's misfit
-        relative to its own data (``"per_plate"``: under relative noise, plates far from the
-        load count as much as the loaded ones; for large structures).
+        paper's), or the mean over the measured points of each plate's misfit relative to its
+        own data (``"per_plate"``: under relative noise, plates far from the load count as
+        much as the loaded ones).  Default: ``"per_plate"`` with ``r = "auto"``, ``"global"``
+        with a number.
     """
 
-    r: Annotated[float, Strict(), Field(gt=0, le=1)] = 0.8
+    r: Annotated[Union[Annotated[float, Strict()], Literal["auto"]],
+                 AfterValidator(_check_r)] = "auto"
     alpha: Annotated[dict[str, NonNegative], AfterValidator(_freeze)] | None = None
     bounds: Annotated[tuple[Real, Real], AfterValidator(_check_bounds)] = (-3.0, 7.0)
     identify: Annotated[
@@ -1179,7 +1195,19 @@ class Updating(_Model):
     significance: Annotated[float, Strict(), Field(gt=0, lt=0.5)] = 0.05
     min_decrease: Annotated[float, Strict(), Field(ge=0, lt=1)] = 0.01
     confidence: Annotated[float, Strict(), Field(gt=0, lt=1)] = 0.9
-    misfit: Literal["global", "per_plate"] = "global"
+    misfit: Literal["global", "per_plate"] | None = None
+    balance: Annotated[float, Strict(), Field(gt=0)] = 2000.0
+
+    @property
+    def automatic(self) -> bool:
+        """Whether the weights are the scale-free ones (``r = "auto"``)."""
+        return self.r == "auto"
+
+    @property
+    def misfit_kind(self) -> str:
+        """``misfit`` as given, else the default of the weights (``per_plate`` with
+        ``r = "auto"``, ``global`` with a number)."""
+        return self.misfit or ("per_plate" if self.automatic else "global")
 
 
 class Compute(_Model):
@@ -1699,6 +1727,17 @@ class Case(_Model):
         return {name: true[name]["log10_stiffness"]
                 for name, (jid, _) in self.updatable_joints().items()
                 if jid in self.truth.joints and self.truth.joints[jid].log10_stiffness is not None}
+
+    def true_parameters(self) -> dict[str, dict[str, float]]:
+        """``{updatable joint: {parameter: true value}}`` of the parameters (``log10_stiffness``,
+        ``loss_factor``, ``mass``) that ``[truth]`` gives, for the joints it names."""
+        true = self.true_case().updatable_parameters()
+        out: dict[str, dict[str, float]] = {}
+        for name, (jid, _) in self.updatable_joints().items():
+            given = self.truth.joints[jid].changes() if jid in self.truth.joints else {}
+            if given:
+                out[name] = {key: true[name][key] for key in given}
+        return out
 
     def true_case(self) -> Case:
         """Return the assembly with its joints replaced by the ``[truth]`` parameters.

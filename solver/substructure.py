@@ -250,6 +250,9 @@ class AssemblySystem:
         Reciprocal condition estimate of each plate's VTCR matrix.
     e_ref : float or None
         Reference energy (J), fixed by the first direct solve.
+    plate_energies : dict of str to float or None
+        Each plate's part of ``e_ref`` (J), from the same solve: the energy around a joint,
+        by which the scale-free weights of the updating normalise its residual.
     timings : dict of str to float
     unknown_groups, constraint_groups : ndarray of int, shape (n_s,) and (n_g,)
         Group of each interface unknown and constraint row: the joint's index in the
@@ -270,6 +273,7 @@ class AssemblySystem:
     channels: list
     rcond: dict
     e_ref: float | None = None
+    plate_energies: dict | None = None
     timings: dict = field(default_factory=dict)
     unknown_groups: np.ndarray | None = None
     constraint_groups: np.ndarray | None = None
@@ -767,11 +771,13 @@ def solve_interface(system, blocks, keep=True):
                                (system.unknown_groups, system.constraint_groups), keep)
 
 
-def reference_energy(system, amplitudes):
-    r""":math:`E_{ref} = \tfrac12\omega^2\sum_i\rho_ih_i\int_{\Omega_i}|w_i|^2dA` (J): twice the
-    plates' time-averaged kinetic energy (:func:`solver.power.kinetic_energies`)."""
-    return 2.0 * sum(kinetic_energies({pid: (problem, system.bases[pid], amplitudes[pid])
-                                       for pid, problem in system.problems.items()}).values())
+def reference_energies(system, amplitudes):
+    r"""Per plate, :math:`\tfrac12\omega^2\rho_ih_i\int_{\Omega_i}|w_i|^2dA` (J), twice its
+    time-averaged kinetic energy (:func:`solver.power.kinetic_energies`); their sum is
+    :math:`E_{ref}`."""
+    energies = kinetic_energies({pid: (problem, system.bases[pid], amplitudes[pid])
+                                 for pid, problem in system.problems.items()})
+    return {pid: 2.0 * energy for pid, energy in energies.items()}
 
 
 def joint_residuals(system, params, s):
@@ -831,7 +837,8 @@ def solve_assembly(case, frequency, resolution=None, system=None,
                         keep=False).s
     amplitudes = system.plate_amplitudes(s)
     if system.e_ref is None and residuals:
-        system.e_ref = reference_energy(system, amplitudes)
+        system.plate_energies = reference_energies(system, amplitudes)
+        system.e_ref = sum(system.plate_energies.values())
     plates = {pid: PlateSolution(system.problems[pid], system.bases[pid], amplitudes[pid],
                                  system.rcond[pid]) for pid in system.problems}
     timings = dict(system.timings, reduced=time.perf_counter() - t0)

@@ -240,6 +240,7 @@ def test_residual_floor_falls_with_refinement():
     for resolution in (0.75, 1.0, 1.25):
         description = chain_description([joint], resolution)
         description["measurement"] = {"spacing": 0.05}
+        description["updating"] = {"r": 0.8}  # the weights the figures were measured with
         case = parse_case(description)
         assert solve_case(case).residuals["G1"] < 1e-20
         layout = measurement_layout(case)

@@ -162,7 +162,8 @@ def test_minimal_description_gets_defaults() -> None:
         0.1, None, 0.0, 1, 1.6, ())
     u = case.updating
     assert (u.r, u.bounds, u.identify, u.max_steps, u.stop_ratio, u.min_decrease) == (
-        0.8, (-3.0, 7.0), ("stiffness",), 8, 3.0, 0.01)
+        "auto", (-3.0, 7.0), ("stiffness",), 8, 3.0, 0.01)
+    assert (u.balance, u.misfit, u.misfit_kind) == (2000.0, None, "per_plate")
     assert u.alpha == {}
     assert case.truth.joints == {}
     assert case.edge_conditions()[EdgeId("P1", "left")] == "free"

@@ -249,9 +249,33 @@ def test_status_1_names_the_joints_that_still_stand_out():
     assert message.startswith(TERMINATION_MESSAGES[1])
     assert "J2 3.00, J7 2.33, J6 2.00, J5 1.67, J4 1.33 and 1 more" in message
     assert "J0" not in message and "J3" not in message
-    assert _message(0, step, Updating()) == TERMINATION_MESSAGES[0]
+    assert _message(0, step, Updating()).startswith(
+        TERMINATION_MESSAGES[0] + "; corrected joints still above the thresholds of uncorrected "
+        "ones, by: J2 3.00")
+    below = dataclasses.replace(step, residuals=dict.fromkeys(joints, 0.5))
+    assert _message(0, below, Updating()) == TERMINATION_MESSAGES[0]
     calibrated = dataclasses.replace(step, thresholds={**dict.fromkeys(joints, 8.0), "J3": 1.0})
     assert "by: J3 2.00, J2 1.12; their" in _message(1, calibrated, Updating())
+
+
+def test_a_fitted_joint_above_its_threshold_does_not_stop_the_loop_unconverged():
+    """A corrected joint still above its threshold once its correction no longer helps (the
+    thresholds are calibrated for joints the data did not fit) lets the loop go on to its
+    re-corrections and converge (status 0: no candidate in the re-correction phase); an
+    uncorrected joint standing out that no correction helps stops it (status 1)."""
+    from assembly.models import Updating
+    from updating.strategy import Step, _candidates
+
+    joints = ["J0", "J1", "J2"]
+    parameters = {j: {"log10_stiffness": 2.0, "loss_factor": 0.0, "mass": 0.0} for j in joints}
+    step = Step(2, "J0", parameters, {"J0": 1.27, "J1": 0.5, "J2": 0.2},
+                dict.fromkeys(joints, 0.1), 1.0, 1.0, 1.0, thresholds=dict.fromkeys(joints, 1.0))
+    settings = Updating()
+    assert _candidates(step, settings, {"J0", "J1"}, set()) == (["J0"], False)
+    assert _candidates(step, settings, {"J0", "J1"}, {"J0"}) == (["J1"], True)
+    assert _candidates(step, settings, {"J0", "J1"}, {"J0", "J1"}) == ([], True)  # status 0
+    standing = dataclasses.replace(step, residuals={"J0": 1.27, "J1": 0.5, "J2": 1.5})
+    assert _candidates(standing, settings, {"J0", "J1"}, {"J0", "J2"}) == ([], False)  # 1
 
 
 def test_a_loop_that_stops_without_converging_exits_3_with_its_outputs(tmp_path, capsys,
@@ -392,7 +416,9 @@ def test_noise_free_data_get_the_discretisation_floor_as_width():
     1.1e-4 wide, missed it by 1.5e-5."""
     case, exact = levy_chain_experiment((2.0,))
     clean = exact_measurements(case, exact)
-    problem = ModifiedProblem(case, clean)
+    # the paper's weights, which the figures above were measured with (with the scale-free
+    # ones the estimate is 1.6e-4 decade off and the interval misses by 5.6e-5: bench/README.md)
+    problem = ModifiedProblem(case, clean, r=0.8)
     params, _, evaluation = correct_joint(problem, problem.initial_parameters(), "G1",
                                           case.updating.bounds)
     interval = confidence_intervals(problem, params, ["G1"], 0.0, evaluation.e_mes, 0.9,

@@ -646,11 +646,11 @@ def cmd_plan(args):
 
 
 def _truth(case, args):
-    """``{joint: true log10 k}`` of a simulated experiment (none with measured data); a
-    junction's every finite member when its truth gives a stiffness."""
+    """``{joint: {parameter: true value}}`` of a simulated experiment (none with measured
+    data); a junction's every finite member when its truth gives a value."""
     if getattr(args, "measurements", None):
         return {}
-    return case.true_log10_stiffness()
+    return case.true_parameters()
 
 
 def _run_path(args):
@@ -728,7 +728,7 @@ def cmd_update(args):
     t2 = time.perf_counter()
     bounds = settings.bounds
     console.print(steps_table(result, f"{case.name}: localisation and correction"))
-    for line in identified_lines(result, _truth(case, args)):
+    for line in identified_lines(result, _truth(case, args), case.measurement.noise):
         console.print(line)
     n_rays, n_s, n_g = problem.size
     console.print(f"{n_rays} ray unknowns, {n_s} interface unknowns, {n_g} constraints; "
@@ -754,7 +754,8 @@ def cmd_update(args):
                      "error_estimate": _estimates_json(problem.error_estimates),
                      **_provenance(args, case, measurements)}, bounds))
     if args.report:
-        write_text_atomic(args.report, result_markdown(result, case.name, _truth(case, args)))
+        write_text_atomic(args.report, result_markdown(result, case.name, _truth(case, args),
+                                                          case.measurement.noise))
     if args.plot:
         from updating.plots import write_update_figures
 

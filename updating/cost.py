@@ -55,6 +55,7 @@ from solver.substructure import (
 )
 from solver.vtcr import NumericalError
 from updating.executor import thread_map
+from updating.weights import scale_free_weights
 
 __all__ = ["ModifiedProblem", "JointCorrection", "Evaluation", "channel_parameters",
            "with_joint", "direct_factor", "direct_interface",
@@ -116,9 +117,14 @@ def _norm2(values):
 def _norms(values, per_plate):
     r"""Per measured plate, what its squared misfit is divided by: every plate the whole
     data's :math:`\|\tilde u\|^2` (``[updating] misfit = "global"``), or its own
-    :math:`P\,\|\tilde u_p\|^2` (``"per_plate"``, P measured plates)."""
+    :math:`\|\tilde u_p\|^2 M/m_p` (``"per_plate"``: :math:`m_p` of the :math:`M` measured
+    values on plate p), so that :math:`E_{mes}^2` is the mean over the measured values of
+    their plate's relative misfit: under relative noise :math:`\pm\varepsilon` it is about
+    :math:`\varepsilon^2/3` whatever the number of plates (``docs/updating.md``, section 2)."""
     if per_plate:
-        return np.array([len(values) * float(np.vdot(v, v).real) for v in values])
+        total = sum(np.size(v) for v in values)
+        return np.array([float(np.vdot(v, v).real) * total / max(np.size(v), 1)
+                         for v in values])
     return np.full(len(values), _norm2(values))
 
 
@@ -194,7 +200,7 @@ def _frequency_data(case, resolution, estimate, discretisation, task):
             offsets.append(finer[pid].field(points)["w"] - operators[-1].residual(
                 initial.interface))
     return _Frequency(system, plates, operators, data, initial.interface, error,
-                      case.updating.misfit == "per_plate",
+                      case.updating.misfit_kind == "per_plate",
                       offsets if finer is not None else None, reason)
 
 
@@ -228,8 +234,6 @@ class ModifiedProblem:
                  estimate=False, threads=1, discretisation=True):
         self.case = case
         self.threads = threads
-        self.r = case.updating.r if r is None else r
-        self.alpha = case.updatable_alpha()
         self.joints = tuple(case.updatable_joints())
         self._last = None  # (parameters, {frequency: InterfaceFactor}) of the last evaluation
         self._corrections = (None, {})  # (parameters, {joint: JointCorrection} there)
@@ -241,6 +245,24 @@ class ModifiedProblem:
         build = functools.partial(_frequency_data, case, resolution, estimate, discretisation)
         built = executor.map(build, tasks) if executor else thread_map(build, tasks, threads)
         self.frequencies = {frequency: data for (frequency, _), data in zip(tasks, built)}
+        self.weights = None  # the scale-free weights, when they are the ones in use
+        if r is None and case.updating.automatic:
+            self.weights = self._scale_free_weights()
+            self.r, self.alpha = self.weights.r, self.weights.alpha
+        else:
+            self.r = case.updating.r if r is None else r
+            self.alpha = case.updatable_alpha()
+
+    def _scale_free_weights(self):
+        """:func:`updating.weights.scale_free_weights` of the model at p0 and the measured
+        points, at the stated noise and ``[updating] balance``."""
+        case = self.case
+        plates = {name: case.joints[jid].plates
+                  for name, (jid, _) in case.updatable_joints().items()}
+        return scale_free_weights(
+            plates, [freq.system.plate_energies for freq in self.frequencies.values()],
+            [sum(np.size(v) for v in freq.data) for freq in self.frequencies.values()],
+            case.measurement.noise, case.updating.balance, case.updatable_alpha())
 
     def with_data(self, data):
         """The same problem on other measured values on the same points (``{frequency: [values

@@ -17,28 +17,43 @@ def _label(step):
 
 OUTSIDE = ("; the estimate lies outside it: the noise biases the estimate, while the interval "
            "is calibrated at each candidate value")
-"""Said of an identified value outside its own interval: the score test's interval holds the
-truth at its level whatever the estimator's bias (:mod:`updating.confidence`), and with noise
-the estimate is biased by about its own spread (the four plates' G2: 4.20 with ``>= 4.29``,
-true 4.5)."""
+"""Said of an identified value outside its own interval when the data carry noise: the score
+test's interval holds the truth at its level whatever the estimator's bias
+(:mod:`updating.confidence`), and with noise the estimate is biased by about its own spread (the
+four plates' G2: 4.20 with ``>= 4.29``, true 4.5)."""
+
+OUTSIDE_NOISE_FREE = ("; the estimate lies outside it: without noise, what the data hold "
+                      "beyond the model (its discretisation error, or a joint it does not "
+                      "correct) biases the estimate, while the interval is calibrated at each "
+                      "candidate value")
+"""Said of an identified value outside its own interval when no noise is stated: the bias
+cannot be the noise's."""
 
 
-def identified_lines(result, truth=None):
-    """One line per corrected joint: its value and its confidence interval (or bound), and
-    :data:`OUTSIDE` when the value lies outside it."""
+def identified_lines(result, truth=None, noise=None):
+    """One line per corrected joint and identified parameter: its value and its confidence
+    interval (or bound), its true value where ``truth`` (``{joint: {parameter: value}}``,
+    :meth:`assembly.Case.true_parameters`) has it, and why the value lies outside its interval
+    when it does (:data:`OUTSIDE` with the stated ``noise``, :data:`OUTSIDE_NOISE_FREE`
+    without: ``noise = 0``)."""
+    outside = OUTSIDE_NOISE_FREE if noise == 0.0 else OUTSIDE
+    truth = truth or {}
     lines = []
-    for joint, interval in sorted(result.intervals.items()):
-        value = result.parameters[joint]["log10_stiffness"]
-        text = f"{joint}: log10 k = {value:.2f}; {interval.text}"
-        if truth and joint in truth:
-            text += f" (true {truth[joint]:.2f})"
+
+    def line(joint, name, interval, label, digits):
+        value = result.parameters[joint][name]
+        text = f"{joint}: {label} = {value:{digits}}; {interval.text}"
+        if name in truth.get(joint, {}):
+            text += f" (true {truth[joint][name]:{digits}})"
         # within the printed digits, a value on an end is in the interval
-        lines.append(text + ("" if interval.holds(value, 0.005) else OUTSIDE))
+        tolerance = 0.005 if name == "log10_stiffness" else 0.005 * abs(value)
+        return text + ("" if interval.holds(value, tolerance) else outside)
+
+    for joint, interval in sorted(result.intervals.items()):
+        lines.append(line(joint, "log10_stiffness", interval, "log10 k", ".2f"))
         for (other, name), more in sorted(result.parameter_intervals.items()):
             if other == joint:
-                value = result.parameters[joint][name]
-                lines.append(f"{joint}: {name.replace('_', ' ')} = {value:.3g}; {more.text}"
-                             + ("" if more.holds(value, 0.005 * abs(value)) else OUTSIDE))
+                lines.append(line(joint, name, more, name.replace("_", " "), ".3g"))
     if result.intervals:
         method = next(iter(result.intervals.values())).method
         lines.append(f"intervals: {method}")
@@ -97,7 +112,7 @@ def _more_parameters(result, joint):
     return {"parameters": more} if more else {}
 
 
-def result_markdown(result, title, truth=None):
+def result_markdown(result, title, truth=None, noise=None):
     """A Markdown report of the run (same content as :func:`steps_table`), for a lab notebook."""
     joints = list(result.steps[0].parameters)
     head = ["joint"] + [f"{_label(s)} log k / E_Γ² %" for s in result.steps]
@@ -115,6 +130,6 @@ def result_markdown(result, title, truth=None):
                                                  for s in result.steps) + " |")
     lines += ["", "Bold: the joint(s) corrected in that step; *: a re-correction. "
               "The floor is E_mod² of a correct model under the stated measurement noise.", ""]
-    lines += [f"- {line}" for line in identified_lines(result, truth)]
+    lines += [f"- {line}" for line in identified_lines(result, truth, noise)]
     lines += ["", f"Stopped: {result.message}.", ""]
     return "\n".join(lines)

@@ -262,8 +262,15 @@ def _optimise_more(local, parameters, joint, bounds, extra):
     def values(x):
         return {name: from_x(v) for (name, _, from_x, _), v in zip(variables, x)}
 
-    result = optimize.minimize(lambda x: local.cost(**values(x)), start, method="L-BFGS-B",
-                               bounds=[limits for *_, limits in variables])
+    # L-BFGS-B's tolerances are absolute below a cost of 1 (its relative decrease is taken
+    # over max(|f|, 1)), and E_mod^2 is often 1e-6: at its own scale the cost stopped at the
+    # start whatever the loss factor's data said. The cost is optimised relative to its value
+    # at the start, whose steps and gradients are then of order one.
+    scale = local.cost(**values(start))
+    scale = scale if scale > 0.0 else 1.0
+    result = optimize.minimize(lambda x: local.cost(**values(x)) / scale, start,
+                               method="L-BFGS-B", bounds=[limits for *_, limits in variables],
+                               options={"ftol": 1e-12, "gtol": 1e-9})
     return with_joint(parameters, joint, **values(result.x))
 
 
@@ -280,12 +287,20 @@ def _excess(step, stop_ratio):
 
 
 def _candidates(step, settings, corrected, exhausted):
-    """Joints to try next and whether they are re-corrections (rule steps 2 and 5)."""
+    """Joints to try next and whether they are re-corrections (rule steps 2 and 5).
+
+    A corrected joint that still stands out once its correction no longer lowers the cost
+    around it has been given what its data say: the thresholds are calibrated for joints whose
+    value the data did not choose, and a fitted joint's residual is not one of them. It no
+    longer keeps the loop from its re-corrections, nor from converging; an uncorrected joint
+    standing out that no correction helps does (status 1)."""
     excess = _excess(step, settings.stop_ratio)
     by_excess = sorted(step.residuals, key=excess.get, reverse=True)
     standing = [j for j in by_excess if excess[j] > 1.0]
-    if standing:
+    if any(j not in exhausted for j in standing):
         return [j for j in standing if j not in exhausted], False
+    if any(j not in corrected for j in standing):
+        return [], False
     return [j for j in by_excess if j in corrected and j not in exhausted], True
 
 
@@ -397,16 +412,21 @@ def finished_result(problem, steps, status, settings, noise=0.0):
 
 
 def _message(status, last, settings):
-    """:data:`TERMINATION_MESSAGES` of ``status``; for status 1, followed by the joints that
-    still stand out of their floors and how far (their corrections were undone): in a large
-    structure the residuals of right joints reach a few times their floors by noise alone."""
+    """:data:`TERMINATION_MESSAGES` of ``status``, followed by the joints that still stand out
+    of their thresholds and how far: for status 1, those whose corrections were undone; for
+    status 0, corrected joints whose data have been fitted (:func:`_candidates`)."""
     message = TERMINATION_MESSAGES[status]
-    if status != 1:
+    if status not in (0, 1):
         return message
     excess = _excess(last, settings.stop_ratio)
     standing = sorted((j for j in excess if excess[j] > 1.0), key=excess.get, reverse=True)
+    if not standing:
+        return message
     shown = ", ".join(f"{j} {excess[j]:.2f}" for j in standing[:5])
     more = f" and {len(standing) - 5} more" if len(standing) > 5 else ""
+    if status == 0:
+        return (f"{message}; corrected joints still above the thresholds of uncorrected ones, "
+                f"by: {shown}{more}, where a correction no longer lowers the cost")
     return (f"{message} (still above their thresholds, by: {shown}{more}; "
             "their corrections were undone)")
 
