@@ -40,8 +40,8 @@ def grid_joint_ids(n_x: int, n_y: int) -> list[str]:
 def _description(name, frequency, loss_factor, plates, joints, boundaries, force,
                  measurement, resolution, truth_joints):
     """A generated description: steel plates of ``loss_factor``, one unit point force
-    ``(plate, at)``, ``r = 0.8`` and bounds [-1, 6]; ``frequency`` one value or a sequence
-    (``frequencies``); no ``boundaries`` table when ``boundaries`` is None, no
+    ``(plate, at)``, the default (scale-free) weights and bounds [-1, 6]; ``frequency`` one
+    value or a sequence (``frequencies``); no ``boundaries`` table when ``boundaries`` is None, no
     ``[discretisation]`` when ``resolution`` is None, no ``[truth]`` without ``truth_joints``.
     The keys are in the order the generated case files hold them."""
     description = {
@@ -55,7 +55,7 @@ def _description(name, frequency, loss_factor, plates, joints, boundaries, force
         "loads": [{"kind": "point_force", "plate": force[0], "at": list(force[1]),
                    "amplitude": 1.0}],
         "measurement": measurement,
-        "updating": {"r": 0.8, "bounds": [-1.0, 6.0]},
+        "updating": {"bounds": [-1.0, 6.0]},
     }
     if resolution is not None:
         description["discretisation"] = {"resolution": resolution}

@@ -141,3 +141,22 @@ def test_a_co_identified_loss_factor_moves_where_its_data_say_from_any_start():
         assert abs(loss_factor - 0.05) < 0.015, (start, loss_factor)
         assert abs(loss_factor - start) > 0.004, start
         assert result.parameter_intervals["J2", "loss_factor"].holds(0.05)
+
+
+def test_the_summary_names_the_joint_that_stands_out_most_and_its_neighbours():
+    """Three joints above their thresholds, two of them sharing a plate with the first: the
+    sentence names the first, counts the others and says that neighbours may stand out only
+    through it; without neighbours among them, it says so; nothing standing out gives None."""
+    from updating.strategy import Step, standing_summary
+
+    joints = ["A", "B", "C", "D"]
+    parameters = {j: {"log10_stiffness": 2.0, "loss_factor": 0.0, "mass": 0.0} for j in joints}
+    step = Step(0, None, parameters, {"A": 9.0, "B": 2.0, "C": 3.0, "D": 0.5},
+                dict.fromkeys(joints, 0.1), 1.0, 1.0, 1.0, thresholds=dict.fromkeys(joints, 1.0))
+    text = standing_summary(step, lambda j: ["A", "B", "C"], 3.0)
+    assert text.startswith("A stands out most (9.0 times its threshold); 2 others stand out, "
+                           "2 of them sharing a plate with it: a joint next to a wrong one")
+    assert standing_summary(step, lambda j: [j], 3.0).endswith("none sharing a plate with it")
+    quiet = Step(0, None, parameters, dict.fromkeys(joints, 0.5), dict.fromkeys(joints, 0.1),
+                 1.0, 1.0, 1.0, thresholds=dict.fromkeys(joints, 1.0))
+    assert standing_summary(quiet, lambda j: [j], 3.0) is None

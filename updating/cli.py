@@ -514,22 +514,38 @@ def _estimates_json(estimates):
 
 def cmd_localise(args):
     from updating.files import write_json_atomic
-    from updating.strategy import localise, thresholds
+    from updating.strategy import localise, standing_summary, thresholds
 
     case = _load(args)
     measurements = _checked_measurements(case, args)
     problem = _modified_problem(case, args, measurements)
     step = localise(problem, problem.initial_parameters(), noise=case.measurement.noise)
     limits = thresholds(step, case.updating.stop_ratio)
+    excess = {j: step.residuals[j] / max(limits[j], 1e-300) for j in step.residuals}
+    order = sorted(step.residuals, key=excess.get, reverse=True)
+    standing = [j for j in order if excess[j] > 1.0]
+    # a large structure's table shows the joints that stand out and the next few; the JSON
+    # has every joint
+    shown = order if args.all or len(order) <= SUMMARY_JOINTS else order[:len(standing) + 5]
     table = Table(title=f"{case.name}: joint residuals (E_mod^2 = {100 * step.e_mod:.3f} %)")
-    for column in ("joint", "log10 k", "E_Gamma^2 %", "floor %", "threshold %", "stands out"):
+    for column in ("joint", "log10 k", "E_Gamma^2 %", "floor %", "threshold %",
+                   "x threshold", "stands out"):
         table.add_column(column, justify="right")
-    for joint in sorted(step.residuals, key=step.residuals.get, reverse=True):
+    for joint in shown:
         table.add_row(joint, f"{step.parameters[joint]['log10_stiffness']:.2f}",
                       f"{100 * step.residuals[joint]:.3f}", f"{100 * step.floors[joint]:.3f}",
-                      f"{100 * limits[joint]:.3f}",
-                      "yes" if step.residuals[joint] > limits[joint] else "")
-    _console(args).print(table)
+                      f"{100 * limits[joint]:.3f}", f"{excess[joint]:.2f}",
+                      "yes" if excess[joint] > 1.0 else "")
+    console = _console(args)
+    console.print(table)
+    if len(shown) < len(order):
+        console.print(f"{len(order) - len(shown)} more joints below their thresholds (every "
+                      "joint: --all, or the JSON)")
+    summary = standing_summary(step, lambda j: problem.neighbourhood(j)[0],
+                               case.updating.stop_ratio)
+    console.print(summary or "no joint stands out of its threshold")
+    if problem.weights is not None:
+        console.print(problem.weights.describe())
     if args.json:
         write_json_atomic(args.json, {**_provenance(args, case, measurements),
                                       **step.to_json(),
@@ -565,6 +581,9 @@ def _updatable_joint_names(case, args, option, names):
                              "finite member as JOINT.PLATE); give one of them")
     return names
 
+
+SUMMARY_JOINTS = 30
+"""Joints above which vtcr localise prints only those that stand out and the next five."""
 
 LONG_PLAN_SECONDS = 600.0  # a plan estimated longer than this says so before it starts
 
@@ -670,10 +689,11 @@ def cmd_update(args):
 
     from updating.files import write_json_atomic, write_text_atomic
     from updating.progress import progress_bar
-    from updating.report import identified_lines, result_json, result_markdown, steps_table
+    from updating.report import (identified_lines, notable_joints, result_json, result_markdown,
+                                 steps_table)
     from updating.runfile import (RunFile, RunLock, description_digest, fingerprint, load_run,
                                   read_run, refuse_other_measurements, refuse_replacing)
-    from updating.strategy import finished_result, update_joints
+    from updating.strategy import finished_result, standing_summary, update_joints
 
     case = _load(args)
     console = _console(args)
@@ -727,7 +747,15 @@ def cmd_update(args):
         run.finish(result)
     t2 = time.perf_counter()
     bounds = settings.bounds
-    console.print(steps_table(result, f"{case.name}: localisation and correction"))
+    rows = (None if args.all or len(result.parameters) <= SUMMARY_JOINTS
+            else notable_joints(result, settings.stop_ratio))
+    console.print(steps_table(result, f"{case.name}: localisation and correction", rows))
+    summary = standing_summary(result.steps[0], lambda j: problem.neighbourhood(j)[0],
+                               settings.stop_ratio)
+    if summary:
+        console.print(f"first localisation: {summary}")
+    if problem.weights is not None:
+        console.print(problem.weights.describe())
     for line in identified_lines(result, _truth(case, args), case.measurement.noise):
         console.print(line)
     n_rays, n_s, n_g = problem.size
@@ -1065,6 +1093,9 @@ def build_parser():
     _estimate_option(localise)
     localise.add_argument("--json", help="write the residuals, their floors and the error "
                                          "estimate to this JSON file")
+    localise.add_argument("--all", action="store_true",
+                          help=f"print every joint (above {SUMMARY_JOINTS} joints, only those "
+                               "that stand out and the next five are printed)")
     _compute_options(localise)
     localise.set_defaults(run=cmd_localise)
 
@@ -1094,6 +1125,9 @@ def build_parser():
     update.add_argument("--json", help="write the steps, the identified values and the "
                                        "timings to this JSON file")
     update.add_argument("--report", help="Markdown report to write")
+    update.add_argument("--all", action="store_true",
+                        help=f"a row for every joint (above {SUMMARY_JOINTS} joints, only those "
+                             "corrected or standing out in some step)")
     update.add_argument("--plot", metavar="DIR",
                         help="write PNG figures into DIR (needs matplotlib)")
     update.add_argument("--run", dest="run_file", metavar="RUN",

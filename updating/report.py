@@ -8,7 +8,9 @@ from __future__ import annotations
 from rich import box
 from rich.table import Table
 
-__all__ = ["steps_table", "identified_lines", "result_json", "result_markdown"]
+from updating.strategy import thresholds
+
+__all__ = ["steps_table", "identified_lines", "result_json", "result_markdown", "notable_joints"]
 
 
 def _label(step):
@@ -60,12 +62,13 @@ def identified_lines(result, truth=None, noise=None):
     return lines
 
 
-def steps_table(result, title):
+def steps_table(result, title, joints=None):
     """Rows: joints, then E_mod^2 and its noise floor; per step log10 k and E_Gamma^2 (%).
 
     The joint corrected in a step is shown in bold (the paper's Table 4) and marked ``>``, which
     a log without styles keeps; a step marked ``*`` re-corrects a joint selected before (see
-    :mod:`updating.strategy`).
+    :mod:`updating.strategy`). ``joints`` restricts the rows (a large structure's summary,
+    :func:`notable_joints`); the caption counts the others.
     """
     # left padding only: five steps of four joints fit in 80 columns
     table = Table(title=title, box=box.SIMPLE_HEAD, pad_edge=False, padding=(0, 0, 0, 1))
@@ -73,7 +76,9 @@ def steps_table(result, title):
     for step in result.steps:
         table.add_column(f"{_label(step)}\nlog k", justify="right", no_wrap=True)
         table.add_column("\nE_Γ² %", justify="right", no_wrap=True)
-    for joint in result.steps[0].parameters:
+    every = list(result.steps[0].parameters)
+    rows = every if joints is None else [j for j in every if j in set(joints)]
+    for joint in rows:
         cells = []
         for step in result.steps:
             value = f"{step.parameters[joint]['log10_stiffness']:.2f}"
@@ -85,9 +90,22 @@ def steps_table(result, title):
     table.add_row("E_mod² %", *[c for s in result.steps for c in ("", f"{100 * s.e_mod:.2f}")])
     table.add_row("floor %", *[c for s in result.steps
                                for c in ("", f"{100 * s.e_mod_floor:.2f}")])
-    table.caption = (f">, bold: corrected joint(s); *: re-correction. Stopped: "
-                     f"{result.message}")
+    hidden = len(every) - len(rows)
+    table.caption = (f">, bold: corrected joint(s); *: re-correction. "
+                     + (f"{hidden} joints neither corrected nor standing out in any step are "
+                        "not shown (every joint: --all, or the JSON). " if hidden else "")
+                     + f"Stopped: {result.message}")
     return table
+
+
+def notable_joints(result, stop_ratio):
+    """The joints corrected or standing out of their thresholds in some step of ``result``:
+    the rows of a large structure's summary table."""
+    notable = set()
+    for step in result.steps:
+        limits = thresholds(step, stop_ratio)
+        notable |= set(step.corrected) | {j for j, v in step.residuals.items() if v > limits[j]}
+    return notable
 
 
 def result_json(result, extra=None, bounds=None):

@@ -64,7 +64,7 @@ from updating.cost import PARAMETER_BOUNDS, SMALLEST_MASS, log_grid, with_joint
 from updating.significance import FLOOR_DRAWS, standing_thresholds
 
 __all__ = ["Step", "UpdateResult", "TERMINATION_MESSAGES", "correct_joint", "update_joints",
-           "localise", "thresholds", "flat_interval", "finished_result"]
+           "localise", "thresholds", "flat_interval", "finished_result", "standing_summary"]
 
 TERMINATION_MESSAGES = {
     0: "no joint's residual stands out of the noise and discretisation floor, and re-correcting "
@@ -284,6 +284,29 @@ def _excess(step, stop_ratio):
     """Each joint's residual over its threshold in ``step`` (above 1: it stands out)."""
     limits = thresholds(step, stop_ratio)
     return {j: step.residuals[j] / max(limits[j], 1e-300) for j in step.residuals}
+
+
+def standing_summary(step, neighbours, stop_ratio):
+    """One sentence on what stands out in ``step``: the joint that stands out most, how many
+    others stand out and how many of those are its neighbours (``neighbours(joint)``: the
+    joints sharing a plate with it), which may stand out only through it; None when no joint
+    stands out."""
+    excess = _excess(step, stop_ratio)
+    standing = sorted((j for j in excess if excess[j] > 1.0), key=excess.get, reverse=True)
+    if not standing:
+        return None
+    first, others = standing[0], standing[1:]
+    text = f"{first} stands out most ({excess[first]:.1f} times its threshold)"
+    if not others:
+        return text + "; no other joint stands out"
+    near = [j for j in others if j in set(neighbours(first))]
+    text += (f"; {len(others)} other{'s' if len(others) > 1 else ''} stand"
+             f"{'' if len(others) > 1 else 's'} out")
+    if not near:
+        return text + ", none sharing a plate with it"
+    return (f"{text}, {len(near)} of them sharing a plate with it: a joint next to a wrong one "
+            f"can stand out only through it, so the updating corrects {first} first and "
+            "localises again")
 
 
 def _candidates(step, settings, corrected, exhausted):
