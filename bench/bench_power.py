@@ -109,7 +109,6 @@ def run_scenario(task):
     for name, update in RULES.items():
         rule = copy.deepcopy(description)
         rule.setdefault("updating", {}).update(update)
-        rule["updating"].pop("misfit", None)
         cases[name] = parse_case(rule)
     auto = cases["scale-free"]
     measurements = simulate_measurements(auto)  # the same data for both rules

@@ -16,7 +16,7 @@ from assembly import parse_case
 from assembly.generate import plate_grid
 from updating.cost import ModifiedProblem
 from updating.measurements import simulate_measurements
-from updating.strategy import localise, update_joints
+from updating.strategy import excess_ratios, localise, update_joints
 
 
 def _grid(n, truth, seed=1, **updating):
@@ -29,7 +29,7 @@ def _excess(case, measurements=None):
     """Each joint's residual over its threshold in the first localisation."""
     problem = ModifiedProblem(case, measurements or simulate_measurements(case))
     step = localise(problem, problem.initial_parameters(), noise=case.measurement.noise)
-    return {j: step.residuals[j] / step.thresholds[j] for j in step.residuals}, problem
+    return excess_ratios(step, case.updating.stop_ratio), problem
 
 
 @pytest.mark.parametrize("seed", [1, 2, 3])

@@ -514,14 +514,14 @@ def _estimates_json(estimates):
 
 def cmd_localise(args):
     from updating.files import write_json_atomic
-    from updating.strategy import localise, standing_summary, thresholds
+    from updating.strategy import excess_ratios, localise, standing_summary, thresholds
 
     case = _load(args)
     measurements = _checked_measurements(case, args)
     problem = _modified_problem(case, args, measurements)
     step = localise(problem, problem.initial_parameters(), noise=case.measurement.noise)
     limits = thresholds(step, case.updating.stop_ratio)
-    excess = {j: step.residuals[j] / max(limits[j], 1e-300) for j in step.residuals}
+    excess = excess_ratios(step, case.updating.stop_ratio)
     order = sorted(step.residuals, key=excess.get, reverse=True)
     standing = [j for j in order if excess[j] > 1.0]
     # a large structure's table shows the joints that stand out and the next few; the JSON
@@ -548,7 +548,7 @@ def cmd_localise(args):
         console.print(problem.weights.describe())
     if args.json:
         write_json_atomic(args.json, {**_provenance(args, case, measurements),
-                                      **step.to_json(),
+                                      **step.to_json(), "weights": _weights_json(problem),
                                       "error_estimate": _estimates_json(problem.error_estimates)})
     return 0
 
@@ -662,6 +662,15 @@ def cmd_plan(args):
         path = write_plan_figure(plans, frequencies, args.plot, case.name)
         console.print(f"figure written to {path}")
     return 0
+
+
+def _weights_json(problem):
+    """The weights of the modified error a run used: ``r`` and, for the scale-free ones, the
+    balance and the noise the data were weighed by (``docs/updating.md``, section 2)."""
+    if problem.weights is None:
+        return {"rule": "given", "r": problem.r}
+    w = problem.weights
+    return {"rule": "scale-free", "r": w.r, "balance": w.balance, "noise": w.noise}
 
 
 def _truth(case, args):
@@ -780,6 +789,7 @@ def cmd_update(args):
         write_json_atomic(args.json, result_json(
             result, {"case": case.name, "sizes": sizes, "timings_s": timings,
                      "error_estimate": _estimates_json(problem.error_estimates),
+                     "weights": _weights_json(problem),
                      **_provenance(args, case, measurements)}, bounds))
     if args.report:
         write_text_atomic(args.report, result_markdown(result, case.name, _truth(case, args),

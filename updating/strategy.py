@@ -64,7 +64,8 @@ from updating.cost import PARAMETER_BOUNDS, SMALLEST_MASS, log_grid, with_joint
 from updating.significance import FLOOR_DRAWS, standing_thresholds
 
 __all__ = ["Step", "UpdateResult", "TERMINATION_MESSAGES", "correct_joint", "update_joints",
-           "localise", "thresholds", "flat_interval", "finished_result", "standing_summary"]
+           "localise", "thresholds", "flat_interval", "finished_result", "standing_summary",
+           "excess_ratios"]
 
 TERMINATION_MESSAGES = {
     0: "no joint's residual stands out of the noise and discretisation floor, and re-correcting "
@@ -280,7 +281,7 @@ def thresholds(step, stop_ratio):
     return {j: step.thresholds.get(j, stop_ratio * step.floors[j]) for j in step.residuals}
 
 
-def _excess(step, stop_ratio):
+def excess_ratios(step, stop_ratio):
     """Each joint's residual over its threshold in ``step`` (above 1: it stands out)."""
     limits = thresholds(step, stop_ratio)
     return {j: step.residuals[j] / max(limits[j], 1e-300) for j in step.residuals}
@@ -291,7 +292,7 @@ def standing_summary(step, neighbours, stop_ratio):
     others stand out and how many of those are its neighbours (``neighbours(joint)``: the
     joints sharing a plate with it), which may stand out only through it; None when no joint
     stands out."""
-    excess = _excess(step, stop_ratio)
+    excess = excess_ratios(step, stop_ratio)
     standing = sorted((j for j in excess if excess[j] > 1.0), key=excess.get, reverse=True)
     if not standing:
         return None
@@ -317,7 +318,7 @@ def _candidates(step, settings, corrected, exhausted):
     value the data did not choose, and a fitted joint's residual is not one of them. It no
     longer keeps the loop from its re-corrections, nor from converging; an uncorrected joint
     standing out that no correction helps does (status 1)."""
-    excess = _excess(step, settings.stop_ratio)
+    excess = excess_ratios(step, settings.stop_ratio)
     by_excess = sorted(step.residuals, key=excess.get, reverse=True)
     standing = [j for j in by_excess if excess[j] > 1.0]
     if any(j not in exhausted for j in standing):
@@ -441,7 +442,7 @@ def _message(status, last, settings):
     message = TERMINATION_MESSAGES[status]
     if status not in (0, 1):
         return message
-    excess = _excess(last, settings.stop_ratio)
+    excess = excess_ratios(last, settings.stop_ratio)
     standing = sorted((j for j in excess if excess[j] > 1.0), key=excess.get, reverse=True)
     if not standing:
         return message
