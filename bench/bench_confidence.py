@@ -8,7 +8,8 @@ corrections, re-corrections, then the intervals at ``--level``). Per joint whose
 printed: its field sensitivity (relative change of the measured values per 0.1 decade of
 log10 k at the truth), how often it was corrected, the fraction of its intervals holding the
 truth, with the binomial 95 % range of that fraction for a calibrated interval, how many were
-one-sided, and the median width of the two-sided ones::
+one-sided, the median width of the two-sided ones, and the fraction of runs that end
+converged (status 0)::
 
     OPENBLAS_NUM_THREADS=1 python bench/bench_confidence.py                  # 100 each, ~15 min
     OPENBLAS_NUM_THREADS=1 python bench/bench_confidence.py --realisations 20 --workers 2
@@ -125,7 +126,7 @@ def realisation(name, level, seed):
     intervals = {(j, "log10_stiffness"): i for j, i in result.intervals.items()}
     intervals.update(result.parameter_intervals)
     return ({key: (i.low, i.high, i.kind) for key, i in intervals.items()},
-            time.perf_counter() - t0)
+            time.perf_counter() - t0, result.status)
 
 
 def binomial_range(n, level):
@@ -145,7 +146,7 @@ def main():
           f"intervals at {args.level:g}")
     header = (f"{'case':<24} {'joint':<8} {'truth':>5} {'sens. %/0.1':>11} {'corrected':>9} "
               f"{'coverage':>8} {'calibrated 95 % range':>21} {'one-sided':>9} "
-              f"{'median width':>12} {'s/run':>6}")
+              f"{'median width':>12} {'s/run':>6} {'converged':>9}")
     print(header, flush=True)
     with Executor(args.workers) as executor:
         for name_of_case in args.cases:
@@ -161,11 +162,12 @@ def main():
             seeds = range(args.first_seed, args.first_seed + args.realisations)
             results = executor.map(functools.partial(realisation, name_of_case, args.level),
                                    seeds)
-            seconds = np.median([t for _, t in results])
+            seconds = np.median([t for _, t, _ in results])
+            converged = np.mean([status == 0 for *_, status in results])
             for (joint, name), value in truth.items():
                 if value == getattr(case.joints[joint], name):
                     continue  # a right parameter: its intervals are not the question
-                intervals = [r[joint, name] for r, _ in results if (joint, name) in r]
+                intervals = [r[joint, name] for r, *_ in results if (joint, name) in r]
                 held = [(lo is None or lo <= value) and (hi is None or value <= hi)
                         for lo, hi, _ in intervals]
                 widths = [hi - lo for lo, hi, kind in intervals if kind == "two-sided"]
@@ -180,7 +182,8 @@ def main():
                     f"{n:>9} {np.mean(held) if n else math.nan:>8.2f} "
                     f"{f'[{lo_range:.2f}, {hi_range:.2f}]':>21} "
                     f"{sum(k != 'two-sided' for *_, k in intervals):>9} "
-                    f"{np.median(widths) if widths else math.nan:>12.3f} {seconds:>6.1f}",
+                    f"{np.median(widths) if widths else math.nan:>12.3f} {seconds:>6.1f} "
+                    f"{converged:>9.2f}",
                     flush=True)
 
 

@@ -330,3 +330,56 @@ def test_framed_assembly_field_map_is_drawn_in_space(tmp_path):
     path = tmp_path / "field.png"
     figure.savefig(path, dpi=120)
     _check_png(path)
+
+
+def _synthetic_step(case, ratios, corrected=()):
+    """A Step whose joints stand at ``ratios`` (default 0.5) of thresholds 1e-3."""
+    from updating.strategy import Step
+
+    joints = list(case.updatable_joints())
+    parameters = case.updatable_parameters()
+    residuals = {j: 1e-3 * ratios.get(j, 0.5) for j in joints}
+    return Step(1, corrected[0] if corrected else None, parameters, residuals,
+                dict.fromkeys(joints, 1e-4), 1.0, 1.0, 1.0,
+                also={j: (0.0, 1.0) for j in corrected[1:]},
+                thresholds=dict.fromkeys(joints, 1e-3))
+
+
+def test_residual_map_places_each_joint_on_its_edge_and_colours_it_by_its_excess(tmp_path):
+    """A 4 x 4 grid (24 joints, above MAP_JOINTS): each joint's segment is the shared edge of
+    its two plates, its ratio its residual over its threshold, the joint that stands out most
+    is named; the map draws to a PNG."""
+    from assembly import parse_case
+    from assembly.generate import plate_grid
+    from updating.plots import _figure, save_figure_atomic
+    from updating.plots_map import MAP_JOINTS, draw_residual_map, residual_map_data
+
+    case = parse_case(plate_grid(4, 4))
+    assert len(case.joints) > MAP_JOINTS
+    data = residual_map_data(case, _synthetic_step(case, {"H2_3": 40.0, "V1_1": 3.0},
+                                                   ("H2_3",)), case.updating.stop_ratio)
+    np.testing.assert_allclose(data.segments["H2_3"], [[1.0, 0.8], [1.0, 1.2]])
+    np.testing.assert_allclose(data.segments["V1_1"], [[0.5, 0.4], [0.0, 0.4]])
+    assert data.ratios["H2_3"] == pytest.approx(40.0) and data.most == "H2_3"
+    assert data.corrected == {"H2_3": 2.0} and data.dimension == 2
+    pytest.importorskip("matplotlib")
+    path = save_figure_atomic(draw_residual_map(data, _figure(figsize=(9.0, 7.0)), "grid"),
+                              tmp_path / "map.png")
+    _check_png(path)
+
+
+def test_residual_map_draws_junction_members_inside_their_own_plates():
+    """The stiffened panel (plates with frames: a 3D map): weld W2's member T2 is drawn on the
+    stiffener, MEMBER_OFFSET of its height above the skin, parallel to the weld line."""
+    from assembly import load_case
+    from updating.plots_map import MEMBER_OFFSET, residual_map_data
+
+    case = load_case(Path(__file__).resolve().parents[1] / "cases" / "stiffened_panel.toml")
+    data = residual_map_data(case, _synthetic_step(case, {"W2.T2": 9.0}),
+                             case.updating.stop_ratio)
+    segment = data.segments["W2.T2"]
+    assert data.dimension == 3 and data.most == "W2.T2"
+    height = MEMBER_OFFSET * min(case.plates["T2"].size)
+    np.testing.assert_allclose(segment[:, 0], 1.0)  # on the line x = 1.0 of the weld
+    np.testing.assert_allclose(segment[:, 2], height)  # inside the stiffener, above the skin
+    np.testing.assert_allclose(sorted(segment[:, 1]), [0.0, 0.4])

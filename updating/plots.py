@@ -8,7 +8,9 @@ r"""Figures of an updating run (optional extra ``vtcr[plot]``: matplotlib, Agg b
 * ``field_<f>Hz.png`` — :math:`|w|` of the measurements, of the initial and of the updated
   model, plates laid out in the assembly plane, one colour scale (Figs. 12–13);
 * ``residuals.png`` — :math:`E_{\Gamma_i}^2` per joint and :math:`E_{mod}^2` per step
-  (Table 4);
+  (Table 4); above :data:`~updating.plots_map.MAP_JOINTS` joints, the residual map of the last
+  step (:mod:`updating.plots_map`: the joints on the structure's layout, coloured by residual
+  over threshold, the corrected ones marked), and ``residuals_initial.png`` that of the first;
 * ``frf.png`` — spatial RMS of :math:`|w|` over the measurement points against frequency, for
   the initial, updated (and true) joints, around the analysed frequencies (Fig. 11 right),
   sampled as ``vtcr frf`` samples (refined until the resonance peaks are resolved).
@@ -52,6 +54,7 @@ from updating.cost import (
     log_grid,
 )
 from updating.files import InputError, atomic_output
+from updating.plots_map import MAP_JOINTS, draw_residual_map, residual_map_data
 from updating.strategy import thresholds
 
 __all__ = [
@@ -912,7 +915,8 @@ def write_update_figures(case, problem, measurements, result, directory, curve_p
     Returns
     -------
     list of Path
-        ``residuals.png``, ``cost_<joint>.png`` per corrected joint, ``field_<f>Hz.png`` per
+        ``residuals.png`` (and ``residuals_initial.png`` above ``MAP_JOINTS`` joints),
+        ``cost_<joint>.png`` per corrected joint, ``field_<f>Hz.png`` per
         measured frequency, ``frf.png``.
 
     Raises
@@ -924,11 +928,22 @@ def write_update_figures(case, problem, measurements, result, directory, curve_p
     directory = Path(directory)
     written = []
     name = case.name
-    bars = residual_bars_data(result, case.updating.stop_ratio)
     stopped = f"stopped: {result.message}"
-    written.append(save_figure_atomic(
-        draw_residual_bars(bars, f"{name}: joint residuals per step\n{stopped}"),
-        directory / "residuals.png"))
+    if len(result.parameters) > MAP_JOINTS:  # bars of tens of joints are unreadable: maps
+        corrected = _corrected_joints(result)
+        for label, step, path in (("first localisation", result.steps[0], "residuals_initial"),
+                                  ("end of the run", result.steps[-1], "residuals")):
+            data = residual_map_data(case, step, case.updating.stop_ratio,
+                                     corrected if step is result.steps[-1] else ())
+            written.append(save_figure_atomic(
+                draw_residual_map(data, _figure(figsize=(9.0, 7.0)),
+                                  f"{name}: joint residuals, {label}\n{stopped}"),
+                directory / f"{path}.png"))
+    else:
+        bars = residual_bars_data(result, case.updating.stop_ratio)
+        written.append(save_figure_atomic(
+            draw_residual_bars(bars, f"{name}: joint residuals per step\n{stopped}"),
+            directory / "residuals.png"))
 
     final = {j: dict(p) for j, p in result.parameters.items()}
     initial = problem.initial_parameters()
