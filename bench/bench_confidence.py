@@ -109,14 +109,18 @@ def sensitivity(problem, truth_parameters, joint):
 
 
 @functools.lru_cache(maxsize=None)
-def _problem(name):
+def _problem(name, r=None):
+    """Case ``name``, its noise-free data and its modified problem; ``r`` a number for the
+    paper's weights (default: the description's, scale-free unless it gives r)."""
     case, clean = CASES[name]()
+    if r is not None:
+        case = case.model_copy(update={"updating": case.updating.model_copy(update={"r": r})})
     return case, clean, ModifiedProblem(case, clean)
 
 
-def realisation(name, level, seed):
+def realisation(name, level, r, seed):
     """One noisy data set of case ``name``: the updating run and its intervals (a task)."""
-    case, clean, problem = _problem(name)
+    case, clean, problem = _problem(name, r)
     rng = np.random.default_rng(seed)
     data = {f: [add_noise(w, NOISE, rng) for _, w in clean.data[f].values()]
             for f in clean.frequencies}
@@ -141,6 +145,8 @@ def main():
     parser.add_argument("--cases", nargs="+", default=list(CASES), choices=list(CASES))
     parser.add_argument("--workers", type=int, default=1)
     parser.add_argument("--first-seed", type=int, default=1000)
+    parser.add_argument("--r", type=float, default=None,
+                        help="the paper's weights with this r (default: each case's own)")
     args = parser.parse_args()
     print(f"{args.realisations} realisations of ±{100 * NOISE:g} % uniform noise per case, "
           f"intervals at {args.level:g}")
@@ -150,7 +156,7 @@ def main():
     print(header, flush=True)
     with Executor(args.workers) as executor:
         for name_of_case in args.cases:
-            case, _, problem = _problem(name_of_case)
+            case, _, problem = _problem(name_of_case, args.r)
             names = (["log10_stiffness"]
                      + (["loss_factor"] if "damping" in case.updating.identify else [])
                      + (["mass"] if "mass" in case.updating.identify else []))
@@ -160,7 +166,8 @@ def main():
             for (j, n), value in truth.items():
                 truth_parameters[j][n] = value
             seeds = range(args.first_seed, args.first_seed + args.realisations)
-            results = executor.map(functools.partial(realisation, name_of_case, args.level),
+            results = executor.map(functools.partial(realisation, name_of_case, args.level,
+                                                     args.r),
                                    seeds)
             seconds = np.median([t for _, t, _ in results])
             converged = np.mean([status == 0 for *_, status in results])
