@@ -6,7 +6,7 @@ occupies ``[0, Lx] x [0, Ly]`` in its own frame; its edges are ``left`` (x = 0),
 All quantities are SI (m, kg, s, N, Pa, Hz); the time convention is :math:`e^{+j\omega t}`.
 
 The top-level model is :class:`Case`, one TOML description (see
-``/work/shared/design/interfaces.md``).  Tables, each optional except ``materials`` and
+``docs/description.md``).  Tables, each optional except ``materials`` and
 ``plates``:
 
 ========================  ===================================================================
@@ -830,7 +830,7 @@ class JunctionJoint(_Model):
     :math:`\Theta_J` and member :math:`i` is tied to it by a rotational spring,
     :math:`C_i = k_i(1 + j\zeta_i)(\Theta_J - \Theta_i)` (the moment per unit length of the
     line on the member), with :math:`\sum_i C_i = 0` (a massless line).  Rotations are about
-    the line, signs from the members' frames (formulation notes section 6.2b).  A rigid member
+    the line, signs from the members' frames (``docs/method.md`` section 6.2b).  A rigid member
     (``inf``) has :math:`\Theta_i = \Theta_J`.  Two members of stiffness :math:`2k` are a
     ``hinge`` of stiffness :math:`k`.
 
@@ -1520,8 +1520,8 @@ class Case(_Model):
         The line runs along its first edge.  A junction between framed plates takes the
         other directions from the frames, :math:`s_i = \mathbf t_i\cdot\mathbf e_\Gamma` with
         :math:`\mathbf t_i = \mathbf e_{z,i}\times\mathbf n_i` the member's edge tangent
-        (formulation notes 6.2b); every other joint is ``(1, -1)``: the second edge runs the
-        other way, as in an assembly unrolled in a plane (checked for framed plates).
+        (``docs/method.md`` section 6.2b); every other joint is ``(1, -1)``: the second edge
+        runs the other way, as in an assembly unrolled in a plane (checked for framed plates).
         """
         joint = self.joints[joint_id]
         sides = joint.sides

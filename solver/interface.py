@@ -2,7 +2,7 @@ r"""Sparse solve of the interface problem of a jointed assembly, and its condens
 
 Every interface problem of the substructured VTCR — the direct problem (r = 0), the modified
 problem of the updating (r > 0), a synthetic experiment — is a constrained linear least-squares
-problem in the interface unknowns :math:`S` (``vtcr-formulation.md`` section 7):
+problem in the interface unknowns :math:`S` (``docs/method.md`` sections 7.3 and 7.4):
 
 .. math::
     \min_S \sum_b \|A_b S_{I_b} + a_b\|^2 \quad\text{subject to}\quad GS = g ,
@@ -94,7 +94,7 @@ def residual_weight(c, crossover=math.inf):
     .. math:: g(c) = \frac{1}{2\max(\mathrm{Re}\,c,\ |c|^2/c_\times)} .
 
     Below the crossover :math:`c_\times` this is the constitutive-relation error in the energy
-    norm, :math:`|r|^2/(2k)` (formulation notes section 6.3). Above it the residual is measured
+    norm, :math:`|r|^2/(2k)` (``docs/method.md`` section 6.3). Above it the residual is measured
     in compliance form, :math:`e^2 = \tfrac12c_\times|r/c|^2 = \tfrac12c_\times|[q] - \Lambda/c|^2`:
     the jump of a discretised near-rigid joint cannot fall below the discretisation floor of
     the continuity it approximates (1.6e-5 of the plates' rotations on ``two_plates.toml``),
@@ -292,7 +292,7 @@ def factorise_interface(n_s, blocks, constraints, groups=None, keep=True):
             lu = None
     if lu is None:
         # The transfer operators of enriched Trefftz bases make this system as ill-conditioned
-        # as the plate blocks (formulation notes, pitfall 1); LU with partial pivoting is
+        # as the plate blocks (``docs/method.md`` section 9.1); LU with partial pivoting is
         # backward stable, and accuracy is judged on fields and energies.
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", scipy.sparse.linalg.MatrixRankWarning)

@@ -1,6 +1,6 @@
 r"""Kirchhoff plate operators in the frequency domain.
 
-Conventions (``../shared/design/vtcr-formulation.md`` section 1): time factor
+Conventions (``docs/method.md`` section 1): time factor
 :math:`e^{+j\omega t}`; transverse displacement :math:`w` along the plate's local
 :math:`z`; hysteretic bending stiffness
 

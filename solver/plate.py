@@ -1,6 +1,6 @@
 r"""VTCR of one rectangular Kirchhoff plate: boundary operators, assembly, solution.
 
-Variational form (``vtcr-formulation.md`` eq. 4.1). Find :math:`w = w_p + w_T`, with
+Variational form (``docs/method.md`` section 4.1). Find :math:`w = w_p + w_T`, with
 :math:`w_p` the point-force particular solution and :math:`w_T = \sum_l x_l\Phi_l` a
 combination of complex rays, such that for every ray :math:`\delta w`:
 
@@ -28,7 +28,7 @@ either adjacent edge has :math:`w` kinematic (then :math:`\sigma=-1`, :math:`A =
 :math:`B = w_c`), static otherwise (:math:`\sigma=+1`, :math:`A = w_c`, :math:`B = R_c`), with
 :math:`R_c = M_{nt}^{(e^+)}(c) - M_{nt}^{(e^-)}(c)`.
 
-Departure from the notes (section 5.3): the edge integrals are not evaluated in closed form
+Departure (``docs/method.md`` section 5.3): the edge integrals are not evaluated in closed form
 node pair by node pair. A product of two node exponentials is an entire function of the arc
 length whose bandwidth is bounded by :math:`2\max|\mathbf k|`, so a Gauss–Legendre rule of
 :math:`Q \approx 0.75\max|\mathbf k|\,L + 10` points integrates it to round-off (checked against

@@ -1,8 +1,8 @@
 r"""Where the power goes: energies and powers of a solved plate or assembly, and their balance.
 
-Time-averaged quantities with the convention :math:`e^{+j\omega t}` (``vtcr-formulation.md``
-sections 1, 2 and 6.2): a force :math:`F` on a displacement :math:`w` delivers
-:math:`\tfrac12\mathrm{Re}[F\,(j\omega w)^*] = \tfrac12\omega\,\mathrm{Im}(F\bar w)`.
+Time-averaged quantities with the convention :math:`e^{+j\omega t}`
+(``docs/method.md`` sections 1, 2 and 6.2): a force :math:`F` on a displacement :math:`w`
+delivers :math:`\tfrac12\mathrm{Re}[F\,(j\omega w)^*] = \tfrac12\omega\,\mathrm{Im}(F\bar w)`.
 
 * **Injected** by the loads of plate :math:`i`:
   :math:`P_{in,i} = \tfrac12\omega\,\mathrm{Im}\big[\sum_f F_f\bar w(\mathbf x_f)
@@ -13,7 +13,7 @@ sections 1, 2 and 6.2): a force :math:`F` on a displacement :math:`w` delivers
   :math:`P_{d,i} = \tfrac12\omega\,\mathrm{Im}(D^*)\,a(w,\bar w)`,
   :math:`a = \int\big[|w_{,xx}|^2 + |w_{,yy}|^2 + 2\nu\,\mathrm{Re}(w_{,xx}\bar w_{,yy})
   + 2(1-\nu)|w_{,xy}|^2\big]dA`. The field solves the plate equation exactly, so the Green
-  identity (formulation notes eq. 2.1 with :math:`v = \bar w`) turns this domain integral into
+  identity (``docs/method.md`` section 2.1 with :math:`v = \bar w`) turns this domain integral into
   what the point forces and the boundary tractions deliver: :math:`P_{d,i} =
   \tfrac12\omega\,\mathrm{Im}[\sum_fF_f\bar w(\mathbf x_f) + \oint(Q_n\bar w -
   M_{nt}\partial_s\bar w - M_n\partial_n\bar w)\,ds]` (the corner forces folded into the

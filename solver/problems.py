@@ -299,8 +299,8 @@ def description_issues(case, frequencies=None, need_loads=False):
     Checked at the highest frequency (ray counts grow with it), each plate:
 
     * **ray resolution** -- every ray family must reach :data:`UNDER_RESOLVED` (0.6) of the
-      resolution rule (:func:`solver.rays.automatic_ray_counts`, notes section 5.2), else an
-      error names the per-plate override (``discretisation.plates.P1.interior``) or
+      resolution rule (:func:`solver.rays.automatic_ray_counts`, ``docs/method.md`` section 5.2),
+      else an error names the per-plate override (``discretisation.plates.P1.interior``) or
       ``discretisation.resolution`` (``measurement.resolution`` for the simulated
       experiment), the frequency, the count given and the count the rule asks; below
       :data:`UNDER_RESOLVED_WARNING` (0.85) a warning;

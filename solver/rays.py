@@ -1,7 +1,7 @@
 r"""Complex-ray shape functions of one rectangular plate.
 
 Every ray is an exponential :math:`e^{\mathbf k\cdot(\mathbf x - \mathbf x_r)}` with a complex
-wave vector on one of the loci of ``vtcr-formulation.md`` section 5.1 (all satisfy
+wave vector on one of the loci of ``docs/method.md`` section 5.1 (all satisfy
 :math:`(\mathbf k\cdot\mathbf k)^2 = \kappa^4`, hence the plate equation, exactly):
 
 =========================  ============================================================  ==============
@@ -17,8 +17,8 @@ corner                     :math:`-\kappa(\cos\theta, \sin\theta)`, :math:`\thet
 =========================  ============================================================  ==============
 
 (:math:`\mathbf n` is the outward normal, so the edge and corner rays decay into the plate;
-square roots have :math:`\mathrm{Re} > 0`.) The propagating edge rays use the notes'
-equivalent parametrisation :math:`\beta = \pm\kappa\cosh\psi`, so that
+square roots have :math:`\mathrm{Re} > 0`.) The propagating edge rays use the equivalent
+parametrisation :math:`\beta = \pm\kappa\cosh\psi`, so that
 :math:`\sqrt{\beta^2-\kappa^2} = \kappa\sinh\psi` is entire in :math:`\psi`. With real
 :math:`\beta` the root has a branch point at :math:`\beta = \kappa`, only
 :math:`\kappa_0\eta/4` from the first sector, and an 8-point rule there is wrong by 1 %;
@@ -36,12 +36,12 @@ exactly (to the last bit) symmetrically: :math:`\pm\beta`, :math:`\pm\theta` and
 turns, so that the rectangle's symmetries map nodes onto nodes and
 :func:`line_exponentials` can share their edge exponentials.
 
-Resolution rule (section 5.2 of the notes): a sector of width :math:`\Delta\beta` makes a wave
-packet about :math:`2\pi/\Delta\beta` long along its edge, so carrying a boundary layer along an
-edge of length :math:`L_e` needs :math:`N_M \gtrsim \tau\kappa_0 L_e/\pi` evanescent sectors,
-:math:`N_H \gtrsim (\tau - 1)\kappa_0 L_e/(2\pi)` propagating sectors per sign, and
-:math:`N_{int} \gtrsim 2\kappa_0 R_{max}` interior sectors (:math:`R_{max}` the distance from the
-centre to the furthest corner). :func:`automatic_ray_counts` applies it, scaled by a
+Resolution rule (``docs/method.md`` section 5.2): a sector of width :math:`\Delta\beta` makes a
+wave packet about :math:`2\pi/\Delta\beta` long along its edge, so carrying a boundary layer
+along an edge of length :math:`L_e` needs :math:`N_M \gtrsim \tau\kappa_0 L_e/\pi` evanescent
+sectors, :math:`N_H \gtrsim (\tau - 1)\kappa_0 L_e/(2\pi)` propagating sectors per sign, and
+:math:`N_{int} \gtrsim 2\kappa_0 R_{max}` interior sectors (:math:`R_{max}` the distance from
+the centre to the furthest corner). :func:`automatic_ray_counts` applies it, scaled by a
 ``resolution`` factor.
 """
 
@@ -125,7 +125,7 @@ QUASI_STATIC_KAPPA_R = 5.0
 
 
 def automatic_ray_counts(kappa0, size, resolution=1.0, tau=2.5):
-    r"""Sector counts from the resolution rule of the formulation notes, section 5.2.
+    r"""Sector counts from the resolution rule of ``docs/method.md`` section 5.2.
 
     .. math::
         N_{int} = \lceil 2.6\, s \kappa_0 R_{max}\rceil_4,\qquad
@@ -134,7 +134,7 @@ def automatic_ray_counts(kappa0, size, resolution=1.0, tau=2.5):
 
     with :math:`s` the ``resolution`` factor and :math:`\lceil\cdot\rceil_4` rounding up to a
     multiple of 4 (so the interior sectors respect the rectangle's symmetries). The interior
-    constant is the notes' 2 raised to 2.6: on the simply supported plate under a point force
+    constant was raised from 2 to 2.6: on the simply supported plate under a point force
     (0.5 x 0.4 m, 400 Hz) the error stalls near 1e-3 with :math:`2\kappa_0R_{max}` sectors and
     falls below 1e-6 with :math:`2.6\kappa_0R_{max}`, for 10 % more unknowns.
 

@@ -1,7 +1,7 @@
 r"""Substructured VTCR of jointed plates: admissibility, joint residuals, reduced problem.
 
-Formulation: ``vtcr-formulation.md`` sections 6.2–7 (the consistent, "Neumann-substructured"
-reading of the paper's eqs. 5–16 and 25–30).
+Formulation: ``docs/method.md`` sections 6.2, 6.3, 6.4 and 7 (the consistent,
+"Neumann-substructured" reading of the paper's eqs. 5–16 and 25–30).
 
 **Reliable equations (admissibility).** Each plate :math:`i` is a complete VTCR problem whose
 joined edges carry unknown line loads (:math:`K_n = F`, :math:`M_n = C`, as static data of the
@@ -463,8 +463,8 @@ def _plate_sides(case, corner_columns):
 def plate_loads(case, boundary, sides, corners, counts, layout, unknowns):
     r""":math:`B_i`: the plate's VTCR right-hand sides per unit interface unknown, over the
     interface unknowns ``unknowns`` it sees: the Legendre loads of its joint ``sides`` and the
-    forces of its junction ``corners`` (:func:`_plate_sides`), with the signs of the
-    formulation notes section 6.2."""
+    forces of its junction ``corners`` (:func:`_plate_sides`), with the signs of
+    ``docs/method.md`` section 6.2."""
     loads = np.zeros((boundary.corner_w.shape[1], len(unknowns)), dtype=complex)
 
     def add(columns, values):
@@ -648,7 +648,8 @@ def plate_bases(case, problems, resolution):
 
 
 def _junction_line(case, system, jid, k_max, counts, group, traces_cache):
-    r"""Constraint rows and spring channels of a junction line (formulation notes 6.2b).
+    r"""Constraint rows and spring channels of a junction line
+    (``docs/method.md`` section 6.2b).
 
     Member :math:`i` (direction :math:`s_i`, :meth:`assembly.Case.member_directions`)
     rotates by :math:`\Theta_i = -s_i\theta_i` about the line. The line's rotation

@@ -30,8 +30,9 @@ __all__ = ["CaseSolution", "solve_case", "field_grid", "CONDITION_WARNING", "Num
 CONDITION_WARNING = 1e20
 """Condition estimate above which a solve is reported as numerically doubtful.
 
-Trefftz matrices reach 1e17–1e19 while the field is accurate to 1e-9 (formulation notes,
-pitfall 1); past 1e20 the field itself starts to lose digits in double precision.
+Trefftz matrices reach 1e17–1e19 while the field is accurate to 1e-9
+(``docs/method.md`` section 9.1); past 1e20 the field itself starts to lose digits in double
+precision.
 """
 
 

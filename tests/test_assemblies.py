@@ -1,5 +1,5 @@
 """Jointed assemblies against exact Levy-type chain solutions (``tests/exact.py``), limits,
-identities and residual properties (issue 3; formulation notes section 9, J1).
+identities and residual properties (issue 3; ``docs/method.md`` section 8.7, check J1).
 
 Chains along x of plates simply supported on y = 0 and y = Ly, 450 Hz: the bending
 wavelength is 0.148 m, so each plate (Lx = 0.5, 0.45, 0.55 m; Ly = 0.5 m) holds 3 or more
@@ -210,7 +210,8 @@ def test_two_by_two_stiff_joints_match_navier():
     """Four plates around a common centre with stiff joints = the single SS plate (Navier).
 
     The centre is a junction of four free corners: unknown corner forces with zero sum and
-    equal corner displacements (notes: the Kirchhoff corner forces must balance there).
+    equal corner displacements (``docs/method.md`` section 6.4: the Kirchhoff corner forces
+    must balance there).
     """
     solution = solve_case(square_of_four())
     origins = {"P1": (0, 0), "P2": (0.25, 0), "P3": (0, 0.2), "P4": (0.25, 0.2)}
@@ -323,7 +324,8 @@ def test_reciprocity_across_joints():
 
 def test_residual_invariant_under_units_and_load_scaling():
     """E_Gamma^2 at a non-optimal stiffness is unchanged by the load amplitude (x 10) and by
-    the unit system (mm, t, s, N): it is a ratio of energies (notes section 6.3, I1)."""
+    the unit system (mm, t, s, N): it is a ratio of energies (``docs/method.md`` sections 6.3
+    and 8.9, check I1)."""
     joint = {"kind": "coplanar", "log10_stiffness": 1.5, "loss_factor": 0.1, "mass": 0.05}
 
     def residual(description):

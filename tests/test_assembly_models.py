@@ -276,7 +276,8 @@ def test_plate_geometry() -> None:
 
 
 def test_bending_wavelength_matches_design_check_t1() -> None:
-    """T1 of the formulation notes: steel, h = 2 mm, 500 Hz: D = 153.85 N m, kappa0 = 31.63."""
+    """T1 of ``docs/method.md`` section 8.1: steel, h = 2 mm, 500 Hz: D = 153.85 N m,
+    kappa0 = 31.63."""
     steel = Material(young_modulus=210e9, poisson_ratio=0.3, density=7800.0, loss_factor=0.01)
     assert steel.flexural_rigidity(0.002) == pytest.approx(153.846, rel=1e-4)
     assert steel.bending_wavenumber(0.002, 500.0) == pytest.approx(31.63, rel=1e-3)

@@ -1,7 +1,7 @@
 r"""Junction lines: plates placed in 3D, n >= 2 members on one line (issue 15).
 
 The members of a junction are held in translation on the line and tied to the line's rotation
-by one spring each (formulation notes 6.2b). Checked here against exact identities of the
+by one spring each (``docs/method.md`` section 6.2b). Checked here against exact identities of the
 formulation, independent of any reference solution: two members of stiffness 2k are a hinge of
 stiffness k, flipping a member's frame flips its field and nothing else, reciprocity across
 the line; the description's checks; every finite member as an updatable channel
@@ -64,10 +64,10 @@ def tee_description(stiffener=2.0, skin=math.inf, flip=False, load=("S1", (0.17,
 
 
 def test_two_member_junction_of_2k_is_a_hinge_of_k():
-    """Two members of 2k in series are a hinge of k (notes 6.2b): the folded plate's hinge
-    as a junction gives the same field and, summed over the members, the same residual. The
-    tolerance, 1e-8 of the largest |w|, is the round-off of the interface solves on this case
-    (condition estimate 1e11 of the plates' ray systems)."""
+    """Two members of 2k in series are a hinge of k (``docs/method.md`` section 6.2b): the
+    folded plate's hinge as a junction gives the same field and, summed over the members, the
+    same residual. The tolerance, 1e-8 of the largest |w|, is the round-off of the interface
+    solves on this case (condition estimate 1e11 of the plates' ray systems)."""
     case = load_case("cases/folded_plate.toml")
     hinge = case.joints["G1"]
     junction = JunctionJoint(between=hinge.between, loss_factor=0.05,

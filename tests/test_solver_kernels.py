@@ -108,12 +108,12 @@ def test_green_function_derivatives_match_finite_differences():
 def test_sector_means_match_adaptive_quadrature():
     """Each shape function is the mean of its family's exponential over its sector.
 
-    Recomputed here with adaptive quadrature (scipy.integrate.quad) from the loci of the
-    notes (section 5.1) for one sector of every family. Every shape function is bounded by
-    about 1 in the plate, so the 8-point Gauss rule must agree to 1e-8 in absolute value
-    (measured: 1e-9 on the first propagating-edge sector and 3e-10 on the single corner sector
-    at 1.6 kHz), far below the discretisation errors we accept (1e-3). A quadrature error here
-    cannot spoil the solution anyway: every node is an exact plate solution, so it only
+    Recomputed here with adaptive quadrature (scipy.integrate.quad) from the loci of
+    ``docs/method.md`` section 5.1 for one sector of every family. Every shape function is
+    bounded by about 1 in the plate, so the 8-point Gauss rule must agree to 1e-8 in absolute
+    value (measured: 1e-9 on the first propagating-edge sector and 3e-10 on the single corner
+    sector at 1.6 kHz), far below the discretisation errors we accept (1e-3). A quadrature error
+    here cannot spoil the solution anyway: every node is an exact plate solution, so it only
     perturbs which Trefftz function the sector stands for.
     """
     problem = plate(frequency=1600.0)
@@ -164,8 +164,8 @@ def test_edge_gauss_rule_matches_closed_form_exponential_integrals():
     For node exponentials with trace :math:`c_p e^{\\alpha_p s}`,
     :math:`\\int_0^L \\overline{c_p e^{\\alpha_p s}}\\,c_q e^{\\alpha_q s}ds
     = \\bar c_p c_q\\,\\mathrm{expm1}(zL)/z`, :math:`z = \\bar\\alpha_p + \\alpha_q` (the slow,
-    exact assembly of the notes, section 5.3). The Gram matrix of the sector-averaged traces
-    on every edge must agree with the Gauss rule to 1e-11 relative to its largest entry.
+    exact assembly of ``docs/method.md`` section 5.3). The Gram matrix of the sector-averaged
+    traces on every edge must agree with the Gauss rule to 1e-11 relative to its largest entry.
     """
     problem = plate(frequency=1000.0)
     basis = basis_for(problem)
@@ -275,8 +275,8 @@ def test_dissipation_identity_for_every_boundary_condition():
 
     Static terms contribute g q^*, kinematic ones -(g q^*)^*, which have the same imaginary
     part, so the quadratic form's imaginary part is the dissipated-energy functional of the
-    field alone (notes section 4); here it is compared with the domain integral of the
-    curvatures (Gauss 120 x 120: converged to 1e-9 for these smooth fields).
+    field alone (``docs/method.md`` section 4.3); here it is compared with the domain
+    integral of the curvatures (Gauss 120 x 120: converged to 1e-9 for these smooth fields).
     """
     rng = np.random.default_rng(3)
     mixes = [
