@@ -18,16 +18,14 @@ from solver import solve_case
 from updating.cli import main
 from updating.cost import ModifiedProblem, cost_curve
 from updating.measurements import simulate_measurements
+from updating.figure_tools import MISSING_MATPLOTLIB
 from updating.plots import (
-    MISSING_MATPLOTLIB,
     cost_curve_data,
     field_map_data,
-    frequency_band,
-    frequency_response_data,
     residual_bars_data,
-    spatial_rms,
 )
 from updating.strategy import update_joints
+from updating.sweep import frequency_band, frequency_response_data, spatial_rms
 
 ROOT = Path(__file__).resolve().parents[1]
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
@@ -351,7 +349,7 @@ def test_residual_map_places_each_joint_on_its_edge_and_colours_it_by_its_excess
     is named; the map draws to a PNG."""
     from assembly import parse_case
     from assembly.generate import plate_grid
-    from updating.plots import _figure, save_figure_atomic
+    from updating.figure_tools import new_figure, save_figure_atomic
     from updating.plots_map import MAP_JOINTS, draw_residual_map, residual_map_data
 
     case = parse_case(plate_grid(4, 4))
@@ -363,7 +361,7 @@ def test_residual_map_places_each_joint_on_its_edge_and_colours_it_by_its_excess
     assert data.ratios["H2_3"] == pytest.approx(40.0) and data.most == "H2_3"
     assert data.corrected == {"H2_3": 2.0} and data.dimension == 2
     pytest.importorskip("matplotlib")
-    path = save_figure_atomic(draw_residual_map(data, _figure(figsize=(9.0, 7.0)), "grid"),
+    path = save_figure_atomic(draw_residual_map(data, new_figure(figsize=(9.0, 7.0)), "grid"),
                               tmp_path / "map.png")
     _check_png(path)
 

@@ -604,7 +604,7 @@ def cmd_plan(args):
               else None)
     console = _console(args)
     if args.plot:
-        from updating.plots import require_matplotlib
+        from updating.figure_tools import require_matplotlib
 
         require_matplotlib()  # fail before the work, not after it
     points = _planned_points(case, args)
@@ -707,7 +707,7 @@ def cmd_update(args):
     case = _load(args)
     console = _console(args)
     if args.plot:
-        from updating.plots import require_matplotlib
+        from updating.figure_tools import require_matplotlib
 
         require_matplotlib()  # fail before the run, not after it
     t0 = time.perf_counter()
@@ -822,7 +822,7 @@ def cmd_curve(args):
     case = _load(args)
     _updatable_joint_names(case, args, "--joint", [args.joint])
     if args.plot:
-        from updating.plots import require_matplotlib
+        from updating.figure_tools import require_matplotlib
 
         require_matplotlib()
     problem = _modified_problem(case, args, discretisation=False)  # no floor, no interval
@@ -864,7 +864,7 @@ def cmd_frf(args):
     case = _load(args)
     console = _console(args)
     if args.plot:
-        from updating.plots import require_matplotlib
+        from updating.figure_tools import require_matplotlib
 
         require_matplotlib()  # fail before the sweep, not after it
     probes = read_probes(args.probes, case) if args.probes else None

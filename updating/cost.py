@@ -1,6 +1,6 @@
 r"""The modified constitutive-relation error and its reduced cost function p -> E_mod^2(p).
 
-For each measured frequency (``vtcr-formulation.md`` sections 6.3 and 7):
+For each measured frequency (``docs/method.md`` sections 6.3 and 7.3):
 
 .. math::
     E_{mod}^2(p) = \min_{S:\ GS = g}\ (1 - r)\sum_\Gamma\alpha_\Gamma E_\Gamma^2(S; p)
@@ -58,7 +58,7 @@ from updating.executor import thread_map
 from updating.weights import scale_free_weights
 
 __all__ = ["ModifiedProblem", "JointCorrection", "Evaluation", "channel_parameters",
-           "with_joint", "direct_factor", "direct_interface",
+           "with_joint", "direct_factor", "direct_interface", "direct_amplitudes",
            "PARAMETER_NAMES", "PARAMETER_BOUNDS", "SMALLEST_MASS"]
 
 PARAMETER_NAMES = ("log10_stiffness", "loss_factor", "mass")
@@ -96,6 +96,11 @@ def direct_factor(system, parameters, alpha):
 def direct_interface(system, parameters, alpha):
     """Interface unknowns S of the model response (:func:`direct_factor`)."""
     return direct_factor(system, parameters, alpha).s
+
+
+def direct_amplitudes(system, parameters, alpha):
+    """Plate ray amplitudes of the model response (r = 0) for joint ``parameters``."""
+    return system.plate_amplitudes(direct_interface(system, parameters, alpha))
 
 
 @dataclass(frozen=True)

@@ -48,20 +48,29 @@ from pathlib import Path
 
 import numpy as np
 
-from updating.cost import (
-    cost_curve,
-    direct_interface,
-    log_grid,
+from updating.cost import cost_curve, direct_amplitudes, log_grid
+from updating.figure_tools import (
+    costs_text,
+    field_colours,
+    new_figure,
+    powers_of_ten_bar,
+    require_matplotlib,
+    save_figure_atomic,
 )
-from updating.files import InputError, atomic_output
 from updating.plots_map import MAP_JOINTS, draw_residual_map, residual_map_data
+from updating.plots_space import draw_field_maps_in_space
 from updating.strategy import thresholds
+from updating.sweep import (
+    FrequencyResponseData,
+    frequency_band,
+    frequency_response_data,
+    plate_deflection,
+    spatial_rms,
+)
 
 __all__ = [
-    "MISSING_MATPLOTLIB",
     "CostCurveData",
     "FieldMapData",
-    "FrequencyResponseData",
     "ResidualBarsData",
     "SpaceLayout",
     "cost_curve_data",
@@ -71,29 +80,16 @@ __all__ = [
     "draw_power_flow",
     "draw_residual_bars",
     "field_map_data",
-    "frequency_band",
-    "frequency_response_data",
-    "require_matplotlib",
     "residual_bars_data",
-    "save_figure_atomic",
     "write_curve_figure",
     "write_sweep_figures",
     "write_update_figures",
 ]
 
-MISSING_MATPLOTLIB = ("--plot needs matplotlib: pip install 'matplotlib>=3.7' (the extra plot "
-                      "of vtcr)")
-
 _LOG_K = r"$\log_{10} k$  ($k$ in N·m/m per rad)"
 
 
-def require_matplotlib():
-    """Import matplotlib or raise :class:`InputError` with the install hint (exit 2)."""
-    try:
-        import matplotlib
-    except ImportError:
-        raise InputError(MISSING_MATPLOTLIB) from None
-    return matplotlib
+
 
 
 def _true_parameters(case):
@@ -105,19 +101,6 @@ def _true_parameters(case):
 
 def _true_log_k(case, joint):
     return case.true_log10_stiffness().get(joint)
-
-
-def _direct_amplitudes(system, parameters, alpha):
-    """Plate amplitudes of the model response (r = 0) for joint ``parameters``."""
-    return system.plate_amplitudes(
-        direct_interface(system, parameters, alpha))
-
-
-def _plate_w(system, amplitudes, plate_id, points):
-    from solver.plate import evaluate_field
-
-    return evaluate_field(system.problems[plate_id], system.bases[plate_id],
-                          amplitudes[plate_id], points)["w"]
 
 
 # ----------------------------------------------------------------------------------------------
@@ -378,7 +361,7 @@ def field_map_data(case, problem, measurements, frequency, initial, updated,
             s = evaluations[name].interface[frequency]
             fields[name] = problem.field(frequency, s)
         else:
-            fields[name] = _direct_amplitudes(system, parameters, problem.alpha)
+            fields[name] = direct_amplitudes(system, parameters, problem.alpha)
     grids, local_grids, model = {}, {}, {"initial": {}, "updated": {}}
     for pid, plate in case.plates.items():
         nx, ny = _grid_counts(plate.size, system.problems[pid].kappa.real, points_per_wavelength)
@@ -388,7 +371,7 @@ def field_map_data(case, problem, measurements, frequency, initial, updated,
         gx, gy = plate.to_global(x, y)
         grids[pid], local_grids[pid] = (gx, gy), (x, y)
         for name, values in model.items():
-            w = _plate_w(system, fields[name], pid, points)
+            w = plate_deflection(system, fields[name], pid, points)
             values[pid] = _transform(w, quantity).reshape(x.shape)
     measured, measured_global, cells = {}, {}, {}
     residual = {"initial": 0.0, "updated": 0.0}
@@ -396,7 +379,7 @@ def field_map_data(case, problem, measurements, frequency, initial, updated,
     for pid, (points, values) in measurements.data[frequency].items():
         points, values = np.asarray(points, dtype=float), np.asarray(values)
         for name in residual:
-            w = _plate_w(system, fields[name], pid, points)
+            w = plate_deflection(system, fields[name], pid, points)
             residual[name] += float(np.sum(np.abs(w - values) ** 2))
         reference += float(np.sum(np.abs(values) ** 2))
         measured[pid] = (points, _transform(values, quantity))
@@ -475,138 +458,9 @@ def residual_bars_data(result, stop_ratio=1.0):
     return ResidualBarsData(labels, joints, residuals, levels, selected, e_mod, log10_k)
 
 
-@dataclass(frozen=True)
-class FrequencyResponseData:
-    """Spatial RMS of ``|w|`` (m) over the measurement points against frequency.
-
-    Attributes
-    ----------
-    frequencies : ndarray, shape (n,)
-        Hz.
-    curves : dict of str to ndarray, shape (n,)
-        ``"initial"``, ``"updated"`` and, with ``[truth.joints]``, ``"true"``.
-    analysed : tuple of float
-        The measured frequencies (Hz).
-    measured : ndarray, shape (len(analysed),)
-        RMS of the measured ``|w|`` at the analysed frequencies.
-    """
-
-    frequencies: np.ndarray
-    curves: dict
-    analysed: tuple
-    measured: np.ndarray
-
-
-def frequency_band(frequencies, width=0.2, points=60):
-    """``points`` frequencies over ``[(1 - width) f_min, (1 + width) f_max]`` plus ``frequencies``.
-
-    The analysed frequencies are inserted so that the curves pass through them.
-    """
-    if points < 2:
-        raise ValueError(f"points must be at least 2, got {points}")
-    if not 0.0 < width < 1.0:
-        raise ValueError(f"width must be in (0, 1), got {width}")
-    lo, hi = (1.0 - width) * min(frequencies), (1.0 + width) * max(frequencies)
-    return np.union1d(np.linspace(lo, hi, points), np.asarray(frequencies, dtype=float))
-
-
-def spatial_rms(values):
-    r"""Return :math:`\sqrt{\mathrm{mean}|w|^2}` of a sequence of complex arrays."""
-    flat = np.concatenate([np.ravel(v) for v in values])
-    return float(np.sqrt(np.mean(np.abs(flat) ** 2)))
-
-
-def _set_responses(case, parameter_sets, points, resolution, frequency):
-    """The response vector of every parameter set at ``points`` and their spatial RMS at one
-    frequency, from one shared system (a task of :func:`frequency_response_data`)."""
-    from solver.substructure import build_assembly_system
-
-    system = build_assembly_system(case, float(frequency), resolution)
-    alpha = case.updatable_alpha()
-    values = []
-    for parameters in parameter_sets.values():
-        amplitudes = _direct_amplitudes(system, parameters, alpha)
-        values.append(np.concatenate([_plate_w(system, amplitudes, pid, pts)
-                                      for pid, pts in points.items()]))
-    return np.concatenate(values), [spatial_rms([v]) for v in values]
-
-
-def frequency_response_data(case, parameter_sets, frequencies, points, measured=None,
-                            analysed=(), resolution=None, on_round=None, tolerance=0.1,
-                            max_points=400, executor=None):
-    """Spatial RMS of the model response at ``points`` for several joint parameter sets.
-
-    One parameter-independent system per frequency
-    (:func:`solver.substructure.build_assembly_system`) is shared by the parameter sets: the
-    direct problem at each set is a small reduced solve. The result equals
-    ``solver.solve_case(case.with_joint_parameters(p), f)`` sampled at ``points``. The
-    frequencies are refined as ``vtcr frf`` refines them
-    (:func:`solver.sweep.refine_frequencies`: bisection where a curve changes by more than
-    ``tolerance`` between neighbours, down to a quarter of the half-power bandwidth), so that
-    every resonance peak of every curve is drawn at its height.
-
-    Parameters
-    ----------
-    case : assembly.Case
-        An assembly with joints.
-    parameter_sets : dict of str to dict
-        ``{label: {joint: {log10_stiffness, loss_factor, mass}}}``.
-    frequencies : array_like of float, shape (n,)
-        The initial grid (Hz), increasing.
-    points : dict of str to ndarray, shape (m, 2)
-        Plate-local points per plate.
-    measured : array_like of float, optional
-        RMS of the measurements at ``analysed``.
-    analysed : sequence of float
-        The measured frequencies (Hz), marked on the figure.
-    resolution : float, optional
-        Discretisation resolution (default the description's).
-    on_round : callable, optional
-        Called with the number of frequencies solved so far after each round (progress).
-    tolerance, max_points :
-        Refinement rule (:func:`solver.sweep.refine_frequencies`).
-    executor : updating.executor.Executor, optional
-        Solves each round's frequencies in parallel.
-
-    Returns
-    -------
-    FrequencyResponseData
-
-    Notes
-    -----
-    Cost: one system build per frequency (about 0.1 s for ``cases/four_plates.toml``; the
-    response curve of its update takes about 300 frequencies).
-    """
-    import functools
-
-    from solver.sweep import refine_frequencies
-    from updating.sweep import round_evaluator, smallest_loss_factor
-
-    evaluate = round_evaluator(
-        functools.partial(_set_responses, case, parameter_sets, points, resolution), executor,
-        on_round)
-    frequencies, results, _ = refine_frequencies(
-        evaluate, np.asarray(frequencies, dtype=float), smallest_loss_factor(case), tolerance,
-        max_points=max_points)
-    curves = {label: np.array([rms[k] for _, rms in results])
-              for k, label in enumerate(parameter_sets)}
-    measured = np.asarray([] if measured is None else measured, dtype=float)
-    return FrequencyResponseData(frequencies, curves, tuple(analysed), measured)
-
-
 # ----------------------------------------------------------------------------------------------
 # drawing (matplotlib)
 # ----------------------------------------------------------------------------------------------
-
-def _figure(**kwargs):
-    require_matplotlib()
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
-
-    figure = Figure(layout="constrained", **kwargs)
-    FigureCanvasAgg(figure)
-    return figure
-
 
 def _positive(values):
     """Values for a log axis: non-positive entries become NaN (gaps, not warnings)."""
@@ -617,7 +471,7 @@ def _positive(values):
 
 def draw_cost_curve(data, title=""):
     """Figure of a :class:`CostCurveData` (log y axis, costs in %)."""
-    figure = _figure(figsize=(7.5, 5.0))
+    figure = new_figure(figsize=(7.5, 5.0))
     ax = figure.add_subplot()
     styles = [
         (data.e_mod, r"$E_{mod}^2$ (cost)", {"color": "black", "lw": 2.2}),
@@ -679,30 +533,10 @@ def _draw_plate_frame(ax, data, labels=False):
     ax.set_ylabel("y [m]")
 
 
-def field_colours(quantity):
-    """``(colour map, colour-bar label)`` of a field map of ``|w|`` or ``Re w``."""
-    return ("viridis", "|w| [m]") if quantity == "abs" else ("RdBu_r", "Re w [m]")
-
-
-def costs_text(data):
-    """:math:`E_{mod}^2` at the initial and updated parameters of a :class:`FieldMapData`."""
-    summed = f" (sum over {data.n_frequencies} frequencies)" if data.n_frequencies > 1 else ""
-    return (f"$E_{{mod}}^2$ {100 * data.e_mod[0]:.2f} % initial, "
-            f"{100 * data.e_mod[1]:.2f} % updated{summed}")
-
-
-def powers_of_ten_bar(bar):
-    """A colour bar's ticks with a ``1e-5``-style multiplier, not 0.00001 ticks."""
-    bar.formatter.set_powerlimits((-2, 3))
-    bar.update_ticks()
-
-
 def draw_field_maps(data, title=""):
     """Three panels (measured, initial, updated) of a :class:`FieldMapData`, one colour scale;
     in 3D when its plates are placed in space."""
     if data.space is not None:
-        from updating.plots_space import draw_field_maps_in_space
-
         return draw_field_maps_in_space(data, title)
     every = np.vstack(list(data.outlines.values()))
     span = every.max(axis=0) - every.min(axis=0)
@@ -712,12 +546,12 @@ def draw_field_maps(data, title=""):
         width = 8.0
         figsize = (width + 1.6, 3 * (width * ratio + 0.75) + 0.9)
         bar_height = 0.6
-        axes = _figure(figsize=figsize).subplots(3, 1, sharex=True, sharey=True)
+        axes = new_figure(figsize=figsize).subplots(3, 1, sharex=True, sharey=True)
     else:
         panel = 4.4
         figsize = (3 * panel + 1.0, panel * ratio + 2.0)
         bar_height = float(np.clip(panel * ratio / (panel * ratio + 1.0), 0.5, 0.9))
-        axes = _figure(figsize=figsize).subplots(1, 3, sharex=True, sharey=True)
+        axes = new_figure(figsize=figsize).subplots(1, 3, sharex=True, sharey=True)
     figure = axes[0].figure
     cmap, label = field_colours(data.quantity)
     norm = {"vmin": data.limits[0], "vmax": data.limits[1], "cmap": cmap}
@@ -787,7 +621,7 @@ def draw_residual_bars(data, title=""):
     from matplotlib.patches import Patch
 
     n_bars = len(data.labels) * max(1, len(data.joints))
-    figure = _figure(figsize=(float(np.clip(0.45 * n_bars + 3.0, 7.0, 14.0)), 6.5))
+    figure = new_figure(figsize=(float(np.clip(0.45 * n_bars + 3.0, 7.0, 14.0)), 6.5))
     top, bottom = figure.subplots(2, 1, sharex=True, height_ratios=(2.2, 1.0))
     n_steps, n_joints = data.residuals.shape
     width = 0.8 / max(n_joints, 1)
@@ -835,7 +669,7 @@ def draw_residual_bars(data, title=""):
 
 def draw_frequency_response(data, title=""):
     """RMS ``|w|`` against frequency; analysed frequencies and measured RMS marked."""
-    figure = _figure(figsize=(8.0, 5.0))
+    figure = new_figure(figsize=(8.0, 5.0))
     ax = figure.add_subplot()
     styles = {"initial": {"color": "tab:blue", "lw": 1.4, "ls": "--", "label": "initial model"},
               "updated": {"color": "tab:red", "lw": 1.8, "label": "updated model"},
@@ -865,14 +699,6 @@ def draw_frequency_response(data, title=""):
 # ----------------------------------------------------------------------------------------------
 # files
 # ----------------------------------------------------------------------------------------------
-
-def save_figure_atomic(figure, path, dpi=120):
-    """Write ``figure`` as PNG through a temporary file in the same directory and a rename."""
-    path = Path(path)
-    with atomic_output(path, binary=True) as handle:
-        figure.savefig(handle, format="png", dpi=dpi)
-    return path
-
 
 def _frequency_name(frequency):
     return f"field_{frequency:g}Hz.png"
@@ -936,7 +762,7 @@ def write_update_figures(case, problem, measurements, result, directory, curve_p
             data = residual_map_data(case, step, case.updating.stop_ratio,
                                      corrected if step is result.steps[-1] else ())
             written.append(save_figure_atomic(
-                draw_residual_map(data, _figure(figsize=(9.0, 7.0)),
+                draw_residual_map(data, new_figure(figsize=(9.0, 7.0)),
                                   f"{name}: joint residuals, {label}\n{stopped}"),
                 directory / f"{path}.png"))
     else:
@@ -995,7 +821,7 @@ def draw_power_flow(sweep, title="", joints_shown=8):
     """Power against frequency of an :class:`updating.sweep.Sweep`: injected, dissipated in
     the plates and in the joints (top), transmitted by the ``joints_shown`` joints that carry
     the most (bottom, absolute values)."""
-    figure = _figure(figsize=(8.0, 7.0))
+    figure = new_figure(figsize=(8.0, 7.0))
     top, bottom = figure.subplots(2, 1, sharex=True)
     f = sweep.frequencies
     injected = [p.total_injected for p in sweep.powers]
@@ -1059,7 +885,7 @@ def draw_plan(plans, frequencies, title=""):
     """Grouped bars of each joint's field sensitivity (% per 0.1 decade of log10 k) per
     frequency, the joints labelled with their verdict (:mod:`updating.plan`)."""
     joints = list(plans)
-    figure = _figure(figsize=(float(np.clip(0.6 * len(joints) * len(frequencies) + 3.0, 7.0,
+    figure = new_figure(figsize=(float(np.clip(0.6 * len(joints) * len(frequencies) + 3.0, 7.0,
                                             14.0)), 4.8))
     ax = figure.subplots()
     width = 0.8 / max(len(frequencies), 1)

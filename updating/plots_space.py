@@ -10,10 +10,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from updating.plots import (
-    _figure,
+from updating.figure_tools import (
     costs_text,
     field_colours,
+    new_figure,
     powers_of_ten_bar,
     require_matplotlib,
 )
@@ -69,7 +69,7 @@ def draw_field_maps_in_space(data, title=""):
 
     require_matplotlib()
     space = data.space
-    figure = _figure(figsize=(15.0, 5.6))
+    figure = new_figure(figsize=(15.0, 5.6))
     axes = [figure.add_subplot(1, 3, i + 1, projection="3d") for i in range(3)]
     cmap_name, label = field_colours(data.quantity)
     cmap = colormaps[cmap_name]

@@ -1,0 +1,65 @@
+"""What every figure of vtcr needs: matplotlib on demand, a new figure, field colours and atomic
+PNG writing (a leaf of the figure modules :mod:`updating.plots`, :mod:`updating.plots_space` and
+:mod:`updating.plots_map`, so that none of them imports another's private helpers).
+
+matplotlib is imported inside the functions only: the core runs without the ``plot`` extra.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from updating.files import InputError, atomic_output
+
+__all__ = ["MISSING_MATPLOTLIB", "require_matplotlib", "new_figure", "field_colours",
+           "costs_text", "powers_of_ten_bar", "save_figure_atomic"]
+
+MISSING_MATPLOTLIB = ("--plot needs matplotlib: pip install 'matplotlib>=3.7' (the extra plot "
+                      "of vtcr)")
+
+
+def require_matplotlib():
+    """Import matplotlib or raise :class:`InputError` with the install hint (exit 2)."""
+    try:
+        import matplotlib
+    except ImportError:
+        raise InputError(MISSING_MATPLOTLIB) from None
+    return matplotlib
+
+
+def new_figure(**kwargs):
+    """An empty matplotlib figure (constrained layout) on the Agg canvas, or
+    :class:`~updating.files.InputError` without matplotlib."""
+    require_matplotlib()
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    figure = Figure(layout="constrained", **kwargs)
+    FigureCanvasAgg(figure)
+    return figure
+
+
+def field_colours(quantity):
+    """``(colour map, colour-bar label)`` of a field map of ``|w|`` or ``Re w``."""
+    return ("viridis", "|w| [m]") if quantity == "abs" else ("RdBu_r", "Re w [m]")
+
+
+def costs_text(data):
+    """:math:`E_{mod}^2` at the initial and updated parameters of a :class:`FieldMapData`."""
+    summed = f" (sum over {data.n_frequencies} frequencies)" if data.n_frequencies > 1 else ""
+    return (f"$E_{{mod}}^2$ {100 * data.e_mod[0]:.2f} % initial, "
+            f"{100 * data.e_mod[1]:.2f} % updated{summed}")
+
+
+def powers_of_ten_bar(bar):
+    """A colour bar's ticks with a ``1e-5``-style multiplier, not 0.00001 ticks."""
+    bar.formatter.set_powerlimits((-2, 3))
+    bar.update_ticks()
+
+
+def save_figure_atomic(figure, path, dpi=120):
+    """Write ``figure`` as PNG through a temporary file in the same directory and a rename."""
+    path = Path(path)
+    with atomic_output(path, binary=True) as handle:
+        figure.savefig(handle, format="png", dpi=dpi)
+    return path
