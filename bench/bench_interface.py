@@ -36,7 +36,8 @@ import scipy.sparse.linalg
 from assembly import parse_case
 from assembly.generate import plate_grid
 from solver import interface
-from solver.substructure import build_assembly_system, channel_blocks, joint_parameters
+from solver.joint_rules import joint_parameters
+from solver.substructure import build_assembly_system, channel_blocks
 
 DENSE_LIMIT = 4000  # unknowns of the dense LU yardstick (2 GB of complex entries at most)
 

@@ -61,6 +61,8 @@ import numpy as np
 from solver.power import grid_deflections, plate_gauss_axes
 from solver.problems import plate_resolution
 from solver.rays import QUASI_STATIC_KAPPA_R
+from solver.sizing import available_memory, estimate_size
+from solver.vtcr import solve_case
 
 __all__ = ["ENRICHMENT", "ErrorEstimate", "ToleranceError", "enriched_size", "estimate_error",
            "plate_l2_rule", "solve_to_tolerance"]
@@ -146,8 +148,6 @@ def enriched_plates(case, frequency, resolution=None):
     of every plate (every count of the rule at ``resolution`` times :data:`ENRICHMENT`), or
     None and why it was not made (:mod:`solver.sizing` estimates it too long or too large),
     and the time it took."""
-    from solver.vtcr import solve_case
-
     t0 = time.perf_counter()
     _, enriched_resolution = _resolutions(case, resolution)
     if case.joints:
@@ -205,15 +205,11 @@ def _compact(resolution):
 def enriched_size(case, frequency=None, resolution=None):
     """:func:`solver.sizing.estimate_size` of the estimate's enriched solve (every count of
     the rule at ``resolution``, default the description's, times :data:`ENRICHMENT`)."""
-    from solver.sizing import estimate_size
-
     return estimate_size(case, frequency, _resolutions(case, resolution)[1])
 
 
 def _enriched_solve_unaffordable(case, frequency, enriched_resolution):
     """Why the enriched assembly solve is not made (:mod:`solver.sizing` estimates), or ''."""
-    from solver.sizing import available_memory, estimate_size
-
     size = estimate_size(case, frequency, enriched_resolution)
     memory = available_memory()
     if size.solve_seconds > ENRICHED_SOLVE_SECONDS:
@@ -252,8 +248,6 @@ def solve_to_tolerance(case, frequency, tolerance, max_refinements=4, resolution
         what the basis converges for): the message names the plate with the largest estimated
         error, its estimates at each resolution and its condition estimate.
     """
-    from solver.vtcr import solve_case
-
     resolution = {pid: plate_resolution(case, pid, resolution) for pid in case.plates}
     solution = solve_case(case, frequency, resolution=resolution)
     history = []

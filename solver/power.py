@@ -47,9 +47,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from solver.joint_rules import joint_gauss, joint_parameters, legendre_values
 from solver.kirchhoff import wave_edge_factors
-from solver.plate import (edge_rule_size, edge_values, evaluate_field, particular_field,
-                          particular_traces)
+from solver.plate import (
+    edge_rule_size,
+    edge_values,
+    evaluate_field,
+    particular_field,
+    particular_traces,
+)
 from solver.rays import gauss_legendre, node_exponentials, plate_edges, tensor_grid_field
 
 __all__ = ["PowerFlow", "power_flow", "plate_powers", "kinetic_energies", "plate_gauss_axes",
@@ -198,8 +204,6 @@ def kinetic_energies(plates):
 def _side_powers(case, system, jid, amplitudes, s):
     """Power the joint ``jid`` delivers to each of its plates (W), from its loads (interface
     unknowns ``s``) and the plates' traces on the joint line."""
-    from solver.substructure import joint_gauss, legendre_values
-
     joint = case.joints[jid]
     length = case.edge_length(joint.sides[0])
     k_max = max(float(np.max(np.abs(system.bases[side.plate].k))) for side in joint.sides)
@@ -246,8 +250,6 @@ def power_flow(case, solution) -> PowerFlow:
     joint_dissipated, transmitted, delivered = {}, {}, {}
     system = getattr(solution, "system", None)
     if case.joints and system is not None:
-        from solver.substructure import joint_parameters
-
         s = solution.interface
         params = joint_parameters(case, omega)
         amplitudes = {pid: p.amplitudes for pid, p in solution.plates.items()}

@@ -45,6 +45,7 @@ import numpy as np
 
 from solver.interface import GROUPED_MIN_SIZE
 from solver.problems import plate_problems
+from solver.substructure import interface_layout, plate_bases
 
 __all__ = ["SizeEstimate", "estimate_size", "available_memory"]
 
@@ -172,8 +173,6 @@ def estimate_size(case, frequency=None, resolution=None) -> SizeEstimate:
     -------
     SizeEstimate
     """
-    from solver.substructure import interface_layout, plate_bases
-
     frequency = max(case.frequencies) if frequency is None else float(frequency)
     problems = plate_problems(case, frequency)
     bases = plate_bases(case, problems, resolution)

@@ -77,6 +77,15 @@ import numpy as np
 import scipy.linalg
 import scipy.sparse
 
+from solver.errors import plate_condition_warnings
+from solver.interface import Block, factorise_interface, residual_weight, squared_norm
+from solver.joint_rules import (
+    interface_function_count,
+    joint_gauss,
+    joint_parameters,
+    legendre_values,
+    load_function_projection,
+)
 from solver.plate import (
     PlateSolution,
     assemble_plate,
@@ -85,24 +94,18 @@ from solver.plate import (
     edge_values,
     factorise_dense,
 )
-from solver.interface import Block, factorise_interface, residual_weight, squared_norm
 from solver.power import kinetic_energies
 from solver.problems import plate_basis, plate_problems, plate_ray_counts, plate_resolution
-from solver.rays import EDGES, gauss_legendre
+from solver.rays import EDGES
 
 __all__ = [
     "Channel",
     "AssemblySystem",
     "build_assembly_system",
     "plate_bases",
-    "channel_parameters",
-    "joint_parameters",
     "channel_blocks",
     "solve_interface",
     "solve_assembly",
-    "interface_function_count",
-    "joint_gauss",
-    "legendre_values",
 ]
 
 KINEMATIC_DEFLECTION = frozenset({"clamped", "simply_supported"})
@@ -116,44 +119,9 @@ rigid to 1e-3 of the plates' rotations; above it the residual is measured in com
 (:func:`solver.interface.residual_weight`), whose weight no longer grows with k."""
 
 
-def interface_function_count(kappa0, length, resolution=1.0):
-    r"""Legendre functions per interface unknown: :math:`M = \lceil 0.75\,s\,\kappa_0 L\rceil + 2`.
-
-    A Legendre series resolves :math:`e^{j\beta\sigma}` on :math:`[0, L]` once
-    :math:`M > \beta L/2`; the joint loads carry wavenumbers up to about :math:`1.5\kappa_0`
-    (propagating waves plus the slower part of the edge boundary layers). More functions than
-    the plates' rays can answer make the loads' system ill-posed: against the Levy series of a
-    three-plate chain from 60 to 600 Hz and log10 k = 2 to 8, ``+ 2`` was near the best count
-    everywhere, and ``+ 8`` up to ten times less accurate at stiff joints and low
-    :math:`\kappa_0L` (``bench/README.md``).
-    """
-    return math.ceil(0.75 * resolution * kappa0 * length) + 2
-
-
-def load_function_projection(root_w, psi):
-    r""":math:`Q^HW^{1/2}`, shape (n_f, Gauss points): the coordinates, on an orthonormal basis
-    :math:`Q` of the joint's weighted load functions :math:`W^{1/2}\psi`, of a quantity sampled
-    at the joint's Gauss points. A channel's load and kinematic samples are taken through it.
-
-    The residual :math:`r = (LS + l) - c(RS + \rho)` then counts through its :math:`L^2`
-    projection on the functions that carry the loads, :math:`\|Q^HW^{1/2}r\|^2`: the joint law
-    is imposed as far as the loads can carry it. The part of the plates' traces outside those
-    functions, which no load of the discretisation can balance, is not counted; measuring it
-    made each channel's rows as many as its Gauss points (instead of its functions) and, with
-    the functions a plate's rays can answer, left a floor of that part in every residual
-    (``bench/README.md``)."""
-    return scipy.linalg.orth(root_w[:, None] * psi).conj().T * root_w
-
-
 def _projected(block, projection):
     """A Block's rows replaced by ``projection`` of them (:func:`load_function_projection`)."""
     return Block(block.index, projection @ block.matrix, projection @ block.offset)
-
-
-def legendre_values(sigma, length, n):
-    """``P_m(2 sigma / L - 1)`` for ``m < n``, shape ``(len(sigma), n)``."""
-    x = 2.0 * np.asarray(sigma) / length - 1.0
-    return np.polynomial.legendre.legvander(x, n - 1)
 
 
 @dataclass(frozen=True)
@@ -297,12 +265,6 @@ class AssemblySystem:
 # ----------------------------------------------------------------------------------------------
 # building the parameter-independent system
 # ----------------------------------------------------------------------------------------------
-
-def joint_gauss(length, k_max):
-    r"""Gauss points and weights on a joint line of ``length`` (m): :math:`\lceil k_{max}L\rceil + 16`
-    points, where :math:`k_{max}` is the largest ray wavenumber of the two plates."""
-    x, w = gauss_legendre(math.ceil(k_max * length) + 16)
-    return 0.5 * length * (x + 1.0), 0.5 * length * w
 
 
 def _has_mass_channel(joint, identify):
@@ -727,21 +689,6 @@ def _constraint_matrix(rows, n_s):
 # parameters, reduced solve
 # ----------------------------------------------------------------------------------------------
 
-def channel_parameters(parameters, omega):
-    r"""``{(channel name, kind): c}`` from ``{name: {log10_stiffness, loss_factor, mass}}``
-    (:meth:`assembly.Case.updatable_parameters`): the rotation channel's
-    :math:`k(1 + j\zeta)` and the mass channel's :math:`\omega^2\mu`."""
-    out = {}
-    for name, p in parameters.items():
-        out[name, "rotation"] = 10.0 ** p["log10_stiffness"] * (1.0 + 1j * p["loss_factor"])
-        out[name, "mass"] = omega**2 * p["mass"] + 0j
-    return out
-
-
-def joint_parameters(case, omega):
-    """Channel parameters ``{(channel name, kind): c}`` of the description's joints."""
-    return channel_parameters(case.updatable_parameters(), omega)
-
 
 def channel_blocks(system, params, weights):
     r"""Least-squares Blocks of the joint term :math:`\sum_\Gamma w_\Gamma e_\Gamma^2`.
@@ -829,8 +776,6 @@ def solve_assembly(case, frequency, resolution=None, system=None,
     reference energy (a field quadrature over every plate) nor the residuals are computed,
     and ``residuals`` is empty.
     """
-    from solver.vtcr import _condition_warnings
-
     system = system or build_assembly_system(case, frequency, resolution)
     t0 = time.perf_counter()
     params = joint_parameters(case, system.omega)
@@ -843,5 +788,5 @@ def solve_assembly(case, frequency, resolution=None, system=None,
     plates = {pid: PlateSolution(system.problems[pid], system.bases[pid], amplitudes[pid],
                                  system.rcond[pid]) for pid in system.problems}
     timings = dict(system.timings, reduced=time.perf_counter() - t0)
-    return AssemblySolution(frequency, plates, timings, _condition_warnings(plates),
+    return AssemblySolution(frequency, plates, timings, plate_condition_warnings(plates),
                             joint_residuals(system, params, s) if residuals else {}, s, system)

@@ -21,19 +21,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from solver.errors import check_finite, plate_condition_warnings
 from solver.plate import PlateSolution, assemble_plate, boundary_traces, solve_dense
 from solver.problems import plate_basis, plate_problem
+from solver.substructure import solve_assembly
 
-__all__ = ["CaseSolution", "solve_case", "field_grid", "CONDITION_WARNING", "NumericalError",
-           "condition_warnings", "check_finite"]
-
-CONDITION_WARNING = 1e20
-"""Condition estimate above which a solve is reported as numerically doubtful.
-
-Trefftz matrices reach 1e17–1e19 while the field is accurate to 1e-9
-(``docs/method.md`` section 9.1); past 1e20 the field itself starts to lose digits in double
-precision.
-"""
+__all__ = ["CaseSolution", "solve_case", "field_grid"]
 
 
 @dataclass(frozen=True)
@@ -70,70 +63,6 @@ class CaseSolution:
         return self.plates[plate_id].field(points)["w"]
 
 
-class NumericalError(ArithmeticError):
-    """A solve produced a non-finite result; the message names the frequency and the plate."""
-
-
-def condition_warnings(rcond, frequency):
-    """One warning per plate whose condition estimate exceeds :data:`CONDITION_WARNING`.
-
-    Parameters
-    ----------
-    rcond : mapping of str to float
-        Reciprocal condition estimate of each plate's VTCR matrix.
-    frequency : float
-        Hz, named in the messages.
-
-    Returns
-    -------
-    tuple of str
-    """
-    out = []
-    for pid, value in rcond.items():
-        estimate = 1.0 / value if value > 0 else float("inf")
-        if not estimate <= CONDITION_WARNING:
-            out.append(f"plate {pid} at {frequency:g} Hz: condition estimate {estimate:.1e} "
-                       f"exceeds {CONDITION_WARNING:.0e}, the field may have lost digits; lower "
-                       "[discretisation] resolution or the frequency")
-    return tuple(out)
-
-
-def _condition_warnings(solutions):
-    frequencies = {pid: s.problem.omega / (2.0 * np.pi) for pid, s in solutions.items()}
-    return tuple(w for pid, s in solutions.items()
-                 for w in condition_warnings({pid: s.rcond}, frequencies[pid]))
-
-
-def check_finite(solution):
-    """Raise :class:`NumericalError` if a solution holds a non-finite amplitude or residual.
-
-    Nothing downstream should receive NaN silently: a non-finite ray amplitude (a singular
-    or overflowing solve) or joint residual is reported with its frequency and plate (joint).
-
-    Parameters
-    ----------
-    solution : CaseSolution or solver.substructure.AssemblySolution
-
-    Returns
-    -------
-    The same solution.
-    """
-    f = solution.frequency
-    for pid, plate in solution.plates.items():
-        if not np.all(np.isfinite(plate.amplitudes)):
-            raise NumericalError(
-                f"the VTCR solve of plate {pid} at {f:g} Hz gave non-finite ray amplitudes "
-                f"(condition estimate {plate.condition_estimate:.1e}); check the plate's "
-                "material, thickness and loads for extreme values, or lower [discretisation] "
-                "resolution")
-    for jid, value in (getattr(solution, "residuals", None) or {}).items():
-        if not np.isfinite(value):
-            raise NumericalError(
-                f"the residual of joint {jid} at {f:g} Hz is not finite ({value}); check the "
-                "joint's parameters and the loads (a zero response has no residual)")
-    return solution
-
-
 def solve_case(case, frequency=None, resolution=None, residuals=True) -> CaseSolution:
     """Solve the forced response of ``case`` at one frequency.
 
@@ -155,11 +84,11 @@ def solve_case(case, frequency=None, resolution=None, residuals=True) -> CaseSol
     CaseSolution
         For an assembly with joints, a :class:`solver.substructure.AssemblySolution` (the
         same interface plus the joint residuals). ``warnings`` lists the plates whose
-        condition estimate exceeds :data:`CONDITION_WARNING`.
+        condition estimate exceeds :data:`solver.errors.CONDITION_WARNING`.
 
     Raises
     ------
-    NumericalError
+    solver.errors.NumericalError
         If a ray amplitude or joint residual is not finite (names the frequency and plate).
     ValueError
         If the frequency is not finite and > 0, or an assembly with joints has no loads.
@@ -168,8 +97,6 @@ def solve_case(case, frequency=None, resolution=None, residuals=True) -> CaseSol
     if not (np.isfinite(frequency) and frequency > 0):
         raise ValueError(f"the frequency must be finite and > 0 Hz, got {frequency}")
     if case.joints:
-        from solver.substructure import solve_assembly
-
         if not case.loads:
             raise ValueError(
                 "the assembly has no loads: its response is zero and the joint residuals, "
@@ -187,7 +114,7 @@ def solve_case(case, frequency=None, resolution=None, residuals=True) -> CaseSol
         timings["solve"] += time.perf_counter() - t1
         solutions[plate_id] = PlateSolution(problem, basis, x, rcond)
     return check_finite(
-        CaseSolution(frequency, solutions, timings, _condition_warnings(solutions)))
+        CaseSolution(frequency, solutions, timings, plate_condition_warnings(solutions)))
 
 
 def field_grid(case, plate_id, spacing):

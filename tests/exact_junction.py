@@ -60,7 +60,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-
 from exact import BOUNDARY_CONDITIONS, EDGES, LevyPlateField, Section, default_n_terms
 
 __all__ = [

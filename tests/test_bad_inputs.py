@@ -448,7 +448,7 @@ def test_description_layout_is_checked(tmp_path: Path) -> None:
     (1.0, 0, 0), (0.9, 0, 0), (0.8, 0, 1), (0.6, 0, 1), (0.55, 1, 0), (0.3, 1, 0)])
 def test_resolution_thresholds(resolution: float, errors: int, warnings: int) -> None:
     """Error below 0.6 of the rule (wrong field), warning below 0.85 (per-cent errors)."""
-    from solver.problems import description_issues
+    from solver.guards import description_issues
 
     case = load_case_text(TWO + f"\n[discretisation]\nresolution = {resolution}\n")
     found = description_issues(case)
@@ -456,14 +456,14 @@ def test_resolution_thresholds(resolution: float, errors: int, warnings: int) ->
 
 
 def test_paper_cases_are_sane() -> None:
-    from solver.problems import description_issues
+    from solver.guards import description_issues
 
     for path in sorted(CASES.glob("*.toml")):
         assert description_issues(load_case(path), need_loads=True) == ([], []), path.name
 
 
 def test_thin_plate_limit_warns() -> None:
-    from solver.problems import description_issues
+    from solver.guards import description_issues
 
     case = load_case_text(_replace("thickness = 0.001\nsize = [0.5, 0.4]\n\n[plates.P2]",
                                    "thickness = 0.02\nsize = [0.5, 0.4]\n\n[plates.P2]")
@@ -476,7 +476,7 @@ def test_thin_plate_limit_warns() -> None:
 
 # ------------------------------------------------------------------------ numerical guard rails
 def test_condition_warnings_name_plate_and_frequency() -> None:
-    from solver.vtcr import CONDITION_WARNING, condition_warnings
+    from solver.errors import CONDITION_WARNING, condition_warnings
 
     lines = condition_warnings({"P1": 0.1 / CONDITION_WARNING, "P2": 1e-12, "P3": 0.0}, 155.0)
     assert len(lines) == 2
@@ -497,7 +497,7 @@ def test_modified_problem_collects_condition_warnings() -> None:
 
 
 def test_non_finite_solution_raises() -> None:
-    from solver.vtcr import NumericalError, check_finite
+    from solver.errors import NumericalError, check_finite
 
     plate = SimpleNamespace(amplitudes=np.array([1.0, math.nan]), condition_estimate=1e30)
     with pytest.raises(NumericalError, match="plate P2 at 155 Hz"):

@@ -15,12 +15,8 @@ from exact import EdgeLoad, Section, coplanar, levy_chain
 
 from assembly import load_case
 from solver import field_grid, solve_case
-from solver.substructure import (
-    build_assembly_system,
-    joint_parameters,
-    joint_residuals,
-    solve_assembly,
-)
+from solver.joint_rules import joint_parameters
+from solver.substructure import build_assembly_system, joint_residuals, solve_assembly
 
 CASES = Path(__file__).resolve().parent.parent / "cases"
 CASE_FILES = sorted(CASES.glob("*.toml"))

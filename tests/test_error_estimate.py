@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from exact import Section, complex_rigidity, levy_chain, navier_point_force
-from test_assemblies import D, LENGTHS, LY, NU, OMEGA, RHO, H, chain_description, exact_joint
+from test_assemblies import LENGTHS, LY, NU, OMEGA, RHO, D, H, chain_description, exact_joint
 
 from assembly import parse_case
 from solver import solve_case

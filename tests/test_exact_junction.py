@@ -18,7 +18,6 @@ import math
 
 import numpy as np
 import pytest
-
 from exact import Section, complex_rigidity, hinge, levy_chain
 from exact_junction import JunctionLine, StripPlate, junction_levy
 

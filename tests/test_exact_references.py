@@ -7,7 +7,6 @@ joint laws written again here from the conventions, reciprocity, the power balan
 
 import numpy as np
 import pytest
-
 from exact import (
     EdgeLoad,
     Section,

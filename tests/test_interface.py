@@ -21,10 +21,10 @@ from test_assemblies import chain_description, grid
 
 from assembly import load_case, parse_case
 from assembly.generate import plate_grid
+from solver.joint_rules import joint_parameters
 from solver.substructure import (
     build_assembly_system,
     channel_blocks,
-    joint_parameters,
     joint_residuals,
     solve_assembly,
 )
@@ -227,8 +227,8 @@ def test_identical_plates_share_their_basis_and_nothing_changes(monkeypatch):
 def test_the_trace_cache_tells_edges_and_points_apart():
     """Cached joint traces equal fresh ones for every edge and both directions of travel, asked
     in any order (a key missing the edge or the points would hand one edge's to another)."""
+    from solver.joint_rules import joint_gauss
     from solver.plate import edge_values
-    from solver.substructure import joint_gauss
 
     case = parse_case(plate_grid(2, 2))
     system = build_assembly_system(case, 250.0)

@@ -17,10 +17,10 @@ import math
 
 import numpy as np
 import pytest
-
-from assembly import parse_case
 from exact import Section, complex_rigidity, hinge, levy_chain
 from exact_junction import JunctionLine, StripPlate, junction_levy
+
+from assembly import parse_case
 from solver.substructure import solve_assembly
 
 E, NU, RHO, ETA = 210e9, 0.3, 7800.0, 0.01

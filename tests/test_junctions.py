@@ -19,9 +19,9 @@ import numpy as np
 import pytest
 
 from assembly import DescriptionError, load_case, parse_case
+from assembly.generate import box_with_wall, description_toml, stiffened_panel
 from assembly.models import JunctionJoint
 from solver.substructure import solve_assembly
-from assembly.generate import box_with_wall, description_toml, stiffened_panel
 from updating.cli import main
 
 CASES = Path(__file__).resolve().parents[1] / "cases"

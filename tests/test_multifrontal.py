@@ -18,11 +18,11 @@ from test_interface import dense_interface, field_difference, mixed_chain
 from assembly import load_case, parse_case
 from assembly.generate import plate_grid
 from solver import interface
+from solver.joint_rules import joint_parameters
 from solver.multifrontal import GroupedLDL, GroupPivotError, minimum_degree_order
 from solver.substructure import (
     build_assembly_system,
     channel_blocks,
-    joint_parameters,
     joint_residuals,
     solve_interface,
 )

@@ -17,8 +17,8 @@ from assembly import load_case_text
 from solver import solve_case
 from updating.cli import main
 from updating.cost import ModifiedProblem, cost_curve
-from updating.measurements import simulate_measurements
 from updating.figure_tools import MISSING_MATPLOTLIB
+from updating.measurements import simulate_measurements
 from updating.plots import (
     cost_curve_data,
     field_map_data,

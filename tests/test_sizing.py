@@ -10,8 +10,9 @@ from test_interface import mixed_chain
 from assembly import load_case
 from solver import interface
 from solver.estimate import ENRICHMENT, enriched_size
+from solver.joint_rules import joint_parameters
 from solver.sizing import estimate_size
-from solver.substructure import build_assembly_system, channel_blocks, joint_parameters
+from solver.substructure import build_assembly_system, channel_blocks
 from updating.cli import main
 
 CASES = Path(__file__).resolve().parents[1] / "cases"
@@ -43,7 +44,7 @@ def test_counts_match_the_built_system(case):
 
 
 def test_a_problem_too_big_for_the_memory_stops_before_any_work(monkeypatch, capsys):
-    monkeypatch.setattr("solver.sizing.available_memory", lambda: 1e6)
+    monkeypatch.setattr("solver.guards.available_memory", lambda: 1e6)
     assert main(["solve", str(CASES / "four_plates.toml")]) == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and "GB available" in err and "frequency" in err, err

@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from exact import EdgeLoad, Section, levy_chain
-from test_assemblies import D, H, LENGTHS, LY, NU, RHO, chain_description, exact_joint
+from test_assemblies import LENGTHS, LY, NU, RHO, D, H, chain_description, exact_joint
 
 from assembly import load_case, parse_case
 from solver import solve_case
@@ -378,7 +378,6 @@ def test_uff_geometry_of_plates_placed_in_space():
     stiffener's probes stand on its weld line above the skin, the skin's lie at z = 0."""
     pytest.importorskip("pyuff")
     from assembly.generate import stiffened_panel
-
     from updating.uff_export import sweep_datasets
 
     case = parse_case(stiffened_panel(2))

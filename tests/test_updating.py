@@ -7,7 +7,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from exact import Section, coplanar, complex_rigidity, levy_chain
+from exact import Section, complex_rigidity, coplanar, levy_chain
 from scipy import optimize
 from test_assemblies import MATERIAL, chain_description, exact_measurements, levy_chain_experiment
 

@@ -223,7 +223,7 @@ def _sweep_option_problems(args):
 
 def _check_description(args):
     """Physical and numerical sanity of the description, before any work; prints warnings."""
-    from solver.problems import check_description
+    from solver.guards import check_description
 
     if not getattr(args, "case", None):
         return
@@ -267,7 +267,7 @@ def _problem_warnings(args, problem):
     """Print the condition warnings of a ModifiedProblem; stop on a non-finite set-up."""
     import math
 
-    from solver.vtcr import NumericalError
+    from solver.errors import NumericalError
 
     for line in getattr(problem, "warnings", ()):
         _warn(_console(args), line)
@@ -698,10 +698,23 @@ def cmd_update(args):
 
     from updating.files import write_json_atomic, write_text_atomic
     from updating.progress import progress_bar
-    from updating.report import (identified_lines, notable_joints, result_json, result_markdown,
-                                 steps_table)
-    from updating.runfile import (RunFile, RunLock, description_digest, fingerprint, load_run,
-                                  read_run, refuse_other_measurements, refuse_replacing)
+    from updating.report import (
+        identified_lines,
+        notable_joints,
+        result_json,
+        result_markdown,
+        steps_table,
+    )
+    from updating.runfile import (
+        RunFile,
+        RunLock,
+        description_digest,
+        fingerprint,
+        load_run,
+        read_run,
+        refuse_other_measurements,
+        refuse_replacing,
+    )
     from updating.strategy import finished_result, standing_summary, update_joints
 
     case = _load(args)
@@ -1203,10 +1216,9 @@ def build_parser():
 def main(argv=None):
     """Entry point of the ``vtcr`` console script; returns the exit status."""
     from assembly import DescriptionError
-    from updating.files import InputError
-
+    from solver.errors import NumericalError
     from solver.estimate import ToleranceError
-    from solver.vtcr import NumericalError
+    from updating.files import InputError
 
     parser = build_parser()
     args = parser.parse_args(argv)

@@ -1,0 +1,385 @@
+"""Guard rails of a description: what a double-precision VTCR solve cannot take, found before
+any solve (ray counts below the resolution rule or past :data:`MAX_RAYS_PER_PLATE`, magnitudes
+out of range, point forces on an edge, measurement grids in the wrong unit, a solve larger than
+the memory). Every entry point runs them: the commands and the library calls alike
+(``docs/accuracy.md``).
+"""
+
+from __future__ import annotations
+
+import math
+
+from assembly.errors import DescriptionError, Issue, format_path
+from solver.problems import plate_problems, plate_ray_counts
+from solver.rays import automatic_ray_counts
+from solver.sizing import available_memory, estimate_size
+
+__all__ = ["description_issues", "check_description", "UNDER_RESOLVED", "UNDER_RESOLVED_WARNING",
+           "MAX_RAYS_PER_PLATE", "MAX_GRID_POINTS", "KIRCHHOFF_WAVELENGTH"]
+
+
+UNDER_RESOLVED = 0.6
+"""Ray counts below this fraction of the resolution rule are an error.
+
+The rule (:func:`solver.rays.automatic_ray_counts`, resolution 1) gives field errors of
+3e-5 to 8e-4 on ``cases/single_plate``, ``two_plates`` and ``four_plates``; scaled by 0.8 the
+errors are 0.7 %, 18 % and 21 %, by 0.6 already 7 %, 26 % and 80 %, by 0.5 75-96 % (relative L2
+of w on a 2 cm grid against resolution 2). Lowering one family alone to 0.6 of its count gives
+up to 49 % (interior) and 13 % (evanescent edge rays). Below 0.6 the rays do not resolve the
+bending wavelength: the result is not a coarse approximation but a wrong field.
+"""
+
+
+UNDER_RESOLVED_WARNING = 0.85
+"""Ray counts below this fraction of the rule (but above :data:`UNDER_RESOLVED`) warn: errors
+of a few per cent to 20 % near a resonance (see :data:`UNDER_RESOLVED`)."""
+
+
+MAX_RAYS_PER_PLATE = 1500
+"""Most ray unknowns per plate that a description may ask for.
+
+Single 0.5 x 0.4 m steel plate, 1 mm, simply supported (one dense solve, one thread):
+1098 unknowns at 30 kHz take 2.5 s with condition estimate 2e19; 1988 at 100 kHz take 9 s
+(0.8 GB) with 2e20, past :data:`solver.vtcr.CONDITION_WARNING`, where double precision starts
+to lose the field; updating repeats such solves for every joint and step.
+"""
+
+
+MAX_GRID_POINTS = 100_000
+"""Most points of the measurement grid on one plate (``[measurement] spacing``): a laser
+vibrometer scan has hundreds to a few thousands; a finer grid is most likely a unit mistake
+(millimetres for metres) and would make simulating and sampling the field crawl."""
+
+
+EDGE_FORCE_DISTANCE = 1e-4
+"""Closest a point force may be to an edge, as a fraction of the plate's smaller side. On the
+simply supported 0.5 x 0.4 m plate at 155 Hz the error (and its estimate) is 27 % (1.0) at
+1 mm, 289 % (1.2) at 0.1 mm and 720 % (0.58) at 40 um; at 10 um the estimate catches a
+quarter of the error, at 1 um a thirtieth."""
+
+
+SI_PLAUSIBLE_SIZE = 100.0
+"""A plate side above this many metres is more likely in millimetres: warned, not refused."""
+
+LOG10_RANGE = 100.0
+"""Decades either side of 1 allowed for a plate's bending stiffness (N m) and mass per area
+(kg/m^2): steel sheet to concrete slab span 1e-3..1e9 and 1..1e3; beyond 1e100 the fourth
+powers and exponentials of the solve overflow."""
+
+
+LOW_FREQUENCY_KAPPA_R = 0.3
+r"""Smallest :math:`\kappa_0R_{max}` accepted (plate half-diagonal in radians of bending wave).
+On the simply supported 0.5 x 0.4 m plate the error is 4e-3 at 0.3 (0.3 Hz), 3-27 % at 0.2
+and 14 % at 0.1, whatever the resolution: the rays of a plate that small against the
+wavelength are nearly linearly dependent and cannot carry a quasi-static field."""
+
+
+HIGH_FREQUENCY_KAPPA_R = 1e4
+r"""Largest :math:`\kappa_0R_{max}` looked at further (the ray-count limit
+:data:`MAX_RAYS_PER_PLATE` refuses far smaller ones; this only keeps the counts finite)."""
+
+
+KIRCHHOFF_WAVELENGTH = 6.0
+"""Kirchhoff (thin-plate) theory holds while the bending wavelength exceeds this many
+thicknesses (the usual lambda > 6 h); shorter waves feel shear and rotary inertia (Mindlin)."""
+
+
+_FAMILIES = ("interior", "edge_propagating", "edge_evanescent")
+
+
+_FAMILY_NAMES = {"interior": "interior", "edge_propagating": "propagating edge",
+                 "edge_evanescent": "evanescent edge"}
+
+
+def _family_counts(counts, family):
+    value = getattr(counts, family)
+    return (value,) if isinstance(value, int) else tuple(value)
+
+
+def _short(counts, floor, families):
+    """Families of ``counts`` with a count below ``floor`` (per edge for edge families)."""
+    return [f for f in families
+            if any(u < m for u, m in zip(_family_counts(counts, f), _family_counts(floor, f)))]
+
+
+def _shown(counts, family):
+    values = _family_counts(counts, family)
+    return str(values[0]) if len(set(values)) == 1 else "/".join(map(str, values))
+
+
+def _scale_issues(case, frequencies, location):
+    r"""Magnitudes a double-precision Trefftz solve cannot take, found before computing them.
+
+    Computed in logarithms, so that absurd inputs (a thickness of 1e300, a frequency of
+    1e-300) are reported rather than overflowing: the bending stiffness and the mass per area
+    must stay within :data:`LOG10_RANGE` decades of 1, and at every frequency each plate's
+    :math:`\kappa_0R_{max}` (half-diagonal in radians of bending wave) must lie between
+    :data:`LOW_FREQUENCY_KAPPA_R` and :data:`HIGH_FREQUENCY_KAPPA_R`. A plate thicker than a
+    tenth of its smaller side warns (thin-plate theory needs h much smaller than the plate).
+    """
+    errors, warnings = [], []
+    low, high = min(frequencies), max(frequencies)
+    largest = max(max(plate.size) for plate in case.plates.values())
+    if largest > SI_PLAUSIBLE_SIZE:
+        warnings.append((("plates",),
+                         f"the largest plate side is {largest:g}: vtcr computes in any "
+                         "consistent unit system, but if these are millimetres its unit labels "
+                         "(m, Pa, kg/m^3, N/m) do not apply: read lengths in mm, stresses in "
+                         "MPa, densities in t/mm^3"))
+    for pid, plate in case.plates.items():
+        material = case.materials[plate.material]
+        log_d = (math.log10(material.young_modulus) + 3.0 * math.log10(plate.thickness)
+                 - math.log10(12.0 * (1.0 - material.poisson_ratio**2)))
+        log_mass = math.log10(material.density) + math.log10(plate.thickness)
+        if abs(log_d) > LOG10_RANGE or abs(log_mass) > LOG10_RANGE:
+            errors.append((("plates", pid, "thickness"),
+                           f"plate {pid}: bending stiffness E h^3 / (12 (1 - nu^2)) = "
+                           f"1e{log_d:.0f} N m and mass per area rho h = 1e{log_mass:.0f} "
+                           "kg/m^2 are beyond what a double-precision solve can take; give the "
+                           "thickness (m), young_modulus (Pa) and density (kg/m^3) in SI units"))
+            continue
+        r_max = 0.5 * math.hypot(*plate.size)
+        if plate.thickness >= min(plate.size):
+            errors.append((("plates", pid, "size"),
+                           f"plate {pid}: its side {min(plate.size):g} m is not larger than its "
+                           f"thickness {plate.thickness:g} m: not a plate (a 1 um wide plate "
+                           "gave a field wrong by 1e14); give the sizes and the thickness in m"))
+            continue
+        if plate.thickness > 0.1 * min(plate.size):
+            warnings.append((("plates", pid, "thickness"),
+                             f"plate {pid}: thickness {plate.thickness:g} m is more than a tenth "
+                             f"of its smaller side ({min(plate.size):g} m), beyond thin-plate "
+                             "(Kirchhoff) theory: shear and rotary inertia are neglected"))
+        for f in sorted({low, high}):
+            log_kr = (log_mass + 2.0 * math.log10(2.0 * math.pi * f) - log_d) / 4.0 \
+                + math.log10(r_max)
+            if log_kr < math.log10(LOW_FREQUENCY_KAPPA_R):
+                f_min = float(f"{f * (LOW_FREQUENCY_KAPPA_R / 10.0**log_kr) ** 2:.2g}")
+                errors.append((location(f),
+                               f"plate {pid} at {f:g} Hz: its half-diagonal is "
+                               f"{10.0**log_kr / (2 * math.pi):.1g} bending wavelength, far "
+                               "below its first resonance, where the ray basis does not "
+                               "converge (errors of 10 % and more on a simply supported plate); "
+                               f"results cannot be trusted below about {f_min:g} Hz for this "
+                               "plate: give frequencies above it"))
+            elif log_kr > math.log10(HIGH_FREQUENCY_KAPPA_R):
+                errors.append((location(f),
+                               f"plate {pid} at {f:g} Hz: its half-diagonal is "
+                               f"1e{log_kr - math.log10(2 * math.pi):.0f} bending wavelengths; "
+                               "lower the frequency (or check its unit: Hz)"))
+    for index, load in enumerate(case.loads):
+        if load.kind != "point_force" or load.plate not in case.plates:
+            continue
+        size = case.plates[load.plate].size
+        distance = min(load.at[0], size[0] - load.at[0], load.at[1], size[1] - load.at[1])
+        if distance < EDGE_FORCE_DISTANCE * min(size):
+            errors.append((("loads", index, "at"),
+                           f"the point force on plate {load.plate} is {distance:.2g} m from an "
+                           f"edge, closer than {EDGE_FORCE_DISTANCE:g} of the plate's side "
+                           f"({EDGE_FORCE_DISTANCE * min(size):.2g} m): the rays cannot follow its "
+                           "image in the edge (1 um away, the field was wrong by 3e4 %, and the "
+                           "error estimate missed it); move it inside, or model it as an edge "
+                           "load"))
+    return errors, warnings
+
+
+def description_issues(case, frequencies=None, need_loads=False):
+    """Physical and numerical sanity of a valid description: ``(errors, warnings)``.
+
+    Checked at the highest frequency (ray counts grow with it), each plate:
+
+    * **ray resolution** -- every ray family must reach :data:`UNDER_RESOLVED` (0.6) of the
+      resolution rule (:func:`solver.rays.automatic_ray_counts`, ``docs/method.md`` section 5.2),
+      else an error names the per-plate override (``discretisation.plates.P1.interior``) or
+      ``discretisation.resolution`` (``measurement.resolution`` for the simulated
+      experiment), the frequency, the count given and the count the rule asks; below
+      :data:`UNDER_RESOLVED_WARNING` (0.85) a warning;
+    * **size** -- more than :data:`MAX_RAYS_PER_PLATE` ray unknowns on one plate is an error
+      (the plate spans too many wavelengths for a dense Trefftz solve);
+    * **thin-plate theory** -- a bending wavelength below :data:`KIRCHHOFF_WAVELENGTH`
+      thicknesses warns;
+    * **measurement grid** -- more than :data:`MAX_GRID_POINTS` points on a plate is an
+      error (spacing in mm instead of m?);
+    * **loads** (if `need_loads`) -- a description without loads has a zero response.
+
+    Parameters
+    ----------
+    case : assembly.Case
+        A validated description.
+    frequencies : sequence of float, optional
+        Frequencies to check instead of the description's (e.g. ``vtcr solve --frequency``);
+        issues about the frequency are then located at ``--frequency``.
+    need_loads : bool, optional
+        Report a description without ``[[loads]]`` (solving commands).
+
+    Returns
+    -------
+    errors, warnings : list of (tuple, str)
+        ``(location, message)``, the location a field path such as
+        ``("discretisation", "plates", "P1", "interior")``.
+    """
+    errors, warnings = [], []
+    if need_loads and not case.loads:
+        errors.append((("loads",), "the description has no [[loads]], so its forced response "
+                       "is zero (nothing to solve or compare with measurements); add a load, "
+                       'e.g. [[loads]] kind = "point_force", plate = "P1", at = [0.1, 0.1], '
+                       "amplitude = 1.0"))
+    spacing = case.measurement.spacing
+    for pid in case.plates:  # the grid of `vtcr solve` covers every plate
+        nx, ny = (max(1, round(length / spacing)) for length in case.plates[pid].size)
+        if nx * ny > MAX_GRID_POINTS:
+            errors.append((("measurement", "spacing"),
+                           f"spacing {spacing:g} m puts {nx} x {ny} grid points on plate {pid} "
+                           f"(more than {MAX_GRID_POINTS}); give the spacing in metres, e.g. "
+                           "spacing = 0.05"))
+            break
+    given = frequencies is not None
+    frequencies = tuple(frequencies) if given else case.frequencies
+
+    def location(g):
+        """Where frequency ``g`` was given: the option, or the description's field."""
+        if given:
+            return ("--frequency",)
+        if case.frequency is not None:
+            return ("frequency",)
+        return ("frequencies", frequencies.index(g))
+
+    f = max(frequencies)
+    f_loc = location(f)
+    scale_errors, scale_warnings = _scale_issues(case, frequencies, location)
+    warnings += scale_warnings
+    if scale_errors:  # the quantities below would overflow or vanish
+        return errors + scale_errors, warnings
+    settings = case.discretisation
+    tau = settings.edge_wavenumber_ratio
+    simulation = settings.resolution * case.measurement.resolution
+    scaled = {"error": [], "warning": [], "simulation": []}
+    huge = {}
+    problems = plate_problems(case, f)
+    for pid, plate in case.plates.items():
+        problem = problems[pid]
+        kappa0 = problem.kappa.real
+        wavelength = 2.0 * math.pi / kappa0
+        lx, ly = plate.size
+        rule = automatic_ray_counts(kappa0, plate.size, 1.0, tau)
+        floor = automatic_ray_counts(kappa0, plate.size, UNDER_RESOLVED, tau)
+        fair = automatic_ray_counts(kappa0, plate.size, UNDER_RESOLVED_WARNING, tau)
+        used = plate_ray_counts(case, pid, problem)
+        override = settings.for_plate(pid)
+        own = [fam for fam in _FAMILIES if getattr(override, fam) is not None]
+        auto = [fam for fam in _FAMILIES if fam not in own]
+        where = (f"plate {pid} at {f:g} Hz (bending wavelength {wavelength:.3g} m, "
+                 f"{lx / wavelength:.1f} x {ly / wavelength:.1f} wavelengths)")
+        for fam in _short(used, floor, own):
+            errors.append((("discretisation", "plates", pid, fam),
+                           f"{_shown(used, fam)} {_FAMILY_NAMES[fam]} ray sectors cannot resolve "
+                           f"{where}: the resolution rule asks {_shown(rule, fam)} (below "
+                           f"{_shown(floor, fam)}, {UNDER_RESOLVED:g} of it, the field is wrong); "
+                           f"give {fam} = "
+                           f"{max(_family_counts(rule, fam))} or remove the override"))
+        for fam in _short(used, fair, own):
+            if fam not in _short(used, floor, own):
+                warnings.append((("discretisation", "plates", pid, fam),
+                                 f"{_shown(used, fam)} {_FAMILY_NAMES[fam]} ray sectors for "
+                                 f"{where}, below the {_shown(rule, fam)} of the resolution "
+                                 "rule: expect errors of a few per cent near a resonance"))
+        if _short(used, floor, auto):
+            scaled["error"].append((where, used, rule, _short(used, floor, auto)))
+        elif _short(used, fair, auto):
+            scaled["warning"].append((where, used, rule, _short(used, fair, auto)))
+        sim = plate_ray_counts(case, pid, problem, simulation)
+        if _short(sim, floor, auto) and case.measurement.resolution < 1.0:
+            scaled["simulation"].append((where, sim, rule, _short(sim, floor, auto)))
+        if used.total > MAX_RAYS_PER_PLATE:
+            loc = f_loc if rule.total > MAX_RAYS_PER_PLATE else ("discretisation", "resolution")
+            huge.setdefault(loc, []).append((pid, where, used.total))
+        if wavelength < KIRCHHOFF_WAVELENGTH * plate.thickness:
+            warnings.append((f_loc, f"plate {pid} at {f:g} Hz: the bending wavelength "
+                             f"{wavelength:.3g} m is less than {KIRCHHOFF_WAVELENGTH:g} "
+                             f"thicknesses ({plate.thickness:g} m), beyond thin-plate "
+                             "(Kirchhoff) theory; lower the frequency"))
+
+    for loc, plates in huge.items():
+        pid, where, total = plates[0]
+        others = [p for p, *_ in plates[1:]]
+        likewise = f"; likewise plate(s) {', '.join(others)}" if others else ""
+        f_ok = float(f"{f * (MAX_RAYS_PER_PLATE / total) ** 2:.2g}")  # counts ~ sqrt(f)
+        errors.append((loc, f"{where}: the VTCR would need {total} ray unknowns on it, beyond "
+                       f"{MAX_RAYS_PER_PLATE} (each dense solve takes seconds to minutes and its "
+                       "condition estimate passes 1e20, where double precision loses the "
+                       f"field){likewise}; lower the frequency (below about {f_ok:g} Hz) or "
+                       "split the plate into smaller plates joined by stiff coplanar joints"))
+
+    def counts_text(counts, rule, families):
+        return ", ".join(f"{_shown(counts, fam)} {_FAMILY_NAMES[fam]} (rule: {_shown(rule, fam)})"
+                         for fam in families)
+
+    fixes = {
+        "error": f"give a resolution of at least {UNDER_RESOLVED:g} (1.0 is the rule)",
+        "simulation": (f"give a resolution of at least "
+                       f"{UNDER_RESOLVED / settings.resolution:.2g} (the simulation multiplies "
+                       "it by [discretisation] resolution; the default 1.6 refines the model's "
+                       "rays, so that the simulated experiment is not the model itself)"),
+    }
+    for kind, loc, value, what in (
+            ("error", ("discretisation", "resolution"), settings.resolution, "the model"),
+            ("simulation", ("measurement", "resolution"), case.measurement.resolution,
+             "the simulated experiment")):
+        if scaled[kind]:
+            where, counts, rule, families = scaled[kind][0]
+            others = len(scaled[kind]) - 1
+            more = f"; likewise {others} other plate(s)" if others else ""
+            errors.append((loc, f"resolution {value:g} leaves {what} too few rays to resolve "
+                           f"{where}: {counts_text(counts, rule, families)} ray sectors{more}; "
+                           + fixes[kind]))
+    if scaled["warning"]:
+        where, counts, rule, families = scaled["warning"][0]
+        warnings.append((("discretisation", "resolution"),
+                         f"resolution {settings.resolution:g} gives {where} "
+                         f"{counts_text(counts, rule, families)} ray sectors: expect errors of a "
+                         "few per cent near a resonance; 1.0 is the rule"))
+    if case.joints and not errors:
+        errors += _memory_issues(case, f, f_loc)
+    return errors, warnings
+
+
+def _memory_issues(case, frequency, loc):
+    """An error if the estimated memory of a solve exceeds the memory available now."""
+    estimate = estimate_size(case, frequency)
+    available = available_memory()
+    if available is None or estimate.solve_bytes <= available:
+        return []
+    return [(loc, f"at {frequency:g} Hz the VTCR problem has {estimate.interface_unknowns} "
+             f"interface unknowns and {estimate.ray_unknowns} ray amplitudes in "
+             f"{estimate.plates} plates; its solve needs about "
+             f"{estimate.solve_bytes / 1e9:.2g} GB, "
+             f"more than the {available / 1e9:.2g} GB available (vtcr check prints the "
+             "estimate); lower the frequency or [discretisation] resolution, or study a part "
+             "of the structure")]
+
+
+def check_description(case, source, frequencies=None, need_loads=False):
+    """Raise the errors of :func:`description_issues`; return its warnings as lines.
+
+    Parameters
+    ----------
+    case : assembly.Case
+    source : str
+        The description's file name, for the messages.
+    frequencies, need_loads
+        As in :func:`description_issues`.
+
+    Returns
+    -------
+    list of str
+        One line per warning, ``source: field.path: message``.
+
+    Raises
+    ------
+    assembly.DescriptionError
+        With every error, one :class:`assembly.errors.Issue` each.
+    """
+    errors, warnings = description_issues(case, frequencies, need_loads)
+    if errors:
+        raise DescriptionError(Issue(source, format_path(loc), msg) for loc, msg in errors)
+    return [str(Issue(source, format_path(loc), msg)) for loc, msg in warnings]

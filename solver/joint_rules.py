@@ -1,0 +1,76 @@
+r"""Joint lines: their Gauss rules, the Legendre functions that carry their loads, and the
+channel parameters of the joint laws (``docs/method.md`` sections 6.2 and 7.3).
+
+A leaf of the assembly solve: :mod:`solver.substructure` builds its channels on these rules,
+and :mod:`solver.power` integrates the power through the joints on the same ones.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import scipy.linalg
+
+from solver.rays import gauss_legendre
+
+__all__ = ["interface_function_count", "load_function_projection", "legendre_values",
+           "joint_gauss", "channel_parameters", "joint_parameters"]
+
+
+def interface_function_count(kappa0, length, resolution=1.0):
+    r"""Legendre functions per interface unknown: :math:`M = \lceil 0.75\,s\,\kappa_0 L\rceil + 2`.
+
+    A Legendre series resolves :math:`e^{j\beta\sigma}` on :math:`[0, L]` once
+    :math:`M > \beta L/2`; the joint loads carry wavenumbers up to about :math:`1.5\kappa_0`
+    (propagating waves plus the slower part of the edge boundary layers). More functions than
+    the plates' rays can answer make the loads' system ill-posed: against the Levy series of a
+    three-plate chain from 60 to 600 Hz and log10 k = 2 to 8, ``+ 2`` was near the best count
+    everywhere, and ``+ 8`` up to ten times less accurate at stiff joints and low
+    :math:`\kappa_0L` (``bench/README.md``).
+    """
+    return math.ceil(0.75 * resolution * kappa0 * length) + 2
+
+
+def load_function_projection(root_w, psi):
+    r""":math:`Q^HW^{1/2}`, shape (n_f, Gauss points): the coordinates, on an orthonormal basis
+    :math:`Q` of the joint's weighted load functions :math:`W^{1/2}\psi`, of a quantity sampled
+    at the joint's Gauss points. A channel's load and kinematic samples are taken through it.
+
+    The residual :math:`r = (LS + l) - c(RS + \rho)` then counts through its :math:`L^2`
+    projection on the functions that carry the loads, :math:`\|Q^HW^{1/2}r\|^2`: the joint law
+    is imposed as far as the loads can carry it. The part of the plates' traces outside those
+    functions, which no load of the discretisation can balance, is not counted; measuring it
+    made each channel's rows as many as its Gauss points (instead of its functions) and, with
+    the functions a plate's rays can answer, left a floor of that part in every residual
+    (``bench/README.md``)."""
+    return scipy.linalg.orth(root_w[:, None] * psi).conj().T * root_w
+
+
+def legendre_values(sigma, length, n):
+    """``P_m(2 sigma / L - 1)`` for ``m < n``, shape ``(len(sigma), n)``."""
+    x = 2.0 * np.asarray(sigma) / length - 1.0
+    return np.polynomial.legendre.legvander(x, n - 1)
+
+
+def joint_gauss(length, k_max):
+    r"""Gauss points and weights on a joint line of ``length`` (m): :math:`\lceil k_{max}L\rceil + 16`
+    points, where :math:`k_{max}` is the largest ray wavenumber of the two plates."""
+    x, w = gauss_legendre(math.ceil(k_max * length) + 16)
+    return 0.5 * length * (x + 1.0), 0.5 * length * w
+
+
+def channel_parameters(parameters, omega):
+    r"""``{(channel name, kind): c}`` from ``{name: {log10_stiffness, loss_factor, mass}}``
+    (:meth:`assembly.Case.updatable_parameters`): the rotation channel's
+    :math:`k(1 + j\zeta)` and the mass channel's :math:`\omega^2\mu`."""
+    out = {}
+    for name, p in parameters.items():
+        out[name, "rotation"] = 10.0 ** p["log10_stiffness"] * (1.0 + 1j * p["loss_factor"])
+        out[name, "mass"] = omega**2 * p["mass"] + 0j
+    return out
+
+
+def joint_parameters(case, omega):
+    """Channel parameters ``{(channel name, kind): c}`` of the description's joints."""
+    return channel_parameters(case.updatable_parameters(), omega)
