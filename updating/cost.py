@@ -7,17 +7,18 @@ For each measured frequency (``docs/method.md`` sections 6.3 and 7.3):
                    + r\,E_{mes}^2(S),\qquad
     E_{mes}^2 = \frac{\sum_n|\Pi_n u(S) - \tilde u_n|^2}{\sum_n|\tilde u_n|^2}
     \quad\text{or}\quad
-    E_{mes}^2 = \frac1P\sum_p\frac{\sum_{n\in p}|\Pi_n u(S) - \tilde u_n|^2}
+    E_{mes}^2 = \sum_p\frac{m_p}{M}\frac{\sum_{n\in p}|\Pi_n u(S) - \tilde u_n|^2}
                                     {\sum_{n\in p}|\tilde u_n|^2},
 
 where the plate fields are :math:`u_i = \Phi_i(U_i^0 + T_iS) + w_{p,i}` (admissibility holds
 exactly for every S). Both terms are sums of squares of residual samples affine in S; the
 measurement term has the linear part that the paper's printed eq. 30 omits. The first
-:math:`E_{mes}^2` is the paper's (``[updating] misfit = "global"``, the default); the second
-(``"per_plate"``) is the mean over the P measured plates of each plate's misfit relative to
-its own measured field: under relative noise a plate far from the load, whose field is weak,
-then counts as much as the loaded one, and a joint there is judged by its own data rather
-than by a fraction of the whole structure's. With several
+:math:`E_{mes}^2` is the paper's (``[updating] misfit = "global"``, the default with a number
+for r); the second (``"per_plate"``, the default with the scale-free weights,
+:mod:`updating.weights`) is the mean over the M measured values of their plate's misfit relative
+to its own measured field (:math:`m_p` values on plate p): under relative noise a plate far
+from the load, whose field is weak, then counts as much as the loaded one, and a joint there is
+judged by its own data rather than by a fraction of the whole structure's. With several
 frequencies the costs are summed, each with its own fixed normalisation (its :math:`E_{ref}`
 and :math:`\|\tilde u\|^2`).
 
@@ -41,19 +42,19 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from solver.errors import NumericalError, condition_warnings
 from solver.estimate import enriched_plates, estimate_error
 from solver.interface import Block, JointCondensation, squared_norm
+from solver.joint_rules import channel_parameters
 from solver.plate import particular_field
 from solver.rays import ray_field
 from solver.substructure import (
     build_assembly_system,
     channel_blocks,
-    channel_parameters,
     joint_residuals,
     solve_assembly,
     solve_interface,
 )
-from solver.vtcr import NumericalError
 from updating.executor import thread_map
 from updating.weights import scale_free_weights
 
@@ -533,8 +534,6 @@ class ModifiedProblem:
         """Condition warnings of the plate solves, one line each (as ``CaseSolution.warnings``),
         and the frequencies whose floors lack the discretisation error (its enriched solve was
         not made)."""
-        from solver.vtcr import condition_warnings
-
         lines = [line for f, d in self.frequencies.items()
                  for line in condition_warnings(d.system.rcond, f)]
         lines += [f"{f:g} Hz: the floors hold the measurement noise only, not the model's "
