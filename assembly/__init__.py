@@ -22,14 +22,13 @@ AssemblyError, DescriptionError
     Exceptions.
 """
 
+from .case import Case
 from .errors import AssemblyError, DescriptionError
 from .graph import build_graph, joint_ids
 from .loading import load_case, load_case_text, parse_case
 from .models import (
     Boundary,
-    Case,
     CoplanarJoint,
-    EdgeId,
     EdgeMoment,
     EdgeShear,
     HingeJoint,
@@ -37,9 +36,9 @@ from .models import (
     Material,
     Plate,
     PointForce,
-    parse_edge_ref,
 )
 from .summary import summarise
+from .types import EdgeId, parse_edge_ref
 
 __all__ = [
     "AssemblyError",

@@ -1,6 +1,6 @@
 """Cross-reference checks of a description: what a single table cannot check alone.
 
-:class:`assembly.models.Case` validation calls :func:`cross_check` on a view of its tables and
+:class:`assembly.case.Case` validation calls :func:`cross_check` on a view of its tables and
 raises :class:`assembly.models.CrossReferenceError` with every problem found, each as
 ``(loc, message)``: the joints' edges and members, the frames of plates placed in 3D, the
 boundaries and loads, the measurement points and the truth tables, each message naming the
@@ -16,12 +16,13 @@ from typing import Any
 
 import numpy as np
 
+from assembly.errors import did_you_mean, listing
+from assembly.grid import on_grid
 from assembly.models import (
     FRAME_TOLERANCE,
     Boundary,
     CoplanarJoint,
     Discretisation,
-    EdgeId,
     EdgeMoment,
     EdgeShear,
     HingeJoint,
@@ -34,12 +35,9 @@ from assembly.models import (
     PointForce,
     Truth,
     Updating,
-    _did_you_mean,
-    _listing,
-    _on_grid,
     default_spacing,
-    parse_edge_ref,
 )
+from assembly.types import EdgeId, parse_edge_ref
 
 __all__ = ["View", "cross_check"]
 
@@ -191,7 +189,7 @@ def cross_check(view: View) -> list[tuple[Loc, str]]:  # noqa: C901 (a flat list
     """Return every cross-reference problem of an assembly, as ``(loc, message)``."""
     issues: list[tuple[Loc, str]] = []
     plates = view.plates
-    plate_list = _listing(plates) if plates is not None else ""
+    plate_list = listing(plates) if plates is not None else ""
 
     # frequency XOR frequencies
     if view.has_frequency and view.has_frequencies:
@@ -217,7 +215,7 @@ def cross_check(view: View) -> list[tuple[Loc, str]]:  # noqa: C901 (a flat list
                 (
                     loc,
                     f"plate {edge.plate!r} is not in the assembly (plates: {plate_list})"
-                    f"{_did_you_mean(edge.plate, plates)}; fix the edge reference",
+                    f"{did_you_mean(edge.plate, plates)}; fix the edge reference",
                 )
             )
             return None
@@ -232,7 +230,7 @@ def cross_check(view: View) -> list[tuple[Loc, str]]:  # noqa: C901 (a flat list
                 (
                     loc,
                     f"plate {plate_id!r} is not in the assembly (plates: {plate_list})"
-                    f"{_did_you_mean(plate_id, plates)}; {fix}",
+                    f"{did_you_mean(plate_id, plates)}; {fix}",
                 )
             )
             return None
@@ -250,8 +248,8 @@ def cross_check(view: View) -> list[tuple[Loc, str]]:  # noqa: C901 (a flat list
                 issues.append(
                     (
                         ("plates", pid, "material"),
-                        f"material {m!r} is not defined (materials: {_listing(view.materials)})"
-                        f"{_did_you_mean(m, view.materials)}; add a [materials.{m}] table "
+                        f"material {m!r} is not defined (materials: {listing(view.materials)})"
+                        f"{did_you_mean(m, view.materials)}; add a [materials.{m}] table "
                         "or use a defined material",
                     )
                 )
@@ -416,7 +414,7 @@ def cross_check(view: View) -> list[tuple[Loc, str]]:  # noqa: C901 (a flat list
             key = (point.plate, round(x, 9), round(y, 9))
             twin = earlier.get(key)
             if twin is None and plate is not None and point.plate in gridded:
-                if _on_grid(plate.size, spacing, x, y):
+                if on_grid(plate.size, spacing, x, y):
                     twin = "a point of the measurement grid"
             if twin is not None:
                 issues.append(
@@ -440,7 +438,7 @@ def cross_check(view: View) -> list[tuple[Loc, str]]:  # noqa: C901 (a flat list
             )
 
     joints = view.joints
-    joint_list = _listing(joints) if joints is not None else ""
+    joint_list = listing(joints) if joints is not None else ""
 
     def known_joint(jid: str, loc: Loc, fix: str) -> bool:
         if joints is None:
@@ -451,7 +449,7 @@ def cross_check(view: View) -> list[tuple[Loc, str]]:  # noqa: C901 (a flat list
                 (
                     loc,
                     f"joint {jid!r} is not in the assembly ({where})"
-                    f"{_did_you_mean(jid, joints)}; {fix}",
+                    f"{did_you_mean(jid, joints)}; {fix}",
                 )
             )
             return False

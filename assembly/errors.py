@@ -11,11 +11,13 @@ A small hierarchy in one module, as ``networkx/exception.py`` does:
 
 from __future__ import annotations
 
+import difflib
 import json
 from collections.abc import Iterable
 from dataclasses import dataclass
 
-__all__ = ["AssemblyError", "DescriptionError", "Issue", "format_path"]
+__all__ = ["AssemblyError", "DescriptionError", "Issue", "format_path", "listing",
+           "did_you_mean"]
 
 _PLAIN_KEY = frozenset("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_-")
 
@@ -119,3 +121,15 @@ class DescriptionError(AssemblyError):
     def __str__(self) -> str:
         """Return the messages joined by newlines."""
         return "\n".join(self.messages)
+
+
+def listing(names: Iterable[str]) -> str:
+    """``names`` joined by commas, or ``none``: the choices a message lists."""
+    names = list(names)
+    return ", ".join(names) if names else "none"
+
+
+def did_you_mean(word: str, choices: Iterable[str]) -> str:
+    """`` (did you mean 'X'?)`` for the choice closest to a misspelt ``word``, or nothing."""
+    close = difflib.get_close_matches(word, list(choices), n=1)
+    return f" (did you mean {close[0]!r}?)" if close else ""

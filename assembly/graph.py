@@ -27,7 +27,7 @@ from typing import Any
 
 import networkx as nx
 
-from .models import Case
+from .case import Case
 
 __all__ = [
     "build_graph",

@@ -1,4 +1,4 @@
-"""Read assembly descriptions (TOML) into validated :class:`~assembly.models.Case` objects.
+"""Read assembly descriptions (TOML) into validated :class:`~assembly.case.Case` objects.
 
 Every problem of a description is reported at once, as one
 :class:`~assembly.errors.DescriptionError` whose lines read (on one line)::
@@ -30,11 +30,11 @@ try:
 except ModuleNotFoundError:  # Python 3.10: the same parser, as the tomli package
     import tomli as tomllib  # type: ignore[no-redef]
 
+from .case import Case
 from .checks import View, cross_check
-from .errors import DescriptionError, Issue, format_path
+from .errors import DescriptionError, Issue, did_you_mean, format_path
 from .models import (
     Boundary,
-    Case,
     Compute,
     CoplanarJoint,
     CrossReferenceError,
@@ -42,23 +42,21 @@ from .models import (
     EdgeMoment,
     EdgeShear,
     HingeJoint,
-    JunctionJoint,
     Joint,
     JointTruth,
+    JunctionJoint,
     Load,
     Material,
     Measurement,
     Plate,
-    PlateFrame,
     PlateDiscretisation,
+    PlateFrame,
     PointForce,
     PointMeasurement,
-    Positive,
     Truth,
     Updating,
-    _did_you_mean,
-    _show,
 )
+from .types import Positive, show_value
 
 __all__ = ["load_case", "load_case_text", "parse_case"]
 
@@ -437,7 +435,7 @@ def _toml_type(value: object) -> str:
 
 
 def _describe_value(value: object) -> str:
-    return f"{_show(value)} ({_toml_type(value)})"
+    return f"{show_value(value)} ({_toml_type(value)})"
 
 
 def _translate(err: Any) -> tuple[Loc, str]:  # noqa: C901 (one branch per error type)
@@ -466,7 +464,7 @@ def _translate(err: Any) -> tuple[Loc, str]:  # noqa: C901 (one branch per error
         allowed = list(model.model_fields) if model is not None else []
         listing = f" (allowed: {', '.join(allowed)})" if allowed else ""
         return loc, (
-            f"unknown key `{key}`{_did_you_mean(key, allowed)}; remove it or fix its "
+            f"unknown key `{key}`{did_you_mean(key, allowed)}; remove it or fix its "
             f"spelling{listing}"
         )
     if kind in ("union_tag_invalid", "union_tag_not_found"):
@@ -480,7 +478,7 @@ def _translate(err: Any) -> tuple[Loc, str]:  # noqa: C901 (one branch per error
             return (*loc, "kind"), f"`kind` is missing; add kind = {choices}"
         found = str(ctx.get("tag", ""))
         return (*loc, "kind"), (
-            f"unknown kind {found!r}{_did_you_mean(found, kinds)}; use kind = {choices}"
+            f"unknown kind {found!r}{did_you_mean(found, kinds)}; use kind = {choices}"
         )
     if kind in ("value_error", "assertion_error"):
         error = ctx.get("error")
@@ -489,15 +487,15 @@ def _translate(err: Any) -> tuple[Loc, str]:  # noqa: C901 (one branch per error
     if kind == "literal_error":
         expected = str(ctx.get("expected", ""))
         options = re.findall(r"'([^']*)'", expected)
-        hint = _did_you_mean(value, options) if isinstance(value, str) else ""
+        hint = did_you_mean(value, options) if isinstance(value, str) else ""
         return loc, f"must be {expected}, got {_describe_value(value)}{hint}; use one of them"
     if kind in ("greater_than", "greater_than_equal", "less_than", "less_than_equal"):
         symbol = {"greater_than": ">", "greater_than_equal": ">=", "less_than": "<",
                   "less_than_equal": "<="}[kind]
         bound = next(iter(ctx.values()), "?")
-        return loc, f"must be {symbol} {bound}, got {_show(value)}; {eg}"
+        return loc, f"must be {symbol} {bound}, got {show_value(value)}; {eg}"
     if kind == "finite_number":
-        return loc, f"must be a finite number, got {_show(value)}; {eg}"
+        return loc, f"must be a finite number, got {show_value(value)}; {eg}"
     if kind in ("float_type", "float_parsing"):
         return loc, f"must be a number, got {_describe_value(value)}; write a number, {eg}"
     if kind in ("int_type", "int_parsing", "int_from_float"):

@@ -5,9 +5,10 @@ occupies ``[0, Lx] x [0, Ly]`` in its own frame; its edges are ``left`` (x = 0),
 (x = Lx), ``bottom`` (y = 0) and ``top`` (y = Ly), addressed as ``"PLATE.EDGE"``.
 All quantities are SI (m, kg, s, N, Pa, Hz); the time convention is :math:`e^{+j\omega t}`.
 
-The top-level model is :class:`Case`, one TOML description (see
-``docs/description.md``).  Tables, each optional except ``materials`` and
-``plates``:
+This module holds the tables of a description; the whole description is
+:class:`assembly.case.Case` (``docs/description.md``), and the building blocks of every table
+(ids, edge references, constrained numbers, the frozen base model) are in
+:mod:`assembly.types`.  Tables, each optional except ``materials`` and ``plates``:
 
 ========================  ===================================================================
 ``name``                  str
@@ -28,48 +29,58 @@ The top-level model is :class:`Case`, one TOML description (see
 
 Every model is frozen (``ConfigDict(extra="forbid", frozen=True)``) and its tables are
 read-only mappings; derived assemblies are built by copy, e.g.
-:meth:`Case.with_joint_parameters`.  Cross-references (materials, plates, edges, joints) are
-checked once by a ``model_validator(mode="after")`` on :class:`Case`, which reports every
+:meth:`assembly.case.Case.with_joint_parameters`.  Cross-references (materials, plates, edges,
+joints) are checked once by the validator of :class:`~assembly.case.Case`, which reports every
 problem at once.
 """
 
 from __future__ import annotations
 
-import difflib
-import functools
 import math
-import numbers
-from collections.abc import Iterable, Mapping, Sequence
-from typing import Annotated, Any, Literal, NamedTuple, Union
+from collections.abc import Mapping, Sequence
+from typing import Annotated, Any, Literal, Union
 
 import numpy as np
 from pydantic import (
     AfterValidator,
-    BaseModel,
-    ConfigDict,
     Field,
-    PlainSerializer,
     PlainValidator,
     Strict,
-    ValidationError,
     WithJsonSchema,
-    model_serializer,
     model_validator,
 )
 
-from .errors import AssemblyError, format_path
+from .errors import AssemblyError, did_you_mean, format_path
+from .types import (
+    EDGE_NAMES,
+    Complex,
+    Count,
+    EdgeId,
+    EdgeRef,
+    FrozenDict,
+    FrozenModel,
+    LogStiffness,
+    NonNegative,
+    PoissonRatio,
+    Positive,
+    Real,
+    check_bounds,
+    check_id,
+    check_identify,
+    check_material_loss_factor,
+    freeze,
+    is_real,
+    parse_edge_ref,
+    show_value,
+)
 
 __all__ = [
-    "EDGE_NAMES",
     "Boundary",
-    "Case",
     "Compute",
     "CoplanarJoint",
     "Discretisation",
-    "EdgeId",
     "EdgeMoment",
     "EdgeShear",
-    "FrozenDict",
     "HingeJoint",
     "Joint",
     "JointTruth",
@@ -84,280 +95,12 @@ __all__ = [
     "PointMeasurement",
     "Truth",
     "Updating",
-    "parse_edge_ref",
 ]
-
-EDGE_NAMES: tuple[str, ...] = ("left", "right", "bottom", "top")
-"""Edge names of a rectangular plate, in the plate-local frame."""
-
-JOINT_PARAMETERS: tuple[str, ...] = ("log10_stiffness", "loss_factor", "mass")
-"""Joint parameters that updating may change (``mass`` only for coplanar joints)."""
-
-_ID_CHARS = frozenset("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_-")
-
-
-# --------------------------------------------------------------------------------------
-# Read-only mapping
-# --------------------------------------------------------------------------------------
-class FrozenDict(dict):  # type: ignore[type-arg]
-    """A read-only ``dict``: the tables of a :class:`Case` (plates, joints, ...).
-
-    It compares, iterates and serialises like a ``dict``; every mutating method raises
-    :class:`TypeError`.  Build a modified assembly by copy instead, e.g. with
-    :meth:`Case.with_joint_parameters`.
-    """
-
-    def _read_only(self, *args: object, **kwargs: object) -> None:
-        raise TypeError(
-            "assembly tables are read-only; build a modified copy instead "
-            "(e.g. Case.with_joint_parameters or Case.model_copy(update=...))"
-        )
-
-    __setitem__ = __delitem__ = _read_only  # type: ignore[assignment]
-    clear = pop = popitem = setdefault = update = _read_only  # type: ignore[assignment]
-    __ior__ = _read_only  # type: ignore[assignment]
-
-    def __reduce__(self) -> tuple[type, tuple[dict[Any, Any]]]:
-        """Support copy, deepcopy and pickle (rebuilt from a plain dict)."""
-        return (type(self), (dict(self),))
-
-    def __hash__(self) -> int:  # type: ignore[override]
-        """Hash the items, so that frozen models holding a FrozenDict are hashable."""
-        return hash(frozenset(self.items()))
-
-    def __repr__(self) -> str:
-        """Return ``FrozenDict({...})``."""
-        return f"FrozenDict({dict.__repr__(self)})"
-
-
-def _freeze(value: dict[Any, Any]) -> FrozenDict:
-    return FrozenDict(value)
-
-
-# --------------------------------------------------------------------------------------
-# Small helpers for messages
-# --------------------------------------------------------------------------------------
-def _show(value: object, limit: int = 60) -> str:
-    """Return a short one-line repr of a user value."""
-    text = repr(value).replace("\n", " ")
-    return text if len(text) <= limit else text[: limit - 3] + "..."
-
-
-def _listing(names: Iterable[str]) -> str:
-    names = list(names)
-    return ", ".join(names) if names else "none"
-
-
-def _did_you_mean(word: str, choices: Iterable[str]) -> str:
-    close = difflib.get_close_matches(word, list(choices), n=1)
-    return f" (did you mean {close[0]!r}?)" if close else ""
-
-
-def _is_real(value: object) -> bool:
-    return isinstance(value, numbers.Real) and not isinstance(value, bool)
-
-
-# --------------------------------------------------------------------------------------
-# Edge references
-# --------------------------------------------------------------------------------------
-class EdgeId(NamedTuple):
-    """A plate edge: ``EdgeId("P1", "right")`` is the description's ``"P1.right"``."""
-
-    plate: str
-    edge: str
-
-    @property
-    def ref(self) -> str:
-        """The edge reference as written in a description, ``"PLATE.EDGE"``."""
-        return f"{self.plate}.{self.edge}"
-
-
-def _edge_ref_problem(ref: str) -> str | None:
-    """Return what is wrong with an edge reference (with a fix), or None if well formed."""
-    parts = ref.split(".")
-    if len(parts) != 2 or not parts[0] or not parts[1]:
-        return (
-            f"malformed edge reference {ref!r}; write 'PLATE.EDGE', e.g. 'P1.right', "
-            f"with EDGE one of {', '.join(EDGE_NAMES)}"
-        )
-    if parts[1] not in EDGE_NAMES:
-        return (
-            f"{parts[1]!r} in {ref!r} is not an edge name ({', '.join(EDGE_NAMES)})"
-            f"{_did_you_mean(parts[1], EDGE_NAMES)}; fix the edge reference"
-        )
-    return None
-
-
-def parse_edge_ref(ref: str) -> EdgeId:
-    """Split an edge reference ``"PLATE.EDGE"`` into plate id and edge name.
-
-    Parameters
-    ----------
-    ref : str
-        Edge reference, e.g. ``"P1.right"``.  Edge names are ``left`` (x = 0), ``right``
-        (x = Lx), ``bottom`` (y = 0) and ``top`` (y = Ly) of the plate-local frame.
-
-    Returns
-    -------
-    EdgeId
-        ``(plate, edge)``.
-
-    Raises
-    ------
-    AssemblyError
-        If `ref` is not a string of the form ``"PLATE.EDGE"`` with a known edge name.
-        Whether the plate exists is not checked (see :meth:`Case.edge`).
-
-    Examples
-    --------
-    >>> parse_edge_ref("P1.right")
-    EdgeId(plate='P1', edge='right')
-    """
-    if not isinstance(ref, str):
-        raise AssemblyError(f"an edge reference must be a string 'PLATE.EDGE', got {_show(ref)}")
-    return _split_edge_ref(ref)
-
-
-@functools.lru_cache(maxsize=65536)
-def _split_edge_ref(ref: str) -> EdgeId:
-    """:func:`parse_edge_ref` of a string, remembered: a joint's ``sides`` are read every time
-    a plate's subproblem is set up, for every plate (tens of thousands of times on a grid of
-    a hundred plates)."""
-    problem = _edge_ref_problem(ref)
-    if problem is not None:
-        raise AssemblyError(problem)
-    plate, edge = ref.split(".")
-    return EdgeId(plate, edge)
-
-
-# --------------------------------------------------------------------------------------
-# Reusable constrained types
-# --------------------------------------------------------------------------------------
-def _check_id(value: str) -> str:
-    if not value or not set(value) <= _ID_CHARS:
-        raise ValueError(
-            f"id {value!r} may only contain letters, digits, '_' and '-' (it is used in edge "
-            "references 'PLATE.EDGE', CSV files and on the command line); rename it"
-        )
-    return value
-
-
-def _check_edge_ref(value: str) -> str:
-    problem = _edge_ref_problem(value)
-    if problem is not None:
-        raise ValueError(problem)
-    return value
-
-
-def _to_complex(value: object) -> complex:
-    """Read a complex number written as a number or as ``[re, im]``."""
-    if _is_real(value):
-        z = complex(float(value))  # type: ignore[arg-type]
-    elif isinstance(value, numbers.Complex) and not isinstance(value, bool):
-        z = complex(value)
-    elif (
-        isinstance(value, (list, tuple))
-        and len(value) == 2
-        and _is_real(value[0])
-        and _is_real(value[1])
-    ):
-        z = complex(float(value[0]), float(value[1]))
-    else:
-        raise ValueError(
-            f"must be a number or [re, im], got {_show(value)}; write e.g. 1.0 or [1.0, 0.5]"
-        )
-    if not (math.isfinite(z.real) and math.isfinite(z.imag)):
-        raise ValueError(f"must be finite, got {_show(value)}; give a finite amplitude")
-    return z
-
-
-def _complex_pair(z: complex) -> list[float]:
-    return [z.real, z.imag]
-
-
-def _check_material_loss_factor(value: float) -> float:
-    if not value > 0:
-        raise ValueError(
-            f"must be > 0, got {value!r}: the VTCR needs eta > 0 (structural damping makes "
-            "every plate problem uniquely solvable); give the material's loss factor, e.g. 0.01"
-        )
-    return value
-
-
-def _check_frequencies(values: tuple[float, ...]) -> tuple[float, ...]:
-    if not values:
-        raise ValueError("is empty; list at least one frequency in Hz, e.g. [150.0, 155.0]")
-    seen: set[float] = set()
-    for f in values:
-        if f in seen:
-            raise ValueError(f"{f:g} Hz is listed twice; list each frequency once")
-        seen.add(f)
-    return values
-
-
-def _check_bounds(values: tuple[float, float]) -> tuple[float, float]:
-    lo, hi = values
-    if not lo < hi:
-        raise ValueError(
-            f"lower bound {lo:g} is not below upper bound {hi:g}; write bounds = [lo, hi] "
-            "with lo < hi (log10 of the stiffness), e.g. [-3.0, 7.0]"
-        )
-    return values
-
-
-def _check_identify(values: tuple[str, ...]) -> tuple[str, ...]:
-    if not values:
-        raise ValueError('is empty; list what to identify, e.g. identify = ["stiffness"]')
-    if len(set(values)) != len(values):
-        raise ValueError(f"lists a parameter twice ({', '.join(values)}); list each once")
-    return values
-
-
-Real = Annotated[float, Strict()]
-"""A finite real number (ints accepted, booleans and strings rejected)."""
-Positive = Annotated[float, Strict(), Field(gt=0)]
-"""A finite real number > 0."""
-NonNegative = Annotated[float, Strict(), Field(ge=0)]
-"""A finite real number >= 0."""
-Count = Annotated[int, Strict(), Field(ge=0)]
-"""A whole number >= 0 (no floats, no booleans)."""
-Frequency = Positive
-"""A frequency in Hz, > 0."""
-PoissonRatio = Annotated[float, Strict(), Field(gt=-1, lt=0.5)]
-"""Poisson's ratio, in (-1, 0.5)."""
-LogStiffness = Annotated[float, Strict(), Field(ge=-50, le=50)]
-"""log10 of a joint's rotational stiffness per unit length (k in N·m/m per rad = N)."""
-Id = Annotated[str, AfterValidator(_check_id)]
-"""An identifier of a material, plate or joint: letters, digits, ``_`` and ``-``."""
-EdgeRef = Annotated[str, AfterValidator(_check_edge_ref)]
-"""An edge reference ``"PLATE.EDGE"``."""
-Complex = Annotated[
-    complex,
-    PlainValidator(_to_complex),
-    PlainSerializer(_complex_pair, return_type=list[float]),
-    WithJsonSchema(
-        {
-            "anyOf": [
-                {"type": "number"},
-                {"type": "array", "items": {"type": "number"}, "minItems": 2, "maxItems": 2},
-            ],
-            "description": "a complex number written as a real number or as [re, im]",
-        }
-    ),
-]
-"""A complex number, written as a number or as ``[re, im]``; stored as :class:`complex`."""
-
-
-class _Model(BaseModel):
-    """Base of every description model: frozen, no unknown keys, finite floats."""
-
-    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
-
 
 # --------------------------------------------------------------------------------------
 # Materials and plates
 # --------------------------------------------------------------------------------------
-class Material(_Model):
+class Material(FrozenModel):
     r"""An isotropic, hysteretically damped plate material.
 
     Parameters
@@ -377,7 +120,7 @@ class Material(_Model):
     young_modulus: Positive
     poisson_ratio: PoissonRatio
     density: Positive
-    loss_factor: Annotated[float, Strict(), AfterValidator(_check_material_loss_factor)]
+    loss_factor: Annotated[float, Strict(), AfterValidator(check_material_loss_factor)]
 
     def flexural_rigidity(self, thickness: float) -> float:
         r"""Return the bending stiffness :math:`D = E h^3 / (12 (1 - \nu^2))` in N·m.
@@ -463,7 +206,7 @@ def _unit(vector: tuple[float, float, float]) -> np.ndarray:
     return np.asarray(vector, dtype=float)
 
 
-class PlateFrame(_Model):
+class PlateFrame(FrozenModel):
     r"""Placement of a plate in 3D: its local ``x``, ``y`` along ``x_axis``, ``y_axis``.
 
     A plate-local point :math:`(x, y)` is at :math:`\mathbf o + x\,\mathbf e_x + y\,\mathbf e_y`
@@ -515,7 +258,7 @@ class PlateFrame(_Model):
         return vector[0] * _unit(self.x_axis) + vector[1] * _unit(self.y_axis)
 
 
-class Plate(_Model):
+class Plate(FrozenModel):
     """A rectangular Kirchhoff plate occupying ``[0, Lx] x [0, Ly]`` in its local frame.
 
     Parameters
@@ -583,7 +326,7 @@ class Plate(_Model):
             return self.size[0]
         raise AssemblyError(
             f"{edge!r} is not an edge name ({', '.join(EDGE_NAMES)})"
-            f"{_did_you_mean(str(edge), EDGE_NAMES)}"
+            f"{did_you_mean(str(edge), EDGE_NAMES)}"
         )
 
     def edge_frame(self, edge: str) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
@@ -683,7 +426,7 @@ class Plate(_Model):
 # --------------------------------------------------------------------------------------
 # Joints
 # --------------------------------------------------------------------------------------
-class _JointBase(_Model):
+class _JointBase(FrozenModel):
     between: tuple[EdgeRef, EdgeRef]
     log10_stiffness: LogStiffness
     loss_factor: NonNegative = 0.0
@@ -777,9 +520,9 @@ class HingeJoint(_JointBase):
 
 
 def _member_stiffness(value: object, where: str = "") -> float:
-    if not _is_real(value) and not (isinstance(value, float) and math.isinf(value)):
+    if not is_real(value) and not (isinstance(value, float) and math.isinf(value)):
         raise ValueError(f"{where}must be a number (log10 of k in N) or inf (rigid), "
-                         f"got {_show(value)}")
+                         f"got {show_value(value)}")
     value = float(value)  # type: ignore[arg-type]
     if math.isnan(value) or value == -math.inf:
         raise ValueError(f"{where}must be a number in [-50, 50] or inf (rigid), got {value!r};"
@@ -790,8 +533,8 @@ def _member_stiffness(value: object, where: str = "") -> float:
 
 
 def _member_loss_factor(value: object, where: str = "") -> float:
-    if not _is_real(value) or not 0.0 <= float(value) < math.inf:  # type: ignore[arg-type]
-        raise ValueError(f"{where}must be a finite number >= 0, got {_show(value)}")
+    if not is_real(value) or not 0.0 <= float(value) < math.inf:  # type: ignore[arg-type]
+        raise ValueError(f"{where}must be a finite number >= 0, got {show_value(value)}")
     return float(value)  # type: ignore[arg-type]
 
 
@@ -800,7 +543,7 @@ def _per_member(check: Any) -> Any:
 
     def validate(value: object) -> Any:
         if isinstance(value, Mapping):
-            return FrozenDict({_check_id(str(plate)): check(v, f"member {plate!r}: ")
+            return FrozenDict({check_id(str(plate)): check(v, f"member {plate!r}: ")
                                for plate, v in value.items()})
         return check(value)
 
@@ -823,7 +566,7 @@ MemberLossFactor = Annotated[
 """A junction's member loss factor: one number >= 0 or a table by plate."""
 
 
-class JunctionJoint(_Model):
+class JunctionJoint(FrozenModel):
     r"""A junction line: two or more plate edges on one line held in translation.
 
     On the line :math:`w_i = 0` on every member; the line has its own rotation
@@ -897,7 +640,7 @@ Joint = Annotated[
 # --------------------------------------------------------------------------------------
 # Boundary conditions and loads
 # --------------------------------------------------------------------------------------
-class Boundary(_Model):
+class Boundary(FrozenModel):
     """A boundary condition on one edge; edges neither joined nor listed are free.
 
     Parameters
@@ -913,7 +656,7 @@ class Boundary(_Model):
     condition: Literal["clamped", "simply_supported", "free"]
 
 
-class _EdgeLoad(_Model):
+class _EdgeLoad(FrozenModel):
     edge: EdgeRef
     amplitude: Complex
     distribution: Literal["uniform", "half_sine"] = "uniform"
@@ -983,7 +726,7 @@ class EdgeMoment(_EdgeLoad):
     kind: Literal["edge_moment"] = "edge_moment"
 
 
-class PointForce(_Model):
+class PointForce(FrozenModel):
     """A transverse point force (N, along +w) strictly inside a plate.
 
     Parameters
@@ -1011,7 +754,7 @@ Load = Annotated[Union[EdgeShear, EdgeMoment, PointForce], Field(discriminator="
 # --------------------------------------------------------------------------------------
 # Discretisation, measurement, updating, truth
 # --------------------------------------------------------------------------------------
-class PlateDiscretisation(_Model):
+class PlateDiscretisation(FrozenModel):
     """Per-plate ray counts overriding the automatic rule; omitted counts stay automatic.
 
     Parameters
@@ -1032,7 +775,7 @@ class PlateDiscretisation(_Model):
     corner: Count | None = None
 
 
-class Discretisation(_Model):
+class Discretisation(FrozenModel):
     """Ray discretisation settings (``[discretisation]``).
 
     Parameters
@@ -1059,7 +802,7 @@ class Discretisation(_Model):
     edge_wavenumber_ratio: Annotated[float, Strict(), Field(gt=1)] = 2.5
     interface_functions: Annotated[int, Strict(), Field(ge=1)] | None = None
     tolerance: Annotated[float, Strict(), Field(gt=0, lt=1)] | None = None
-    plates: Annotated[dict[str, PlateDiscretisation], AfterValidator(_freeze)] = Field(
+    plates: Annotated[dict[str, PlateDiscretisation], AfterValidator(freeze)] = Field(
         default_factory=FrozenDict
     )
 
@@ -1068,7 +811,7 @@ class Discretisation(_Model):
         return self.plates.get(plate_id, PlateDiscretisation())
 
 
-class PointMeasurement(_Model):
+class PointMeasurement(FrozenModel):
     """One measurement point.
 
     Parameters
@@ -1093,13 +836,13 @@ def default_spacing(plates) -> float | None:
     return DEFAULT_GRID_FRACTION * max(sides) if sides else None
 
 
-class Measurement(_Model):
+class Measurement(FrozenModel):
     """Measurement grid of a (simulated) experiment (``[measurement]``).
 
     The grid of a measured plate of size ``Lx x Ly`` consists of the centres of a uniform
     mesh of about `spacing`: ``nx = max(1, round(Lx / spacing))`` cells, points
     ``x_i = (i + 1/2) Lx / nx`` for ``i = 0 .. nx - 1`` (likewise in y).  See
-    :meth:`Case.measurement_points`.
+    :meth:`assembly.case.Case.measurement_points`.
 
     Parameters
     ----------
@@ -1136,7 +879,7 @@ def _check_r(value: float | str) -> float | str:
     return value
 
 
-class Updating(_Model):
+class Updating(FrozenModel):
     """Localisation--correction settings (``[updating]``).
 
     Parameters
@@ -1148,7 +891,7 @@ class Updating(_Model):
         plates, each plate's data by its own stated noise, at the fixed `balance`).
     alpha : mapping of str to float, optional
         Joint weights ``alpha_i >= 0`` of the interface error.  Joints not listed weigh 1;
-        the weights are normalised to sum 1.  In a validated :class:`Case` this holds every
+        the weights are normalised to sum 1.  In a validated :class:`~assembly.case.Case` this holds every
         joint, normalised; None (default) = equal weights ``1 / N_joints``.  With
         ``r = "auto"`` they multiply the scale-free weights (equal: those alone).
     balance : float, optional
@@ -1185,10 +928,10 @@ class Updating(_Model):
 
     r: Annotated[Union[Annotated[float, Strict()], Literal["auto"]],
                  AfterValidator(_check_r)] = "auto"
-    alpha: Annotated[dict[str, NonNegative], AfterValidator(_freeze)] | None = None
-    bounds: Annotated[tuple[Real, Real], AfterValidator(_check_bounds)] = (-3.0, 7.0)
+    alpha: Annotated[dict[str, NonNegative], AfterValidator(freeze)] | None = None
+    bounds: Annotated[tuple[Real, Real], AfterValidator(check_bounds)] = (-3.0, 7.0)
     identify: Annotated[
-        tuple[Literal["stiffness", "damping", "mass"], ...], AfterValidator(_check_identify)
+        tuple[Literal["stiffness", "damping", "mass"], ...], AfterValidator(check_identify)
     ] = ("stiffness",)
     max_steps: Annotated[int, Strict(), Field(ge=1)] = 8
     stop_ratio: Annotated[float, Strict(), Field(gt=1)] = 3.0
@@ -1210,7 +953,7 @@ class Updating(_Model):
         return self.misfit or ("per_plate" if self.automatic else "global")
 
 
-class Compute(_Model):
+class Compute(FrozenModel):
     """Where independent tasks (frequencies, noise realisations) run (``[compute]``).
 
     The command-line options ``--workers`` and ``--scheduler`` override these.
@@ -1228,7 +971,7 @@ class Compute(_Model):
     scheduler: Annotated[str, Field(min_length=1)] | None = None
 
 
-class JointTruth(_Model):
+class JointTruth(FrozenModel):
     """The "true" parameters of one joint, used to simulate an experiment.
 
     Parameters
@@ -1252,7 +995,7 @@ class JointTruth(_Model):
                 if getattr(self, k) is not None}
 
 
-class Truth(_Model):
+class Truth(FrozenModel):
     """True joint parameters of a simulated experiment (``[truth.joints.ID]``).
 
     Parameters
@@ -1261,7 +1004,7 @@ class Truth(_Model):
         Per joint; joints not listed keep their model values.
     """
 
-    joints: Annotated[dict[str, JointTruth], AfterValidator(_freeze)] = Field(
+    joints: Annotated[dict[str, JointTruth], AfterValidator(freeze)] = Field(
         default_factory=FrozenDict
     )
 
@@ -1273,7 +1016,7 @@ Loc = tuple[Union[str, int], ...]
 
 
 class CrossReferenceError(ValueError):
-    """Raised by :class:`Case` validation with every cross-reference problem.
+    """Raised by :class:`~assembly.case.Case` validation with every cross-reference problem.
 
     Attributes
     ----------
@@ -1286,468 +1029,6 @@ class CrossReferenceError(ValueError):
         super().__init__("\n".join(f"{format_path(loc)}: {msg}" for loc, msg in self.issues))
 
 
-def _grid_shape(size: tuple[float, float], spacing: float) -> tuple[int, int]:
-    """``(nx, ny)`` cells of the measurement grid of a plate."""
-    return max(1, round(size[0] / spacing)), max(1, round(size[1] / spacing))
-
-
-def _grid_points(size: tuple[float, float], spacing: float) -> list[tuple[float, float]]:
-    """Cell centres of the measurement grid of a plate, ordered by x, then y (m)."""
-    (lx, ly), (nx, ny) = size, _grid_shape(size, spacing)
-    return [((i + 0.5) * lx / nx, (j + 0.5) * ly / ny) for i in range(nx) for j in range(ny)]
-
-
-def _on_grid(size: tuple[float, float], spacing: float, x: float, y: float) -> bool:
-    """Tell whether a point is a cell centre of the plate's measurement grid (to 1e-9 m)."""
-    (lx, ly), (nx, ny) = size, _grid_shape(size, spacing)
-    i, j = round(x * nx / lx - 0.5), round(y * ny / ly - 0.5)
-    return (0 <= i < nx and 0 <= j < ny and abs((i + 0.5) * lx / nx - x) <= 1e-9
-            and abs((j + 0.5) * ly / ny - y) <= 1e-9)
-
-
-def _junction_with(joint: JunctionJoint, changes: Mapping[str, Any],
-                   member: str | None) -> JunctionJoint:
-    """A junction with new member values: ``changes`` ``{name: number or table by plate}``
-    for every member, or for ``member`` only."""
-    data = joint.model_dump()
-    for name, value in changes.items():
-        if name == "mass":
-            if value != 0.0:
-                raise AssemblyError(f"junction {' - '.join(joint.between)} has no line mass; "
-                                    f"got mass = {value!r}")
-            continue
-        if name not in ("log10_stiffness", "loss_factor"):
-            raise AssemblyError(f"{name!r} is not a parameter of a junction's members "
-                                "(parameters: log10_stiffness, loss_factor)")
-        current = data[name]
-        table = dict(current) if isinstance(current, Mapping) else dict.fromkeys(
-            joint.plates, current)
-        if member is not None:
-            table[member] = value
-        elif isinstance(value, Mapping):
-            table.update(value)
-        else:
-            table = dict.fromkeys(joint.plates, value)
-        data[name] = {p: float(v) for p, v in table.items()}
-    try:
-        return JunctionJoint.model_validate(data)
-    except ValidationError as exc:
-        problems = "; ".join(e["msg"].removeprefix("Value error, ") for e in exc.errors())
-        raise AssemblyError(f"invalid member parameters of junction "
-                            f"{' - '.join(joint.between)}: {problems}") from None
-
-
 # --------------------------------------------------------------------------------------
 # The assembly
 # --------------------------------------------------------------------------------------
-class Case(_Model):
-    r"""An assembly description: plates, joints, boundary conditions, loads and settings.
-
-    Build it with :func:`assembly.load_case` (TOML file), :func:`assembly.load_case_text`
-    or :func:`assembly.parse_case` (dict), which report every problem at once as a
-    :class:`~assembly.errors.DescriptionError`.  ``Case.model_validate(data)`` works too but
-    raises pydantic's ``ValidationError``.
-
-    Parameters
-    ----------
-    name : str
-        Name of the assembly.
-    frequency : float, optional
-        Single excitation frequency in Hz, > 0.  Give exactly one of `frequency` and
-        `frequencies`.
-    frequencies : tuple of float, optional
-        Distinct frequencies in Hz, > 0.  After validation always set: ``(frequency,)``
-        when `frequency` was given.
-    materials : mapping of str to Material
-        ``[materials.ID]`` tables; ids use letters, digits, ``_`` and ``-``.
-    plates : mapping of str to Plate
-        ``[plates.ID]`` tables, at least one.
-    joints : mapping of str to CoplanarJoint or HingeJoint, optional
-        ``[joints.ID]`` tables.
-    boundaries : tuple of Boundary, optional
-        ``[[boundaries]]``; edges neither joined nor listed are free.
-    loads : tuple of EdgeShear, EdgeMoment or PointForce, optional
-        ``[[loads]]``.
-    discretisation : Discretisation, optional
-    measurement : Measurement, optional
-    updating : Updating, optional
-        After validation ``updating.alpha`` holds every joint's weight, normalised to sum 1.
-    compute : Compute, optional
-        Where independent tasks run (local processes or a Dask scheduler).
-    truth : Truth, optional
-        True joint parameters of a simulated experiment.
-
-    Notes
-    -----
-    The model is frozen and its tables are :class:`FrozenDict`; derived assemblies are built
-    by copy (:meth:`with_joint_parameters`, :meth:`true_case`), so an updating history stays
-    reproducible.
-
-    Examples
-    --------
-    >>> from assembly import load_case
-    >>> case = load_case("cases/single_plate.toml")
-    >>> case.frequencies, case.plates["P1"].size
-    ((155.0,), (0.5, 0.4))
-    """
-
-    name: Annotated[str, Field(min_length=1)]
-    frequency: Frequency | None = None
-    frequencies: Annotated[tuple[Frequency, ...], AfterValidator(_check_frequencies)] | None = (
-        None
-    )
-    materials: Annotated[dict[Id, Material], AfterValidator(_freeze)]
-    plates: Annotated[dict[Id, Plate], Field(min_length=1), AfterValidator(_freeze)]
-    joints: Annotated[dict[Id, Joint], AfterValidator(_freeze)] = Field(
-        default_factory=FrozenDict
-    )
-    boundaries: tuple[Boundary, ...] = ()
-    loads: tuple[Load, ...] = ()
-    discretisation: Discretisation = Field(default_factory=Discretisation)
-    measurement: Measurement = Field(default_factory=Measurement)
-    updating: Updating = Field(default_factory=Updating)
-    compute: Compute = Field(default_factory=Compute)
-    truth: Truth = Field(default_factory=Truth)
-
-    # ---------------------------------------------------------------- validation
-    @model_validator(mode="after")
-    def _check_references(self) -> Case:
-        if self.measurement.spacing is None:  # relative to the structure, not to the metre
-            object.__setattr__(self, "measurement", self.measurement.model_copy(
-                update={"spacing": default_spacing(self.plates)}))
-        from assembly.checks import View, cross_check
-
-        issues = cross_check(
-            View(
-                materials=self.materials,
-                plates=self.plates,
-                joints=self.joints,
-                boundaries=self.boundaries,
-                loads=self.loads,
-                discretisation=self.discretisation,
-                measurement=self.measurement,
-                updating=self.updating,
-                truth=self.truth,
-                has_frequency=self.frequency is not None,
-                has_frequencies=self.frequencies is not None,
-            )
-        )
-        if issues:
-            raise CrossReferenceError(issues)
-        # Normalisations on a frozen model, done once here (before anyone sees the object).
-        if self.frequency is not None:
-            object.__setattr__(self, "frequencies", (self.frequency,))
-        weights = {jid: (self.updating.alpha or {}).get(jid, 1.0) for jid in self.joints}
-        total = sum(weights.values())
-        if weights and abs(total - 1.0) > 1e-12:
-            weights = {jid: w / total for jid, w in weights.items()}
-        object.__setattr__(
-            self, "updating", self.updating.model_copy(update={"alpha": FrozenDict(weights)})
-        )
-        return self
-
-    @model_serializer(mode="wrap")
-    def _serialise(self, handler: Any) -> Any:
-        # Dump the frequency the way it was given, so that a dump validates again.
-        data = handler(self)
-        if isinstance(data, dict):
-            data.pop("frequencies" if self.frequency is not None else "frequency", None)
-        return data
-
-    # ---------------------------------------------------------------- look-ups
-    def edge(self, ref: str | EdgeId) -> EdgeId:
-        """Resolve an edge reference of this assembly.
-
-        Parameters
-        ----------
-        ref : str or EdgeId
-            ``"PLATE.EDGE"`` or an :class:`EdgeId`.
-
-        Returns
-        -------
-        EdgeId
-
-        Raises
-        ------
-        AssemblyError
-            If the reference is malformed or the plate is not in the assembly.
-        """
-        edge = EdgeId(*ref) if isinstance(ref, tuple) else parse_edge_ref(ref)
-        if edge.plate not in self.plates:
-            raise AssemblyError(
-                f"plate {edge.plate!r} is not in the assembly (plates: {_listing(self.plates)})"
-            )
-        if edge.edge not in EDGE_NAMES:
-            raise AssemblyError(f"{edge.edge!r} is not an edge name ({', '.join(EDGE_NAMES)})")
-        return edge
-
-    def edge_length(self, ref: str | EdgeId) -> float:
-        """Return the length in m of an edge ``"PLATE.EDGE"``."""
-        edge = self.edge(ref)
-        return self.plates[edge.plate].edge_length(edge.edge)
-
-    def material_of(self, plate_id: str) -> Material:
-        """Return the material of a plate."""
-        return self.materials[self.plates[plate_id].material]
-
-    def edge_conditions(self) -> dict[EdgeId, str]:
-        """Return the condition of every plate edge.
-
-        Returns
-        -------
-        dict of EdgeId to str
-            For each plate (description order) and edge (left, right, bottom, top):
-            ``"joined"``, ``"clamped"``, ``"simply_supported"`` or ``"free"``.
-        """
-        joined = self.edge_joints()
-        given = {parse_edge_ref(bc.edge): bc.condition for bc in self.boundaries}
-        return {
-            EdgeId(pid, e): "joined"
-            if EdgeId(pid, e) in joined
-            else given.get(EdgeId(pid, e), "free")
-            for pid in self.plates
-            for e in EDGE_NAMES
-        }
-
-    def edge_joints(self) -> dict[EdgeId, str]:
-        """Return ``{edge: joint id}`` for every joined edge."""
-        return {side: jid for jid, joint in self.joints.items() for side in joint.sides}
-
-    def member_directions(self, joint_id: str) -> tuple[int, ...]:
-        r"""For each edge of a joint, +1 if it runs (counter-clockwise) along the joint line's
-        direction, -1 if against it.
-
-        The line runs along its first edge.  A junction between framed plates takes the
-        other directions from the frames, :math:`s_i = \mathbf t_i\cdot\mathbf e_\Gamma` with
-        :math:`\mathbf t_i = \mathbf e_{z,i}\times\mathbf n_i` the member's edge tangent
-        (``docs/method.md`` section 6.2b); every other joint is ``(1, -1)``: the second edge
-        runs the other way, as in an assembly unrolled in a plane (checked for framed plates).
-        """
-        joint = self.joints[joint_id]
-        sides = joint.sides
-        if not isinstance(joint, JunctionJoint) or self.plates[sides[0].plate].frame is None:
-            return (1, -1)
-        start, end, _ = self.plates[sides[0].plate].edge_in_space(sides[0].edge)
-        line = end - start
-        directions = []
-        for side in sides:
-            a, b, _ = self.plates[side.plate].edge_in_space(side.edge)
-            directions.append(1 if float((b - a) @ line) > 0.0 else -1)
-        return tuple(directions)
-
-    def joint_parameters(self) -> dict[str, dict[str, float]]:
-        """Return the current joint parameters, ``{joint id: {name: value}}``.
-
-        Every joint has ``log10_stiffness`` and ``loss_factor``; coplanar joints also
-        ``mass`` (kg/m).
-        """
-        return {jid: joint.parameters() for jid, joint in self.joints.items()}
-
-    def measured_plates(self) -> tuple[str, ...]:
-        """Return the plates carrying the measurement grid (all plates by default)."""
-        chosen = self.measurement.plates
-        return tuple(self.plates) if chosen is None else chosen
-
-    def measurement_points(self) -> tuple[tuple[str, float, float], ...]:
-        """Return the measurement points ``(plate, x, y)`` in plate-local m.
-
-        The grid of each measured plate (:meth:`measured_plates`) consists of the cell
-        centres of a uniform mesh: ``nx = max(1, round(Lx / spacing))`` cells and points
-        ``x_i = (i + 1/2) Lx / nx``, ``i = 0 .. nx - 1`` (likewise in y), ordered by plate,
-        then x, then y -- the rule of ``solver.field_grid``.  The explicit
-        ``measurement.points`` follow.
-
-        Returns
-        -------
-        tuple of (str, float, float)
-
-        Examples
-        --------
-        >>> from assembly import load_case
-        >>> case = load_case("cases/single_plate.toml")
-        >>> len(case.measurement_points())  # 5 x 4 cell centres of a 0.1 m mesh
-        20
-        """
-        spacing = self.measurement.spacing
-        points: list[tuple[str, float, float]] = []
-        for pid in self.measured_plates():
-            points.extend((pid, x, y) for x, y in _grid_points(self.plates[pid].size, spacing))
-        points.extend((p.plate, p.at[0], p.at[1]) for p in self.measurement.points)
-        return tuple(points)
-
-    # ---------------------------------------------------------------- derived cases
-    def with_joint_parameters(self, parameters: Mapping[str, Mapping[str, float]]) -> Case:
-        """Return a copy of the assembly with some joint parameters replaced.
-
-        The assembly itself is not changed.
-
-        Parameters
-        ----------
-        parameters : mapping of str to mapping of str to float
-            ``{joint id: {name: value}}`` with names ``log10_stiffness``, ``loss_factor``
-            and (coplanar joints) ``mass``.  Parameters not given keep their value.
-
-        Returns
-        -------
-        Case
-            The new assembly.
-
-        Raises
-        ------
-        AssemblyError
-            For an unknown joint or parameter, a value that is not a real number or is out
-            of range, or a non-zero mass on a hinge.
-
-        Examples
-        --------
-        >>> from assembly import load_case_text
-        >>> case = load_case_text('''
-        ... name = "two"
-        ... frequency = 155.0
-        ... [materials.steel]
-        ... young_modulus = 210e9
-        ... poisson_ratio = 0.3
-        ... density = 7800.0
-        ... loss_factor = 0.01
-        ... [plates.P1]
-        ... material = "steel"
-        ... thickness = 0.001
-        ... size = [0.5, 0.4]
-        ... [plates.P2]
-        ... material = "steel"
-        ... thickness = 0.001
-        ... size = [0.4, 0.4]
-        ... [joints.G1]
-        ... kind = "coplanar"
-        ... between = ["P1.right", "P2.left"]
-        ... log10_stiffness = 2.0
-        ... ''')
-        >>> new = case.with_joint_parameters({"G1": {"log10_stiffness": 1.5}})
-        >>> new.joints["G1"].log10_stiffness, case.joints["G1"].log10_stiffness
-        (1.5, 2.0)
-        """
-        if not isinstance(parameters, Mapping):
-            raise AssemblyError(
-                f"joint parameters must be a mapping {{joint id: {{name: value}}}}, got "
-                f"{_show(parameters)}"
-            )
-        joints = dict(self.joints)
-        for key, changes in parameters.items():
-            jid, _, member = str(key).partition(".")
-            if jid not in self.joints or (member and member not in self.joints[jid].plates):
-                raise AssemblyError(
-                    f"joint {key!r} is not in the assembly (joints: {_listing(self.joints)}; "
-                    "a junction's member as JOINT.PLATE)"
-                )
-            if not isinstance(changes, Mapping):
-                raise AssemblyError(
-                    f"parameters of joint {key!r} must be a mapping {{name: value}}, got "
-                    f"{_show(changes)}"
-                )
-            if isinstance(joints[jid], JunctionJoint):
-                joints[jid] = _junction_with(joints[jid], changes, member or None)
-                continue
-            joint = self.joints[jid]
-            data = joint.model_dump()
-            for name, value in changes.items():
-                if name not in JOINT_PARAMETERS:
-                    raise AssemblyError(
-                        f"{name!r} is not a joint parameter of joint {jid!r} (parameters: "
-                        f"{', '.join(JOINT_PARAMETERS)})"
-                    )
-                scalar_array = isinstance(value, np.ndarray) and (
-                    value.shape == () and value.dtype.kind in "iuf"
-                )
-                if not (_is_real(value) or scalar_array):
-                    raise AssemblyError(
-                        f"{name} of joint {jid!r} must be a real number, got {_show(value)}"
-                    )
-                value = float(value)
-                if name == "mass" and isinstance(joint, HingeJoint):
-                    if value != 0.0:
-                        raise AssemblyError(
-                            f"joint {jid!r} is a hinge, which has no line mass; got mass = "
-                            f"{value:g}"
-                        )
-                    continue
-                data[name] = value
-            try:
-                joints[jid] = type(joint).model_validate(data)
-            except ValidationError as exc:
-                problems = "; ".join(
-                    f"{'.'.join(map(str, e['loc']))} {e['msg'].lower()}, got {_show(e['input'])}"
-                    for e in exc.errors()
-                )
-                raise AssemblyError(f"invalid parameters for joint {jid!r}: {problems}") from None
-        return self.model_copy(update={"joints": FrozenDict(joints)})
-
-    def updatable_joints(self) -> dict[str, tuple[str, str | None]]:
-        """The joints the updating localises and corrects, by name.
-
-        Every two-edge joint by its id; every finite member of a junction as ``JOINT.PLATE``
-        (each member's spring is a channel of its own; rigid members are not updatable).
-
-        Returns
-        -------
-        dict of str to (str, str or None)
-            ``{name: (joint id, member plate or None)}``, in description order.
-        """
-        out: dict[str, tuple[str, str | None]] = {}
-        for jid, joint in self.joints.items():
-            if isinstance(joint, JunctionJoint):
-                out.update({f"{jid}.{p}": (jid, p) for p in joint.finite_members()})
-            else:
-                out[jid] = (jid, None)
-        return out
-
-    def updatable_parameters(self) -> dict[str, dict[str, float]]:
-        """``{name: {log10_stiffness, loss_factor, mass}}`` of :meth:`updatable_joints`."""
-        out = {}
-        for name, (jid, member) in self.updatable_joints().items():
-            joint = self.joints[jid]
-            if member is None:
-                out[name] = {"log10_stiffness": joint.log10_stiffness,
-                             "loss_factor": joint.loss_factor, "mass": joint.mass}
-            else:
-                out[name] = {"log10_stiffness": joint.member_log10_stiffness(member),
-                             "loss_factor": joint.member_loss_factor(member), "mass": 0.0}
-        return out
-
-    def updatable_alpha(self) -> dict[str, float]:
-        """The weight of each updatable joint's residual in :math:`E_{int}^2`: its joint's
-        ``[updating] alpha`` (a junction's members share it)."""
-        return {name: self.updating.alpha[jid]
-                for name, (jid, _) in self.updatable_joints().items()}
-
-    def true_log10_stiffness(self) -> dict[str, float]:
-        """``{updatable joint: true log10 k}`` of the joints whose ``[truth]`` gives a
-        stiffness (every finite member of such a junction; members it does not name keep
-        their model values)."""
-        true = self.true_case().updatable_parameters()
-        return {name: true[name]["log10_stiffness"]
-                for name, (jid, _) in self.updatable_joints().items()
-                if jid in self.truth.joints and self.truth.joints[jid].log10_stiffness is not None}
-
-    def true_parameters(self) -> dict[str, dict[str, float]]:
-        """``{updatable joint: {parameter: true value}}`` of the parameters (``log10_stiffness``,
-        ``loss_factor``, ``mass``) that ``[truth]`` gives, for the joints it names."""
-        true = self.true_case().updatable_parameters()
-        out: dict[str, dict[str, float]] = {}
-        for name, (jid, _) in self.updatable_joints().items():
-            given = self.truth.joints[jid].changes() if jid in self.truth.joints else {}
-            if given:
-                out[name] = {key: true[name][key] for key in given}
-        return out
-
-    def true_case(self) -> Case:
-        """Return the assembly with its joints replaced by the ``[truth]`` parameters.
-
-        Joints not listed in ``[truth.joints]`` keep their model values; the truth table
-        itself is kept, so ``case.true_case().true_case() == case.true_case()``.
-
-        Returns
-        -------
-        Case
-        """
-        changes = {jid: true.changes() for jid, true in self.truth.joints.items()}
-        return self.with_joint_parameters({j: c for j, c in changes.items() if c})

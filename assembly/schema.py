@@ -23,7 +23,8 @@ import re
 from typing import Any
 
 from . import models
-from .models import EDGE_NAMES, Case
+from .case import Case
+from .types import EDGE_NAMES
 
 __all__ = ["case_json_schema", "SCHEMA_DIALECT"]
 

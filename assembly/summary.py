@@ -13,12 +13,13 @@ and "wavelengths across" is ``Lx / lambda x Ly / lambda``.
 from __future__ import annotations
 
 from collections.abc import Mapping
-
 from dataclasses import dataclass, field
 from typing import Any, Literal
 
+from .case import Case
 from .graph import build_graph, components, plate_degrees
-from .models import EDGE_NAMES, Case, CoplanarJoint, EdgeId, PointForce
+from .models import CoplanarJoint, PointForce
+from .types import EDGE_NAMES, EdgeId
 
 __all__ = ["summarise", "summary_text"]
 

@@ -25,8 +25,9 @@ from assembly import (
     parse_edge_ref,
     summarise,
 )
-from assembly.models import EdgeShear, FrozenDict, Material, Plate
+from assembly.models import EdgeShear, Material, Plate
 from assembly.summary import summary_text
+from assembly.types import FrozenDict
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -1,6 +1,6 @@
 """The reference documents of docs/ against the code they describe.
 
-``docs/description.md``: each model reachable from :class:`assembly.models.Case` has a section
+``docs/description.md``: each model reachable from :class:`assembly.case.Case` has a section
 whose heading names the model in backticks; the section's table has a row per field of the
 model, its first cell the field name in backticks.
 
@@ -19,7 +19,7 @@ from pathlib import Path
 from pydantic import BaseModel
 
 from assembly import load_case_text
-from assembly.models import Case
+from assembly.case import Case
 from updating.cli import build_parser
 
 DOCS = Path(__file__).resolve().parents[1] / "docs"

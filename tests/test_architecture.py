@@ -1,0 +1,77 @@
+"""The package structure: the import direction assembly <- solver <- updating, and no import
+circle between modules (``docs/architecture.md``). Imports are read from the source, those
+inside functions included, so that a circle dodged by a local import still fails."""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+import networkx as nx
+
+ROOT = Path(__file__).resolve().parents[1]
+PACKAGES = ("assembly", "solver", "updating")
+LAYER = {name: i for i, name in enumerate(PACKAGES)}
+
+
+def _modules():
+    """``{module name: path}`` of every module of the three packages."""
+    out = {}
+    for package in PACKAGES:
+        for path in sorted((ROOT / package).rglob("*.py")):
+            parts = path.relative_to(ROOT).with_suffix("").parts
+            out[".".join(parts[:-1] if parts[-1] == "__init__" else parts)] = path
+    return out
+
+
+def _imported(module, node, modules):
+    """The project modules one import statement of ``module`` names."""
+    if isinstance(node, ast.Import):
+        return [a.name for a in node.names if a.name in modules]
+    if not isinstance(node, ast.ImportFrom):
+        return []
+    if node.level:  # relative: from the importing module's package, level - 1 up
+        package = module if _is_package(module) else module.rpartition(".")[0]
+        base = ".".join(package.split(".")[: len(package.split(".")) - node.level + 1])
+        name = f"{base}.{node.module}" if node.module else base
+    else:
+        name = node.module or ""
+    found = [f"{name}.{a.name}" for a in node.names if f"{name}.{a.name}" in modules]
+    return found or ([name] if name in modules else [])
+
+
+def _is_package(module):
+    return (ROOT / Path(*module.split(".")) / "__init__.py").exists()
+
+
+def import_graph():
+    modules = _modules()
+    graph = nx.DiGraph()
+    graph.add_nodes_from(modules)
+    for module, path in modules.items():
+        for node in ast.walk(ast.parse(path.read_text())):
+            for target in _imported(module, node, modules):
+                if target != module:
+                    graph.add_edge(module, target)
+    return graph
+
+
+def test_the_graph_sees_the_imports_it_must():
+    """The walk finds known edges, relative and absolute (else the tests below pass empty)."""
+    graph = import_graph()
+    assert graph.has_edge("assembly.case", "assembly.models")  # relative import
+    assert graph.has_edge("solver.substructure", "solver.joint_rules")
+    assert graph.has_edge("updating.cost", "solver.substructure")
+    assert graph.number_of_edges() > 100
+
+
+def test_no_module_imports_its_way_back_to_itself():
+    circles = [sorted(c) for c in nx.strongly_connected_components(import_graph())
+               if len(c) > 1]
+    assert circles == []
+
+
+def test_packages_import_only_downwards():
+    wrong = [(a, b) for a, b in import_graph().edges
+             if LAYER[b.split(".")[0]] > LAYER[a.split(".")[0]]]
+    assert wrong == []
