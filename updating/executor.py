@@ -11,7 +11,7 @@ its bound arguments (a description, a few points) are what travels, never large 
   sparse LU and LAPACK release the GIL, so the frequencies of a small problem factorise side by
   side on the cores; :func:`frequency_threads` chooses the count the memory allows.
 * ``workers=N``: ``N`` local processes (``spawn``: a fresh interpreter each, which inherits the
-  one-thread BLAS settings of :mod:`updating.cli`).
+  one-thread BLAS settings that :func:`updating.cli.main` sets).
 * ``scheduler="tcp://host:8786"``: a running ``dask.distributed`` scheduler (the
   ``distributed`` extra); its workers need vtcr installed.
 """

@@ -1,4 +1,6 @@
-"""Command-line interface: ``vtcr check | solve | ...`` (also ``python -m updating``).
+"""The commands of ``vtcr``: one function per command, each taking the parsed arguments and
+returning the exit status (:data:`COMMANDS`), and :func:`execute`, which checks the options and
+the description, runs a command and turns every expected failure into one line and a status.
 
 Bad input exits with status 2 and one line per problem naming the file, the field and the fix;
 no traceback. The commands only format what the library returns.
@@ -6,23 +8,98 @@ no traceback. The commands only format what the library returns.
 
 from __future__ import annotations
 
-import argparse
 import contextlib
+import csv
+import ctypes
+import ctypes.util
 import errno
+import hashlib
+import io
+import json
+import math
 import os
 import sys
-
-# vtcr's dense matrices are small (hundreds of unknowns): a multithreaded BLAS spends more in
-# thread start-up and contention than it gains (measured: the four-plate run is 10x slower on
-# 2 cores with the default threads). Set before numpy loads; an explicit user setting wins.
-for _variable in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
-    os.environ.setdefault(_variable, "1")
+import time
+from pathlib import Path
 
 import numpy as np
 from rich.console import Console
+from rich.markup import escape
 from rich.table import Table
 
-__all__ = ["main", "NOT_CONVERGED"]
+from assembly import DescriptionError, load_case, summarise
+from assembly.schema import case_json_schema
+from solver import field_grid, solve_case
+from solver.errors import NumericalError
+from solver.estimate import (
+    ToleranceError,
+    enriched_plates,
+    enriched_size,
+    estimate_error,
+    solve_to_tolerance,
+)
+from solver.guards import check_description
+from solver.sizing import available_memory, estimate_size
+from updating.cli.parser import SUMMARY_JOINTS, version_text
+from updating.cost import ModifiedProblem, cost_curve, log_grid
+from updating.executor import Executor, frequency_threads
+from updating.figure_tools import require_matplotlib
+from updating.files import (
+    InputError,
+    output_collisions,
+    output_path_problem,
+    plot_directory_problem,
+    read_probes,
+    write_json_atomic,
+    write_text_atomic,
+)
+from updating.measurements import (
+    Measurements,
+    check_joints_seen,
+    measurement_layout,
+    read_measurements,
+    simulate_measurements,
+    write_measurements,
+)
+from updating.plan import identifiability_plan
+from updating.plots import (
+    write_curve_figure,
+    write_plan_figure,
+    write_sweep_figures,
+    write_update_figures,
+)
+from updating.progress import progress_bar
+from updating.report import (
+    identified_lines,
+    notable_joints,
+    result_json,
+    result_markdown,
+    steps_table,
+)
+from updating.runfile import (
+    RunFile,
+    RunLock,
+    description_digest,
+    fingerprint,
+    load_run,
+    measurement_digest,
+    read_run,
+    refuse_other_measurements,
+    refuse_replacing,
+)
+from updating.strategy import (
+    excess_ratios,
+    finished_result,
+    localise,
+    standing_summary,
+    thresholds,
+    update_joints,
+)
+from updating.sweep import BALANCE_TOLERANCE, frequency_sweep
+from updating.uff import UFF_SUFFIXES, is_uff, read_uff
+from updating.uff_export import write_uff
+
+__all__ = ["execute", "COMMANDS", "NOT_CONVERGED"]
 
 NOT_CONVERGED = 3
 """Exit status of ``vtcr update`` when the loop stops without converging (status 1: joints
@@ -45,8 +122,6 @@ def _map_large_arrays():
     if "MALLOC_MMAP_THRESHOLD_" in os.environ or "mmap_threshold" in os.environ.get(
             "GLIBC_TUNABLES", ""):
         return
-    import ctypes
-    import ctypes.util
 
     try:
         libc = ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6")
@@ -68,8 +143,6 @@ def _console(args):
 
 def _load(args):
     """The description of ``args.case``, loaded and validated once per command."""
-    from assembly import load_case
-
     if getattr(args, "case_model", None) is None:
         args.case_model = load_case(args.case)
     return args.case_model
@@ -82,15 +155,10 @@ def _frequencies(case, args):
 
 
 def cmd_check(args):
-    from assembly import summarise
-    from solver.sizing import estimate_size
-
     case = _load(args)
     console = _console(args)
     console.print(summarise(case))
     if case.joints:
-        from solver.estimate import enriched_size
-
         for line in estimate_size(case).lines(enriched_size(case)):
             console.print(line)
     return 0
@@ -102,129 +170,11 @@ def _solution_warnings(console, solution):
 
 
 def _warn(console, line):
-    from rich.markup import escape
-
     console.print(f"[yellow]warning:[/] {escape(line)}", soft_wrap=True)
-
-
-class _DefaultsFormatter(argparse.HelpFormatter):
-    """Help that states each option's default, unless its text already does."""
-
-    def _get_help_string(self, action):
-        text = action.help or ""
-        if ("default" not in text and action.default not in (None, False, argparse.SUPPRESS)
-                and action.option_strings):
-            text += f" (default {action.default})"
-        return text
-
-
-class _Parser(argparse.ArgumentParser):
-    """Argument parser whose usage errors are one line ``vtcr: ...`` (exit status 2), and
-    whose help states every default."""
-
-    def __init__(self, *args, **kwargs):
-        kwargs.setdefault("formatter_class", _DefaultsFormatter)
-        super().__init__(*args, **kwargs)
-
-    def error(self, message):
-        self.exit(2, f"vtcr: {message}; see `{self.prog} --help`\n")
-
-
-_OUTPUT_OPTIONS = (("out", "--out"), ("json", "--json"), ("csv", "--csv"), ("report", "--report"),
-                   ("uff", "--uff"))
-
-
-def _option_problems(args):
-    """One line per bad option value, naming the option and the fix (before any work)."""
-    import math
-
-    from updating.files import output_collisions, output_path_problem, plot_directory_problem
-
-    problems = []
-    frequencies, noise = getattr(args, "frequency", None) or (), getattr(args, "noise", None)
-    seed, points = getattr(args, "seed", None), getattr(args, "points", None)
-    max_rows = getattr(args, "max_rows", None)
-    problems += [f"--frequency {frequency}: must be a finite frequency > 0 in Hz; give "
-                 "e.g. --frequency 155" for frequency in frequencies
-                 if not (math.isfinite(frequency) and frequency > 0)]
-    if noise is not None and not 0 <= noise < 1:
-        problems.append(f"--noise {noise}: must be a fraction in [0, 1); give e.g. --noise 0.1 "
-                        "for +-10 %")
-    if seed is not None and seed < 0:
-        problems.append(f"--seed {seed}: must be a whole number >= 0; give e.g. --seed 1")
-    if points is not None and points < 2:
-        problems.append(f"--points {points}: must be at least 2 (samples of log10 k over "
-                        "[updating] bounds); give e.g. --points 41")
-    if max_rows is not None and max_rows < 0:
-        problems.append(f"--max-rows {max_rows}: must be >= 0 (0 shows no rows); give e.g. "
-                        "--max-rows 20")
-    tolerance = getattr(args, "tolerance", None)
-    if tolerance is not None and not 0 < tolerance < 1:
-        problems.append(f"--tolerance {tolerance}: must be a relative error in (0, 1); give "
-                        "e.g. --tolerance 1e-3")
-    confidence = getattr(args, "confidence", None)
-    if confidence is not None and not 0 < confidence < 1:
-        problems.append(f"--confidence {confidence}: must be a level in (0, 1); give e.g. "
-                        "--confidence 0.9")
-    workers = getattr(args, "workers", None)
-    if workers is not None and workers < 1:
-        problems.append(f"--workers {workers}: must be at least 1; give e.g. --workers 2")
-    if args.command == "frf":
-        problems += _sweep_option_problems(args)
-    inputs = [getattr(args, n, None) for n in ("case", "probes", "measurements", "uff_map")]
-    for name, flag in (("run_file", "--run"), ("resume", "--resume")):
-        if getattr(args, name, None) == "-":
-            problems.append(f"{flag} -: a run file is read back to resume a run; give a file "
-                            f"name, e.g. {flag} four_plates.run.json")
-    for name, flag in _OUTPUT_OPTIONS + (("run_file", "--run"),):
-        if getattr(args, name, None) is not None:
-            problem = output_path_problem(getattr(args, name), flag, inputs)
-            problems += [problem] if problem else []
-    outputs = [(flag, getattr(args, name, None)) for name, flag in _OUTPUT_OPTIONS]
-    if args.command == "update":  # the run file is written after every step
-        outputs.append(("--resume", args.resume) if args.resume else
-                       ("--run" if args.run_file else "the run file", _run_path(args)))
-    problems += output_collisions(outputs)
-    if getattr(args, "plot", None) is not None:
-        problem = plot_directory_problem(args.plot)
-        problems += [problem] if problem else []
-    return problems
-
-
-def _sweep_option_problems(args):
-    """Bad values of ``vtcr frf``'s sweep options, one line each."""
-    import math
-
-    problems = []
-    low, high = args.band
-    if not (math.isfinite(low) and math.isfinite(high) and 0 < low < high):
-        problems.append(f"--band {low:g} {high:g}: must be two finite frequencies "
-                        "0 < F1 < F2 in Hz; give e.g. --band 200 260")
-    if args.step is not None and not (math.isfinite(args.step) and args.step > 0):
-        problems.append(f"--step {args.step}: must be a finite step > 0 in Hz; give e.g. "
-                        "--step 1")
-    if args.sweep_points < 2:
-        problems.append(f"--points {args.sweep_points}: a sweep needs at least 2 "
-                        "frequencies; give e.g. --points 41")
-    if not 0 < args.tolerance <= 1:
-        problems.append(f"--tolerance {args.tolerance}: must be a fraction in (0, 1]; give "
-                        "e.g. --tolerance 0.1")
-    if args.max_points < 2:
-        problems.append(f"--max-points {args.max_points}: must be at least 2; give e.g. "
-                        "--max-points 2000")
-    if args.uff is not None:
-        try:
-            import pyuff  # noqa: F401
-        except ImportError:
-            problems.append(f"--uff {args.uff}: writing UFF needs pyuff; install it with "
-                            "pip install 'pyuff>=2.4' (the extra uff of vtcr)")
-    return problems
 
 
 def _check_description(args):
     """Physical and numerical sanity of the description, before any work; prints warnings."""
-    from solver.guards import check_description
-
     if not getattr(args, "case", None):
         return
     frequency = getattr(args, "frequency", None)
@@ -236,17 +186,12 @@ def _check_description(args):
                                   need_loads=args.command != "check"):
         _warn(_console(args), line)
     if case.joints:
-        from solver.sizing import estimate_size
-
         if estimate_size(case, max(frequencies) if frequencies else None).grouped:
             _map_large_arrays()
 
 
 def _checked_measurements(case, args):
     """:func:`_measurements`, after checking that they can see the joints to update."""
-    from updating.files import InputError
-    from updating.measurements import check_joints_seen
-
     if not case.joints:
         raise InputError(f"{args.case}: joints: the description has no joint to update; add a "
                          "[joints.ID] table (vtcr solve works without joints)")
@@ -265,10 +210,6 @@ def _checked_measurements(case, args):
 
 def _problem_warnings(args, problem):
     """Print the condition warnings of a ModifiedProblem; stop on a non-finite set-up."""
-    import math
-
-    from solver.errors import NumericalError
-
     for line in getattr(problem, "warnings", ()):
         _warn(_console(args), line)
     for frequency, energy in problem.reference_energies.items():
@@ -279,8 +220,6 @@ def _problem_warnings(args, problem):
 
 
 def cmd_solve(args):
-    from updating.files import read_probes, write_json_atomic
-
     case = _load(args)
     probes = read_probes(args.probes, case) if args.probes else None
     tolerance = args.tolerance if args.tolerance is not None else case.discretisation.tolerance
@@ -296,9 +235,6 @@ def cmd_solve(args):
 
 def _solve_frequency(args, case, frequency, probes, tolerance):
     """``vtcr solve`` at one frequency: prints its table, returns its JSON entry."""
-    from solver import field_grid
-    from updating.measurements import measurement_layout
-
     console = _console(args)
     solution, estimate = _solve_with_estimate(case, frequency, tolerance, not args.no_estimate)
     _solution_warnings(console, solution)
@@ -356,9 +292,6 @@ ESTIMATE_WARNING = 1e-2
 def _solve_with_estimate(case, frequency, tolerance, estimate):
     """A solve and its error estimate: to ``tolerance`` if given, else at the description's
     resolution (estimate None when not wanted)."""
-    from solver import solve_case
-    from solver.estimate import enriched_plates, estimate_error, solve_to_tolerance
-
     if tolerance is not None:
         return solve_to_tolerance(case, frequency, tolerance)
     if not estimate:
@@ -379,10 +312,6 @@ def _resolution_text(resolution):
 
 
 def _measurements(case, args):
-    from updating.files import InputError
-    from updating.measurements import read_measurements, simulate_measurements
-    from updating.uff import UFF_SUFFIXES, is_uff, read_uff
-
     path, uff_map = getattr(args, "measurements", None), getattr(args, "uff_map", None)
     if path and is_uff(path):  # dispatch on the suffix: UFF 58 (needs pyuff) or CSV
         return read_uff(path, case, uff_map)
@@ -404,30 +333,7 @@ def _warn_untrue_simulation(args, case):
                               "[truth.joints.ID] tables, or give measured data")
 
 
-def _estimate_option(parser):
-    parser.add_argument("--no-estimate", action="store_true",
-                        help="skip the a-posteriori estimate of the discretisation error (an "
-                             "enriched solve per frequency, 1.5 to 3 times a solve)")
-
-
-def _measurement_options(parser, what="measured field", default="simulated"):
-    parser.add_argument("--measurements", metavar="FILE",
-                        help=f"{what}: CSV plate,x,y,re,im[,frequency], or a UFF file "
-                             f"(.uff, .unv, .58: datasets 58/58b, needs pyuff) with "
-                             f"--uff-map (default: {default})")
-    parser.add_argument("--uff-map", metavar="MAP.csv",
-                        help="CSV node,plate,x,y placing the UFF response nodes on the plates "
-                             "(plate-local metres)")
-
-
-def _confidence_option(parser, what):
-    parser.add_argument("--confidence", type=float, metavar="LEVEL",
-                        help=f"level of {what} (default [updating] confidence, 0.9)")
-
-
 def cmd_simulate(args):
-    from updating.measurements import simulate_measurements, write_measurements
-
     case = _load(args)
     _warn_untrue_simulation(args, case)
     measurements = simulate_measurements(case, noise=args.noise, seed=args.seed,
@@ -442,8 +348,6 @@ def cmd_simulate(args):
 def _modified_problem(case, args, measurements=None, discretisation=True):
     """The updating problem on ``measurements`` (default: read or simulated per ``args``);
     ``discretisation``: see :class:`updating.cost.ModifiedProblem`."""
-    from updating.cost import ModifiedProblem
-
     if measurements is None:
         measurements = _checked_measurements(case, args)
     resolution = _resolution_for_tolerance(case, _console(args))
@@ -460,8 +364,6 @@ def _modified_problem(case, args, measurements=None, discretisation=True):
 def _resolution_for_tolerance(case, console):
     """With ``[discretisation] tolerance``: the resolution at which the model's response meets
     it at every frequency (the highest any frequency needs); else None (the description's)."""
-    from solver.estimate import solve_to_tolerance
-
     tolerance = case.discretisation.tolerance
     if tolerance is None:
         return None
@@ -513,9 +415,6 @@ def _estimates_json(estimates):
 
 
 def cmd_localise(args):
-    from updating.files import write_json_atomic
-    from updating.strategy import excess_ratios, localise, standing_summary, thresholds
-
     case = _load(args)
     measurements = _checked_measurements(case, args)
     problem = _modified_problem(case, args, measurements)
@@ -556,9 +455,6 @@ def cmd_localise(args):
 def _planned_points(case, args):
     """The points of the planned measurement: a measurement file's (values unused), else the
     description's grid and point measurements, at every frequency of the description."""
-    from updating.files import InputError
-    from updating.measurements import Measurements, measurement_layout
-
     if getattr(args, "measurements", None):
         return _measurements(case, args)
     layout = measurement_layout(case)
@@ -572,8 +468,6 @@ def _planned_points(case, args):
 def _updatable_joint_names(case, args, option, names):
     """``names`` checked against the case's updatable joints (one line and exit 2 naming the
     first that is not one)."""
-    from updating.files import InputError
-
     for name in names:
         if name not in case.updatable_joints():
             raise InputError(f"{option} {name}: not an updatable joint of {args.case} "
@@ -582,30 +476,15 @@ def _updatable_joint_names(case, args, option, names):
     return names
 
 
-SUMMARY_JOINTS = 30
-"""Joints above which vtcr localise prints only those that stand out and the next five."""
-
-LONG_PLAN_SECONDS = 600.0  # a plan estimated longer than this says so before it starts
-
-
 def cmd_plan(args):
-    from solver.sizing import estimate_size
-    from updating.files import write_json_atomic
-    from updating.plan import identifiability_plan
-    from updating.progress import progress_bar
-
     case = _load(args)
     if not case.joints:
-        from updating.files import InputError
-
         raise InputError(f"{args.case}: joints: the description has no joint to plan for; add "
                          "a [joints.ID] table")
     joints = (_updatable_joint_names(case, args, "--joints", args.joints) if args.joints
               else None)
     console = _console(args)
     if args.plot:
-        from updating.figure_tools import require_matplotlib
-
         require_matplotlib()  # fail before the work, not after it
     points = _planned_points(case, args)
     if case.measurement.noise <= 0.0:
@@ -657,8 +536,6 @@ def cmd_plan(args):
             "error_estimate": _estimates_json(estimates),
             "joints": {joint: plan.to_json() for joint, plan in plans.items()}})
     if args.plot:
-        from updating.plots import write_plan_figure
-
         path = write_plan_figure(plans, frequencies, args.plot, case.name)
         console.print(f"figure written to {path}")
     return 0
@@ -683,8 +560,6 @@ def _truth(case, args):
 
 def _run_path(args):
     """The run file: ``--run``, else beside the report or the JSON, else ``CASE.run.json``."""
-    from pathlib import Path
-
     if args.run_file:
         return Path(args.run_file)
     for output in (args.report, args.json):
@@ -694,34 +569,9 @@ def _run_path(args):
 
 
 def cmd_update(args):
-    import time
-
-    from updating.files import write_json_atomic, write_text_atomic
-    from updating.progress import progress_bar
-    from updating.report import (
-        identified_lines,
-        notable_joints,
-        result_json,
-        result_markdown,
-        steps_table,
-    )
-    from updating.runfile import (
-        RunFile,
-        RunLock,
-        description_digest,
-        fingerprint,
-        load_run,
-        read_run,
-        refuse_other_measurements,
-        refuse_replacing,
-    )
-    from updating.strategy import finished_result, standing_summary, update_joints
-
     case = _load(args)
     console = _console(args)
     if args.plot:
-        from updating.figure_tools import require_matplotlib
-
         require_matplotlib()  # fail before the run, not after it
     t0 = time.perf_counter()
     run_path = args.resume or _run_path(args)
@@ -808,8 +658,6 @@ def cmd_update(args):
         write_text_atomic(args.report, result_markdown(result, case.name, _truth(case, args),
                                                           case.measurement.noise))
     if args.plot:
-        from updating.plots import write_update_figures
-
         t3 = time.perf_counter()
         with progress_bar(console, "figures", None) as advance:
             paths = write_update_figures(case, problem, measurements, result, args.plot,
@@ -825,18 +673,9 @@ def cmd_update(args):
 
 
 def cmd_curve(args):
-    import csv
-    import io
-
-    from updating.cost import cost_curve, log_grid
-    from updating.files import write_text_atomic
-    from updating.progress import progress_bar
-
     case = _load(args)
     _updatable_joint_names(case, args, "--joint", [args.joint])
     if args.plot:
-        from updating.figure_tools import require_matplotlib
-
         require_matplotlib()
     problem = _modified_problem(case, args, discretisation=False)  # no floor, no interval
     with progress_bar(_console(args), f"cost curve of {args.joint}", args.points) as advance:
@@ -860,25 +699,15 @@ def cmd_curve(args):
         writer.writerows(rows)
         write_text_atomic(args.csv, buffer.getvalue())
     if args.plot:
-        from updating.plots import write_curve_figure
-
         path = write_curve_figure(case, rows, args.joint, args.plot)
         _console(args).print(f"figure written to {path}")
     return 0
 
 
 def cmd_frf(args):
-    from solver import field_grid
-    from updating.files import read_probes, write_json_atomic
-    from updating.measurements import write_measurements
-    from updating.progress import progress_bar
-    from updating.sweep import BALANCE_TOLERANCE, frequency_sweep
-
     case = _load(args)
     console = _console(args)
     if args.plot:
-        from updating.figure_tools import require_matplotlib
-
         require_matplotlib()  # fail before the sweep, not after it
     probes = read_probes(args.probes, case) if args.probes else None
     if probes is None:
@@ -902,12 +731,8 @@ def cmd_frf(args):
         write_json_atomic(args.json, {**_provenance(args, case), **sweep.to_json(order, nodes),
                                       "error_estimate": _estimates_json(estimates)})
     if args.uff:
-        from updating.uff_export import write_uff
-
         write_uff(args.uff, case, sweep, order, nodes)
     if args.plot:
-        from updating.plots import write_sweep_figures
-
         paths = write_sweep_figures(case, sweep, args.plot)
         console.print(f"{len(paths)} figures written to {args.plot}: "
                       f"{', '.join(p.name for p in paths)}")
@@ -922,9 +747,6 @@ def _sweep_estimates(case, sweep):
     """Error estimates at the sweep's strongest response peak and at its highest frequency
     (where the ray counts of the rule are the tightest); two solves and two enriched solves,
     not one per frequency of the sweep."""
-    from solver import solve_case
-    from solver.estimate import estimate_error
-
     rms = sweep.spatial_rms()
     chosen = sorted({float(sweep.frequencies[int(np.argmax(rms))]), float(sweep.frequencies[-1])})
     return {f: estimate_error(case, solve_case(case, f, residuals=False)) for f in chosen}
@@ -981,16 +803,10 @@ def _print_sweep(console, case, sweep, n_points):
 
 
 def cmd_schema(args):
-    import json
-
-    from assembly.schema import case_json_schema
-    from updating.files import write_text_atomic
-
     text = json.dumps(case_json_schema(), indent=2, ensure_ascii=False) + "\n"
     if not args.out:
         sys.stdout.write(text)
         return 0
-    from pathlib import Path
 
     write_text_atomic(args.out, text)
     _console(args).print(f"JSON Schema of the description written to {args.out}; for editor "
@@ -1009,10 +825,6 @@ UNITS = {"length": "m", "w": "m", "frequency": "Hz", "power": "W", "energy": "J"
 
 def _provenance(args, case, measurements=None):
     """The tool, the units and fingerprints of the inputs, for every JSON output."""
-    import hashlib
-
-    from updating.runfile import description_digest, measurement_digest
-
     inputs = {"description": {"path": str(args.case), "sha256": description_digest(case)}}
     probes = getattr(args, "probes", None)
     if probes:
@@ -1022,26 +834,8 @@ def _provenance(args, case, measurements=None):
     if measurements is not None:
         inputs["measurements"] = {"path": getattr(args, "measurements", None) or "simulated",
                                   "sha256": measurement_digest(measurements)}
-    return {"vtcr": {"version": _version(), "command": args.command}, "units": UNITS,
+    return {"vtcr": {"version": version_text(), "command": args.command}, "units": UNITS,
             "inputs": inputs}
-
-
-def _version():
-    from importlib.metadata import PackageNotFoundError, version
-
-    try:
-        return version("vtcr")
-    except PackageNotFoundError:  # run from a checkout that was not installed
-        return "unknown"
-
-
-def _compute_options(parser):
-    parser.add_argument("--workers", type=int, metavar="N",
-                        help="local worker processes for independent tasks (default [compute] "
-                             "workers, else 1: this process)")
-    parser.add_argument("--scheduler", metavar="ADDRESS",
-                        help="a running Dask scheduler, e.g. tcp://host:8786 (default [compute] "
-                             "scheduler; needs distributed)")
 
 
 def _executor(args, case):
@@ -1050,8 +844,6 @@ def _executor(args, case):
     Command-line options win over the description's ``[compute]`` table; ``--workers`` alone
     means local processes even when the description names a scheduler.
     """
-    from updating.executor import Executor
-
     if getattr(args, "executor", None) is None:
         workers, scheduler = getattr(args, "workers", None), getattr(args, "scheduler", None)
         if workers is None and scheduler is None:
@@ -1064,164 +856,110 @@ def _executor(args, case):
 def _threads(args, case):
     """Threads for the per-frequency solves of this process: one per usable core, as many as
     the estimated peak memory of one solve (``solver.sizing``) lets fit in half the memory."""
-    from solver.sizing import available_memory, estimate_size
-    from updating.executor import frequency_threads
-
     if getattr(args, "threads", None) is None:
         args.threads = frequency_threads(len(case.frequencies) or 1,
                                          estimate_size(case).solve_bytes, available_memory())
     return args.threads
 
 
-def build_parser():
-    parser = _Parser(
-        prog="vtcr",
-        description="Localise and correct badly modelled joints of plate assemblies (VTCR).")
-    parser.add_argument("--version", action="version", version=f"vtcr {_version()}")
-    sub = parser.add_subparsers(dest="command", required=True)
-
-    check = sub.add_parser("check", help="validate and summarise an assembly description")
-    check.add_argument("case", help="assembly description (TOML)")
-    check.set_defaults(run=cmd_check)
-
-    solve = sub.add_parser("solve", help="forced response at the description's frequencies")
-    solve.add_argument("case", help="assembly description (TOML)")
-    solve.add_argument("--probes", help="CSV with header plate,x,y (plate-local metres)")
-    solve.add_argument("--json", help="write the results to this JSON file")
-    solve.add_argument("--frequency", type=float, action="append",
-                       help="solve at this frequency in Hz instead of the description's; "
-                            "repeat for several (default: the description's frequencies)")
-    solve.add_argument("--max-rows", type=int, default=20,
-                       help="rows shown in the terminal (all of them in the JSON)")
-    solve.add_argument("--tolerance", type=float, metavar="TOL",
-                       help="raise the resolution until the estimated relative L2 error of w "
-                            "is below TOL, or exit 2 naming the plate that cannot reach it "
-                            "(default [discretisation] tolerance; none: solve at the "
-                            "description's resolution)")
-    _estimate_option(solve)
-    solve.set_defaults(run=cmd_solve)
-
-    simulate = sub.add_parser("simulate", help="simulated experiment from the true joints")
-    simulate.add_argument("case", help="assembly description (TOML)")
-    simulate.add_argument("--out", required=True, help="measurement CSV to write")
-    simulate.add_argument("--noise", type=float,
-                          help="uniform noise fraction (default [measurement] noise)")
-    simulate.add_argument("--seed", type=int, help="noise seed (default [measurement] seed)")
-    _compute_options(simulate)
-    simulate.set_defaults(run=cmd_simulate)
-
-    localise = sub.add_parser("localise", help="per-joint residuals at the model's parameters")
-    localise.add_argument("case", help="assembly description (TOML)")
-    _measurement_options(localise)
-    _estimate_option(localise)
-    localise.add_argument("--json", help="write the residuals, their floors and the error "
-                                         "estimate to this JSON file")
-    localise.add_argument("--all", action="store_true",
-                          help=f"print every joint (above {SUMMARY_JOINTS} joints, only those "
-                               "that stand out and the next five are printed)")
-    _compute_options(localise)
-    localise.set_defaults(run=cmd_localise)
-
-    plan = sub.add_parser("plan", help="before the test: which joints the planned "
-                                       "measurement can identify")
-    plan.add_argument("case", help="assembly description (TOML)")
-    _measurement_options(plan, "the planned points (their values are not used)",
-                         "the description's [measurement] grid and points")
-    _confidence_option(plan, "the expected intervals")
-    plan.add_argument("--joints", nargs="+", metavar="JOINT",
-                      help="plan only these joints (default: every updatable one); each costs "
-                           "about 40 %% of a factorisation of the interface problem (vtcr "
-                           "check prints the estimate), so plan a large structure region by "
-                           "region")
-    _estimate_option(plan)
-    plan.add_argument("--json", help="write the sensitivities, expected intervals and "
-                                     "verdicts to this JSON file")
-    plan.add_argument("--plot", metavar="DIR",
-                      help="write the sensitivity figure into DIR (needs matplotlib)")
-    _compute_options(plan)
-    plan.set_defaults(run=cmd_plan)
-
-    update = sub.add_parser("update", help="localisation-correction loop")
-    update.add_argument("case", help="assembly description (TOML)")
-    _measurement_options(update)
-    _estimate_option(update)
-    update.add_argument("--json", help="write the steps, the identified values and the "
-                                       "timings to this JSON file")
-    update.add_argument("--report", help="Markdown report to write")
-    update.add_argument("--all", action="store_true",
-                        help=f"a row for every joint (above {SUMMARY_JOINTS} joints, only those "
-                             "corrected or standing out in some step)")
-    update.add_argument("--plot", metavar="DIR",
-                        help="write PNG figures into DIR (needs matplotlib)")
-    update.add_argument("--run", dest="run_file", metavar="RUN",
-                        help="run file saving every finished step (default: beside --report or "
-                             "--json, else CASE.run.json in the current directory)")
-    update.add_argument("--resume", metavar="RUN",
-                        help="continue the run saved in RUN from its last finished step (a "
-                             "finished run is reported without running the loop again)")
-    update.add_argument("--force", action="store_true",
-                        help="replace an existing run file (default: refuse, so that no run "
-                             "is lost)")
-    _confidence_option(update, "the confidence interval of every corrected joint")
-    _compute_options(update)
-    update.set_defaults(run=cmd_update)
-
-    curve = sub.add_parser("curve", help="E_mod^2, E_int^2, E_mes^2 against one joint's log10 k")
-    curve.add_argument("case", help="assembly description (TOML)")
-    curve.add_argument("--joint", required=True, help="the joint whose log10 k is varied")
-    _measurement_options(curve)
-    curve.add_argument("--csv", help="write the curve as CSV to this file")
-    curve.add_argument("--points", type=int, default=41,
-                       help="samples of log10 k over [updating] bounds")
-    curve.add_argument("--plot", metavar="DIR",
-                       help="write the curve as DIR/cost_JOINT.png (needs matplotlib)")
-    _compute_options(curve)
-    curve.set_defaults(run=cmd_curve)
-
-    frf = sub.add_parser("frf", help="frequency response and power flow over a band")
-    frf.add_argument("case", help="assembly description (TOML)")
-    _estimate_option(frf)
-    frf.add_argument("--band", nargs=2, type=float, required=True, metavar=("F1", "F2"),
-                     help="frequency band (Hz)")
-    grid = frf.add_mutually_exclusive_group()
-    grid.add_argument("--step", type=float, help="initial frequency step (Hz)")
-    grid.add_argument("--points", dest="sweep_points", type=int, default=41,
-                      help="initial number of frequencies (default 41)")
-    frf.add_argument("--tolerance", type=float, default=0.1,
-                     help="refine where neighbouring responses differ by more than this "
-                          "fraction (default 0.1)")
-    frf.add_argument("--max-points", type=int, default=2000,
-                     help="most frequencies of the refined sweep (default 2000)")
-    frf.add_argument("--probes", help="CSV with header plate,x,y (default: the measurement grid)")
-    frf.add_argument("--csv", help="write the response as plate,x,y,frequency,re,im")
-    frf.add_argument("--json", help="write the sweep, the power flows and the sampling")
-    frf.add_argument("--uff", metavar="OUT.uff",
-                     help="write the response at the probes as UFF datasets 58 (FRFs per newton "
-                          "under a single point force), with units (164) and nodes (15); needs "
-                          "pyuff")
-    frf.add_argument("--plot", metavar="DIR",
-                     help="write frf.png and power.png into DIR (needs matplotlib)")
-    _compute_options(frf)
-    frf.set_defaults(run=cmd_frf)
-
-    schema = sub.add_parser("schema", help="JSON Schema of the description (editor completion)")
-    schema.add_argument("--out", help="write it to this file (default: standard output)")
-    schema.set_defaults(run=cmd_schema)
-
-    for p in (check, solve, simulate, localise, plan, update, curve, frf, schema):
-        p.add_argument("--quiet", action="store_true", help="print nothing but errors")
-    return parser
+_OUTPUT_OPTIONS = (("out", "--out"), ("json", "--json"), ("csv", "--csv"), ("report", "--report"),
+                   ("uff", "--uff"))
 
 
-def main(argv=None):
-    """Entry point of the ``vtcr`` console script; returns the exit status."""
-    from assembly import DescriptionError
-    from solver.errors import NumericalError
-    from solver.estimate import ToleranceError
-    from updating.files import InputError
+def _option_problems(args):
+    """One line per bad option value, naming the option and the fix (before any work)."""
+    problems = []
+    frequencies, noise = getattr(args, "frequency", None) or (), getattr(args, "noise", None)
+    seed, points = getattr(args, "seed", None), getattr(args, "points", None)
+    max_rows = getattr(args, "max_rows", None)
+    problems += [f"--frequency {frequency}: must be a finite frequency > 0 in Hz; give "
+                 "e.g. --frequency 155" for frequency in frequencies
+                 if not (math.isfinite(frequency) and frequency > 0)]
+    if noise is not None and not 0 <= noise < 1:
+        problems.append(f"--noise {noise}: must be a fraction in [0, 1); give e.g. --noise 0.1 "
+                        "for +-10 %")
+    if seed is not None and seed < 0:
+        problems.append(f"--seed {seed}: must be a whole number >= 0; give e.g. --seed 1")
+    if points is not None and points < 2:
+        problems.append(f"--points {points}: must be at least 2 (samples of log10 k over "
+                        "[updating] bounds); give e.g. --points 41")
+    if max_rows is not None and max_rows < 0:
+        problems.append(f"--max-rows {max_rows}: must be >= 0 (0 shows no rows); give e.g. "
+                        "--max-rows 20")
+    tolerance = getattr(args, "tolerance", None)
+    if tolerance is not None and not 0 < tolerance < 1:
+        problems.append(f"--tolerance {tolerance}: must be a relative error in (0, 1); give "
+                        "e.g. --tolerance 1e-3")
+    confidence = getattr(args, "confidence", None)
+    if confidence is not None and not 0 < confidence < 1:
+        problems.append(f"--confidence {confidence}: must be a level in (0, 1); give e.g. "
+                        "--confidence 0.9")
+    workers = getattr(args, "workers", None)
+    if workers is not None and workers < 1:
+        problems.append(f"--workers {workers}: must be at least 1; give e.g. --workers 2")
+    if args.command == "frf":
+        problems += _sweep_option_problems(args)
+    inputs = [getattr(args, n, None) for n in ("case", "probes", "measurements", "uff_map")]
+    for name, flag in (("run_file", "--run"), ("resume", "--resume")):
+        if getattr(args, name, None) == "-":
+            problems.append(f"{flag} -: a run file is read back to resume a run; give a file "
+                            f"name, e.g. {flag} four_plates.run.json")
+    for name, flag in _OUTPUT_OPTIONS + (("run_file", "--run"),):
+        if getattr(args, name, None) is not None:
+            problem = output_path_problem(getattr(args, name), flag, inputs)
+            problems += [problem] if problem else []
+    outputs = [(flag, getattr(args, name, None)) for name, flag in _OUTPUT_OPTIONS]
+    if args.command == "update":  # the run file is written after every step
+        outputs.append(("--resume", args.resume) if args.resume else
+                       ("--run" if args.run_file else "the run file", _run_path(args)))
+    problems += output_collisions(outputs)
+    if getattr(args, "plot", None) is not None:
+        problem = plot_directory_problem(args.plot)
+        problems += [problem] if problem else []
+    return problems
 
-    parser = build_parser()
-    args = parser.parse_args(argv)
+
+def _sweep_option_problems(args):
+    """Bad values of ``vtcr frf``'s sweep options, one line each."""
+    problems = []
+    low, high = args.band
+    if not (math.isfinite(low) and math.isfinite(high) and 0 < low < high):
+        problems.append(f"--band {low:g} {high:g}: must be two finite frequencies "
+                        "0 < F1 < F2 in Hz; give e.g. --band 200 260")
+    if args.step is not None and not (math.isfinite(args.step) and args.step > 0):
+        problems.append(f"--step {args.step}: must be a finite step > 0 in Hz; give e.g. "
+                        "--step 1")
+    if args.sweep_points < 2:
+        problems.append(f"--points {args.sweep_points}: a sweep needs at least 2 "
+                        "frequencies; give e.g. --points 41")
+    if not 0 < args.tolerance <= 1:
+        problems.append(f"--tolerance {args.tolerance}: must be a fraction in (0, 1]; give "
+                        "e.g. --tolerance 0.1")
+    if args.max_points < 2:
+        problems.append(f"--max-points {args.max_points}: must be at least 2; give e.g. "
+                        "--max-points 2000")
+    if args.uff is not None:
+        try:
+            import pyuff  # noqa: F401
+        except ImportError:
+            problems.append(f"--uff {args.uff}: writing UFF needs pyuff; install it with "
+                            "pip install 'pyuff>=2.4' (the extra uff of vtcr)")
+    return problems
+
+
+LONG_PLAN_SECONDS = 600.0  # a plan estimated longer than this says so before it starts
+
+
+COMMANDS = {"check": cmd_check, "solve": cmd_solve, "simulate": cmd_simulate,
+            "localise": cmd_localise, "plan": cmd_plan, "update": cmd_update, "curve": cmd_curve,
+            "frf": cmd_frf, "schema": cmd_schema}
+"""The function of each command (the parser's ``run`` default)."""
+
+
+def execute(args):
+    """Check the options and the description of the parsed ``args``, run their command and
+    return its exit status: every expected failure is one line on standard error and a status
+    (2 bad input, 1 numerical failure, 130 interrupted; ``docs/cli.md``)."""
     problems = _option_problems(args)
     for line in problems:
         print(f"vtcr: {line}", file=sys.stderr)
@@ -1230,7 +968,7 @@ def main(argv=None):
     try:
         with contextlib.ExitStack() as args.resources:  # the executor's processes, if any
             _check_description(args)
-            return args.run(args)
+            return COMMANDS[args.run](args)
     except (DescriptionError, InputError) as err:
         lines = str(err).splitlines()
         for line in lines[:MAX_PROBLEM_LINES]:
@@ -1253,7 +991,3 @@ def main(argv=None):
     except KeyboardInterrupt:
         print("vtcr: interrupted", file=sys.stderr)
         return 130
-
-
-if __name__ == "__main__":
-    sys.exit(main())
