@@ -154,7 +154,8 @@ def enriched_plates(case, frequency, resolution=None):
         reason = _enriched_solve_unaffordable(case, frequency, enriched_resolution)
         if reason:
             return None, reason, time.perf_counter() - t0
-    plates = solve_case(case, frequency, resolution=enriched_resolution, residuals=False).plates
+    plates = solve_case(case, frequency, resolution=enriched_resolution, residuals=False,
+                        check=False).plates
     return plates, "", time.perf_counter() - t0
 
 
@@ -249,7 +250,7 @@ def solve_to_tolerance(case, frequency, tolerance, max_refinements=4, resolution
         error, its estimates at each resolution and its condition estimate.
     """
     resolution = {pid: plate_resolution(case, pid, resolution) for pid in case.plates}
-    solution = solve_case(case, frequency, resolution=resolution)
+    solution = solve_case(case, frequency, resolution=resolution, check=False)
     history = []
     for refinement in range(max_refinements + 1):
         estimate = estimate_error(case, solution, resolution)
@@ -266,7 +267,7 @@ def solve_to_tolerance(case, frequency, tolerance, max_refinements=4, resolution
         allowed = tolerance**2 / len(resolution)
         resolution = {pid: r * (ENRICHMENT if estimate.shares[pid] > allowed else 1.0)
                       for pid, r in resolution.items()}
-        solution = solve_case(case, frequency, resolution=resolution)
+        solution = solve_case(case, frequency, resolution=resolution, check=False)
     raise AssertionError("unreachable")
 
 

@@ -16,12 +16,14 @@ variational form, and the joints couple the plates through interface unknowns (s
 
 from __future__ import annotations
 
+import dataclasses
 import time
 from dataclasses import dataclass
 
 import numpy as np
 
 from solver.errors import check_finite, plate_condition_warnings
+from solver.guards import check_description
 from solver.plate import PlateSolution, assemble_plate, boundary_traces, solve_dense
 from solver.problems import plate_basis, plate_problem
 from solver.substructure import solve_assembly
@@ -63,7 +65,7 @@ class CaseSolution:
         return self.plates[plate_id].field(points)["w"]
 
 
-def solve_case(case, frequency=None, resolution=None, residuals=True) -> CaseSolution:
+def solve_case(case, frequency=None, resolution=None, residuals=True, check=True) -> CaseSolution:
     """Solve the forced response of ``case`` at one frequency.
 
     Parameters
@@ -78,6 +80,10 @@ def solve_case(case, frequency=None, resolution=None, residuals=True) -> CaseSol
     residuals : bool, optional
         For an assembly, compute the joint residuals (and the reference energy that
         normalises them); False when only the field is wanted.
+    check : bool, optional
+        Run the description's guard rails at this frequency first
+        (:func:`solver.guards.check_description`: errors raise, warnings join the solution's);
+        False where they ran already, or at a resolution chosen by the caller (default True).
 
     Returns
     -------
@@ -88,6 +94,9 @@ def solve_case(case, frequency=None, resolution=None, residuals=True) -> CaseSol
 
     Raises
     ------
+    assembly.DescriptionError
+        With ``check``, if the description fails a guard rail (ray counts, magnitudes,
+        memory; ``docs/accuracy.md``).
     solver.errors.NumericalError
         If a ray amplitude or joint residual is not finite (names the frequency and plate).
     ValueError
@@ -96,6 +105,16 @@ def solve_case(case, frequency=None, resolution=None, residuals=True) -> CaseSol
     frequency = case.frequencies[0] if frequency is None else float(frequency)
     if not (np.isfinite(frequency) and frequency > 0):
         raise ValueError(f"the frequency must be finite and > 0 Hz, got {frequency}")
+    # at a frequency of the description its own field is named, else the frequency asked for
+    asked = None if frequency in case.frequencies else [frequency]
+    warnings = tuple(check_description(case, case.name, asked)) if check else ()
+    solution = _solve(case, frequency, resolution, residuals)
+    return dataclasses.replace(solution, warnings=warnings + solution.warnings) if warnings \
+        else solution
+
+
+def _solve(case, frequency, resolution, residuals):
+    """:func:`solve_case` after its checks."""
     if case.joints:
         if not case.loads:
             raise ValueError(

@@ -277,7 +277,7 @@ def test_under_resolved_joint_edges_give_small_residual_and_wrong_field():
     ref = reference.w(points[:, 0], points[:, 1], plate=1)
     errors = {}
     for name, desc in (("coarse", coarse), ("rule", description)):
-        solution = solve_case(parse_case(desc))
+        solution = solve_case(parse_case(desc), check=False)  # the guard would refuse it
         errors[name] = np.linalg.norm(solution.w("P2", points) - ref) / np.linalg.norm(ref)
     assert errors["coarse"] > 5e-2 > 1e-2 > errors["rule"]
 

@@ -487,7 +487,7 @@ def test_condition_warnings_name_plate_and_frequency() -> None:
 def test_modified_problem_collects_condition_warnings() -> None:
     from updating.cost import ModifiedProblem
 
-    fake = SimpleNamespace(frequencies={
+    fake = SimpleNamespace(_description_warnings=(), frequencies={
         150.0: SimpleNamespace(system=SimpleNamespace(rcond={"P1": 1e-12, "P2": 1e-25}),
                                no_discretisation=""),
         155.0: SimpleNamespace(system=SimpleNamespace(rcond={"P1": 1e-30, "P2": 1e-12}),

@@ -52,7 +52,9 @@ def plate_description(eta=0.01, at=(0.12, 0.31), resolution=1.0):
 def plate_error(frequency, resolution, eta=0.01, at=(0.12, 0.31)):
     """(true error, estimate) of the simply supported plate against the Navier series."""
     case = parse_case(plate_description(eta, at, resolution))
-    solution = solve_case(case, frequency)
+    # some cases sit where the guard rails refuse a solve (below the first resonance, forces
+    # next to an edge): the estimate must say so there too
+    solution = solve_case(case, frequency, check=False)
     estimate = estimate_error(case, solution)
     points, weights = plate_l2_rule(solution.plates["P1"].problem)
     exact = navier_point_force(*SIZE, complex_rigidity(E, PLATE_H, PLATE_NU, eta),

@@ -1,3 +1,37 @@
-"""Joint updating: residuals, localisation-correction strategy, reports and the command line."""
+"""Joint updating: the modified error, the localisation–correction loop, its intervals and plan,
+measured and simulated data, reports and the command line (``docs/api.md``).
 
-__all__: list[str] = []
+The names below are loaded on first use, so that ``import updating.cli`` (the ``vtcr``
+command) loads no numpy before it has set its BLAS threads.
+"""
+
+from __future__ import annotations
+
+import importlib
+
+_EXPORTS = {
+    "update_case": "updating.api",
+    "localise_case": "updating.api",
+    "ModifiedProblem": "updating.cost",
+    "localise": "updating.strategy",
+    "update_joints": "updating.strategy",
+    "Step": "updating.strategy",
+    "UpdateResult": "updating.strategy",
+    "Measurements": "updating.measurements",
+    "simulate_measurements": "updating.measurements",
+    "read_measurements": "updating.measurements",
+    "identifiability_plan": "updating.plan",
+    "frequency_sweep": "updating.sweep",
+}
+
+__all__ = sorted(_EXPORTS)
+
+
+def __getattr__(name):
+    if name in _EXPORTS:
+        return getattr(importlib.import_module(_EXPORTS[name]), name)
+    raise AttributeError(f"module 'updating' has no attribute {name!r}")
+
+
+def __dir__():
+    return __all__

@@ -44,6 +44,7 @@ import numpy as np
 
 from solver.errors import NumericalError, condition_warnings
 from solver.estimate import enriched_plates, estimate_error
+from solver.guards import check_description
 from solver.interface import Block, JointCondensation, squared_norm
 from solver.joint_rules import channel_parameters
 from solver.plate import particular_field
@@ -234,10 +235,17 @@ class ModifiedProblem:
     threads : int, optional
         Threads on which the frequencies of one evaluation are factorised side by side
         (default 1; :func:`updating.executor.frequency_threads` chooses from the memory).
+    check : bool, optional
+        Run the description's guard rails at the measured frequencies first
+        (:func:`solver.guards.check_description`): errors raise
+        :class:`assembly.DescriptionError`, warnings join :attr:`warnings` (default True;
+        False where they ran already).
     """
 
     def __init__(self, case, measurements, r=None, resolution=None, executor=None,
-                 estimate=False, threads=1, discretisation=True):
+                 estimate=False, threads=1, discretisation=True, check=True):
+        self._description_warnings = tuple(check_description(
+            case, case.name, measurements.frequencies, need_loads=True)) if check else ()
         self.case = case
         self.threads = threads
         self.joints = tuple(case.updatable_joints())
@@ -531,11 +539,12 @@ class ModifiedProblem:
 
     @property
     def warnings(self):
-        """Condition warnings of the plate solves, one line each (as ``CaseSolution.warnings``),
-        and the frequencies whose floors lack the discretisation error (its enriched solve was
-        not made)."""
-        lines = [line for f, d in self.frequencies.items()
-                 for line in condition_warnings(d.system.rcond, f)]
+        """One line each: the description's guard-rail warnings (with ``check``), the condition
+        warnings of the plate solves (as ``CaseSolution.warnings``), and the frequencies whose
+        floors lack the discretisation error (its enriched solve was not made)."""
+        lines = list(self._description_warnings)
+        lines += [line for f, d in self.frequencies.items()
+                  for line in condition_warnings(d.system.rcond, f)]
         lines += [f"{f:g} Hz: the floors hold the measurement noise only, not the model's "
                   f"discretisation error: {d.no_discretisation}"
                   for f, d in self.frequencies.items() if d.no_discretisation]

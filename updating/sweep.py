@@ -15,6 +15,7 @@ import numpy as np
 
 from solver import solve_case
 from solver.plate import evaluate_field
+from solver.guards import check_description
 from solver.power import power_flow
 from solver.substructure import build_assembly_system
 from solver.sweep import initial_frequencies, refine_frequencies
@@ -60,7 +61,7 @@ def sweep_point(case, points, frequency):
     ``points`` is ``{plate: (n, 2) plate-local points}``; the response vector concatenates the
     plates' values in that order (what :func:`solver.sweep.refine_frequencies` compares).
     """
-    solution = solve_case(case, frequency, residuals=False)
+    solution = solve_case(case, frequency, residuals=False, check=False)
     values = {pid: solution.w(pid, pts) for pid, pts in points.items()}
     vector = np.concatenate([values[pid] for pid in points]) if points else np.zeros(0)
     return vector, values, power_flow(case, solution)
@@ -112,7 +113,7 @@ class Sweep:
 
 
 def frequency_sweep(case, band, points, step=None, count=None, tolerance=0.1, fraction=0.25,
-                    max_points=2000, executor=None, on_round=None) -> Sweep:
+                    max_points=2000, executor=None, on_round=None, check=True) -> Sweep:
     """Sweep ``band = (F1, F2)`` Hz, refining until the resonances are resolved.
 
     Parameters
@@ -128,13 +129,20 @@ def frequency_sweep(case, band, points, step=None, count=None, tolerance=0.1, fr
         Runs the frequencies of each round (default: in this process).
     on_round : callable, optional
         Called with the number of frequencies solved so far after each round (progress).
+    check : bool, optional
+        Run the description's guard rails at both ends of the band first (the magnitudes they
+        check grow or fall with the frequency): errors raise
+        :class:`assembly.DescriptionError`, warnings go into the sampling report (default
+        True; False where they ran already).
     """
+    warnings = check_description(case, case.name, list(band), need_loads=True) if check else []
     grid = initial_frequencies(band[0], band[1], step=step, points=count)
     evaluate = round_evaluator(functools.partial(sweep_point, case, points), executor, on_round)
     frequencies, results, report = refine_frequencies(
         evaluate, grid, smallest_loss_factor(case), tolerance, fraction, max_points)
     report = dict(report, requested={"band": [float(band[0]), float(band[1])],
-                                     "step": step, "points": count})
+                                     "step": step, "points": count},
+                  **({"warnings": warnings} if warnings else {}))
     return Sweep(frequencies, points, [values for _, values, _ in results],
                  [power for _, _, power in results], report)
 

@@ -295,11 +295,11 @@ def _solve_with_estimate(case, frequency, tolerance, estimate):
     if tolerance is not None:
         return solve_to_tolerance(case, frequency, tolerance)
     if not estimate:
-        return solve_case(case, frequency), None
+        return solve_case(case, frequency, check=False), None
     # the enriched solve first: the solution keeps its system (36 MB on the 10 x 10 grid),
     # which would otherwise stay in memory through the enriched solve's peak
     enriched = enriched_plates(case, frequency)
-    solution = solve_case(case, frequency)
+    solution = solve_case(case, frequency, check=False)
     return solution, estimate_error(case, solution, enriched=enriched)
 
 
@@ -354,7 +354,8 @@ def _modified_problem(case, args, measurements=None, discretisation=True):
     executor = _executor(args, case)
     problem = ModifiedProblem(case, measurements, resolution=resolution, executor=executor,
                               estimate=not getattr(args, "no_estimate", True),
-                              threads=executor.threads, discretisation=discretisation)
+                              threads=executor.threads, discretisation=discretisation,
+                              check=False)  # checked before the command ran
     _problem_warnings(args, problem)
     _estimate_lines(_console(args), problem.error_estimates,
                     " of the model at its initial parameters")
@@ -720,7 +721,7 @@ def cmd_frf(args):
     with progress_bar(console, f"sweep on {executor.description}", None) as advance:
         sweep = frequency_sweep(case, tuple(args.band), points, step=args.step, count=count,
                                 tolerance=args.tolerance, max_points=args.max_points,
-                                executor=executor,
+                                executor=executor, check=False,
                                 on_round=lambda n: advance(f"{n} frequencies solved", 0))
     _print_sweep(console, case, sweep, len(order))
     estimates = {} if args.no_estimate else _sweep_estimates(case, sweep)
@@ -749,7 +750,7 @@ def _sweep_estimates(case, sweep):
     not one per frequency of the sweep."""
     rms = sweep.spatial_rms()
     chosen = sorted({float(sweep.frequencies[int(np.argmax(rms))]), float(sweep.frequencies[-1])})
-    return {f: estimate_error(case, solve_case(case, f, residuals=False)) for f in chosen}
+    return {f: estimate_error(case, solve_case(case, f, residuals=False, check=False)) for f in chosen}
 
 
 def _print_sweep(console, case, sweep, n_points):

@@ -1,0 +1,45 @@
+"""The updating run as library calls: what ``vtcr localise`` and ``vtcr update`` do, without
+the printing (``docs/api.md``).
+
+>>> import assembly, updating
+>>> case = assembly.load_case("cases/four_plates.toml")   # doctest: +SKIP
+>>> result = updating.update_case(case)                    # doctest: +SKIP
+>>> sorted(result.intervals)                               # doctest: +SKIP
+['G1', 'G2', 'G4']
+
+Both run the description's guard rails first (:func:`solver.guards.check_description`, through
+:class:`updating.cost.ModifiedProblem`) and, without measurements, simulate the experiment the
+description states (``[truth]``, ``[measurement]``), as the commands do.
+"""
+
+from __future__ import annotations
+
+from updating.cost import ModifiedProblem
+from updating.measurements import simulate_measurements
+from updating.strategy import Step, UpdateResult, localise, update_joints
+
+__all__ = ["localise_case", "update_case"]
+
+
+def _problem(case, measurements, executor):
+    measurements = simulate_measurements(case, executor=executor) if measurements is None \
+        else measurements
+    return ModifiedProblem(case, measurements, executor=executor, estimate=True)
+
+
+def localise_case(case, measurements=None, executor=None) -> Step:
+    """The first localisation of ``case``: every joint's residual, floor and threshold at the
+    model's parameters (:func:`updating.strategy.localise`), against ``measurements``
+    (:class:`updating.measurements.Measurements`; default the simulated experiment), with the
+    description's stated noise and ``[updating]`` settings."""
+    problem = _problem(case, measurements, executor)
+    return localise(problem, problem.initial_parameters(), noise=case.measurement.noise,
+                    settings=case.updating)
+
+
+def update_case(case, measurements=None, executor=None, on_step=None) -> UpdateResult:
+    """The localisation–correction loop on ``case`` (:func:`updating.strategy.update_joints`)
+    with the description's ``[updating]`` settings and stated noise, against ``measurements``
+    (default the simulated experiment); ``on_step(step)`` after each finished step."""
+    problem = _problem(case, measurements, executor)
+    return update_joints(problem, case.updating, noise=case.measurement.noise, on_step=on_step)
