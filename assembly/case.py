@@ -415,7 +415,8 @@ class Case(FrozenModel):
                 joints[jid] = type(joint).model_validate(data)
             except ValidationError as exc:
                 problems = "; ".join(
-                    f"{'.'.join(map(str, e['loc']))} {e['msg'].lower()}, got {show_value(e['input'])}"
+                    f"{'.'.join(map(str, e['loc']))} {e['msg'].lower()}, "
+                    f"got {show_value(e['input'])}"
                     for e in exc.errors()
                 )
                 raise AssemblyError(f"invalid parameters for joint {jid!r}: {problems}") from None

@@ -891,8 +891,8 @@ class Updating(FrozenModel):
         plates, each plate's data by its own stated noise, at the fixed `balance`).
     alpha : mapping of str to float, optional
         Joint weights ``alpha_i >= 0`` of the interface error.  Joints not listed weigh 1;
-        the weights are normalised to sum 1.  In a validated :class:`~assembly.case.Case` this holds every
-        joint, normalised; None (default) = equal weights ``1 / N_joints``.  With
+        the weights are normalised to sum 1.  In a validated :class:`~assembly.case.Case` this
+        holds every joint, normalised; None (default) = equal weights ``1 / N_joints``.  With
         ``r = "auto"`` they multiply the scale-free weights (equal: those alone).
     balance : float, optional
         With ``r = "auto"``: the weight of a joint's law relative to the data around it,

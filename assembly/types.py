@@ -23,7 +23,32 @@ from pydantic import (
 
 from .errors import AssemblyError, did_you_mean
 
-__all__ = ["EDGE_NAMES", "JOINT_PARAMETERS", "FrozenDict", "freeze", "show_value", "is_real", "EdgeId", "parse_edge_ref", "check_id", "check_material_loss_factor", "check_frequencies", "check_bounds", "check_identify", "Real", "Positive", "NonNegative", "Count", "Frequency", "PoissonRatio", "LogStiffness", "Id", "EdgeRef", "Complex", "FrozenModel"]
+__all__ = [
+    "EDGE_NAMES",
+    "JOINT_PARAMETERS",
+    "FrozenDict",
+    "freeze",
+    "show_value",
+    "is_real",
+    "EdgeId",
+    "parse_edge_ref",
+    "check_id",
+    "check_material_loss_factor",
+    "check_frequencies",
+    "check_bounds",
+    "check_identify",
+    "Real",
+    "Positive",
+    "NonNegative",
+    "Count",
+    "Frequency",
+    "PoissonRatio",
+    "LogStiffness",
+    "Id",
+    "EdgeRef",
+    "Complex",
+    "FrozenModel",
+]
 
 EDGE_NAMES: tuple[str, ...] = ("left", "right", "bottom", "top")
 """Edge names of a rectangular plate, in the plate-local frame."""
@@ -142,7 +167,8 @@ def parse_edge_ref(ref: str) -> EdgeId:
     EdgeId(plate='P1', edge='right')
     """
     if not isinstance(ref, str):
-        raise AssemblyError(f"an edge reference must be a string 'PLATE.EDGE', got {show_value(ref)}")
+        raise AssemblyError(
+            f"an edge reference must be a string 'PLATE.EDGE', got {show_value(ref)}")
     return _split_edge_ref(ref)
 
 

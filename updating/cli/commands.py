@@ -750,7 +750,8 @@ def _sweep_estimates(case, sweep):
     not one per frequency of the sweep."""
     rms = sweep.spatial_rms()
     chosen = sorted({float(sweep.frequencies[int(np.argmax(rms))]), float(sweep.frequencies[-1])})
-    return {f: estimate_error(case, solve_case(case, f, residuals=False, check=False)) for f in chosen}
+    return {f: estimate_error(case, solve_case(case, f, residuals=False, check=False))
+            for f in chosen}
 
 
 def _print_sweep(console, case, sweep, n_points):
