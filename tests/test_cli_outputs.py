@@ -49,7 +49,7 @@ def test_curve_prints_percent_and_writes_fractions(tmp_path, capsys):
     import csv
 
     path = tmp_path / "curve.csv"
-    assert main(["curve", str(CASES / "two_plates.toml"), "--joint", "G1", "--points", "3",
+    assert main(["curve", str(CASES / "two_plates.toml"), "--joint", "G1", "--samples", "3",
                  "--csv", str(path)]) == 0
     out = capsys.readouterr().out
     rows = list(csv.DictReader(path.read_text().splitlines()))

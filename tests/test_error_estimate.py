@@ -315,7 +315,7 @@ def test_localise_update_and_frf_report_the_estimate(tmp_path):
     assert main(["update", case, "--json", str(updated), "--run", str(tmp_path / "r.json"),
                  "--no-estimate"]) in (0, 3)
     assert json.loads(updated.read_text())["error_estimate"] is None
-    assert main(["frf", case, "--band", "150", "160", "--points", "3", "--json", str(swept)]) == 0
+    assert main(["frf", case, "--band", "150", "160", "--start-frequencies", "3", "--json", str(swept)]) == 0
     estimate = json.loads(swept.read_text())["error_estimate"]
     assert "160" in estimate["frequencies"] and 0 < estimate["total"] < 1e-2
 

@@ -269,7 +269,7 @@ def test_tee_is_localised_and_its_member_curve_drawn(tmp_path, capsys):
     out = tmp_path / "localise.json"
     assert main(["localise", str(path), "--quiet", "--json", str(out)]) == 0
     assert "W1.T1" in out.read_text()
-    assert main(["curve", str(path), "--joint", "W1.T1", "--points", "5", "--quiet"]) == 0
+    assert main(["curve", str(path), "--joint", "W1.T1", "--samples", "5", "--quiet"]) == 0
     capsys.readouterr()
     assert main(["curve", str(path), "--joint", "W1", "--quiet"]) == 2
     err = capsys.readouterr().err.strip().splitlines()

@@ -126,7 +126,7 @@ def test_curve_plot_writes_the_joint_figure(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     case_file = tmp_path / "small.toml"
     case_file.write_text(SMALL)
-    status = main(["curve", str(case_file), "--joint", "G1", "--points", "13", "--plot",
+    status = main(["curve", str(case_file), "--joint", "G1", "--samples", "13", "--plot",
                    str(tmp_path / "out"), "--quiet"])
     assert status == 0
     assert [p.name for p in (tmp_path / "out").iterdir()] == ["cost_G1.png"]
@@ -253,8 +253,8 @@ def test_frf_plot_writes_the_response_and_the_power_flow(tmp_path):
     case_file = tmp_path / "small.toml"
     case_file.write_text(SMALL)
     out = tmp_path / "sweep"
-    assert main(["frf", str(case_file), "--band", "110", "130", "--points", "5", "--tolerance",
-                 "0.5", "--plot", str(out), "--quiet"]) == 0
+    assert main(["frf", str(case_file), "--band", "110", "130", "--start-frequencies", "5",
+                 "--sampling-tolerance", "0.5", "--plot", str(out), "--quiet"]) == 0
     assert sorted(p.name for p in out.iterdir()) == ["frf.png", "power.png"]
     for name in ("frf.png", "power.png"):
         _check_png(out / name)

@@ -154,8 +154,9 @@ def _write_chain(tmp_path):
 def test_frf_command_writes_csv_and_json_that_agree(tmp_path, capsys):
     case = _write_chain(tmp_path)
     out_csv, out_json = tmp_path / "frf.csv", tmp_path / "frf.json"
-    assert main(["frf", str(case), "--band", "445", "450", "--points", "3", "--tolerance", "0.5",
-                 "--csv", str(out_csv), "--json", str(out_json)]) == 0
+    assert main(["frf", str(case), "--band", "445", "450", "--start-frequencies", "3",
+                 "--sampling-tolerance", "0.5", "--csv", str(out_csv),
+                 "--json", str(out_json)]) == 0
     text = capsys.readouterr().out
     assert "power balance" in text and "refined in" in text
     data = json.loads(out_json.read_text())
@@ -180,8 +181,8 @@ def test_frf_results_do_not_depend_on_the_executor(tmp_path):
     outputs = []
     for extra in ([], ["--workers", "2"]):
         out = tmp_path / f"frf{len(extra)}.json"
-        assert main(["frf", str(case), "--band", "445", "450", "--points", "4", "--tolerance",
-                     "0.5", "--json", str(out), "--quiet", *extra]) == 0
+        assert main(["frf", str(case), "--band", "445", "450", "--start-frequencies", "4",
+                     "--sampling-tolerance", "0.5", "--json", str(out), "--quiet", *extra]) == 0
         outputs.append(out.read_text())
     assert outputs[0] == outputs[1]
 
@@ -189,8 +190,13 @@ def test_frf_results_do_not_depend_on_the_executor(tmp_path):
 @pytest.mark.parametrize("options, message", [
     (["--band", "260", "200"], "--band 260 200: must be two finite frequencies 0 < F1 < F2"),
     (["--band", "200", "260", "--step", "0"], "--step 0.0: must be a finite step > 0"),
-    (["--band", "200", "260", "--points", "1"], "--points 1: a sweep needs at least 2"),
-    (["--band", "200", "260", "--tolerance", "2"], "--tolerance 2.0: must be a fraction"),
+    (["--band", "200", "260", "--start-frequencies", "1"],
+     "--start-frequencies 1: a sweep needs at least 2"),
+    (["--band", "200", "260", "--sampling-tolerance", "2"],
+     "--sampling-tolerance 2.0: must be a fraction"),
+    (["--band", "200", "260", "--tolerance", "0.1"],
+     "--tolerance: the sweep's refinement criterion is --sampling-tolerance"),
+    (["--band", "200", "260", "--points", "5"], "--points: renamed to --start-frequencies"),
     (["--band", "200", "260", "--workers", "0"], "--workers 0: must be at least 1"),
 ])
 def test_frf_bad_options_stop_before_any_work(tmp_path, capsys, options, message):
@@ -254,8 +260,8 @@ def test_frf_on_a_dask_scheduler_and_two_workers_started_by_hand(tmp_path):
         outputs = []
         for extra in ([], ["--scheduler", address]):
             out = tmp_path / f"frf{len(extra)}.json"
-            assert main(["frf", str(case), "--band", "445", "450", "--points", "4",
-                         "--tolerance", "0.5", "--json", str(out), "--quiet", *extra]) == 0
+            assert main(["frf", str(case), "--band", "445", "450", "--start-frequencies", "4",
+                         "--sampling-tolerance", "0.5", "--json", str(out), "--quiet", *extra]) == 0
             outputs.append(out.read_text())
         assert outputs[0] == outputs[1]
     finally:
@@ -282,8 +288,8 @@ def test_uff_export_reads_back_through_the_uff_reader(tmp_path, suffix, rtol):
     probes = tmp_path / "map.csv"  # a UFF node map is a probe file; 31 is the drive point
     probes.write_text("node,plate,x,y\n7,P1,0.3,0.2\n31,P1,0.12,0.31\n12,P2,0.25,0.15\n")
     out_uff, out_json = tmp_path / f"sweep{suffix}", tmp_path / "sweep.json"
-    assert main(["frf", str(case_file), "--band", "445", "450", "--points", "3",
-                 "--tolerance", "0.5", "--probes", str(probes), "--uff", str(out_uff),
+    assert main(["frf", str(case_file), "--band", "445", "450", "--start-frequencies", "3",
+                 "--sampling-tolerance", "0.5", "--probes", str(probes), "--uff", str(out_uff),
                  "--json", str(out_json), "--quiet"]) == 0
     data = json.loads(out_json.read_text())
     assert [p["node"] for p in data["probes"]] == [7, 31, 12]

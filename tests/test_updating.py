@@ -116,7 +116,7 @@ def test_command_line_update_json_and_report(tmp_path):
     assert "| G1 |" in report.read_text()
     curve = tmp_path / "c.csv"
     assert main(["curve", str(case_file), "--joint", "G1", "--measurements", str(meas),
-                 "--csv", str(curve), "--points", "5", "--quiet"]) == 0
+                 "--csv", str(curve), "--samples", "5", "--quiet"]) == 0
     assert len(curve.read_text().splitlines()) == 6
 
 

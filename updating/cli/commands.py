@@ -398,6 +398,18 @@ def _estimate_lines(console, estimates, what=""):
     if worst.total > ESTIMATE_WARNING:
         _warn(console, f"the estimated error {worst.total:.1e} exceeds {ESTIMATE_WARNING:g}: "
                        "raise [discretisation] resolution or give a tolerance")
+    # a small plate can be wrong while the total, weighted by the energy, is not
+    above = {}
+    for f, e in estimates.items():
+        for pid, value in e.plates.items():
+            if value > ESTIMATE_WARNING and value > above.get(pid, (0.0, 0.0))[0]:
+                above[pid] = (value, f)
+    if above:
+        _warn(console, f"the estimated error exceeds {ESTIMATE_WARNING:g} on plate"
+                       f"{'s' if len(above) > 1 else ''} "
+                       + ", ".join(f"{pid} ({v:.1e} at {f:g} Hz)" for pid, (v, f) in above.items())
+                       + ": raise [discretisation] resolution (of those plates) or give a "
+                         "tolerance")
 
 
 def _estimates_json(estimates):
@@ -679,9 +691,9 @@ def cmd_curve(args):
     if args.plot:
         require_matplotlib()
     problem = _modified_problem(case, args, discretisation=False)  # no floor, no interval
-    with progress_bar(_console(args), f"cost curve of {args.joint}", args.points) as advance:
+    with progress_bar(_console(args), f"cost curve of {args.joint}", args.samples) as advance:
         rows = cost_curve(problem, problem.initial_parameters(), args.joint,
-                          log_grid(case.updating.bounds, args.points), on_point=advance)
+                          log_grid(case.updating.bounds, args.samples), on_point=advance)
     table = Table(title=f"{case.name}: cost against log10 k of {args.joint} (in %; the CSV "
                         "holds fractions)")
     header = ("log10_stiffness", "e_mod", "e_int", "e_mes", "e_joint")
@@ -716,16 +728,17 @@ def cmd_frf(args):
         order, nodes = [(pid, i) for pid in case.plates for i in range(len(points[pid]))], None
     else:
         points, order, nodes = probes.by_plate, list(probes.order), probes.nodes
-    count = None if args.step is not None else args.sweep_points
+    count = None if args.step is not None else args.start_frequencies
     executor = _executor(args, case)
     with progress_bar(console, f"sweep on {executor.description}", None) as advance:
         sweep = frequency_sweep(case, tuple(args.band), points, step=args.step, count=count,
-                                tolerance=args.tolerance, max_points=args.max_points,
+                                tolerance=args.sampling_tolerance, max_points=args.max_points,
                                 executor=executor, check=False,
                                 on_round=lambda n: advance(f"{n} frequencies solved", 0))
     _print_sweep(console, case, sweep, len(order))
     estimates = {} if args.no_estimate else _sweep_estimates(case, sweep)
-    _estimate_lines(console, estimates, " of the sweep at its strongest peak and its top")
+    _estimate_lines(console, estimates, f" of the sweep at its {SWEEP_ESTIMATE_PEAKS} strongest "
+                                        "peaks and its top")
     if args.csv:
         write_measurements(args.csv, sweep.measurements(), sweep=True)
     if args.json:
@@ -744,12 +757,22 @@ def cmd_frf(args):
     return 0
 
 
+SWEEP_ESTIMATE_PEAKS = 5
+"""Response peaks of a sweep at which its discretisation error is estimated, with the top of
+the band: the relative error is largest at the resonances (where the field is most sensitive to
+the boundary conditions) and at the highest frequency (where the ray counts are tightest)."""
+
+
 def _sweep_estimates(case, sweep):
-    """Error estimates at the sweep's strongest response peak and at its highest frequency
-    (where the ray counts of the rule are the tightest); two solves and two enriched solves,
-    not one per frequency of the sweep."""
+    """Error estimates at the sweep's :data:`SWEEP_ESTIMATE_PEAKS` strongest response peaks
+    and at its highest frequency, the largest of which stands for the band (one solve and one
+    enriched solve each, not one per frequency of the sweep)."""
     rms = sweep.spatial_rms()
-    chosen = sorted({float(sweep.frequencies[int(np.argmax(rms))]), float(sweep.frequencies[-1])})
+    peaks = [i for i in range(len(rms)) if (i == 0 or rms[i] >= rms[i - 1])
+             and (i == len(rms) - 1 or rms[i] >= rms[i + 1])]
+    strongest = sorted(peaks, key=lambda i: -rms[i])[:SWEEP_ESTIMATE_PEAKS]
+    chosen = sorted({float(sweep.frequencies[i]) for i in strongest}
+                    | {float(sweep.frequencies[-1])})
     return {f: estimate_error(case, solve_case(case, f, residuals=False, check=False))
             for f in chosen}
 
@@ -763,7 +786,7 @@ def _print_sweep(console, case, sweep, n_points):
         f"{case.name}: {s['final']} frequencies over {sweep.frequencies[0]:g}-"
         f"{sweep.frequencies[-1]:g} Hz at {n_points} points: {s['initial']} requested "
         f"({requested}), refined in {s['rounds']} rounds until neighbouring responses differ by "
-        f"less than {s['tolerance']:.0%} or the step is below {s['fraction']:g} eta f "
+        f"less than {100 * s['tolerance']:.3g} % or the step is below {s['fraction']:g} eta f "
         f"(eta = {s['loss_factor']:g}, the half-power bandwidth of the lightest-damped plate)"
         + ("" if s["resolved"] else f"; stopped at --max-points {s['final']}, some peaks may "
                                     "be under-sampled"))
@@ -872,7 +895,7 @@ def _option_problems(args):
     """One line per bad option value, naming the option and the fix (before any work)."""
     problems = []
     frequencies, noise = getattr(args, "frequency", None) or (), getattr(args, "noise", None)
-    seed, points = getattr(args, "seed", None), getattr(args, "points", None)
+    seed, samples = getattr(args, "seed", None), getattr(args, "samples", None)
     max_rows = getattr(args, "max_rows", None)
     problems += [f"--frequency {frequency}: must be a finite frequency > 0 in Hz; give "
                  "e.g. --frequency 155" for frequency in frequencies
@@ -882,9 +905,12 @@ def _option_problems(args):
                         "for +-10 %")
     if seed is not None and seed < 0:
         problems.append(f"--seed {seed}: must be a whole number >= 0; give e.g. --seed 1")
-    if points is not None and points < 2:
-        problems.append(f"--points {points}: must be at least 2 (samples of log10 k over "
-                        "[updating] bounds); give e.g. --points 41")
+    if samples is not None and samples < 2:
+        problems.append(f"--samples {samples}: must be at least 2 (samples of log10 k over "
+                        "[updating] bounds); give e.g. --samples 41")
+    problems += [f"--{old.removeprefix('renamed_').replace('_', '-')}: {RENAMED[args.command, old]}"
+                 for old, value in vars(args).items()
+                 if old.startswith("renamed_") and value is not None]
     if max_rows is not None and max_rows < 0:
         problems.append(f"--max-rows {max_rows}: must be >= 0 (0 shows no rows); give e.g. "
                         "--max-rows 20")
@@ -931,12 +957,12 @@ def _sweep_option_problems(args):
     if args.step is not None and not (math.isfinite(args.step) and args.step > 0):
         problems.append(f"--step {args.step}: must be a finite step > 0 in Hz; give e.g. "
                         "--step 1")
-    if args.sweep_points < 2:
-        problems.append(f"--points {args.sweep_points}: a sweep needs at least 2 "
-                        "frequencies; give e.g. --points 41")
-    if not 0 < args.tolerance <= 1:
-        problems.append(f"--tolerance {args.tolerance}: must be a fraction in (0, 1]; give "
-                        "e.g. --tolerance 0.1")
+    if args.start_frequencies < 2:
+        problems.append(f"--start-frequencies {args.start_frequencies}: a sweep needs at least "
+                        "2 frequencies; give e.g. --start-frequencies 41")
+    if not 0 < args.sampling_tolerance <= 1:
+        problems.append(f"--sampling-tolerance {args.sampling_tolerance}: must be a fraction in "
+                        "(0, 1]; give e.g. --sampling-tolerance 0.1")
     if args.max_points < 2:
         problems.append(f"--max-points {args.max_points}: must be at least 2; give e.g. "
                         "--max-points 2000")
@@ -948,6 +974,17 @@ def _sweep_option_problems(args):
                             "pip install 'pyuff>=2.4' (the extra uff of vtcr)")
     return problems
 
+
+RENAMED = {
+    ("curve", "renamed_points"): "renamed to --samples (log10 k samples); give e.g. "
+                                  "--samples 41",
+    ("frf", "renamed_points"): "renamed to --start-frequencies (the sweep's initial "
+                                "frequencies); give e.g. --start-frequencies 41",
+    ("frf", "renamed_tolerance"): "the sweep's refinement criterion is --sampling-tolerance "
+                                   "(--tolerance is the discretisation error in every "
+                                   "command); give e.g. --sampling-tolerance 0.1",
+}
+"""The options renamed for one meaning per name, refused for one release with the new name."""
 
 LONG_PLAN_SECONDS = 600.0  # a plan estimated longer than this says so before it starts
 

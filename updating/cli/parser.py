@@ -60,6 +60,13 @@ SUMMARY_JOINTS = 30
 """Joints above which vtcr localise prints only those that stand out and the next five."""
 
 
+def _renamed(parser, old, new, why="renamed to"):
+    """``old``, kept for one release to be refused with a line naming ``new`` (the value is
+    read but not used: ``updating.cli.commands`` refuses it)."""
+    parser.add_argument(old, dest=f"renamed_{old.lstrip('-').replace('-', '_')}",
+                        metavar="VALUE", help=f"refused: {why} {new}")
+
+
 def version_text():
     try:
         return version("vtcr")
@@ -174,8 +181,10 @@ def build_parser():
     curve.add_argument("--joint", required=True, help="the joint whose log10 k is varied")
     _measurement_options(curve)
     curve.add_argument("--csv", help="write the curve as CSV to this file")
-    curve.add_argument("--points", type=int, default=41,
-                       help="samples of log10 k over [updating] bounds")
+    curve.add_argument("--samples", type=int, default=41,
+                       help="samples of log10 k over [updating] bounds (default 41)")
+    _renamed(curve, "--points", "--samples")
+    _estimate_option(curve)
     curve.add_argument("--plot", metavar="DIR",
                        help="write the curve as DIR/cost_JOINT.png (needs matplotlib)")
     _compute_options(curve)
@@ -188,11 +197,15 @@ def build_parser():
                      help="frequency band (Hz)")
     grid = frf.add_mutually_exclusive_group()
     grid.add_argument("--step", type=float, help="initial frequency step (Hz)")
-    grid.add_argument("--points", dest="sweep_points", type=int, default=41,
+    grid.add_argument("--start-frequencies", type=int, default=41, metavar="N",
                       help="initial number of frequencies (default 41)")
-    frf.add_argument("--tolerance", type=float, default=0.1,
+    frf.add_argument("--sampling-tolerance", type=float, default=0.1,
                      help="refine where neighbouring responses differ by more than this "
                           "fraction (default 0.1)")
+    _renamed(frf, "--points", "--start-frequencies")
+    _renamed(frf, "--tolerance", "--sampling-tolerance",
+             "--tolerance is the discretisation error everywhere; the sweep's refinement "
+             "criterion is")
     frf.add_argument("--max-points", type=int, default=2000,
                      help="most frequencies of the refined sweep (default 2000)")
     frf.add_argument("--probes", help="CSV with header plate,x,y (default: the measurement grid)")
