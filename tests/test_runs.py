@@ -323,3 +323,19 @@ def test_outputs_get_the_usual_permissions_and_no_temporary_is_left(tmp_path):
     os.umask(umask)
     assert out.stat().st_mode & 0o777 == 0o666 & ~umask
     assert [p.name for p in tmp_path.iterdir()] == ["out.json"]
+
+
+def test_the_resume_hint_keeps_the_outputs_and_counts_its_steps():
+    """After Ctrl-C, the command that continues the run asks for the same outputs (a resumed
+    run that forgot --json would write none), and one step is 'one finished step'."""
+    from argparse import Namespace
+
+    from updating.cli.commands import _finished_steps, _resume_command
+
+    args = Namespace(case="c.toml", measurements="m.csv", json="out.json", report=None,
+                     plot="figs", confidence=None)
+    assert _resume_command(args, "c.run.json") == (
+        "vtcr update c.toml --measurements m.csv --json out.json --plot figs "
+        "--resume c.run.json")
+    assert (_finished_steps(1), _finished_steps(3)) == ("1 finished step is",
+                                                         "3 finished steps are")

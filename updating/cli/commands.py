@@ -571,6 +571,20 @@ def _truth(case, args):
     return case.true_parameters()
 
 
+def _finished_steps(count):
+    return f"{count} finished step{'' if count == 1 else 's'} {'is' if count == 1 else 'are'}"
+
+
+def _resume_command(args, run_path):
+    """The command that continues an interrupted ``vtcr update``, with the outputs it asked for
+    (the same JSON, report, figures and measurements)."""
+    kept = [f"{option} {value}" for option, value in (
+        ("--measurements", getattr(args, "measurements", None)), ("--json", args.json),
+        ("--report", args.report), ("--plot", args.plot),
+        ("--confidence", args.confidence)) if value is not None]
+    return " ".join([f"vtcr update {args.case}", *kept, f"--resume {run_path}"])
+
+
 def _run_path(args):
     """The run file: ``--run``, else beside the report or the JSON, else ``CASE.run.json``."""
     if args.run_file:
@@ -625,8 +639,8 @@ def cmd_update(args):
                 result = update_joints(problem, settings, noise=case.measurement.noise,
                                        start=run.steps, on_step=finished, on_correct=corrected)
         except KeyboardInterrupt:
-            print(f"vtcr: interrupted; {len(run.steps)} finished steps are saved in {run.path}; "
-                  f"continue with: vtcr update {args.case} --resume {run.path}", file=sys.stderr)
+            print(f"vtcr: interrupted; {_finished_steps(len(run.steps))} saved in {run.path}; "
+                  f"continue with: {_resume_command(args, run.path)}", file=sys.stderr)
             return 130
     if not run.finished:  # a finished run read back is reported as its file holds it
         run.finish(result)
