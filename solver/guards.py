@@ -59,7 +59,12 @@ quarter of the error, at 1 um a thirtieth."""
 
 
 SI_PLAUSIBLE_SIZE = 100.0
-"""A plate side above this many metres is more likely in millimetres: warned, not refused."""
+"""A plate side above this many metres is more likely in millimetres: warned, not refused,
+unless the materials are in SI units (:data:`SI_YOUNG_MODULUS`): then refused."""
+
+SI_YOUNG_MODULUS = 1e7
+"""A Young's modulus above this is in pascals (metals 4e10-4e11 Pa, polymers 1e9 Pa); in a
+consistent millimetre system (N, mm, t, s) it is in MPa (steel 2.1e5)."""
 
 LOG10_RANGE = 100.0
 """Decades either side of 1 allowed for a plate's bending stiffness (N m) and mass per area
@@ -107,6 +112,21 @@ def _shown(counts, family):
     return str(values[0]) if len(set(values)) == 1 else "/".join(map(str, values))
 
 
+def _millimetres_against_pascals(case):
+    """The error of a description whose lengths look like millimetres (a plate side above
+    :data:`SI_PLAUSIBLE_SIZE`) while its materials are in pascals: every derived quantity
+    is then wrong by powers of 1000, and the other checks' messages (ray counts, memory) would
+    point at the wrong fix. None when the units are consistent."""
+    largest = max(max(plate.size) for plate in case.plates.values())
+    moduli = [m.young_modulus for m in case.materials.values()]
+    if largest <= SI_PLAUSIBLE_SIZE or max(moduli) <= SI_YOUNG_MODULUS:
+        return None
+    return (("plates",), f"the largest plate side is {largest:g} while Young's moduli are in "
+            f"pascals ({max(moduli):.3g}): the lengths look like millimetres against SI "
+            "materials; give sizes, thicknesses, positions and spacings in m (or every value "
+            "in N, mm, t, s: E in MPa, density in t/mm^3)")
+
+
 def _scale_issues(case, frequencies, location):
     r"""Magnitudes a double-precision Trefftz solve cannot take, found before computing them.
 
@@ -120,7 +140,7 @@ def _scale_issues(case, frequencies, location):
     errors, warnings = [], []
     low, high = min(frequencies), max(frequencies)
     largest = max(max(plate.size) for plate in case.plates.values())
-    if largest > SI_PLAUSIBLE_SIZE:
+    if largest > SI_PLAUSIBLE_SIZE and not _millimetres_against_pascals(case):
         warnings.append((("plates",),
                          f"the largest plate side is {largest:g}: vtcr computes in any "
                          "consistent unit system, but if these are millimetres its unit labels "
@@ -246,6 +266,8 @@ def description_issues(case, frequencies=None, need_loads=False):
 
     f = max(frequencies)
     f_loc = location(f)
+    units = _millimetres_against_pascals(case)
+    errors = ([units] if units else []) + errors
     scale_errors, scale_warnings = _scale_issues(case, frequencies, location)
     warnings += scale_warnings
     if scale_errors:  # the quantities below would overflow or vanish
@@ -350,7 +372,7 @@ def _memory_issues(case, frequency, loc):
     if available is None or estimate.solve_bytes <= available:
         return []
     return [(loc, f"at {frequency:g} Hz the VTCR problem has {estimate.interface_unknowns} "
-             f"interface unknowns and {estimate.ray_unknowns} ray amplitudes in "
+             f"interface unknowns and {estimate.ray_unknowns} ray unknowns in "
              f"{estimate.plates} plates; its solve needs about "
              f"{estimate.solve_bytes / 1e9:.2g} GB, "
              f"more than the {available / 1e9:.2g} GB available (vtcr check prints the "

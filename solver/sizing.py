@@ -143,7 +143,7 @@ class SizeEstimate:
             f", with its error estimate about {enriched.solve_bytes / 1e9:.2g} GB and "
             f"{self.solve_seconds + enriched.solve_seconds:.2g} s")
         return [
-            f"unknowns at {self.frequency:g} Hz: {self.ray_unknowns} ray amplitudes in "
+            f"unknowns at {self.frequency:g} Hz: {self.ray_unknowns} ray unknowns in "
             f"{self.plates} plates, {self.interface_unknowns} interface unknowns, "
             f"{self.constraints} constraints, {self.residual_samples} residual samples",
             f"estimated: solve about {gb:.2g} GB and {self.solve_seconds:.2g} s per frequency"

@@ -741,3 +741,19 @@ def test_a_full_filesystem_is_one_line_and_leaves_nothing(tmp_path: Path) -> Non
     assert len(lines) == 1 and "Traceback" not in done.stderr, lines
     assert "out.json" in lines[0] and "free space or give another path" in lines[0], lines
     assert sorted(done.stdout.split()) == [".", "..", "fill"], done.stdout
+
+
+def test_millimetres_against_si_materials_are_named_first() -> None:
+    """Sizes in millimetres with E in pascals: the first line suspects the units, before the
+    ray-count line their consequences raise (whose fix, lowering the frequency, would be
+    wrong); the same description with E in MPa (a consistent N, mm, t, s system) only warns."""
+    from solver.guards import description_issues
+
+    mm = (TWO.replace("size = [0.5, 0.4]", "size = [500.0, 400.0]")
+          .replace("thickness = 0.001", "thickness = 1.0"))
+    errors, _ = description_issues(load_case_text(mm))
+    assert errors[0][0] == ("plates",) and "look like millimetres" in errors[0][1]
+    consistent = mm.replace("young_modulus = 210e9", "young_modulus = 210e3")
+    errors, warnings = description_issues(load_case_text(consistent))
+    assert not any("look like millimetres" in message for _, message in errors)
+    assert any("millimetres" in message for _, message in warnings)
