@@ -8,11 +8,24 @@ wavelengths each way. Error: relative L2 norm of w over 10 x 10 interior points 
 
 import numpy as np
 import pytest
+from chains import (
+    ETA,
+    FREQUENCY,
+    LENGTHS,
+    LY,
+    MATERIAL,
+    NU,
+    OMEGA,
+    RHO,
+    D,
+    E,
+    H,
+    chain_description,
+    exact_joint,
+    grid,
+)
 from exact import (
     Section,
-    complex_rigidity,
-    coplanar,
-    hinge,
     levy_chain,
     levy_plate,
     navier_point_force,
@@ -22,89 +35,6 @@ from assembly import parse_case
 from solver import solve_case
 from solver.joint_rules import joint_parameters
 from solver.substructure import build_assembly_system, joint_residuals, solve_assembly
-from updating.measurements import Measurements, add_noise
-
-E, NU, RHO, H, ETA = 210e9, 0.3, 7800.0, 1e-3, 0.01
-D = complex_rigidity(E, H, NU, ETA)
-LY = 0.5
-LENGTHS = (0.5, 0.45, 0.55)
-FREQUENCY = 450.0
-OMEGA = 2 * np.pi * FREQUENCY
-MATERIAL = {"young_modulus": E, "poisson_ratio": NU, "density": RHO, "loss_factor": ETA}
-
-
-def grid(lx, ly, n=10):
-    return np.array([(x, y) for x in np.linspace(0.04 * lx, 0.96 * lx, n)
-                     for y in np.linspace(0.04 * ly, 0.96 * ly, n)])
-
-
-def chain_description(joints, resolution=1.0, left="simply_supported", right="clamped",
-                      force=(0, 0.12, 0.31), lengths=LENGTHS, edge_loads=(), frequency=FREQUENCY,
-                      ly=LY):
-    """A chain P1-P2-... along x; ``joints`` are dicts with kind/log10_stiffness/..."""
-    n = len(joints) + 1
-    plates = {f"P{i + 1}": {"material": "steel", "thickness": H, "size": [lengths[i], ly],
-                            "origin": [sum(lengths[:i]), 0.0]} for i in range(n)}
-    boundaries = [{"edge": f"P{i + 1}.{e}", "condition": "simply_supported"}
-                  for i in range(n) for e in ("bottom", "top")]
-    for edge, condition in (("P1.left", left), (f"P{n}.right", right)):
-        if condition != "free":
-            boundaries.append({"edge": edge, "condition": condition})
-    loads = list(edge_loads)
-    if force is not None:
-        plate, x, y = force
-        loads.append({"kind": "point_force", "plate": f"P{plate + 1}", "at": [x, y],
-                      "amplitude": 1.0})
-    return {
-        "name": "chain", "frequency": frequency, "materials": {"steel": MATERIAL},
-        "plates": plates,
-        "joints": {f"G{i + 1}": {"between": [f"P{i + 1}.right", f"P{i + 2}.left"], **joint}
-                   for i, joint in enumerate(joints)},
-        "boundaries": boundaries, "loads": loads,
-        "discretisation": {"resolution": resolution},
-    }
-
-
-def levy_chain_experiment(truths, lengths=LENGTHS[:2], model_log_k=2.5, noise=0.1):
-    """A chain (simply supported left, clamped right, 1 N at (0.12, 0.31) on the first plate),
-    one coplanar joint per pair (loss factor 0.05) at ``model_log_k`` in the model, updating
-    bounds [-1, 6]: ``(case, exact)``, ``exact`` the Levy series of the chain whose joints have
-    the log10 k ``truths`` (the measured field vtcr did not compute)."""
-    joints = [{"kind": "coplanar", "log10_stiffness": model_log_k, "loss_factor": 0.05}
-              for _ in truths]
-    description = chain_description(joints, 1.0, force=(0, 0.12, 0.31), lengths=lengths)
-    description["measurement"] = {"spacing": 0.08, "noise": noise}
-    description["updating"] = {"bounds": [-1.0, 6.0]}
-    description["truth"] = {"joints": {f"G{i + 1}": {"log10_stiffness": t}
-                                       for i, t in enumerate(truths)}}
-    case = parse_case(description)
-    exact = levy_chain([Section(lx, D, NU, RHO * H) for lx in lengths], LY,
-                       2 * np.pi * case.frequencies[0],
-                       joints=[coplanar(10.0**t, 0.05) for t in truths],
-                       left="simply_supported", right="clamped",
-                       point_forces=[(0, 0.12, 0.31, 1.0)])
-    return case, exact
-
-
-def exact_measurements(case, exact, noise=0.0, rng=None):
-    """Measurements at the case's grid from a Levy chain solution (plate ``Pi`` is section
-    ``i - 1``), times ``1 + U(-noise, noise)``."""
-    layout = {}
-    for plate, x, y in case.measurement_points():
-        layout.setdefault(plate, []).append((x, y))
-    data = {}
-    for plate, points in sorted(layout.items()):
-        points = np.array(points)
-        values = exact.w(points[:, 0], points[:, 1], plate=int(plate[1:]) - 1)
-        data[plate] = (points, add_noise(values, noise, rng) if noise else values)
-    return Measurements({case.frequencies[0]: data})
-
-
-def exact_joint(joint):
-    k = 10.0 ** joint["log10_stiffness"]
-    if joint["kind"] == "hinge":
-        return hinge(k, joint.get("loss_factor", 0.0))
-    return coplanar(k, joint.get("loss_factor", 0.0), joint.get("mass", 0.0))
 
 
 def chain_error(joints, resolution, force=(0, 0.12, 0.31), left="simply_supported",

@@ -14,8 +14,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from chains import LENGTHS, LY, NU, OMEGA, RHO, D, H, chain_description, exact_joint
 from exact import Section, complex_rigidity, levy_chain, navier_point_force
-from test_assemblies import LENGTHS, LY, NU, OMEGA, RHO, D, H, chain_description, exact_joint
 
 from assembly import parse_case
 from solver import solve_case

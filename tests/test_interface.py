@@ -16,8 +16,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-import scipy.linalg
-from test_assemblies import chain_description, grid
+from chains import dense_interface, field_difference, grid, mixed_chain
 
 from assembly import load_case, parse_case
 from assembly.generate import plate_grid
@@ -32,45 +31,6 @@ from updating.cost import ModifiedProblem, channel_parameters, with_joint
 from updating.measurements import simulate_measurements
 
 CASES = Path(__file__).resolve().parents[1] / "cases"
-
-
-def dense_interface(system, blocks):
-    """Minimiser of sum ||A_b S_I + a_b||^2 s.t. G S = g, from the dense normal equations."""
-    n = system.n_s
-    h, rhs = np.zeros((n, n), dtype=complex), np.zeros(n, dtype=complex)
-    for b in blocks:
-        h[np.ix_(b.index, b.index)] += b.matrix.conj().T @ b.matrix
-        rhs[b.index] -= b.matrix.conj().T @ b.offset
-    g_mat, g = system.constraints
-    g_mat = g_mat.toarray()
-    m = g_mat.shape[0]
-    kkt = np.block([[h, g_mat.conj().T], [g_mat, np.zeros((m, m))]])
-    scale = 1.0 / np.sqrt(np.abs(kkt).max(axis=1))
-    x = scipy.linalg.solve(kkt * scale[:, None] * scale[None, :], np.concatenate([rhs, g]) * scale)
-    return (x * scale)[:n]
-
-
-def field_difference(system, s, t):
-    """Relative L2 difference of the plate fields of interface unknowns ``s`` and ``t``."""
-    from solver.plate import evaluate_field
-
-    a, b = system.plate_amplitudes(s), system.plate_amplitudes(t)
-    num = den = 0.0
-    for pid, problem in system.problems.items():
-        points = grid(*problem.size)
-        wa = evaluate_field(problem, system.bases[pid], a[pid], points)["w"]
-        wb = evaluate_field(problem, system.bases[pid], b[pid], points)["w"]
-        num += np.sum(np.abs(wa - wb) ** 2)
-        den += np.sum(np.abs(wb) ** 2)
-    return float(np.sqrt(num / den))
-
-
-def mixed_chain():
-    """Three plates: damped coplanar joint with a line mass (two shear unknowns), then a hinge;
-    free outer edges, so that junction corner forces appear at the joint ends."""
-    joints = [{"kind": "coplanar", "log10_stiffness": 1.5, "loss_factor": 0.1, "mass": 0.05},
-              {"kind": "hinge", "log10_stiffness": 3.5}]
-    return parse_case(chain_description(joints, left="free", force=(1, 0.2, 0.17)))
 
 
 @pytest.mark.parametrize("case", [mixed_chain(), load_case(CASES / "four_plates.toml")],

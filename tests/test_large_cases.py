@@ -6,8 +6,8 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
+from chains import grid
 from exact import complex_rigidity, navier_point_force
-from test_assemblies import grid
 
 from assembly import load_case, load_case_text
 from assembly.generate import description_toml, plate_grid

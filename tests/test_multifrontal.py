@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import scipy.sparse
-from test_interface import dense_interface, field_difference, mixed_chain
+from chains import dense_interface, field_difference, mixed_chain
 
 from assembly import load_case, parse_case
 from assembly.generate import plate_grid

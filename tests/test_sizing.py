@@ -5,7 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-from test_interface import mixed_chain
+from chains import mixed_chain
 
 from assembly import load_case
 from solver import interface

@@ -14,8 +14,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from chains import LENGTHS, LY, NU, RHO, D, H, chain_description, exact_joint
 from exact import EdgeLoad, Section, levy_chain
-from test_assemblies import LENGTHS, LY, NU, RHO, D, H, chain_description, exact_joint
 
 from assembly import load_case, parse_case
 from solver import solve_case
@@ -322,7 +322,7 @@ def test_uff_datasets_are_frfs_per_newton_only_under_a_single_point_force():
     """A 2 N force gives H = w / 2 (type 4, per newton); a second load makes them response
     spectra of w in metres (type 12, no denominator), which is what the loads produced."""
     pytest.importorskip("pyuff")
-    from test_assemblies import chain_description
+    from chains import chain_description
 
     from updating.uff_export import sweep_datasets
 

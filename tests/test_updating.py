@@ -7,9 +7,9 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from chains import MATERIAL, chain_description, exact_measurements, levy_chain_experiment
 from exact import Section, complex_rigidity, coplanar, levy_chain
 from scipy import optimize
-from test_assemblies import MATERIAL, chain_description, exact_measurements, levy_chain_experiment
 
 from assembly import load_case, parse_case
 from updating.cli import main

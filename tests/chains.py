@@ -1,0 +1,151 @@
+"""Plate chains shared by the tests and benchmarks: steel plates along x, simply supported on
+y = 0 and y = Ly, at 450 Hz (bending wavelength 0.148 m), their descriptions, their exact Levy
+series (``tests/exact.py``) as measured data, and a mixed chain for the interface solvers.
+
+A support module, like ``exact.py``: test modules import it, never each other.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.linalg
+from exact import Section, complex_rigidity, coplanar, hinge, levy_chain
+
+from assembly import parse_case
+from updating.measurements import Measurements, add_noise
+
+__all__ = ["E", "NU", "RHO", "H", "ETA", "D", "LY", "LENGTHS", "FREQUENCY", "OMEGA", "MATERIAL",
+           "grid", "chain_description", "levy_chain_experiment", "exact_measurements",
+           "exact_joint", "dense_interface", "field_difference", "mixed_chain"]
+
+
+E, NU, RHO, H, ETA = 210e9, 0.3, 7800.0, 1e-3, 0.01
+D = complex_rigidity(E, H, NU, ETA)
+
+
+LY = 0.5
+
+
+LENGTHS = (0.5, 0.45, 0.55)
+
+
+FREQUENCY = 450.0
+
+
+OMEGA = 2 * np.pi * FREQUENCY
+
+
+MATERIAL = {"young_modulus": E, "poisson_ratio": NU, "density": RHO, "loss_factor": ETA}
+
+
+def grid(lx, ly, n=10):
+    return np.array([(x, y) for x in np.linspace(0.04 * lx, 0.96 * lx, n)
+                     for y in np.linspace(0.04 * ly, 0.96 * ly, n)])
+
+
+def chain_description(joints, resolution=1.0, left="simply_supported", right="clamped",
+                      force=(0, 0.12, 0.31), lengths=LENGTHS, edge_loads=(), frequency=FREQUENCY,
+                      ly=LY):
+    """A chain P1-P2-... along x; ``joints`` are dicts with kind/log10_stiffness/..."""
+    n = len(joints) + 1
+    plates = {f"P{i + 1}": {"material": "steel", "thickness": H, "size": [lengths[i], ly],
+                            "origin": [sum(lengths[:i]), 0.0]} for i in range(n)}
+    boundaries = [{"edge": f"P{i + 1}.{e}", "condition": "simply_supported"}
+                  for i in range(n) for e in ("bottom", "top")]
+    for edge, condition in (("P1.left", left), (f"P{n}.right", right)):
+        if condition != "free":
+            boundaries.append({"edge": edge, "condition": condition})
+    loads = list(edge_loads)
+    if force is not None:
+        plate, x, y = force
+        loads.append({"kind": "point_force", "plate": f"P{plate + 1}", "at": [x, y],
+                      "amplitude": 1.0})
+    return {
+        "name": "chain", "frequency": frequency, "materials": {"steel": MATERIAL},
+        "plates": plates,
+        "joints": {f"G{i + 1}": {"between": [f"P{i + 1}.right", f"P{i + 2}.left"], **joint}
+                   for i, joint in enumerate(joints)},
+        "boundaries": boundaries, "loads": loads,
+        "discretisation": {"resolution": resolution},
+    }
+
+
+def levy_chain_experiment(truths, lengths=LENGTHS[:2], model_log_k=2.5, noise=0.1):
+    """A chain (simply supported left, clamped right, 1 N at (0.12, 0.31) on the first plate),
+    one coplanar joint per pair (loss factor 0.05) at ``model_log_k`` in the model, updating
+    bounds [-1, 6]: ``(case, exact)``, ``exact`` the Levy series of the chain whose joints have
+    the log10 k ``truths`` (the measured field vtcr did not compute)."""
+    joints = [{"kind": "coplanar", "log10_stiffness": model_log_k, "loss_factor": 0.05}
+              for _ in truths]
+    description = chain_description(joints, 1.0, force=(0, 0.12, 0.31), lengths=lengths)
+    description["measurement"] = {"spacing": 0.08, "noise": noise}
+    description["updating"] = {"bounds": [-1.0, 6.0]}
+    description["truth"] = {"joints": {f"G{i + 1}": {"log10_stiffness": t}
+                                       for i, t in enumerate(truths)}}
+    case = parse_case(description)
+    exact = levy_chain([Section(lx, D, NU, RHO * H) for lx in lengths], LY,
+                       2 * np.pi * case.frequencies[0],
+                       joints=[coplanar(10.0**t, 0.05) for t in truths],
+                       left="simply_supported", right="clamped",
+                       point_forces=[(0, 0.12, 0.31, 1.0)])
+    return case, exact
+
+
+def exact_measurements(case, exact, noise=0.0, rng=None):
+    """Measurements at the case's grid from a Levy chain solution (plate ``Pi`` is section
+    ``i - 1``), times ``1 + U(-noise, noise)``."""
+    layout = {}
+    for plate, x, y in case.measurement_points():
+        layout.setdefault(plate, []).append((x, y))
+    data = {}
+    for plate, points in sorted(layout.items()):
+        points = np.array(points)
+        values = exact.w(points[:, 0], points[:, 1], plate=int(plate[1:]) - 1)
+        data[plate] = (points, add_noise(values, noise, rng) if noise else values)
+    return Measurements({case.frequencies[0]: data})
+
+
+def exact_joint(joint):
+    k = 10.0 ** joint["log10_stiffness"]
+    if joint["kind"] == "hinge":
+        return hinge(k, joint.get("loss_factor", 0.0))
+    return coplanar(k, joint.get("loss_factor", 0.0), joint.get("mass", 0.0))
+
+
+def dense_interface(system, blocks):
+    """Minimiser of sum ||A_b S_I + a_b||^2 s.t. G S = g, from the dense normal equations."""
+    n = system.n_s
+    h, rhs = np.zeros((n, n), dtype=complex), np.zeros(n, dtype=complex)
+    for b in blocks:
+        h[np.ix_(b.index, b.index)] += b.matrix.conj().T @ b.matrix
+        rhs[b.index] -= b.matrix.conj().T @ b.offset
+    g_mat, g = system.constraints
+    g_mat = g_mat.toarray()
+    m = g_mat.shape[0]
+    kkt = np.block([[h, g_mat.conj().T], [g_mat, np.zeros((m, m))]])
+    scale = 1.0 / np.sqrt(np.abs(kkt).max(axis=1))
+    x = scipy.linalg.solve(kkt * scale[:, None] * scale[None, :], np.concatenate([rhs, g]) * scale)
+    return (x * scale)[:n]
+
+
+def field_difference(system, s, t):
+    """Relative L2 difference of the plate fields of interface unknowns ``s`` and ``t``."""
+    from solver.plate import evaluate_field
+
+    a, b = system.plate_amplitudes(s), system.plate_amplitudes(t)
+    num = den = 0.0
+    for pid, problem in system.problems.items():
+        points = grid(*problem.size)
+        wa = evaluate_field(problem, system.bases[pid], a[pid], points)["w"]
+        wb = evaluate_field(problem, system.bases[pid], b[pid], points)["w"]
+        num += np.sum(np.abs(wa - wb) ** 2)
+        den += np.sum(np.abs(wb) ** 2)
+    return float(np.sqrt(num / den))
+
+
+def mixed_chain():
+    """Three plates: damped coplanar joint with a line mass (two shear unknowns), then a hinge;
+    free outer edges, so that junction corner forces appear at the joint ends."""
+    joints = [{"kind": "coplanar", "log10_stiffness": 1.5, "loss_factor": 0.1, "mass": 0.05},
+              {"kind": "hinge", "log10_stiffness": 3.5}]
+    return parse_case(chain_description(joints, left="free", force=(1, 0.2, 0.17)))
