@@ -6,7 +6,8 @@ Import direction: ``assembly`` <- ``solver`` <- ``updating``; this package never
 
 from solver.plate import PlateProblem, PlateSolution, solve_plate
 from solver.rays import RayCounts, automatic_ray_counts, build_ray_basis
-from solver.vtcr import CaseSolution, field_grid, solve_case
+from solver.solution import CaseSolution
+from solver.vtcr import field_grid, solve_case
 
 __all__ = [
     "CaseSolution",

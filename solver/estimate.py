@@ -165,7 +165,7 @@ def estimate_error(case, solution, resolution=None, enriched=None) -> ErrorEstim
     Parameters
     ----------
     case : assembly.Case
-    solution : solver.vtcr.CaseSolution or solver.substructure.AssemblySolution
+    solution : solver.solution.CaseSolution or solver.substructure.AssemblySolution
         A solve of ``case`` at ``solution.frequency``.
     resolution : float or mapping of str to float, optional
         The resolution factor ``solution`` was solved with, for every plate or per plate

@@ -97,6 +97,7 @@ from solver.plate import (
 from solver.power import kinetic_energies
 from solver.problems import plate_basis, plate_problems, plate_ray_counts, plate_resolution
 from solver.rays import EDGES
+from solver.solution import CaseSolution
 
 __all__ = [
     "Channel",
@@ -740,31 +741,19 @@ def joint_residuals(system, params, s):
 
 
 @dataclass(frozen=True)
-class AssemblySolution:
-    """Forced response of a jointed assembly (r = 0) and its joint residuals.
+class AssemblySolution(CaseSolution):
+    """Forced response of a jointed assembly (r = 0) and its joint residuals: a
+    :class:`solver.solution.CaseSolution` with ``residuals`` (:math:`E_\\Gamma^2` per joint),
+    ``interface`` (S) and ``system``."""
 
-    Same interface as :class:`solver.vtcr.CaseSolution`, plus ``residuals``
-    (:math:`E_\\Gamma^2` per joint), ``interface`` (S) and ``system``.
-    """
-
-    frequency: float
-    plates: dict
-    timings: dict
-    warnings: tuple
-    residuals: dict
-    interface: np.ndarray
-    system: AssemblySystem
+    residuals: dict = field(default_factory=dict)
+    interface: np.ndarray | None = None
+    system: AssemblySystem | None = None
 
     @property
     def n_unknowns(self) -> int:
-        return sum(p.basis.n_dof for p in self.plates.values()) + self.system.n_s
-
-    @property
-    def condition_estimate(self) -> float:
-        return max(p.condition_estimate for p in self.plates.values())
-
-    def w(self, plate_id, points):
-        return self.plates[plate_id].field(points)["w"]
+        """Ray unknowns of all plates and the interface unknowns."""
+        return super().n_unknowns + self.system.n_s
 
 
 def solve_assembly(case, frequency, resolution=None, system=None,

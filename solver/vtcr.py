@@ -18,7 +18,6 @@ from __future__ import annotations
 
 import dataclasses
 import time
-from dataclasses import dataclass
 
 import numpy as np
 
@@ -26,43 +25,10 @@ from solver.errors import check_finite, plate_condition_warnings
 from solver.guards import check_description
 from solver.plate import PlateSolution, assemble_plate, boundary_traces, solve_dense
 from solver.problems import plate_basis, plate_problem
+from solver.solution import CaseSolution
 from solver.substructure import solve_assembly
 
-__all__ = ["CaseSolution", "solve_case", "field_grid"]
-
-
-@dataclass(frozen=True)
-class CaseSolution:
-    """Field of every plate of an assembly at one frequency.
-
-    Attributes
-    ----------
-    frequency : float
-        Hz.
-    plates : dict of str to PlateSolution
-    timings : dict of str to float
-        Seconds spent in ``"assembly"`` (basis, boundary traces, matrices) and ``"solve"``.
-    warnings : tuple of str
-    """
-
-    frequency: float
-    plates: dict
-    timings: dict
-    warnings: tuple = ()
-
-    @property
-    def n_unknowns(self) -> int:
-        """Ray unknowns of all plates."""
-        return sum(p.basis.n_dof for p in self.plates.values())
-
-    @property
-    def condition_estimate(self) -> float:
-        """Largest condition estimate of the solves."""
-        return max(p.condition_estimate for p in self.plates.values())
-
-    def w(self, plate_id, points):
-        """Complex displacement (m) at plate-local points of one plate, shape (n,)."""
-        return self.plates[plate_id].field(points)["w"]
+__all__ = ["solve_case", "field_grid"]
 
 
 def solve_case(case, frequency=None, resolution=None, residuals=True, check=True) -> CaseSolution:
