@@ -176,7 +176,9 @@ def estimate_size(case, frequency=None, resolution=None) -> SizeEstimate:
     frequency = max(case.frequencies) if frequency is None else float(frequency)
     problems = plate_problems(case, frequency)
     bases = plate_bases(case, problems, resolution)
-    counts, layout, _, corners, n_s, unknowns = interface_layout(case, problems, resolution)
+    arrangement = interface_layout(case, problems, resolution)
+    counts, layout, n_s = arrangement.counts, arrangement.slots, arrangement.n_s
+    corners, unknowns = arrangement.corner_columns, arrangement.unknowns
 
     entries = samples = constraints = 0
     for jid, joint in case.joints.items():

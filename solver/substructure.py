@@ -102,6 +102,11 @@ from solver.solution import CaseSolution
 __all__ = [
     "Channel",
     "AssemblySystem",
+    "AssemblySolution",
+    "InterfaceLayout",
+    "PlateBlock",
+    "interface_layout",
+    "plate_block",
     "build_assembly_system",
     "plate_bases",
     "channel_blocks",
@@ -371,17 +376,15 @@ def _scaled(block, factor):
     return Block(block.index, (factor.T * block.matrix.T).T, factor * block.offset)
 
 
-def interface_layout(case, problems, resolution=None):
-    """The interface unknowns of an assembly, counted from its description.
+@dataclass(frozen=True)
+class InterfaceLayout:
+    """Where the interface unknowns of an assembly sit in S (:func:`interface_layout`).
 
-    ``resolution`` is None (the description's), one factor, or a mapping by plate; a joint's
-    interface functions follow the finest of its plates.
-
-    Returns
-    -------
+    Attributes
+    ----------
     counts : dict of str to int
         Legendre functions per unknown function of each joint.
-    layout : dict
+    slots : dict
         Slices of each joint's unknown functions in S (:func:`_layout`).
     junctions : list
         Corner groups at joint ends (:func:`_junctions`).
@@ -390,6 +393,33 @@ def interface_layout(case, problems, resolution=None):
     n_s : int
     unknowns : dict of str to ndarray of int
         Per plate, the interface unknowns it sees.
+    """
+
+    counts: dict
+    slots: dict
+    junctions: list
+    corner_columns: dict
+    n_s: int
+    unknowns: dict
+
+
+@dataclass(frozen=True)
+class PlateBlock:
+    """One plate's VTCR block, factorised (:func:`plate_block`): its boundary traces, its
+    right-hand side :math:`F_i`, a solve with :math:`K_i` and the reciprocal condition
+    estimate of :math:`K_i`."""
+
+    boundary: object
+    force: np.ndarray
+    solve: object
+    rcond: float
+
+
+def interface_layout(case, problems, resolution=None) -> InterfaceLayout:
+    """The interface unknowns of an assembly, counted from its description.
+
+    ``resolution`` is None (the description's), one factor, or a mapping by plate; a joint's
+    interface functions follow the finest of its plates.
     """
     counts = {}
     for jid, joint in case.joints.items():
@@ -406,8 +436,8 @@ def interface_layout(case, problems, resolution=None):
             if not kinematic:
                 corner_columns[corner] = n_s
                 n_s += 1
-    return (counts, layout, junctions, corner_columns, n_s,
-            _plate_unknowns(case, layout, corner_columns))
+    return InterfaceLayout(counts, layout, junctions, corner_columns, n_s,
+                           _plate_unknowns(case, layout, corner_columns))
 
 
 def _plate_sides(case, corner_columns):
@@ -455,15 +485,14 @@ def plate_loads(case, boundary, sides, corners, counts, layout, unknowns):
     return loads
 
 
-def plate_block(problem, basis):
-    r"""One plate's VTCR block, factorised: ``(boundary traces, F_i, solve with K_i,
-    reciprocal condition estimate of K_i)``. The plate's admissibility is then
+def plate_block(problem, basis) -> PlateBlock:
+    r"""One plate's VTCR block, factorised. The plate's admissibility is then
     :math:`U_i^0 = K_i^{-1}F_i` and :math:`T_i = K_i^{-1}B_i`, with its loads :math:`B_i`
     (:func:`plate_loads`)."""
     boundary = boundary_traces(problem, basis)
     matrix, force = assemble_plate(problem, boundary)
     solve, rcond = factorise_dense(matrix)
-    return boundary, force, solve, rcond
+    return PlateBlock(boundary, force, solve, rcond)
 
 
 def build_assembly_system(case, frequency, resolution=None) -> AssemblySystem:
@@ -477,8 +506,9 @@ def build_assembly_system(case, frequency, resolution=None) -> AssemblySystem:
     bases = plate_bases(case, problems, resolution)
     k_max = {pid: float(np.max(np.abs(b.k))) for pid, b in bases.items()}
 
-    counts, layout, junctions, corner_columns, n_s, unknowns = interface_layout(
-        case, problems, resolution)
+    arrangement = interface_layout(case, problems, resolution)
+    counts, layout, n_s = arrangement.counts, arrangement.slots, arrangement.n_s
+    corner_columns, unknowns = arrangement.corner_columns, arrangement.unknowns
 
     sides, corners = _plate_sides(case, corner_columns)
     u0, transfer, rcond, corner_w = {}, {}, {}, {}
@@ -492,12 +522,11 @@ def build_assembly_system(case, frequency, resolution=None) -> AssemblySystem:
         block = plate_blocks.get(key) or plate_block(problem, bases[pid])
         if key is not None:
             plate_blocks[key] = block
-        boundary, force, solve, plate_rcond = block
-        loads = plate_loads(case, boundary, sides[pid], corners[pid], counts, layout,
+        loads = plate_loads(case, block.boundary, sides[pid], corners[pid], counts, layout,
                             unknowns[pid])
-        solution = solve(np.column_stack([force, loads]))
-        u0[pid], transfer[pid], rcond[pid] = solution[:, 0], solution[:, 1:], plate_rcond
-        corner_w[pid] = boundary.corner_w, boundary.corner_w_p
+        solution = block.solve(np.column_stack([block.force, loads]))
+        u0[pid], transfer[pid], rcond[pid] = solution[:, 0], solution[:, 1:], block.rcond
+        corner_w[pid] = block.boundary.corner_w, block.boundary.corner_w_p
     del plate_blocks
     t1 = time.perf_counter()
 
@@ -562,7 +591,7 @@ def build_assembly_system(case, frequency, resolution=None) -> AssemblySystem:
     for jid, slots in layout.items():
         for part in slots.values():
             unknown_groups[part] = group_of[jid]
-    for group, flags in enumerate(junctions, start=len(case.joints)):
+    for group, flags in enumerate(arrangement.junctions, start=len(case.joints)):
         values = {(pid, c): system.affine_plate_operator(pid, corner_w[pid][0][c][None, :],
                                                           corner_w[pid][1][c:c + 1])
                   for (pid, c), _ in flags}
