@@ -14,10 +14,52 @@ from exact import Section, complex_rigidity, coplanar, hinge, levy_chain
 from assembly import parse_case
 from updating.measurements import Measurements, add_noise
 
-__all__ = ["E", "NU", "RHO", "H", "ETA", "D", "LY", "LENGTHS", "FREQUENCY", "OMEGA", "MATERIAL",
+__all__ = ["TWO_PLATES", "E", "NU", "RHO", "H", "ETA", "D", "LY", "LENGTHS", "FREQUENCY",
+           "OMEGA", "MATERIAL",
            "grid", "chain_description", "levy_chain_experiment", "exact_measurements",
            "exact_joint", "dense_interface", "field_difference", "mixed_chain"]
 
+
+# Two plates side by side, one coplanar joint, a point force, a measurement grid: the
+# description the input checks and the library-call tests vary one field of
+TWO_PLATES = """\
+name = "two"
+frequency = 155.0
+
+[materials.steel]
+young_modulus = 210e9
+poisson_ratio = 0.3
+density = 7800.0
+loss_factor = 0.01
+
+[plates.P1]
+material = "steel"
+thickness = 0.001
+size = [0.5, 0.4]
+
+[plates.P2]
+material = "steel"
+thickness = 0.001
+size = [0.5, 0.4]
+
+[joints.G1]
+kind = "coplanar"
+between = ["P1.right", "P2.left"]
+log10_stiffness = 2.0
+
+[[boundaries]]
+edge = "P2.right"
+condition = "simply_supported"
+
+[[loads]]
+kind = "point_force"
+plate = "P1"
+at = [0.17, 0.13]
+amplitude = 1.0
+
+[measurement]
+spacing = 0.1
+"""
 
 E, NU, RHO, H, ETA = 210e9, 0.3, 7800.0, 1e-3, 0.01
 D = complex_rigidity(E, H, NU, ETA)

@@ -23,6 +23,7 @@ from types import SimpleNamespace
 
 import numpy as np
 import pytest
+from chains import TWO_PLATES as TWO
 
 from assembly import load_case, load_case_text
 from updating.cli import main
@@ -30,44 +31,6 @@ from updating.cli import main
 CASES = Path(__file__).resolve().parents[1] / "cases"
 
 # Two 0.5 x 0.4 m plates joined by G1, a point force on P1; 5 x 4 measurement grid per plate.
-TWO = """\
-name = "two"
-frequency = 155.0
-
-[materials.steel]
-young_modulus = 210e9
-poisson_ratio = 0.3
-density = 7800.0
-loss_factor = 0.01
-
-[plates.P1]
-material = "steel"
-thickness = 0.001
-size = [0.5, 0.4]
-
-[plates.P2]
-material = "steel"
-thickness = 0.001
-size = [0.5, 0.4]
-
-[joints.G1]
-kind = "coplanar"
-between = ["P1.right", "P2.left"]
-log10_stiffness = 2.0
-
-[[boundaries]]
-edge = "P2.right"
-condition = "simply_supported"
-
-[[loads]]
-kind = "point_force"
-plate = "P1"
-at = [0.17, 0.13]
-amplitude = 1.0
-
-[measurement]
-spacing = 0.1
-"""
 
 # Two separate pairs: P1 | P2 (joint G1) and P3 | P4 (joint G2), each loaded.
 PAIRS = TWO.replace("[joints.G1]", """\

@@ -8,6 +8,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+from chains import TWO_PLATES
+
 ROOT = Path(__file__).resolve().parents[1]
 
 
@@ -23,38 +25,7 @@ def test_the_api_page_runs():
     assert "below its first resonance" in out
 
 
-LOW = """
-name = "low"
-frequency = 0.1
-[materials.steel]
-young_modulus = 210e9
-poisson_ratio = 0.3
-density = 7800.0
-loss_factor = 0.01
-[plates.P1]
-material = "steel"
-thickness = 0.001
-size = [0.5, 0.4]
-[plates.P2]
-material = "steel"
-thickness = 0.001
-size = [0.5, 0.4]
-origin = [0.5, 0.0]
-[joints.G1]
-kind = "coplanar"
-between = ["P1.right", "P2.left"]
-log10_stiffness = 2.0
-[[boundaries]]
-edge = "P1.left"
-condition = "simply_supported"
-[[loads]]
-kind = "point_force"
-plate = "P1"
-at = [0.12, 0.31]
-amplitude = 1.0
-[measurement]
-noise = 0.1
-"""
+LOW = TWO_PLATES.replace("frequency = 155.0", "frequency = 0.1")
 
 
 def test_library_calls_run_the_guard_rails():
