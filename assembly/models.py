@@ -887,7 +887,7 @@ class Updating(FrozenModel):
     r : float or "auto", optional
         Weight of the measurement term in ``E_mod^2 = (1 - r) E_int^2 + r E_mes^2``,
         in (0, 1], or ``"auto"`` (default): weights that do not depend on the size of the
-        structure (``updating.weights``: each joint's law weighed by the energy of its own
+        structure (``updating.inverse.weights``: each joint's law weighed by the energy of its own
         plates, each plate's data by its own stated noise, at the fixed `balance`).
     alpha : mapping of str to float, optional
         Joint weights ``alpha_i >= 0`` of the interface error.  Joints not listed weigh 1;

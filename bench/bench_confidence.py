@@ -1,4 +1,4 @@
-"""Coverage of the confidence intervals of ``vtcr update`` (``updating.confidence``).
+"""Coverage of the confidence intervals of ``vtcr update`` (``updating.inverse.confidence``).
 
 For each case, the noise-free measured field is computed once (``cases/four_plates.toml``: its
 simulated experiment, the true structure at the finer measurement resolution; the Levy chains:
@@ -40,10 +40,10 @@ from chains import (  # noqa: E402
 )
 
 from assembly import load_case, parse_case  # noqa: E402
-from updating.cost import ModifiedProblem, direct_interface  # noqa: E402
+from updating.inverse.cost import ModifiedProblem, direct_interface  # noqa: E402
 from updating.executor import Executor  # noqa: E402
-from updating.measurements import add_noise, simulate_measurements  # noqa: E402
-from updating.strategy import update_joints  # noqa: E402
+from updating.data.measurements import add_noise, simulate_measurements  # noqa: E402
+from updating.inverse.strategy import update_joints  # noqa: E402
 
 NOISE = 0.1
 

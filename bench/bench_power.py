@@ -46,11 +46,11 @@ sys.path.insert(0, str(ROOT))
 
 from assembly import parse_case  # noqa: E402
 from assembly.generate import grid_joint_ids, plate_grid  # noqa: E402
-from updating.cost import ModifiedProblem  # noqa: E402
+from updating.inverse.cost import ModifiedProblem  # noqa: E402
 from updating.executor import Executor  # noqa: E402
-from updating.measurements import simulate_measurements  # noqa: E402
-from updating.plan import identifiability_plan  # noqa: E402
-from updating.strategy import excess_ratios, update_joints  # noqa: E402
+from updating.data.measurements import simulate_measurements  # noqa: E402
+from updating.inverse.plan import identifiability_plan  # noqa: E402
+from updating.inverse.strategy import excess_ratios, update_joints  # noqa: E402
 
 NOISE = 0.1
 FREQUENCIES = (180.0, 210.0, 250.0, 290.0, 330.0)  # Hz, the grids' band (0.5 x 0.4 m, 1 mm steel)

@@ -6,7 +6,7 @@ Run (one BLAS thread per process, as the CLI sets it)::
 
     OPENBLAS_NUM_THREADS=1 python bench/bench_sweep.py --points 400 --workers 2
 
-The sweep is ``updating.sweep.frequency_sweep`` with ``max_points`` equal to the grid, so every
+The sweep is ``updating.forward.sweep.frequency_sweep`` with ``max_points`` equal to the grid, so every
 executor solves the same frequencies (no refinement), the probes being the measurement grid.
 The overhead is the time of mapping ``--overhead-tasks`` empty tasks, per task.
 """
@@ -27,7 +27,7 @@ import numpy as np  # noqa: E402
 from assembly import load_case  # noqa: E402
 from solver import field_grid  # noqa: E402
 from updating.executor import Executor  # noqa: E402
-from updating.sweep import frequency_sweep  # noqa: E402
+from updating.forward.sweep import frequency_sweep  # noqa: E402
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 

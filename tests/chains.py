@@ -12,7 +12,7 @@ import scipy.linalg
 from exact import Section, complex_rigidity, coplanar, hinge, levy_chain
 
 from assembly import parse_case
-from updating.measurements import Measurements, add_noise
+from updating.data.measurements import Measurements, add_noise
 
 __all__ = ["TWO_PLATES", "E", "NU", "RHO", "H", "ETA", "D", "LY", "LENGTHS", "FREQUENCY",
            "OMEGA", "MATERIAL",

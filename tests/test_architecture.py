@@ -61,7 +61,7 @@ def test_the_graph_sees_the_imports_it_must():
     graph = import_graph()
     assert graph.has_edge("assembly.case", "assembly.models")  # relative import
     assert graph.has_edge("solver.substructure", "solver.joint_rules")
-    assert graph.has_edge("updating.cost", "solver.substructure")
+    assert graph.has_edge("updating.inverse.cost", "solver.substructure")
     assert graph.number_of_edges() > 100
 
 

@@ -172,8 +172,8 @@ def test_residual_floor_falls_with_refinement():
     in the modified problem with noise-free data, and it falls as rays are added (measured
     1.2e-1, 1.2e-8, 3e-16 at resolution 0.75, 1.0, 1.25: 0.75 is below the rule; the paper
     reports 1e-3 to 1e-2 with its 100 dof per plate)."""
-    from updating.cost import ModifiedProblem
-    from updating.measurements import Measurements, measurement_layout
+    from updating.inverse.cost import ModifiedProblem
+    from updating.data.measurements import Measurements, measurement_layout
 
     joint = {"kind": "coplanar", "log10_stiffness": 1.5, "loss_factor": 0.1}
     floors = []

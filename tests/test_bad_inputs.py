@@ -332,8 +332,8 @@ def test_readme_example_is_the_real_message(tmp_path: Path, capsys, monkeypatch)
 # ------------------------------------------------------------------------ tolerated input
 def test_csv_with_bom_spaces_and_blank_lines_is_read(tmp_path: Path) -> None:
     """Excel writes a UTF-8 byte-order mark; spaces, header case and blank lines are harmless."""
-    from updating.files import read_probes
-    from updating.measurements import read_measurements
+    from updating.data.files import read_probes
+    from updating.data.measurements import read_measurements
 
     case = load_case_text(TWO)
     probes = tmp_path / "p.csv"
@@ -357,7 +357,7 @@ def test_toml_with_a_byte_order_mark_is_read(tmp_path: Path) -> None:
 
 def test_row_numbers_are_line_numbers(tmp_path: Path) -> None:
     """Blank lines are skipped but counted, so 'row N' is the line a spreadsheet shows."""
-    from updating.files import InputError, read_probes
+    from updating.data.files import InputError, read_probes
 
     path = tmp_path / "p.csv"
     path.write_text("plate,x,y\n\n\nP1,x,0.1\n")
@@ -372,7 +372,7 @@ def _counts(**plates: int):
 
 def test_joint_seen_only_through_other_plates_warns() -> None:
     """Chain P1 | P2 | P3 measured on P1 only: G2 (P2 | P3) is seen indirectly -> warning."""
-    from updating.measurements import joint_visibility
+    from updating.data.measurements import joint_visibility
 
     errors, warnings = joint_visibility(load_case_text(CHAIN), _counts(P1=20))
     assert errors == []
@@ -382,7 +382,7 @@ def test_joint_seen_only_through_other_plates_warns() -> None:
 
 
 def test_joint_visibility_rule() -> None:
-    from updating.measurements import MIN_POINTS, joint_visibility
+    from updating.data.measurements import MIN_POINTS, joint_visibility
 
     pairs = load_case_text(PAIRS)
     assert joint_visibility(pairs, _counts(P1=5, P4=3)) == ([], [])
@@ -395,8 +395,8 @@ def test_joint_visibility_rule() -> None:
 
 def test_description_layout_is_checked(tmp_path: Path) -> None:
     """Without a measurement file the description's own grid is checked (before simulating)."""
-    from updating.files import InputError
-    from updating.measurements import check_joints_seen
+    from updating.data.files import InputError
+    from updating.data.measurements import check_joints_seen
 
     case = load_case_text(PAIRS.replace("spacing = 0.1", 'spacing = 0.1\nplates = ["P1"]'))
     with pytest.raises(InputError) as err:
@@ -448,7 +448,7 @@ def test_condition_warnings_name_plate_and_frequency() -> None:
 
 
 def test_modified_problem_collects_condition_warnings() -> None:
-    from updating.cost import ModifiedProblem
+    from updating.inverse.cost import ModifiedProblem
 
     fake = SimpleNamespace(_description_warnings=(), frequencies={
         150.0: SimpleNamespace(system=SimpleNamespace(rcond={"P1": 1e-12, "P2": 1e-25}),
@@ -663,9 +663,9 @@ def test_every_option_has_help_with_its_default() -> None:
 def test_measurement_rows_are_capped(tmp_path: Path, capsys, monkeypatch) -> None:
     """A measurement file beyond the row cap stops at the first row over it (the file is not
     read further), one line with exit 2; the cap is lowered here to keep the test small."""
-    import updating.measurements
+    import updating.data.measurements
 
-    monkeypatch.setattr(updating.measurements, "MAX_MEASUREMENT_ROWS", 3)
+    monkeypatch.setattr(updating.data.measurements, "MAX_MEASUREMENT_ROWS", 3)
     (tmp_path / "case.toml").write_text(TWO)
     rows = "".join(f"P1,0.{i},0.1,1e-6,0\n" for i in range(1, 5))
     (tmp_path / "m.csv").write_text("plate,x,y,re,im\n" + rows)

@@ -325,16 +325,16 @@ def test_tolerance_drives_the_model_and_the_simulated_experiment(tmp_path, monke
     """[discretisation] tolerance: localise raises the model's resolution until its response
     meets the tolerance at every frequency, and the simulated experiment is solved to a tighter
     one (0.3 of it) from its own finer start."""
-    import updating.measurements
+    import updating.data.measurements
 
     targets = []
-    original = updating.measurements.solve_to_tolerance
+    original = updating.data.measurements.solve_to_tolerance
 
     def recording(case, frequency, tolerance, **kwargs):
         targets.append((tolerance, kwargs["resolution"]))
         return original(case, frequency, tolerance, **kwargs)
 
-    monkeypatch.setattr(updating.measurements, "solve_to_tolerance", recording)
+    monkeypatch.setattr(updating.data.measurements, "solve_to_tolerance", recording)
     path = tmp_path / "tolerance.toml"
     path.write_text(TWO_PLATES.read_text()
                     + "\n[discretisation]\ntolerance = 1e-4\n")

@@ -15,9 +15,9 @@ import numpy as np
 import pytest
 
 from assembly import load_case
-from updating.cost import ModifiedProblem
-from updating.measurements import simulate_measurements
-from updating.strategy import update_joints
+from updating.inverse.cost import ModifiedProblem
+from updating.data.measurements import simulate_measurements
+from updating.inverse.strategy import update_joints
 
 CASE = Path(__file__).resolve().parents[1] / "cases" / "four_plates.toml"
 # a joint whose interval is narrower than this many decades is pinned by the response

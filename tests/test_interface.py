@@ -27,8 +27,8 @@ from solver.substructure import (
     joint_residuals,
     solve_assembly,
 )
-from updating.cost import ModifiedProblem, channel_parameters, with_joint
-from updating.measurements import simulate_measurements
+from updating.inverse.cost import ModifiedProblem, channel_parameters, with_joint
+from updating.data.measurements import simulate_measurements
 
 CASES = Path(__file__).resolve().parents[1] / "cases"
 

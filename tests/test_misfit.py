@@ -8,8 +8,8 @@ import pytest
 
 from assembly import load_case
 from updating.cli import main
-from updating.cost import ModifiedProblem
-from updating.measurements import simulate_measurements
+from updating.inverse.cost import ModifiedProblem
+from updating.data.measurements import simulate_measurements
 
 CASES = Path(__file__).resolve().parents[1] / "cases"
 

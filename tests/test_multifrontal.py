@@ -26,8 +26,8 @@ from solver.substructure import (
     joint_residuals,
     solve_interface,
 )
-from updating.cost import ModifiedProblem, with_joint
-from updating.measurements import simulate_measurements
+from updating.inverse.cost import ModifiedProblem, with_joint
+from updating.data.measurements import simulate_measurements
 
 CASES = Path(__file__).resolve().parents[1] / "cases"
 

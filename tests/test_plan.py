@@ -1,4 +1,4 @@
-"""``vtcr plan``: identifiability before the test (``updating.plan``).
+"""``vtcr plan``: identifiability before the test (``updating.inverse.plan``).
 
 The sensitivities and the damping share go through the joint's condensation of the model
 response; they are checked against independent direct solves (``solver.solve_case``) and the
@@ -15,8 +15,8 @@ from assembly import load_case
 from solver import solve_case
 from solver.power import power_flow
 from updating.cli import main
-from updating.measurements import measurement_layout, simulate_measurements
-from updating.plan import identifiability_plan
+from updating.data.measurements import measurement_layout, simulate_measurements
+from updating.inverse.plan import identifiability_plan
 
 CASES = Path(__file__).resolve().parents[1] / "cases"
 
@@ -151,10 +151,10 @@ def test_expected_interval_is_that_of_typical_noisy_data(tmp_path):
     measured: low 1.21 in [1.17, 1.31], high 1.64 in [1.61, 1.67]). Noise-free data compared
     with noisy redraws would give [1.05, 1.56], outside both ranges: the statistic is quadratic
     in the data, and noise moves it on average."""
-    from updating.confidence import confidence_interval, noise_model
-    from updating.cost import ModifiedProblem
-    from updating.measurements import Measurements
-    from updating.strategy import correct_joint
+    from updating.inverse.confidence import confidence_interval, noise_model
+    from updating.inverse.cost import ModifiedProblem
+    from updating.data.measurements import Measurements
+    from updating.inverse.strategy import correct_joint
 
     path = tmp_path / "noisy.toml"
     text = (CASES / "two_plates.toml").read_text()

@@ -16,16 +16,16 @@ import pytest
 from assembly import load_case_text
 from solver import solve_case
 from updating.cli import main
-from updating.cost import ModifiedProblem, cost_curve
-from updating.figure_tools import MISSING_MATPLOTLIB
-from updating.measurements import simulate_measurements
-from updating.plots import (
+from updating.inverse.cost import ModifiedProblem, cost_curve
+from updating.figures.figure_tools import MISSING_MATPLOTLIB
+from updating.data.measurements import simulate_measurements
+from updating.figures.plots import (
     cost_curve_data,
     field_map_data,
     residual_bars_data,
 )
-from updating.strategy import update_joints
-from updating.sweep import frequency_band, frequency_response_data, spatial_rms
+from updating.inverse.strategy import update_joints
+from updating.forward.sweep import frequency_band, frequency_response_data, spatial_rms
 
 ROOT = Path(__file__).resolve().parents[1]
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
@@ -274,11 +274,11 @@ def _python(code):
 
 
 def test_core_does_not_import_matplotlib():
-    """``import updating.cli``, ``updating.plots`` and ``vtcr check`` leave matplotlib out."""
+    """``import updating.cli``, ``updating.figures.plots`` and ``vtcr check`` leave matplotlib out."""
     done = _python("""
         import sys
         import updating.cli
-        import updating.plots  # the data layer and the module itself import it lazily
+        import updating.figures.plots  # the data layer and the module itself import it lazily
         status = updating.cli.main(["check", "cases/single_plate.toml", "--quiet"])
         assert status == 0, status
         print("matplotlib" in sys.modules)
@@ -310,7 +310,7 @@ def test_framed_assembly_field_map_is_drawn_in_space(tmp_path):
     pytest.importorskip("matplotlib")
     from assembly import parse_case
     from assembly.generate import stiffened_panel
-    from updating.plots import draw_field_maps
+    from updating.figures.plots import draw_field_maps
 
     case = parse_case(stiffened_panel(2, truth={"W1": 1.0}, spacing=0.2))
     measurements = simulate_measurements(case)
@@ -332,7 +332,7 @@ def test_framed_assembly_field_map_is_drawn_in_space(tmp_path):
 
 def _synthetic_step(case, ratios, corrected=()):
     """A Step whose joints stand at ``ratios`` (default 0.5) of thresholds 1e-3."""
-    from updating.strategy import Step
+    from updating.inverse.strategy import Step
 
     joints = list(case.updatable_joints())
     parameters = case.updatable_parameters()
@@ -349,8 +349,8 @@ def test_residual_map_places_each_joint_on_its_edge_and_colours_it_by_its_excess
     is named; the map draws to a PNG."""
     from assembly import parse_case
     from assembly.generate import plate_grid
-    from updating.figure_tools import new_figure, save_figure_atomic
-    from updating.plots_map import MAP_JOINTS, draw_residual_map, residual_map_data
+    from updating.figures.figure_tools import new_figure, save_figure_atomic
+    from updating.figures.plots_map import MAP_JOINTS, draw_residual_map, residual_map_data
 
     case = parse_case(plate_grid(4, 4))
     assert len(case.joints) > MAP_JOINTS
@@ -370,7 +370,7 @@ def test_residual_map_draws_junction_members_inside_their_own_plates():
     """The stiffened panel (plates with frames: a 3D map): weld W2's member T2 is drawn on the
     stiffener, MEMBER_OFFSET of its height above the skin, parallel to the weld line."""
     from assembly import load_case
-    from updating.plots_map import MEMBER_OFFSET, residual_map_data
+    from updating.figures.plots_map import MEMBER_OFFSET, residual_map_data
 
     case = load_case(Path(__file__).resolve().parents[1] / "cases" / "stiffened_panel.toml")
     data = residual_map_data(case, _synthetic_step(case, {"W2.T2": 9.0}),

@@ -1,5 +1,5 @@
 """Detection power that does not dilute with the size of the structure (the scale-free weights,
-``updating.weights``), and the identification of a co-identified loss factor.
+``updating.inverse.weights``), and the identification of a co-identified loss factor.
 
 Each figure in a docstring was measured with ``[updating] r = 0.8`` (the paper's weights,
 ``alpha = 1/N_joints``) beside the default: the tests that compare the two fail with the paper's
@@ -14,9 +14,9 @@ import pytest
 
 from assembly import parse_case
 from assembly.generate import plate_grid
-from updating.cost import ModifiedProblem
-from updating.measurements import simulate_measurements
-from updating.strategy import excess_ratios, localise, update_joints
+from updating.inverse.cost import ModifiedProblem
+from updating.data.measurements import simulate_measurements
+from updating.inverse.strategy import excess_ratios, localise, update_joints
 
 
 def _grid(n, truth, seed=1, **updating):
@@ -147,7 +147,7 @@ def test_the_summary_names_the_joint_that_stands_out_most_and_its_neighbours():
     """Three joints above their thresholds, two of them sharing a plate with the first: the
     sentence names the first, counts the others and says that neighbours may stand out only
     through it; without neighbours among them, it says so; nothing standing out gives None."""
-    from updating.strategy import Step, standing_summary
+    from updating.inverse.strategy import Step, standing_summary
 
     joints = ["A", "B", "C", "D"]
     parameters = {j: {"log10_stiffness": 2.0, "loss_factor": 0.0, "mass": 0.0} for j in joints}

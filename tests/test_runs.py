@@ -16,7 +16,7 @@ from pathlib import Path
 
 import pytest
 
-from updating import runfile
+from updating.data import runfile
 from updating.cli import main
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -227,7 +227,7 @@ def test_the_same_command_again_replaces_its_own_finished_run(one_frequency_case
 
 def test_resuming_a_finished_run_reports_it_without_running_the_loop(
         one_frequency_case, finished_run, tmp_path, capsys, monkeypatch, uninterrupted):
-    from updating import strategy  # cmd_update imports the loop from there at call time
+    from updating.cli import commands  # the loop as the command calls it
 
     run = tmp_path / "run.json"
     run.write_text(json.dumps(finished_run))
@@ -235,7 +235,7 @@ def test_resuming_a_finished_run_reports_it_without_running_the_loop(
     def no_loop(*args, **kwargs):
         raise AssertionError("the loop ran again")
 
-    monkeypatch.setattr(strategy, "update_joints", no_loop)
+    monkeypatch.setattr(commands, "update_joints", no_loop)
     out = tmp_path / "out.json"
     assert main(["update", str(one_frequency_case), "--resume", str(run), "--json",
                  str(out)]) == 0
@@ -260,7 +260,7 @@ def test_a_run_file_in_use_by_another_run_is_refused(one_frequency_case, tmp_pat
 def test_a_lock_dies_with_its_process(tmp_path):
     """kill -9 of the holder: the system releases the lock, so a lock is never stale."""
     run = tmp_path / "run.json"
-    code = (f"from updating.runfile import RunLock; import time\n"
+    code = (f"from updating.data.runfile import RunLock; import time\n"
             f"with RunLock({str(run)!r}):\n    print('locked', flush=True); time.sleep(60)")
     holder = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True)
     try:
@@ -284,7 +284,7 @@ def test_progress_shows_only_on_a_terminal_and_not_when_quiet(terminal, quiet, s
 
     from rich.console import Console
 
-    from updating.progress import progress_bar
+    from updating.cli.progress import progress_bar
 
     buffer = io.StringIO()
     console = Console(file=buffer, force_terminal=terminal, quiet=quiet, width=80)
@@ -300,7 +300,7 @@ def test_off_a_terminal_each_stage_is_one_line_on_standard_error(capsys, quiet, 
 
     from rich.console import Console
 
-    from updating.progress import progress_bar
+    from updating.cli.progress import progress_bar
 
     buffer = io.StringIO()
     console = Console(file=buffer, force_terminal=False, quiet=quiet, width=80)
@@ -315,7 +315,7 @@ def test_off_a_terminal_each_stage_is_one_line_on_standard_error(capsys, quiet, 
 
 
 def test_outputs_get_the_usual_permissions_and_no_temporary_is_left(tmp_path):
-    from updating.files import write_json_atomic
+    from updating.data.files import write_json_atomic
 
     out = tmp_path / "out.json"
     write_json_atomic(out, {"a": 1})

@@ -1,4 +1,4 @@
-"""The thresholds at which a joint stands out (``updating.significance``), against exact
+"""The thresholds at which a joint stands out (``updating.inverse.significance``), against exact
 distributions: the Sidak level of independent chi-square joints, and the familywise rate of
 right models whose residuals are correlated quadratic forms with long tails."""
 
@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from scipy import stats
 
-from updating.significance import (
+from updating.inverse.significance import (
     chi_square_quantile,
     chi_square_tail,
     familywise_level,
@@ -93,7 +93,7 @@ def test_a_joint_far_above_its_floor_stands_out_alone():
 
 def test_without_spread_the_threshold_is_the_floor():
     """Noise-free floors (one draw, or identical draws) leave nothing to calibrate: each
-    threshold is the joint's mean, and ``stop_ratio`` decides (``updating.strategy``)."""
+    threshold is the joint's mean, and ``stop_ratio`` decides (``updating.inverse.strategy``)."""
     floors = np.array([[1e-4], [3e-6]])
     np.testing.assert_array_equal(standing_thresholds(floors, 0.05), floors[:, 0])
     repeated = np.repeat(floors, 5, axis=1)
@@ -107,9 +107,9 @@ def test_a_right_model_has_no_joint_standing_out():
     floors)."""
     from assembly import parse_case
     from assembly.generate import plate_grid
-    from updating.cost import ModifiedProblem
-    from updating.measurements import simulate_measurements
-    from updating.strategy import localise, thresholds
+    from updating.inverse.cost import ModifiedProblem
+    from updating.data.measurements import simulate_measurements
+    from updating.inverse.strategy import localise, thresholds
 
     description = plate_grid(3, 3, frequency=150.0)
     description["updating"] = {**description["updating"], "stop_ratio": 1.01}

@@ -22,7 +22,7 @@ from solver import solve_case
 from solver.power import power_flow
 from solver.sweep import initial_frequencies, refine_frequencies
 from updating.cli import main
-from updating.sweep import frequency_sweep
+from updating.forward.sweep import frequency_sweep
 
 CASES = Path(__file__).resolve().parents[1] / "cases"
 
@@ -277,12 +277,12 @@ def test_frf_on_a_dask_scheduler_and_two_workers_started_by_hand(tmp_path):
 @pytest.mark.parametrize("suffix, rtol", [(".uff", 1e-11), (".58b", 1e-14)],
                          ids=["ascii58", "binary58b"])
 def test_uff_export_reads_back_through_the_uff_reader(tmp_path, suffix, rtol):
-    """``vtcr frf --uff`` read back by :func:`updating.uff.read_uff` with the probe file as its
+    """``vtcr frf --uff`` read back by :func:`updating.data.uff.read_uff` with the probe file as its
     node map: the same w at every swept frequency. ASCII keeps 12 significant digits
     (E20.12: each part rounded by 5e-12 of itself), 58b IEEE doubles. A 1 N point force makes
     the datasets FRFs (type 4, per newton) referenced to the drive point's node."""
     pyuff = pytest.importorskip("pyuff")
-    from updating.uff import read_uff
+    from updating.data.uff import read_uff
 
     case_file = _write_chain(tmp_path)
     probes = tmp_path / "map.csv"  # a UFF node map is a probe file; 31 is the drive point
@@ -324,7 +324,7 @@ def test_uff_datasets_are_frfs_per_newton_only_under_a_single_point_force():
     pytest.importorskip("pyuff")
     from chains import chain_description
 
-    from updating.uff_export import sweep_datasets
+    from updating.data.uff_export import sweep_datasets
 
     points = {"P1": np.array([[0.3, 0.2]])}
     single = chain_description(JOINTS[:1], frequency=450.0)
@@ -384,7 +384,7 @@ def test_uff_geometry_of_plates_placed_in_space():
     stiffener's probes stand on its weld line above the skin, the skin's lie at z = 0."""
     pytest.importorskip("pyuff")
     from assembly.generate import stiffened_panel
-    from updating.uff_export import sweep_datasets
+    from updating.data.uff_export import sweep_datasets
 
     case = parse_case(stiffened_panel(2))
     points = {"B2": np.array([[0.1, 0.2]]), "T1": np.array([[0.12, 0.3]])}

@@ -18,11 +18,11 @@ import pytest
 
 from assembly import load_case
 from updating.cli import main
-from updating.cost import ModifiedProblem
-from updating.files import InputError
-from updating.measurements import simulate_measurements
-from updating.strategy import update_joints
-from updating.uff import _pick_line, read_uff, read_uff_map
+from updating.inverse.cost import ModifiedProblem
+from updating.data.files import InputError
+from updating.data.measurements import simulate_measurements
+from updating.inverse.strategy import update_joints
+from updating.data.uff import _pick_line, read_uff, read_uff_map
 
 pyuff = pytest.importorskip("pyuff")
 

@@ -13,11 +13,11 @@ from scipy import optimize
 
 from assembly import load_case, parse_case
 from updating.cli import main
-from updating.confidence import ScoreTest, confidence_intervals
-from updating.cost import ModifiedProblem
+from updating.inverse.confidence import ScoreTest, confidence_intervals
+from updating.inverse.cost import ModifiedProblem
 from updating.executor import frequency_threads, usable_cores
-from updating.measurements import add_noise, simulate_measurements
-from updating.strategy import correct_joint, update_joints
+from updating.data.measurements import add_noise, simulate_measurements
+from updating.inverse.strategy import correct_joint, update_joints
 
 E, NU, RHO, ETA = (MATERIAL[k] for k in ("young_modulus", "poisson_ratio", "density",
                                        "loss_factor"))
@@ -219,7 +219,7 @@ def test_a_step_of_several_corrections_survives_the_run_file_and_the_json():
     """A step that corrected joints apart (``also``) round-trips through a run-file record
     (JSON floats are exact) and names every joint in the contract's JSON: ``selected`` the
     first, ``also_selected`` the others with their intervals."""
-    from updating.strategy import Step
+    from updating.inverse.strategy import Step
 
     parameters = {j: {"log10_stiffness": v, "loss_factor": 0.0, "mass": 0.0}
                   for j, v in (("G3", 3.5), ("G6", 0.8), ("G9", 2.0))}
@@ -239,7 +239,7 @@ def test_status_1_names_the_joints_that_still_stand_out():
     out of their thresholds and by how much, largest first, at most five of them; a step
     without calibrated thresholds (an older run file) stands on ``stop_ratio`` x floor."""
     from assembly.models import Updating
-    from updating.strategy import TERMINATION_MESSAGES, Step, _message
+    from updating.inverse.strategy import TERMINATION_MESSAGES, Step, _message
 
     joints = [f"J{i}" for i in range(8)]
     parameters = {j: {"log10_stiffness": 2.0, "loss_factor": 0.0, "mass": 0.0} for j in joints}
@@ -264,7 +264,7 @@ def test_a_fitted_joint_above_its_threshold_does_not_stop_the_loop_unconverged()
     re-corrections and converge (status 0: no candidate in the re-correction phase); an
     uncorrected joint standing out that no correction helps stops it (status 1)."""
     from assembly.models import Updating
-    from updating.strategy import Step, _candidates
+    from updating.inverse.strategy import Step, _candidates
 
     joints = ["J0", "J1", "J2"]
     parameters = {j: {"log10_stiffness": 2.0, "loss_factor": 0.0, "mass": 0.0} for j in joints}
@@ -482,8 +482,8 @@ def test_an_estimate_outside_its_interval_is_said_to_be_biased():
     the value is on an end within the printed digits."""
     from types import SimpleNamespace
 
-    from updating.confidence import ConfidenceInterval
-    from updating.report import OUTSIDE, identified_lines
+    from updating.inverse.confidence import ConfidenceInterval
+    from updating.cli.report import OUTSIDE, identified_lines
 
     def line(value, low, high):
         kind = "two-sided" if low is not None and high is not None else (

@@ -12,16 +12,16 @@ import importlib
 _EXPORTS = {
     "update_case": "updating.api",
     "localise_case": "updating.api",
-    "ModifiedProblem": "updating.cost",
-    "localise": "updating.strategy",
-    "update_joints": "updating.strategy",
-    "Step": "updating.strategy",
-    "UpdateResult": "updating.strategy",
-    "Measurements": "updating.measurements",
-    "simulate_measurements": "updating.measurements",
-    "read_measurements": "updating.measurements",
-    "identifiability_plan": "updating.plan",
-    "frequency_sweep": "updating.sweep",
+    "ModifiedProblem": "updating.inverse.cost",
+    "localise": "updating.inverse.strategy",
+    "update_joints": "updating.inverse.strategy",
+    "Step": "updating.inverse.strategy",
+    "UpdateResult": "updating.inverse.strategy",
+    "Measurements": "updating.data.measurements",
+    "simulate_measurements": "updating.data.measurements",
+    "read_measurements": "updating.data.measurements",
+    "identifiability_plan": "updating.inverse.plan",
+    "frequency_sweep": "updating.forward.sweep",
 }
 
 __all__ = sorted(_EXPORTS)

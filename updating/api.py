@@ -8,15 +8,15 @@ the printing (``docs/api.md``).
 ['G1', 'G2', 'G4']
 
 Both run the description's guard rails first (:func:`solver.guards.check_description`, through
-:class:`updating.cost.ModifiedProblem`) and, without measurements, simulate the experiment the
+:class:`updating.inverse.cost.ModifiedProblem`) and, without measurements, simulate the experiment the
 description states (``[truth]``, ``[measurement]``), as the commands do.
 """
 
 from __future__ import annotations
 
-from updating.cost import ModifiedProblem
-from updating.measurements import simulate_measurements
-from updating.strategy import Step, UpdateResult, localise, update_joints
+from updating.inverse.cost import ModifiedProblem
+from updating.data.measurements import simulate_measurements
+from updating.inverse.strategy import Step, UpdateResult, localise, update_joints
 
 __all__ = ["localise_case", "update_case"]
 
@@ -29,8 +29,8 @@ def _problem(case, measurements, executor):
 
 def localise_case(case, measurements=None, executor=None) -> Step:
     """The first localisation of ``case``: every joint's residual, floor and threshold at the
-    model's parameters (:func:`updating.strategy.localise`), against ``measurements``
-    (:class:`updating.measurements.Measurements`; default the simulated experiment), with the
+    model's parameters (:func:`updating.inverse.strategy.localise`), against ``measurements``
+    (:class:`updating.data.measurements.Measurements`; default the simulated experiment), with the
     description's stated noise and ``[updating]`` settings."""
     problem = _problem(case, measurements, executor)
     return localise(problem, problem.initial_parameters(), noise=case.measurement.noise,
@@ -38,7 +38,7 @@ def localise_case(case, measurements=None, executor=None) -> Step:
 
 
 def update_case(case, measurements=None, executor=None, on_step=None) -> UpdateResult:
-    """The localisation–correction loop on ``case`` (:func:`updating.strategy.update_joints`)
+    """The localisation–correction loop on ``case`` (:func:`updating.inverse.strategy.update_joints`)
     with the description's ``[updating]`` settings and stated noise, against ``measurements``
     (default the simulated experiment); ``on_step(step)`` after each finished step."""
     problem = _problem(case, measurements, executor)

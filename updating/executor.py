@@ -24,7 +24,7 @@ import multiprocessing
 import os
 from concurrent.futures import ProcessPoolExecutor, ThreadPoolExecutor
 
-from updating.files import InputError
+from updating.data.files import InputError
 
 __all__ = ["Executor", "CHUNKS_PER_WORKER", "frequency_threads", "thread_map", "usable_cores"]
 

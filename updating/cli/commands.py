@@ -41,10 +41,10 @@ from solver.estimate import (
 from solver.guards import check_description
 from solver.sizing import available_memory, estimate_size
 from updating.cli.parser import SUMMARY_JOINTS, version_text
-from updating.cost import ModifiedProblem, cost_curve, log_grid
+from updating.inverse.cost import ModifiedProblem, cost_curve, log_grid
 from updating.executor import Executor, frequency_threads
-from updating.figure_tools import require_matplotlib
-from updating.files import (
+from updating.figures.figure_tools import require_matplotlib
+from updating.data.files import (
     InputError,
     output_collisions,
     output_path_problem,
@@ -53,7 +53,7 @@ from updating.files import (
     write_json_atomic,
     write_text_atomic,
 )
-from updating.measurements import (
+from updating.data.measurements import (
     Measurements,
     check_joints_seen,
     measurement_layout,
@@ -61,22 +61,22 @@ from updating.measurements import (
     simulate_measurements,
     write_measurements,
 )
-from updating.plan import identifiability_plan
-from updating.plots import (
+from updating.inverse.plan import identifiability_plan
+from updating.figures.plots import (
     write_curve_figure,
     write_plan_figure,
     write_sweep_figures,
     write_update_figures,
 )
-from updating.progress import progress_bar
-from updating.report import (
+from updating.cli.progress import progress_bar
+from updating.cli.report import (
     identified_lines,
     notable_joints,
     result_json,
     result_markdown,
     steps_table,
 )
-from updating.runfile import (
+from updating.data.runfile import (
     RunFile,
     RunLock,
     description_digest,
@@ -87,7 +87,7 @@ from updating.runfile import (
     refuse_other_measurements,
     refuse_replacing,
 )
-from updating.strategy import (
+from updating.inverse.strategy import (
     excess_ratios,
     finished_result,
     localise,
@@ -95,9 +95,9 @@ from updating.strategy import (
     thresholds,
     update_joints,
 )
-from updating.sweep import BALANCE_TOLERANCE, frequency_sweep
-from updating.uff import UFF_SUFFIXES, is_uff, read_uff
-from updating.uff_export import write_uff
+from updating.forward.sweep import BALANCE_TOLERANCE, frequency_sweep
+from updating.data.uff import UFF_SUFFIXES, is_uff, read_uff
+from updating.data.uff_export import write_uff
 
 __all__ = ["execute", "COMMANDS", "NOT_CONVERGED"]
 
@@ -347,7 +347,7 @@ def cmd_simulate(args):
 
 def _modified_problem(case, args, measurements=None, discretisation=True):
     """The updating problem on ``measurements`` (default: read or simulated per ``args``);
-    ``discretisation``: see :class:`updating.cost.ModifiedProblem`."""
+    ``discretisation``: see :class:`updating.inverse.cost.ModifiedProblem`."""
     if measurements is None:
         measurements = _checked_measurements(case, args)
     resolution = _resolution_for_tolerance(case, _console(args))

@@ -9,7 +9,7 @@ ratio to the floor therefore flags right joints the more of them there are, and 
 correction loop chase noise. The thresholds here are set so that a right model shows *any*
 joint above its threshold with probability ``significance`` (familywise), whatever the number
 of joints, from draws of synthetic experiments on the model itself
-(:meth:`updating.cost.ModifiedProblem.floor_draws`):
+(:meth:`updating.inverse.cost.ModifiedProblem.floor_draws`):
 
 * **Per joint, a scaled chi-square** matching the mean :math:`m_j` and variance :math:`s_j^2`
   of its draws (Satterthwaite): :math:`E_{\Gamma_j}^2 \approx g_j\chi^2_{\nu_j}` with

@@ -2,7 +2,7 @@ r"""A frequency sweep written as Universal File Format datasets (optional extra 
 
 The file is what test-analysis software imports from a measurement campaign, so that a model
 sweep and a test can be compared in the same tool, and it reads back through
-:func:`updating.uff.read_uff` with the same node map:
+:func:`updating.data.uff.read_uff` with the same node map:
 
 * dataset 164, units: SI (metre, newton, kelvin offsets as the standard gives them), every
   conversion factor 1;
@@ -34,7 +34,7 @@ from pathlib import Path
 import numpy as np
 
 from assembly.models import PointForce
-from updating.files import InputError, atomic_output
+from updating.data.files import InputError, atomic_output
 
 __all__ = ["sweep_datasets", "write_uff"]
 
@@ -72,7 +72,7 @@ def sweep_datasets(case, sweep, order, nodes=None, binary=False):
     Parameters
     ----------
     case : assembly.Case
-    sweep : updating.sweep.Sweep
+    sweep : updating.forward.sweep.Sweep
     order : sequence of (plate, index)
         The probe points in file order (``sweep.points[plate][index]``).
     nodes : sequence of int, optional
@@ -132,7 +132,7 @@ def write_uff(path, case, sweep, order, nodes=None):
     ASCII otherwise), atomically.
 
     pyuff writes to a file name, so the file is written in a temporary directory first and
-    then copied through :func:`updating.files.atomic_output` (a reader never sees half a file).
+    then copied through :func:`updating.data.files.atomic_output` (a reader never sees half a file).
     """
     binary = Path(path).suffix.lower() in BINARY_SUFFIXES
     datasets = sweep_datasets(case, sweep, order, nodes, binary)

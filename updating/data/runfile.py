@@ -1,10 +1,10 @@
 """Run files: every finished localisation–correction step, saved as it finishes.
 
-A run file is JSON, rewritten atomically (:func:`updating.files.write_json_atomic`) after each
+A run file is JSON, rewritten atomically (:func:`updating.data.files.write_json_atomic`) after each
 finished step, so an interrupted run — Ctrl-C, a killed job, a crash — leaves a valid file
 holding every step that was finished. ``vtcr update CASE --resume RUN`` continues from its last
 step; since the loop's state is a function of its finished steps only
-(:func:`updating.strategy.update_joints`), the resumed run ends where an uninterrupted one
+(:func:`updating.inverse.strategy.update_joints`), the resumed run ends where an uninterrupted one
 would have.
 
 A run belongs to one description and one measurement set: both are fingerprinted (SHA-256 of
@@ -30,7 +30,7 @@ from typing import Annotated, Literal
 import numpy as np
 import pydantic
 
-from updating.files import InputError, write_json_atomic
+from updating.data.files import InputError, write_json_atomic
 
 try:  # advisory locks where the system has them (POSIX); elsewhere runs are not locked
     import fcntl
@@ -252,7 +252,7 @@ def load_run(path, case, digests):
     problem = _step_problems(record.steps, case)
     if problem:
         raise InputError(f"--resume {path}: damaged run file, {problem}; {_FIX}")
-    from updating.strategy import Step  # the loop's modules: not for a solve's provenance
+    from updating.inverse.strategy import Step  # the loop's modules: not for a solve's provenance
 
     steps = [Step.from_record(step.model_dump()) for step in record.steps]
     return RunFile(path, case.name, digests, steps,

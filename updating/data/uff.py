@@ -57,8 +57,8 @@ from pathlib import Path
 
 import numpy as np
 
-from updating.files import InputError, plate_point, point_key, read_csv_table
-from updating.measurements import Measurements
+from updating.data.files import InputError, plate_point, point_key, read_csv_table
+from updating.data.measurements import Measurements
 
 __all__ = ["UFF_SUFFIXES", "is_uff", "read_uff", "read_uff_map"]
 

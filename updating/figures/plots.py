@@ -8,8 +8,8 @@ r"""Figures of an updating run (optional extra ``vtcr[plot]``: matplotlib, Agg b
 * ``field_<f>Hz.png`` — :math:`|w|` of the measurements, of the initial and of the updated
   model, plates laid out in the assembly plane, one colour scale (Figs. 12–13);
 * ``residuals.png`` — :math:`E_{\Gamma_i}^2` per joint and :math:`E_{mod}^2` per step
-  (Table 4); above :data:`~updating.plots_map.MAP_JOINTS` joints, the residual map of the last
-  step (:mod:`updating.plots_map`: the joints on the structure's layout, coloured by residual
+  (Table 4); above :data:`~updating.figures.plots_map.MAP_JOINTS` joints, the residual map of the last
+  step (:mod:`updating.figures.plots_map`: the joints on the structure's layout, coloured by residual
   over threshold, the corrected ones marked), and ``residuals_initial.png`` that of the first;
 * ``frf.png`` — spatial RMS of :math:`|w|` over the measurement points against frequency, for
   the initial, updated (and true) joints, around the analysed frequencies (Fig. 11 right),
@@ -22,8 +22,8 @@ in the joints, and the power transmitted by the joints that carry the most).
 The module is split in two layers: ``*_data`` functions compute what is drawn (numpy arrays,
 no matplotlib; tested on their own), ``draw_*`` functions turn those into a
 :class:`matplotlib.figure.Figure`. matplotlib is imported only inside the drawing layer, so
-``import updating.plots`` works without it; :func:`require_matplotlib` turns its absence into a
-one-line :class:`~updating.files.InputError`. Figures are written atomically (a temporary file
+``import updating.figures.plots`` works without it; :func:`require_matplotlib` turns its absence into a
+one-line :class:`~updating.data.files.InputError`. Figures are written atomically (a temporary file
 in the same directory, then :func:`os.replace`): an interrupted run never leaves a half-written
 PNG.
 
@@ -48,8 +48,8 @@ from pathlib import Path
 
 import numpy as np
 
-from updating.cost import cost_curve, direct_amplitudes, log_grid
-from updating.figure_tools import (
+from updating.inverse.cost import cost_curve, direct_amplitudes, log_grid
+from updating.figures.figure_tools import (
     costs_text,
     field_colours,
     new_figure,
@@ -57,10 +57,10 @@ from updating.figure_tools import (
     require_matplotlib,
     save_figure_atomic,
 )
-from updating.plots_map import MAP_JOINTS, draw_residual_map, residual_map_data
-from updating.plots_space import draw_field_maps_in_space
-from updating.strategy import thresholds
-from updating.sweep import (
+from updating.figures.plots_map import MAP_JOINTS, draw_residual_map, residual_map_data
+from updating.figures.plots_space import draw_field_maps_in_space
+from updating.inverse.strategy import thresholds
+from updating.forward.sweep import (
     FrequencyResponseData,
     frequency_band,
     frequency_response_data,
@@ -142,7 +142,7 @@ class CostCurveData:
 
 def cost_curve_data(rows, joint, identified=None, true=None, initial=None, interval=None,
                     note="", interval_label="interval"):
-    """Arrays of a cost curve from :func:`updating.cost.cost_curve` rows.
+    """Arrays of a cost curve from :func:`updating.inverse.cost.cost_curve` rows.
 
     Parameters
     ----------
@@ -333,8 +333,8 @@ def field_map_data(case, problem, measurements, frequency, initial, updated,
     Parameters
     ----------
     case : assembly.Case
-    problem : updating.cost.ModifiedProblem
-    measurements : updating.measurements.Measurements
+    problem : updating.inverse.cost.ModifiedProblem
+    measurements : updating.data.measurements.Measurements
     frequency : float
         One of ``measurements.frequencies`` (Hz).
     initial, updated : dict
@@ -426,7 +426,7 @@ class ResidualBarsData:
         :math:`E_{\Gamma_i}^2` in %.
     thresholds : ndarray, shape (n_steps, n_joints)
         Each joint's threshold in % (a joint above it stands out:
-        :func:`updating.strategy.thresholds`).
+        :func:`updating.inverse.strategy.thresholds`).
     selected : tuple of (int or None)
         Column of the joint corrected in each step.
     e_mod : ndarray, shape (n_steps,)
@@ -444,7 +444,7 @@ class ResidualBarsData:
 
 
 def residual_bars_data(result, stop_ratio=1.0):
-    """Arrays of :func:`draw_residual_bars` from an :class:`~updating.strategy.UpdateResult`."""
+    """Arrays of :func:`draw_residual_bars` from an :class:`~updating.inverse.strategy.UpdateResult`."""
     joints = tuple(result.steps[0].parameters)
     labels = tuple("initial" if s.step == 0 else f"step {s.step}" for s in result.steps)
     residuals = np.array([[100.0 * s.residuals[j] for j in joints] for s in result.steps])
@@ -719,9 +719,9 @@ def write_update_figures(case, problem, measurements, result, directory, curve_p
     Parameters
     ----------
     case : assembly.Case
-    problem : updating.cost.ModifiedProblem
-    measurements : updating.measurements.Measurements
-    result : updating.strategy.UpdateResult
+    problem : updating.inverse.cost.ModifiedProblem
+    measurements : updating.data.measurements.Measurements
+    result : updating.inverse.strategy.UpdateResult
     directory : str or Path
     curve_points : int
         Points of each cost curve over ``[updating] bounds``.
@@ -818,7 +818,7 @@ def write_update_figures(case, problem, measurements, result, directory, curve_p
 
 
 def draw_power_flow(sweep, title="", joints_shown=8):
-    """Power against frequency of an :class:`updating.sweep.Sweep`: injected, dissipated in
+    """Power against frequency of an :class:`updating.forward.sweep.Sweep`: injected, dissipated in
     the plates and in the joints (top), transmitted by the ``joints_shown`` joints that carry
     the most (bottom, absolute values)."""
     figure = new_figure(figsize=(8.0, 7.0))
@@ -870,7 +870,7 @@ def write_sweep_figures(case, sweep, directory):
 
 def write_curve_figure(case, rows, joint, directory, parameters_note="other joints at their "
                        "initial values"):
-    """Write ``cost_<joint>.png`` for :func:`updating.cost.cost_curve` rows (``vtcr curve``)."""
+    """Write ``cost_<joint>.png`` for :func:`updating.inverse.cost.cost_curve` rows (``vtcr curve``)."""
     require_matplotlib()
     frequencies = ", ".join(f"{f:g}" for f in case.frequencies)
     data = cost_curve_data(rows, joint, true=_true_log_k(case, joint),
@@ -883,7 +883,7 @@ def write_curve_figure(case, rows, joint, directory, parameters_note="other join
 
 def draw_plan(plans, frequencies, title=""):
     """Grouped bars of each joint's field sensitivity (% per 0.1 decade of log10 k) per
-    frequency, the joints labelled with their verdict (:mod:`updating.plan`)."""
+    frequency, the joints labelled with their verdict (:mod:`updating.inverse.plan`)."""
     joints = list(plans)
     figure = new_figure(figsize=(float(np.clip(0.6 * len(joints) * len(frequencies) + 3.0, 7.0,
                                             14.0)), 4.8))

@@ -8,7 +8,7 @@ it: it stands out), the corrected joints drawn thick with their new :math:`\log_
 joint that stands out most named. A junction's members are drawn on their own plates, just off
 the line, so that the weak weld of a stiffener is told from the others on the same line.
 
-As in :mod:`updating.plots`, :func:`residual_map_data` computes (numpy only, tested on its own)
+As in :mod:`updating.figures.plots`, :func:`residual_map_data` computes (numpy only, tested on its own)
 and :func:`draw_residual_map` draws (matplotlib, imported inside).
 """
 
@@ -18,7 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from updating.strategy import excess_ratios
+from updating.inverse.strategy import excess_ratios
 
 __all__ = ["ResidualMapData", "residual_map_data", "draw_residual_map", "MAP_JOINTS",
            "MEMBER_OFFSET"]
@@ -82,7 +82,7 @@ def _segment(case, joint, member):
 
 
 def residual_map_data(case, step, stop_ratio, corrected=()):
-    """The map of ``step`` (an :class:`updating.strategy.Step`) of ``case``; ``corrected``
+    """The map of ``step`` (an :class:`updating.inverse.strategy.Step`) of ``case``; ``corrected``
     names the joints to mark as corrected (default: those corrected in the step)."""
     outlines = {}
     for pid, plate in case.plates.items():

@@ -1,6 +1,6 @@
 """What every figure of vtcr needs: matplotlib on demand, a new figure, field colours and atomic
-PNG writing (a leaf of the figure modules :mod:`updating.plots`, :mod:`updating.plots_space` and
-:mod:`updating.plots_map`, so that none of them imports another's private helpers).
+PNG writing (a leaf of the figure modules :mod:`updating.figures.plots`, :mod:`updating.figures.plots_space` and
+:mod:`updating.figures.plots_map`, so that none of them imports another's private helpers).
 
 matplotlib is imported inside the functions only: the core runs without the ``plot`` extra.
 """
@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from updating.files import InputError, atomic_output
+from updating.data.files import InputError, atomic_output
 
 __all__ = ["MISSING_MATPLOTLIB", "require_matplotlib", "new_figure", "field_colours",
            "costs_text", "powers_of_ten_bar", "save_figure_atomic"]
@@ -29,7 +29,7 @@ def require_matplotlib():
 
 def new_figure(**kwargs):
     """An empty matplotlib figure (constrained layout) on the Agg canvas, or
-    :class:`~updating.files.InputError` without matplotlib."""
+    :class:`~updating.data.files.InputError` without matplotlib."""
     require_matplotlib()
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure

@@ -1,6 +1,6 @@
 """Reports of an updating run: a rich table like the paper's Table 4, JSON, Markdown.
 
-Formatting only: everything shown comes from :class:`updating.strategy.UpdateResult`.
+Formatting only: everything shown comes from :class:`updating.inverse.strategy.UpdateResult`.
 """
 
 from __future__ import annotations
@@ -8,7 +8,7 @@ from __future__ import annotations
 from rich import box
 from rich.table import Table
 
-from updating.strategy import thresholds
+from updating.inverse.strategy import thresholds
 
 __all__ = ["steps_table", "identified_lines", "result_json", "result_markdown", "notable_joints"]
 
@@ -21,7 +21,7 @@ OUTSIDE = ("; the estimate lies outside it: the noise biases the estimate, while
            "is calibrated at each candidate value")
 """Said of an identified value outside its own interval when the data carry noise: the score
 test's interval holds the truth at its level whatever the estimator's bias
-(:mod:`updating.confidence`), and with noise the estimate is biased by about its own spread (the
+(:mod:`updating.inverse.confidence`), and with noise the estimate is biased by about its own spread (the
 four plates' G2: 4.20 with ``>= 4.29``, true 4.5)."""
 
 OUTSIDE_NOISE_FREE = ("; the estimate lies outside it: without noise, what the data hold "
@@ -67,7 +67,7 @@ def steps_table(result, title, joints=None):
 
     The joint corrected in a step is shown in bold (the paper's Table 4) and marked ``>``, which
     a log without styles keeps; a step marked ``*`` re-corrects a joint selected before (see
-    :mod:`updating.strategy`). ``joints`` restricts the rows (a large structure's summary,
+    :mod:`updating.inverse.strategy`). ``joints`` restricts the rows (a large structure's summary,
     :func:`notable_joints`); the caption counts the others.
     """
     # left padding only: five steps of four joints fit in 80 columns

@@ -19,8 +19,8 @@ from solver.guards import check_description
 from solver.power import power_flow
 from solver.substructure import build_assembly_system
 from solver.sweep import initial_frequencies, refine_frequencies
-from updating.cost import direct_amplitudes
-from updating.measurements import Measurements
+from updating.inverse.cost import direct_amplitudes
+from updating.data.measurements import Measurements
 
 __all__ = ["Sweep", "sweep_point", "frequency_sweep", "smallest_loss_factor",
            "round_evaluator", "BALANCE_TOLERANCE", "FrequencyResponseData",
@@ -86,7 +86,7 @@ class Sweep:
         return np.array([spatial_rms(v.values()) for v in self.values])
 
     def measurements(self):
-        """The sweep as :class:`updating.measurements.Measurements` (one set per frequency)."""
+        """The sweep as :class:`updating.data.measurements.Measurements` (one set per frequency)."""
         return Measurements({float(f): {pid: (self.points[pid], values[pid])
                                         for pid in self.points}
                              for f, values in zip(self.frequencies, self.values)})

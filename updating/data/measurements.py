@@ -18,7 +18,7 @@ import numpy as np
 
 from solver import solve_case
 from solver.estimate import ToleranceError, solve_to_tolerance
-from updating.files import (
+from updating.data.files import (
     InputError,
     parse_finite,
     point_key,
@@ -149,7 +149,7 @@ def read_measurements(path, case):
     non-finite values, a frequency the description does not solve at, a point measured twice
     at the same frequency (average repeated measurements first), and, per frequency, a field
     that is zero everywhere; also an empty file or one without rows, a wrong header or
-    separator (see :func:`updating.files.read_csv_table`).
+    separator (see :func:`updating.data.files.read_csv_table`).
     """
     columns = ("plate", "x", "y", "re", "im")
     present, table = read_csv_table(path, "measurement", columns, optional=("frequency",))

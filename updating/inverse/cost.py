@@ -15,7 +15,7 @@ exactly for every S). Both terms are sums of squares of residual samples affine 
 measurement term has the linear part that the paper's printed eq. 30 omits. The first
 :math:`E_{mes}^2` is the paper's (``[updating] misfit = "global"``, the default with a number
 for r); the second (``"per_plate"``, the default with the scale-free weights,
-:mod:`updating.weights`) is the mean over the M measured values of their plate's misfit relative
+:mod:`updating.inverse.weights`) is the mean over the M measured values of their plate's misfit relative
 to its own measured field (:math:`m_p` values on plate p): under relative noise a plate far
 from the load, whose field is weak, then counts as much as the loaded one, and a joint there is
 judged by its own data rather than by a fraction of the whole structure's. With several
@@ -57,7 +57,7 @@ from solver.substructure import (
     solve_interface,
 )
 from updating.executor import thread_map
-from updating.weights import scale_free_weights
+from updating.inverse.weights import scale_free_weights
 
 __all__ = ["ModifiedProblem", "JointCorrection", "Evaluation", "channel_parameters",
            "with_joint", "direct_factor", "direct_interface", "direct_amplitudes",
@@ -218,7 +218,7 @@ class ModifiedProblem:
     ----------
     case : assembly.Case
         The model; its joints give the initial parameters p0 that fix :math:`E_{ref}`.
-    measurements : updating.measurements.Measurements
+    measurements : updating.data.measurements.Measurements
     r : float, optional
         Weight of the measurement term (default ``[updating] r``).
     resolution : float, optional
@@ -268,7 +268,7 @@ class ModifiedProblem:
             self.alpha = case.updatable_alpha()
 
     def _scale_free_weights(self):
-        """:func:`updating.weights.scale_free_weights` of the model at p0 and the measured
+        """:func:`updating.inverse.weights.scale_free_weights` of the model at p0 and the measured
         points, at the stated noise and ``[updating] balance``."""
         case = self.case
         plates = {name: case.joints[jid].plates

@@ -52,7 +52,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from solver.interface import JointCondensation
-from updating.cost import PARAMETER_BOUNDS, SMALLEST_MASS, channel_parameters
+from updating.inverse.cost import PARAMETER_BOUNDS, SMALLEST_MASS, channel_parameters
 
 __all__ = ["NoiseModel", "ConfidenceInterval", "ScoreTest", "confidence_interval",
            "confidence_intervals", "noise_model", "REDRAWS"]
@@ -200,7 +200,7 @@ class ScoreTest:
 
     Parameters
     ----------
-    problem : updating.cost.ModifiedProblem
+    problem : updating.inverse.cost.ModifiedProblem
     parameters : dict
         The identified parameters (every joint).
     target : (str, str)
@@ -209,7 +209,7 @@ class ScoreTest:
         The identified parameters re-estimated with it (nuisances): those of the corrected
         joints of its neighbourhood, ``target`` included.
     corrections, direct : optional
-        The joints' :class:`updating.cost.JointCorrection` and the model response's factors
+        The joints' :class:`updating.inverse.cost.JointCorrection` and the model response's factors
         at ``parameters`` (default: asked of ``problem``).
     """
 
@@ -301,7 +301,7 @@ class ScoreTest:
     def discretisation_shift(self):
         r"""How far the estimate moves when the model's own prediction :math:`p(\hat\theta)` is
         moved by minus its discretisation error at the measured points (:math:`\delta = w^+ -
-        w_h` of the enriched solve, :meth:`updating.cost.ModifiedProblem.synthetic_data`): one
+        w_h` of the enriched solve, :meth:`updating.inverse.cost.ModifiedProblem.synthetic_data`): one
         Newton step on the efficient score, :math:`-(U(\hat\theta; p - \delta) -
         U(\hat\theta; p))/S`. The error is systematic, not noise, so the noise's redraws do not
         cover the bias it gives the estimate. Taken on the prediction, not on the data: the

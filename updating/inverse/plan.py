@@ -7,7 +7,7 @@ description's grid, or a measurement file's points), per joint:
   planned points, :math:`\|p(\theta + 0.1) - p(\theta)\| / \|p(\theta)\|`, for +0.1 decade of
   log10 k, and for +0.1 of the joint's loss factor. Computed through the joint's condensation
   of the model response (:class:`solver.interface.JointCondensation`), no new factorisation.
-* **Expected interval**: the confidence interval (:mod:`updating.confidence`) that the stated
+* **Expected interval**: the confidence interval (:mod:`updating.inverse.confidence`) that the stated
   noise (:data:`ASSUMED_NOISE` when none is stated) gives when the measured values are the
   model's own prediction plus typical noise (the statistic of the noise-free prediction moved
   by the noise's mean effect on it: ``confidence_interval(expected=True)``): the typical
@@ -32,9 +32,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from solver.power import plate_powers
-from updating.confidence import (ConfidenceInterval, NoiseModel, ScoreTest, confidence_interval,
+from updating.inverse.confidence import (ConfidenceInterval, NoiseModel, ScoreTest, confidence_interval,
                                  noise_model)
-from updating.cost import ModifiedProblem, channel_parameters
+from updating.inverse.cost import ModifiedProblem, channel_parameters
 
 __all__ = ["JointPlan", "identifiability_plan", "SENSITIVITY_STEP", "DAMPING_STEP"]
 

@@ -7,8 +7,8 @@ Rule (configurable in ``[updating]``):
    the model were right and only the measurement noise (``[measurement] noise``) and the
    discretisation were at work, its *threshold* the residual such a right model exceeds at any
    of the joints with probability ``significance`` (familywise), both from
-   :data:`~updating.significance.FLOOR_DRAWS` synthetic experiments on the model
-   (:meth:`ModifiedProblem.floor_draws`, :mod:`updating.significance`), and never below
+   :data:`~updating.inverse.significance.FLOOR_DRAWS` synthetic experiments on the model
+   (:meth:`ModifiedProblem.floor_draws`, :mod:`updating.inverse.significance`), and never below
    ``stop_ratio`` x floor. Among 180 joints a ratio to the floor is exceeded several times
    by noise alone; the threshold counts the joints.
 2. **Select** among the joints whose residual stands out (:math:`E_\\Gamma^2 >` threshold) and
@@ -46,7 +46,7 @@ The loop stops when no joint stands out and no re-correction lowers its neighbou
 (status 1), or after ``max_steps`` accepted corrections (status 2).
 
 Each corrected joint is reported with a calibrated confidence interval at ``[updating]
-confidence`` (:mod:`updating.confidence`): a two-sided range, or one bound only where the data
+confidence`` (:mod:`updating.inverse.confidence`): a two-sided range, or one bound only where the data
 bound the value on one side (a joint much stiffer than the plates around it moves nothing, so
 only ``>= x`` is identifiable; a joint much softer acts as a moment-free line: ``<= x``).
 """
@@ -59,9 +59,9 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import optimize
 
-from updating.confidence import confidence_intervals
-from updating.cost import PARAMETER_BOUNDS, SMALLEST_MASS, log_grid, with_joint
-from updating.significance import FLOOR_DRAWS, standing_thresholds
+from updating.inverse.confidence import confidence_intervals
+from updating.inverse.cost import PARAMETER_BOUNDS, SMALLEST_MASS, log_grid, with_joint
+from updating.inverse.significance import FLOOR_DRAWS, standing_thresholds
 
 __all__ = ["Step", "UpdateResult", "TERMINATION_MESSAGES", "correct_joint", "update_joints",
            "localise", "thresholds", "flat_interval", "finished_result", "standing_summary",
@@ -170,7 +170,7 @@ def localise(problem, parameters, step=0, selected=None, interval=None, noise=0.
     :class:`Step`.
 
     The threshold is the residual a right model exceeds at any joint with probability
-    ``settings.significance`` (:mod:`updating.significance`), and never below
+    ``settings.significance`` (:mod:`updating.inverse.significance`), and never below
     ``settings.stop_ratio`` times the floor (default ``settings``: the description's)."""
     settings = problem.case.updating if settings is None else settings
     evaluation = problem.evaluate(parameters)
@@ -255,7 +255,7 @@ _EXTRA_VARIABLES = {
 
 def _optimise_more(local, parameters, joint, bounds, extra):
     """Joint optimisation of log10 k with the loss factor and/or the log of the line mass
-    (``local``: the joint's :class:`updating.cost.JointCorrection`)."""
+    (``local``: the joint's :class:`updating.inverse.cost.JointCorrection`)."""
     variables = [("log10_stiffness", float, float, tuple(bounds))]
     variables += [_EXTRA_VARIABLES[e] for e in extra]
     start = np.array([to_x(parameters[joint][name]) for name, to_x, _, _ in variables])
@@ -346,7 +346,7 @@ def update_joints(problem, settings, noise=0.0, start=None, on_step=None, on_cor
 
     Parameters
     ----------
-    problem : updating.cost.ModifiedProblem
+    problem : updating.inverse.cost.ModifiedProblem
     settings : assembly.models.Updating
         ``bounds``, ``identify``, ``max_steps``, ``stop_ratio``, ``significance``,
         ``min_decrease``.
@@ -419,7 +419,7 @@ def finished_result(problem, steps, status, settings, noise=0.0):
     """The :class:`UpdateResult` of a loop that ended with ``status`` after ``steps`` (also
     of a finished run read back from its run file, without running the loop again), with the
     confidence interval of every corrected joint at ``settings.confidence``, calibrated
-    against the stated ``noise`` (:func:`updating.confidence.confidence_intervals`).
+    against the stated ``noise`` (:func:`updating.inverse.confidence.confidence_intervals`).
 
     The intervals are those of the final values, every other joint at its own: an interval
     recorded when a joint was corrected is stale once its neighbours have moved.
@@ -457,7 +457,7 @@ def _message(status, last, settings):
 
 def _neighbourhood_interval(local, grid, value):
     """The scanned log10 k whose *neighbourhood* cost is within :data:`FLAT` of its minimum
-    (:func:`flat_interval`; ``local`` is the joint's :class:`updating.cost.JointCorrection`).
+    (:func:`flat_interval`; ``local`` is the joint's :class:`updating.inverse.cost.JointCorrection`).
 
     The joint's neighbourhood, not the global :math:`E_{mod}^2`: in a large structure one
     joint's change is a small fraction of the global cost, and a range judged against it
