@@ -372,7 +372,7 @@ class JointCondensation:
         Rows of the solves through the factorisation to keep as :attr:`kept_rows` besides
         their S-part: the Hermitian system makes the residual rows' part of
         :math:`K_0^{-1}P^H` the samples' response to those rows' offsets (for the measurement
-        rows, to a change of the measured values: :mod:`updating.confidence`).
+        rows, to a change of the measured values: :mod:`updating.inverse.confidence`).
     """
 
     def __init__(self, factor, channels, keep=None):

@@ -64,7 +64,7 @@ for new parameters is a weighted sum of them (:meth:`Channel.block`).
 :math:`GS = g`, a sparse constrained least-squares problem (:mod:`solver.interface`). The
 projected laws can be met exactly (as many as the loads they constrain), so the minimum is
 zero to round-off and the minimiser is the assembly's forced response; the discretisation
-floor of the updating comes from the enriched solve (:mod:`updating.cost`).
+floor of the updating comes from the enriched solve (:mod:`updating.inverse.cost`).
 """
 
 from __future__ import annotations

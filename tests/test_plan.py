@@ -189,7 +189,7 @@ def test_expected_interval_is_that_of_typical_noisy_data(tmp_path):
 def test_a_long_plan_says_so_before_it_starts(monkeypatch, capsys):
     """Above ``LONG_PLAN_SECONDS`` of estimated work the plan warns first, with the estimate
     and the way to plan fewer joints (here the threshold is lowered to the four plates')."""
-    monkeypatch.setattr("updating.cli.commands.LONG_PLAN_SECONDS", 0.0)
+    monkeypatch.setattr("updating.cli.identification.LONG_PLAN_SECONDS", 0.0)
     assert main(["plan", str(CASES / "four_plates.toml"), "--joints", "G1", "--no-estimate"]) == 0
     printed = " ".join(capsys.readouterr().out.split())
     assert "planning 1 joint takes about" in printed and "--joints J1 J2" in printed

@@ -227,7 +227,7 @@ def test_the_same_command_again_replaces_its_own_finished_run(one_frequency_case
 
 def test_resuming_a_finished_run_reports_it_without_running_the_loop(
         one_frequency_case, finished_run, tmp_path, capsys, monkeypatch, uninterrupted):
-    from updating.cli import commands  # the loop as the command calls it
+    from updating.cli import identification  # the loop as the command calls it
 
     run = tmp_path / "run.json"
     run.write_text(json.dumps(finished_run))
@@ -235,7 +235,7 @@ def test_resuming_a_finished_run_reports_it_without_running_the_loop(
     def no_loop(*args, **kwargs):
         raise AssertionError("the loop ran again")
 
-    monkeypatch.setattr(commands, "update_joints", no_loop)
+    monkeypatch.setattr(identification, "update_joints", no_loop)
     out = tmp_path / "out.json"
     assert main(["update", str(one_frequency_case), "--resume", str(run), "--json",
                  str(out)]) == 0
@@ -330,7 +330,7 @@ def test_the_resume_hint_keeps_the_outputs_and_counts_its_steps():
     run that forgot --json would write none), and one step is 'one finished step'."""
     from argparse import Namespace
 
-    from updating.cli.commands import _finished_steps, _resume_command
+    from updating.cli.identification import _finished_steps, _resume_command
 
     args = Namespace(case="c.toml", measurements="m.csv", json="out.json", report=None,
                      plot="figs", confidence=None)

@@ -85,13 +85,13 @@ def test_the_estimate_follows_the_factorisation_path():
 def test_large_arrays_are_returned_to_the_system_for_problems_factorised_by_groups(
         monkeypatch, tmp_path):
     """The command line fixes glibc's mmap threshold only where the interface problem is
-    factorised by groups (updating.cli.commands.MMAP_THRESHOLD: there it lowers the peak memory;
+    factorised by groups (updating.cli.common.MMAP_THRESHOLD: there it lowers the peak memory;
     on small problems it only costs page faults)."""
     from assembly.generate import description_toml, plate_grid
     from updating.cli import commands
 
     calls = []
-    monkeypatch.setattr(commands, "_map_large_arrays", lambda: calls.append(True))
+    monkeypatch.setattr(commands, "map_large_arrays", lambda: calls.append(True))
     assert main(["check", str(CASES / "four_plates.toml")]) == 0
     assert calls == []
     grid = tmp_path / "grid.toml"

@@ -21,8 +21,8 @@ OUTSIDE = ("; the estimate lies outside it: the noise biases the estimate, while
            "is calibrated at each candidate value")
 """Said of an identified value outside its own interval when the data carry noise: the score
 test's interval holds the truth at its level whatever the estimator's bias
-(:mod:`updating.inverse.confidence`), and with noise the estimate is biased by about its own spread (the
-four plates' G2: 4.20 with ``>= 4.29``, true 4.5)."""
+(:mod:`updating.inverse.confidence`), and with noise the estimate is biased by about its own
+spread (the four plates' G2: 4.20 with ``>= 4.29``, true 4.5)."""
 
 OUTSIDE_NOISE_FREE = ("; the estimate lies outside it: without noise, what the data hold "
                       "beyond the model (its discretisation error, or a joint it does not "
