@@ -160,7 +160,7 @@ def cmd_plan(args):
         plans, noise, estimates = identifiability_plan(
             case, points, level=level, resolution=resolution_for_tolerance(case, console),
             threads=threads_for(args, case), estimate=not args.no_estimate, joints=joints,
-            on_joint=lambda joint: advance(f"planned {joint}"))
+            on_joint=lambda joint: advance(f"planned {joint}"), executor=executor_for(args, case))
     print_estimates(console, estimates, " of the model")
     frequencies = points.frequencies
     table = Table(title=f"{case.name}: what {points.count(frequencies[0])} planned values per "

@@ -84,7 +84,7 @@ class JointPlan:
 
 
 def identifiability_plan(case, layout_measurements, level=None, resolution=None, threads=1,
-                         estimate=False, joints=None, on_joint=None):
+                         estimate=False, joints=None, on_joint=None, executor=None):
     """``({joint: JointPlan}, noise, {frequency: ErrorEstimate})`` of ``case`` measured at the
     points of ``layout_measurements`` (their values are not used: the problem is given the
     model's own prediction there); the estimates of the model's discretisation error, which
@@ -93,10 +93,11 @@ def identifiability_plan(case, layout_measurements, level=None, resolution=None,
     ``joints`` restricts the plan to those updatable joints (default: every one): each joint costs
     two condensations (solves through the factorisations, together about 40 % of a factorisation in
     a large structure; :meth:`solver.sizing.SizeEstimate.plan_seconds`), so a large structure is
-    planned region by region. ``on_joint(joint)`` is called after each joint (progress)."""
+    planned region by region. ``on_joint(joint)`` is called after each joint (progress);
+    ``executor`` (:class:`updating.executor.Executor`) builds the frequencies in parallel."""
     level = case.updating.confidence if level is None else level
     problem = ModifiedProblem(case, layout_measurements, resolution=resolution,
-                              threads=threads, estimate=estimate)
+                              threads=threads, estimate=estimate, executor=executor)
     estimates = problem.error_estimates
     parameters = problem.initial_parameters()
     prediction = problem.synthetic_data(parameters, 0.0, realisations=1)[0]
