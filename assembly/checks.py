@@ -185,307 +185,345 @@ def _truth_form_issues(jid: str, joint: Any, true: JointTruth) -> list[tuple[Loc
     return issues
 
 
-def cross_check(view: View) -> list[tuple[Loc, str]]:  # noqa: C901 (a flat list of checks)
+def cross_check(view: View) -> list[tuple[Loc, str]]:
     """Return every cross-reference problem of an assembly, as ``(loc, message)``."""
-    issues: list[tuple[Loc, str]] = []
-    plates = view.plates
-    plate_list = listing(plates) if plates is not None else ""
+    return _CrossCheck(view).run()
 
-    # frequency XOR frequencies
-    if view.has_frequency and view.has_frequencies:
-        issues.append(
-            (("frequencies",), "both `frequency` and `frequencies` are given; keep only one")
-        )
-    elif not (view.has_frequency or view.has_frequencies):
-        issues.append(
-            (
-                ("frequency",),
-                "no frequency given; add frequency = 155.0 (Hz) or "
-                "frequencies = [150.0, 155.0]",
-            )
-        )
 
-    def edge_of(ref: str, loc: Loc) -> tuple[EdgeId, Plate] | None:
+class _CrossCheck:
+    """The cross-reference checks of one :class:`View`, one method per table, in the order the
+    tables depend on each other (joints before the boundaries and loads on their edges); each
+    appends ``(loc, message)`` to :attr:`issues`."""
+
+    def __init__(self, view: View) -> None:
+        self.view = view
+        self.issues: list[tuple[Loc, str]] = []
+        self.plates = view.plates
+        self.plate_list = listing(self.plates) if self.plates is not None else ""
+        self.joints = view.joints
+        self.joint_list = listing(self.joints) if self.joints is not None else ""
+        self.joined: dict[EdgeId, str] = {}
+        self.conditions: dict[EdgeId, tuple[str, int]] = {}
+
+    def run(self) -> list[tuple[Loc, str]]:
+        self.frequencies()
+        self.materials()
+        self.joints_()
+        self.boundaries()
+        self.loads()
+        self.discretisation()
+        self.measurement()
+        self.updating()
+        self.truth()
+        return self.issues
+
+    def edge_of(self, ref: str, loc: Loc) -> tuple[EdgeId, Plate] | None:
         """Resolve an (already well-formed) edge reference; report an unknown plate."""
-        if plates is None:
+        if self.plates is None:
             return None
         edge = parse_edge_ref(ref)
-        if edge.plate not in plates:
-            issues.append(
+        if edge.plate not in self.plates:
+            self.issues.append(
                 (
                     loc,
-                    f"plate {edge.plate!r} is not in the assembly (plates: {plate_list})"
-                    f"{did_you_mean(edge.plate, plates)}; fix the edge reference",
+                    f"plate {edge.plate!r} is not in the assembly (plates: {self.plate_list})"
+                    f"{did_you_mean(edge.plate, self.plates)}; fix the edge reference",
                 )
             )
             return None
-        plate = plates[edge.plate]
+        plate = self.plates[edge.plate]
         return None if plate is None else (edge, plate)
 
-    def known_plate(plate_id: str, loc: Loc, fix: str) -> Plate | None:
-        if plates is None:
+    def known_plate(self, plate_id: str, loc: Loc, fix: str) -> Plate | None:
+        if self.plates is None:
             return None
-        if plate_id not in plates:
-            issues.append(
+        if plate_id not in self.plates:
+            self.issues.append(
                 (
                     loc,
-                    f"plate {plate_id!r} is not in the assembly (plates: {plate_list})"
-                    f"{did_you_mean(plate_id, plates)}; {fix}",
+                    f"plate {plate_id!r} is not in the assembly (plates: {self.plate_list})"
+                    f"{did_you_mean(plate_id, self.plates)}; {fix}",
                 )
             )
             return None
-        return plates[plate_id]
+        return self.plates[plate_id]
 
-    # plates -> materials
-    if plates is not None and view.materials is not None:
-        for pid, plate in plates.items():
-            if (
-                plate is not None
-                and isinstance(plate.material, str)
-                and plate.material not in view.materials
-            ):
-                m = plate.material
-                issues.append(
-                    (
-                        ("plates", pid, "material"),
-                        f"material {m!r} is not defined (materials: {listing(view.materials)})"
-                        f"{did_you_mean(m, view.materials)}; add a [materials.{m}] table "
-                        "or use a defined material",
-                    )
-                )
-
-    # joints
-    joined: dict[EdgeId, str] = {}
-    if view.joints is not None:
-        for jid, joint in view.joints.items():
-            if joint is None:
-                continue
-            loc = ("joints", jid, "between")
-            ids = [parse_edge_ref(ref) for ref in joint.between]
-            ends = [edge_of(ref, (*loc, i)) for i, ref in enumerate(joint.between)]
-            issues += _member_issues(jid, joint, ids, ends, loc)
-            for i, edge in enumerate(ids):
-                if edge in ids[:i]:
-                    continue
-                if edge in joined:
-                    issues.append(
-                        (
-                            (*loc, i),
-                            f"edge {edge.ref!r} is already joined by joint {joined[edge]!r}; "
-                            "an edge carries at most one joint, fix the edge reference or "
-                            "remove one of the joints",
-                        )
-                    )
-                else:
-                    joined[edge] = jid
-        if plates is not None:
-            issues += _frame_issues(view.joints, plates)
-
-    # boundary conditions
-    conditions: dict[EdgeId, tuple[str, int]] = {}
-    if view.boundaries is not None:
-        for i, bc in enumerate(view.boundaries):
-            if bc is None:
-                continue
-            loc = ("boundaries", i, "edge")
-            edge_of(bc.edge, loc)
-            edge = parse_edge_ref(bc.edge)
-            if edge in joined:
-                issues.append(
-                    (
-                        loc,
-                        f"edge {bc.edge!r} is joined by joint {joined[edge]!r}, so it cannot "
-                        "also have a boundary condition; remove this [[boundaries]] entry "
-                        "(or the joint)",
-                    )
-                )
-            if edge in conditions:
-                cond, j = conditions[edge]
-                issues.append(
-                    (
-                        loc,
-                        f"edge {bc.edge!r} already has a boundary condition ({cond} in "
-                        f"boundaries[{j}]); give each edge one condition, remove one entry",
-                    )
-                )
-            else:
-                conditions[edge] = (bc.condition, i)
-
-    # loads
-    edge_loads: dict[tuple[EdgeId, str], int] = {}
-    if view.loads is not None:
-        for i, load in enumerate(view.loads):
-            if load is None:
-                continue
-            if isinstance(load, PointForce):
-                plate = known_plate(load.plate, ("loads", i, "plate"), "fix the plate id")
-                if plate is not None and not plate.contains(*load.at):
-                    x, y = load.at
-                    issues.append(
-                        (
-                            ("loads", i, "at"),
-                            f"point ({x:g}, {y:g}) is not strictly inside plate "
-                            f"{load.plate!r} (0 < x < {plate.lx:g}, 0 < y < {plate.ly:g}, "
-                            "plate-local m); move the force inside the plate",
-                        )
-                    )
-                continue
-            loc = ("loads", i, "edge")
-            edge_of(load.edge, loc)
-            edge = parse_edge_ref(load.edge)
-            if (edge, load.kind) in edge_loads:
-                issues.append(
-                    (
-                        loc,
-                        f"edge {load.edge!r} already carries an {load.kind} load "
-                        f"(loads[{edge_loads[edge, load.kind]}]); give one {load.kind} per "
-                        "edge, e.g. with the amplitudes summed",
-                    )
-                )
-            edge_loads.setdefault((edge, load.kind), i)
-            cond = conditions.get(edge, ("free", -1))[0]
-            if isinstance(load, EdgeShear):
-                if edge in joined:
-                    why = f"joined by joint {joined[edge]!r}, which sets its Kirchhoff shear K_n"
-                elif cond in ("clamped", "simply_supported"):
-                    state = cond.replace("_", " ")
-                    why = f"{state}: w = 0 there, so its Kirchhoff shear K_n is a reaction"
-                else:
-                    why = None
-                if why:
-                    issues.append(
-                        (
-                            loc,
-                            f"an edge_shear load cannot act on edge {load.edge!r}: the edge "
-                            f"is {why}; load a free edge or use a point_force",
-                        )
-                    )
-            else:
-                if edge in joined:
-                    why = f"joined by joint {joined[edge]!r}, which sets its bending moment M_n"
-                elif cond == "clamped":
-                    why = "clamped: its rotation is fixed, so its bending moment M_n is a reaction"
-                else:
-                    why = None
-                if why:
-                    issues.append(
-                        (
-                            loc,
-                            f"an edge_moment load cannot act on edge {load.edge!r}: the edge "
-                            f"is {why}; load a free or simply supported edge",
-                        )
-                    )
-
-    # discretisation overrides
-    if view.discretisation is not None:
-        for pid in view.discretisation.plates:
-            known_plate(
-                pid, ("discretisation", "plates", pid), "fix the plate id or remove the table"
-            )
-
-    # measurement
-    if view.measurement is not None:
-        seen: set[str] = set()
-        for i, pid in enumerate(view.measurement.plates or ()):
-            known_plate(pid, ("measurement", "plates", i), "fix the plate id")
-            if pid in seen:
-                issues.append(
-                    (("measurement", "plates", i), f"plate {pid!r} is listed twice; list it once")
-                )
-            seen.add(pid)
-        gridded = set(plates or ()) if view.measurement.plates is None else seen
-        spacing = view.measurement.spacing or default_spacing(plates or {})
-        earlier: dict[tuple[str, float, float], str] = {}
-        for i, point in enumerate(view.measurement.points):
-            plate = known_plate(
-                point.plate, ("measurement", "points", i, "plate"), "fix the plate id"
-            )
-            x, y = point.at
-            if plate is not None and not plate.contains(x, y, strict=False):
-                issues.append(
-                    (
-                        ("measurement", "points", i, "at"),
-                        f"point ({x:g}, {y:g}) is outside plate {point.plate!r} "
-                        f"(0 <= x <= {plate.lx:g}, 0 <= y <= {plate.ly:g}, plate-local m); "
-                        "move the point onto the plate",
-                    )
-                )
-                continue
-            key = (point.plate, round(x, 9), round(y, 9))
-            twin = earlier.get(key)
-            if twin is None and plate is not None and point.plate in gridded:
-                if on_grid(plate.size, spacing, x, y):
-                    twin = "a point of the measurement grid"
-            if twin is not None:
-                issues.append(
-                    (
-                        ("measurement", "points", i, "at"),
-                        f"point ({x:g}, {y:g}) of plate {point.plate!r} is already "
-                        f"{twin}; a point is measured once, remove this one",
-                    )
-                )
-            earlier.setdefault(key, f"measurement.points[{i}]")
-        if view.measurement.plates is not None and not view.measurement.plates and not (
-            view.measurement.points
-        ):
-            issues.append(
-                (
-                    ("measurement", "plates"),
-                    "is empty and no `points` are given, so nothing is measured; list the "
-                    'measured plates, e.g. plates = ["P1"], or add points = [{plate = "P1", '
-                    "at = [0.1, 0.2]}]",
-                )
-            )
-
-    joints = view.joints
-    joint_list = listing(joints) if joints is not None else ""
-
-    def known_joint(jid: str, loc: Loc, fix: str) -> bool:
-        if joints is None:
+    def known_joint(self, jid: str, loc: Loc, fix: str) -> bool:
+        if self.joints is None:
             return False
-        if jid not in joints:
-            where = f"joints: {joint_list}" if joints else "the assembly has no joints"
-            issues.append(
+        if jid not in self.joints:
+            where = f"joints: {self.joint_list}" if self.joints else "the assembly has no joints"
+            self.issues.append(
                 (
                     loc,
                     f"joint {jid!r} is not in the assembly ({where})"
-                    f"{did_you_mean(jid, joints)}; {fix}",
+                    f"{did_you_mean(jid, self.joints)}; {fix}",
                 )
             )
             return False
         return True
 
-    # updating weights
-    if view.updating is not None and view.updating.alpha is not None:
-        alpha = view.updating.alpha
-        all_known = True
-        for jid in alpha:
-            all_known &= known_joint(
-                jid, ("updating", "alpha", jid), "fix the joint id or remove its weight"
+    def frequencies(self) -> None:
+        """``frequency`` or ``frequencies``, one of them."""
+        if self.view.has_frequency and self.view.has_frequencies:
+            self.issues.append(
+                (("frequencies",), "both `frequency` and `frequencies` are given; keep only one")
             )
-        if all_known and joints and sum(alpha.get(j, 1.0) for j in joints) <= 0.0:
-            issues.append(
+        elif not (self.view.has_frequency or self.view.has_frequencies):
+            self.issues.append(
                 (
-                    ("updating", "alpha"),
-                    "the joint weights sum to 0; give at least one joint a positive weight "
-                    "(joints not listed weigh 1)",
+                    ("frequency",),
+                    "no frequency given; add frequency = 155.0 (Hz) or "
+                    "frequencies = [150.0, 155.0]",
                 )
             )
 
-    # truth
-    if view.truth is not None:
-        for jid, true in view.truth.joints.items():
-            loc = ("truth", "joints", jid)
-            if not known_joint(jid, loc, "fix the joint id or remove its table"):
-                continue
-            joint = joints[jid] if joints is not None else None
-            issues += _truth_form_issues(jid, joint, true)
-            if isinstance(joint, (HingeJoint, JunctionJoint)) and true.mass is not None:
-                issues.append(
+    def materials(self) -> None:
+        """Each plate's material is defined."""
+        if self.plates is not None and self.view.materials is not None:
+            for pid, plate in self.plates.items():
+                if (
+                    plate is not None
+                    and isinstance(plate.material, str)
+                    and plate.material not in self.view.materials
+                ):
+                    m = plate.material
+                    self.issues.append(
+                        (
+                            ("plates", pid, "material"),
+                            f"material {m!r} is not defined "
+                            f"(materials: {listing(self.view.materials)})"
+                            f"{did_you_mean(m, self.view.materials)}; add a [materials.{m}] table "
+                            "or use a defined material",
+                        )
+                    )
+
+    def joints_(self) -> None:
+        """Each joint's edges exist, carry no other joint, and fit its members and frames."""
+        if self.view.joints is not None:
+            for jid, joint in self.view.joints.items():
+                if joint is None:
+                    continue
+                loc = ("joints", jid, "between")
+                ids = [parse_edge_ref(ref) for ref in joint.between]
+                ends = [self.edge_of(ref, (*loc, i)) for i, ref in enumerate(joint.between)]
+                self.issues += _member_issues(jid, joint, ids, ends, loc)
+                for i, edge in enumerate(ids):
+                    if edge in ids[:i]:
+                        continue
+                    if edge in self.joined:
+                        self.issues.append(
+                            (
+                                (*loc, i),
+                                f"edge {edge.ref!r} is already joined by joint "
+                                f"{self.joined[edge]!r}; "
+                                "an edge carries at most one joint, fix the edge reference or "
+                                "remove one of the joints",
+                            )
+                        )
+                    else:
+                        self.joined[edge] = jid
+            if self.plates is not None:
+                self.issues += _frame_issues(self.view.joints, self.plates)
+
+    def boundaries(self) -> None:
+        """Each boundary condition's edge exists, is not joined and has one condition."""
+        if self.view.boundaries is not None:
+            for i, bc in enumerate(self.view.boundaries):
+                if bc is None:
+                    continue
+                loc = ("boundaries", i, "edge")
+                self.edge_of(bc.edge, loc)
+                edge = parse_edge_ref(bc.edge)
+                if edge in self.joined:
+                    self.issues.append(
+                        (
+                            loc,
+                            f"edge {bc.edge!r} is joined by joint {self.joined[edge]!r}, so "
+                            "it cannot "
+                            "also have a boundary condition; remove this [[boundaries]] entry "
+                            "(or the joint)",
+                        )
+                    )
+                if edge in self.conditions:
+                    cond, j = self.conditions[edge]
+                    self.issues.append(
+                        (
+                            loc,
+                            f"edge {bc.edge!r} already has a boundary condition ({cond} in "
+                            f"boundaries[{j}]); give each edge one condition, remove one entry",
+                        )
+                    )
+                else:
+                    self.conditions[edge] = (bc.condition, i)
+
+    def loads(self) -> None:
+        """Each load's plate or edge exists, and an edge load acts where the edge lets it."""
+        edge_loads: dict[tuple[EdgeId, str], int] = {}
+        if self.view.loads is not None:
+            for i, load in enumerate(self.view.loads):
+                if load is None:
+                    continue
+                if isinstance(load, PointForce):
+                    plate = self.known_plate(load.plate, ("loads", i, "plate"), "fix the plate id")
+                    if plate is not None and not plate.contains(*load.at):
+                        x, y = load.at
+                        self.issues.append(
+                            (
+                                ("loads", i, "at"),
+                                f"point ({x:g}, {y:g}) is not strictly inside plate "
+                                f"{load.plate!r} (0 < x < {plate.lx:g}, 0 < y < {plate.ly:g}, "
+                                "plate-local m); move the force inside the plate",
+                            )
+                        )
+                    continue
+                loc = ("loads", i, "edge")
+                self.edge_of(load.edge, loc)
+                edge = parse_edge_ref(load.edge)
+                if (edge, load.kind) in edge_loads:
+                    self.issues.append(
+                        (
+                            loc,
+                            f"edge {load.edge!r} already carries an {load.kind} load "
+                            f"(loads[{edge_loads[edge, load.kind]}]); give one {load.kind} per "
+                            "edge, e.g. with the amplitudes summed",
+                        )
+                    )
+                edge_loads.setdefault((edge, load.kind), i)
+                cond = self.conditions.get(edge, ("free", -1))[0]
+                if isinstance(load, EdgeShear):
+                    if edge in self.joined:
+                        why = (f"joined by joint {self.joined[edge]!r}, which sets its "
+                               "Kirchhoff shear K_n")
+                    elif cond in ("clamped", "simply_supported"):
+                        state = cond.replace("_", " ")
+                        why = f"{state}: w = 0 there, so its Kirchhoff shear K_n is a reaction"
+                    else:
+                        why = None
+                    if why:
+                        self.issues.append(
+                            (
+                                loc,
+                                f"an edge_shear load cannot act on edge {load.edge!r}: the edge "
+                                f"is {why}; load a free edge or use a point_force",
+                            )
+                        )
+                else:
+                    if edge in self.joined:
+                        why = (f"joined by joint {self.joined[edge]!r}, which sets its "
+                               "bending moment M_n")
+                    elif cond == "clamped":
+                        why = ("clamped: its rotation is fixed, so its bending moment M_n is "
+                               "a reaction")
+                    else:
+                        why = None
+                    if why:
+                        self.issues.append(
+                            (
+                                loc,
+                                f"an edge_moment load cannot act on edge {load.edge!r}: the edge "
+                                f"is {why}; load a free or simply supported edge",
+                            )
+                        )
+
+    def discretisation(self) -> None:
+        """Each plate-specific discretisation names a plate."""
+        if self.view.discretisation is not None:
+            for pid in self.view.discretisation.plates:
+                self.known_plate(
+                    pid, ("discretisation", "plates", pid), "fix the plate id or remove the table"
+                )
+
+    def measurement(self) -> None:
+        """Measured plates and points exist, are distinct and off the grid's points."""
+        if self.view.measurement is not None:
+            seen: set[str] = set()
+            for i, pid in enumerate(self.view.measurement.plates or ()):
+                self.known_plate(pid, ("measurement", "plates", i), "fix the plate id")
+                if pid in seen:
+                    self.issues.append(
+                        (("measurement", "plates", i),
+                         f"plate {pid!r} is listed twice; list it once")
+                    )
+                seen.add(pid)
+            gridded = set(self.plates or ()) if self.view.measurement.plates is None else seen
+            spacing = self.view.measurement.spacing or default_spacing(self.plates or {})
+            earlier: dict[tuple[str, float, float], str] = {}
+            for i, point in enumerate(self.view.measurement.points):
+                plate = self.known_plate(
+                    point.plate, ("measurement", "points", i, "plate"), "fix the plate id"
+                )
+                x, y = point.at
+                if plate is not None and not plate.contains(x, y, strict=False):
+                    self.issues.append(
+                        (
+                            ("measurement", "points", i, "at"),
+                            f"point ({x:g}, {y:g}) is outside plate {point.plate!r} "
+                            f"(0 <= x <= {plate.lx:g}, 0 <= y <= {plate.ly:g}, plate-local m); "
+                            "move the point onto the plate",
+                        )
+                    )
+                    continue
+                key = (point.plate, round(x, 9), round(y, 9))
+                twin = earlier.get(key)
+                if twin is None and plate is not None and point.plate in gridded:
+                    if on_grid(plate.size, spacing, x, y):
+                        twin = "a point of the measurement grid"
+                if twin is not None:
+                    self.issues.append(
+                        (
+                            ("measurement", "points", i, "at"),
+                            f"point ({x:g}, {y:g}) of plate {point.plate!r} is already "
+                            f"{twin}; a point is measured once, remove this one",
+                        )
+                    )
+                earlier.setdefault(key, f"measurement.points[{i}]")
+            measured = self.view.measurement
+            if measured.plates is not None and not measured.plates and not (
+                measured.points
+            ):
+                self.issues.append(
                     (
-                        (*loc, "mass"),
-                        f"joint {jid!r} is a {joint.kind}, which has no line mass (its joint "
-                        "line is fixed); remove `mass`",
+                        ("measurement", "plates"),
+                        "is empty and no `points` are given, so nothing is measured; list the "
+                        'measured plates, e.g. plates = ["P1"], or add points = [{plate = "P1", '
+                        "at = [0.1, 0.2]}]",
                     )
                 )
-    return issues
+
+    def updating(self) -> None:
+        """Each joint weight names a joint, and the weights do not all vanish."""
+        if self.view.updating is not None and self.view.updating.alpha is not None:
+            alpha = self.view.updating.alpha
+            all_known = True
+            for jid in alpha:
+                all_known &= self.known_joint(
+                    jid, ("updating", "alpha", jid), "fix the joint id or remove its weight"
+                )
+            if all_known and self.joints and sum(alpha.get(j, 1.0) for j in self.joints) <= 0.0:
+                self.issues.append(
+                    (
+                        ("updating", "alpha"),
+                        "the joint weights sum to 0; give at least one joint a positive weight "
+                        "(joints not listed weigh 1)",
+                    )
+                )
+
+    def truth(self) -> None:
+        """Each ``[truth]`` table names a joint and gives what that joint can have."""
+        if self.view.truth is not None:
+            for jid, true in self.view.truth.joints.items():
+                loc = ("truth", "joints", jid)
+                if not self.known_joint(jid, loc, "fix the joint id or remove its table"):
+                    continue
+                joint = self.joints[jid] if self.joints is not None else None
+                self.issues += _truth_form_issues(jid, joint, true)
+                if isinstance(joint, (HingeJoint, JunctionJoint)) and true.mass is not None:
+                    self.issues.append(
+                        (
+                            (*loc, "mass"),
+                            f"joint {jid!r} is a {joint.kind}, which has no line mass (its joint "
+                            "line is fixed); remove `mass`",
+                        )
+                    )
+        return self.issues
