@@ -234,7 +234,7 @@ class ScoreTest:
             prediction = JointCondensation(
                 direct[frequency], [(ch.load, ch.kinematic, problem.alpha[target[0]],
                                      params[target[0], ch.kind], ch.crossover) for ch in own])
-            self._frequencies.append(_Frequency(
+            self._frequencies.append(_TestedFrequency(
                 condensation, channels, data_map, prediction, own, np.concatenate(freq.data),
                 freq.operators, parameters, system.omega,
                 None if freq.discretisation is None else np.concatenate(freq.discretisation)))
@@ -359,7 +359,10 @@ class ScoreTest:
 
 
 @dataclass
-class _Frequency:
+class _TestedFrequency:
+    """What the score test needs of one measured frequency (built from the problem's
+    :class:`updating.inverse.cost.FrequencyData`)."""
+
     condensation: JointCondensation  # the group's channels, at the identified values, r > 0
     channels: list
     data_map: np.ndarray  # D: samples per unit change of the measured values

@@ -59,8 +59,8 @@ from solver.substructure import (
 from updating.executor import thread_map
 from updating.inverse.weights import scale_free_weights
 
-__all__ = ["ModifiedProblem", "JointCorrection", "Evaluation", "channel_parameters",
-           "with_joint", "direct_factor", "direct_interface", "direct_amplitudes",
+__all__ = ["ModifiedProblem", "JointCorrection", "Evaluation", "FrequencyData",
+           "channel_parameters", "with_joint", "direct_factor", "direct_interface", "direct_amplitudes",
            "PARAMETER_NAMES", "PARAMETER_BOUNDS", "SMALLEST_MASS"]
 
 PARAMETER_NAMES = ("log10_stiffness", "loss_factor", "mass")
@@ -136,9 +136,11 @@ def _norms(values, per_plate):
 
 
 @dataclass
-class _Frequency:
-    """One measured frequency: its assembly system and, per measured plate, the measured
-    ``w`` as a Block over the plate's interface unknowns with the measured values."""
+class FrequencyData:
+    """One measured frequency of a :class:`ModifiedProblem` (``problem.frequencies[f]``): its
+    assembly system and, per measured plate, the measured ``w`` as a Block over the plate's
+    interface unknowns with the measured values, the normalisation of its misfit and the
+    model's discretisation error there."""
 
     system: object
     plates: list  # measured plates
@@ -183,7 +185,7 @@ class _Frequency:
 
 
 def _frequency_data(case, resolution, estimate, discretisation, task):
-    """One measured frequency's :class:`_Frequency` (a task of :class:`ModifiedProblem`'s
+    """One measured frequency's :class:`FrequencyData` (a task of :class:`ModifiedProblem`'s
     executor): its system, :math:`E_{ref}` at p0, the measurement operators and, if
     ``estimate``, the discretisation error estimate of the model's response at p0; with
     ``discretisation``, that response's error at the measured points (the floors' and the
@@ -206,7 +208,7 @@ def _frequency_data(case, resolution, estimate, discretisation, task):
         if finer is not None:
             offsets.append(finer[pid].field(points)["w"] - operators[-1].residual(
                 initial.interface))
-    return _Frequency(system, plates, operators, data, initial.interface, error,
+    return FrequencyData(system, plates, operators, data, initial.interface, error,
                       case.updating.misfit_kind == "per_plate",
                       offsets if finer is not None else None, reason)
 
@@ -476,7 +478,7 @@ class ModifiedProblem:
         the enriched solve estimates, then the noise): ``(draws, e_mod)``, ``draws[j, k]`` the
         :math:`E_\Gamma^2` of joint ``self.joints[j]`` in experiment k (summed over the
         frequencies), ``e_mod[k]`` its :math:`E_{mod}^2`. Without the enriched solve (too large
-        for the machine, :attr:`_Frequency.no_discretisation`) the noise alone. The draws of one
+        for the machine, :attr:`FrequencyData.no_discretisation`) the noise alone. The draws of one
         frequency are normalised by the mean of their norms :math:`\|\tilde u_k\|^2` (which
         differ by about noise / sqrt(points)) rather than each by its own, so that one
         factorisation of the interface problem serves them all.
@@ -599,7 +601,7 @@ class JointCorrection:
     @staticmethod
     def _local_data(freq, neighbourhood):
         """The neighbourhood's channels and measured plates at one frequency, the interface
-        unknowns they see, and each measured plate's misfit norm (:meth:`_Frequency.norms`)."""
+        unknowns they see, and each measured plate's misfit norm (:meth:`FrequencyData.norms`)."""
         joints, plates = neighbourhood
         channels = [ch for ch in freq.system.channels if ch.name in joints]
         measured = [(pid, op, v) for pid, op, v in zip(freq.plates, freq.operators, freq.data)
