@@ -102,6 +102,7 @@ from solver.solution import CaseSolution
 __all__ = [
     "Channel",
     "AssemblySystem",
+    "PlateAdmissibility",
     "AssemblySolution",
     "InterfaceLayout",
     "PlateBlock",
@@ -195,12 +196,9 @@ class Channel:
 
 
 @dataclass
-class AssemblySystem:
-    """Everything about an assembly at one frequency that does not depend on the joint laws.
-
-    Data live where the physics lives: a plate's transfer operator spans the interface
-    unknowns of its own joints and corners, a channel's samples the unknowns its two plates
-    see; the size of each piece does not grow with the assembly.
+class PlateAdmissibility:
+    """The plates of an assembly at one frequency, each admissible for any interface unknowns:
+    what the joints' channels and constraints are built on (:class:`AssemblySystem` adds them).
 
     Attributes
     ----------
@@ -217,22 +215,8 @@ class AssemblySystem:
         Number of interface unknowns.
     layout : dict of str to dict of str to slice
         Position of each joint's unknown functions (``"C"``, ``"F"``, ``"FA"``, ``"FB"``) in S.
-    constraints : (scipy.sparse.csr_matrix, ndarray)
-        :math:`G` (n_g, n_s) and :math:`g` (n_g,).
-    channels : list of Channel
     rcond : dict of str to float
         Reciprocal condition estimate of each plate's VTCR matrix.
-    e_ref : float or None
-        Reference energy (J), fixed by the first direct solve.
-    plate_energies : dict of str to float or None
-        Each plate's part of ``e_ref`` (J), from the same solve: the energy around a joint,
-        by which the scale-free weights of the updating normalise its residual.
-    timings : dict of str to float
-    unknown_groups, constraint_groups : ndarray of int, shape (n_s,) and (n_g,)
-        Group of each interface unknown and constraint row: the joint's index in the
-        description for its load unknowns, its residual and constraint rows; one group per
-        junction corner after them. Each group holds as many rows as unknowns, which lets the
-        interface problem be factorised group by group (:mod:`solver.multifrontal`).
     """
 
     frequency: float
@@ -243,14 +227,7 @@ class AssemblySystem:
     transfer: dict
     n_s: int
     layout: dict
-    constraints: tuple
-    channels: list
     rcond: dict
-    e_ref: float | None = None
-    plate_energies: dict | None = None
-    timings: dict = field(default_factory=dict)
-    unknown_groups: np.ndarray | None = None
-    constraint_groups: np.ndarray | None = None
 
     @property
     def omega(self) -> float:
@@ -266,6 +243,43 @@ class AssemblySystem:
         ``(X T_i, X U_i^0 + x_p)``."""
         return Block(self.unknowns[plate_id], values @ self.transfer[plate_id],
                      values @ self.u0[plate_id] + particular)
+
+
+@dataclass
+class AssemblySystem(PlateAdmissibility):
+    """Everything about an assembly at one frequency that does not depend on the joint laws:
+    its plates (:class:`PlateAdmissibility`), and the joints' constraints and channels, built
+    complete by :func:`build_assembly_system`.
+
+    Data live where the physics lives: a plate's transfer operator spans the interface
+    unknowns of its own joints and corners, a channel's samples the unknowns its two plates
+    see; the size of each piece does not grow with the assembly.
+
+    Attributes
+    ----------
+    constraints : (scipy.sparse.csr_matrix, ndarray)
+        :math:`G` (n_g, n_s) and :math:`g` (n_g,).
+    channels : list of Channel
+    timings : dict of str to float
+    unknown_groups, constraint_groups : ndarray of int, shape (n_s,) and (n_g,)
+        Group of each interface unknown and constraint row: the joint's index in the
+        description for its load unknowns, its residual and constraint rows; one group per
+        junction corner after them. Each group holds as many rows as unknowns, which lets the
+        interface problem be factorised group by group (:mod:`solver.multifrontal`).
+    e_ref : float or None
+        Reference energy (J), fixed by the first direct solve (:func:`solve_assembly`).
+    plate_energies : dict of str to float or None
+        Each plate's part of ``e_ref`` (J), from the same solve: the energy around a joint,
+        by which the scale-free weights of the updating normalise its residual.
+    """
+
+    constraints: tuple = ()
+    channels: list = field(default_factory=list)
+    timings: dict = field(default_factory=dict)
+    unknown_groups: np.ndarray | None = None
+    constraint_groups: np.ndarray | None = None
+    e_ref: float | None = None
+    plate_energies: dict | None = None
 
 
 # ----------------------------------------------------------------------------------------------
@@ -530,15 +544,15 @@ def build_assembly_system(case, frequency, resolution=None) -> AssemblySystem:
     del plate_blocks
     t1 = time.perf_counter()
 
-    system = AssemblySystem(frequency, problems, bases, unknowns, u0, transfer, n_s, layout,
-                            None, [], rcond)
+    plates = PlateAdmissibility(frequency, problems, bases, unknowns, u0, transfer, n_s, layout,
+                                rcond)
     group_of = {jid: i for i, jid in enumerate(case.joints)}
     traces_cache = {}  # the rays' joint traces, shared by plates with one basis
     rows, channels = [], []  # constraint rows as Blocks of one or more rows
     for jid, joint in case.joints.items():
         group = group_of[jid]
         if joint.kind == "junction":
-            junction_rows, junction_channels = _junction_line(case, system, jid, k_max, counts,
+            junction_rows, junction_channels = _junction_line(case, plates, jid, k_max, counts,
                                                               group, traces_cache)
             rows += junction_rows
             channels += junction_channels
@@ -565,7 +579,7 @@ def build_assembly_system(case, frequency, resolution=None) -> AssemblySystem:
             rays, part = edge_values(problems[side.plate], bases[side.plate], side.edge, s,
                                      traces_cache)
             traces[side.plate, side.edge] = {
-                name: system.affine_plate_operator(side.plate, weights @ rays[key],
+                name: plates.affine_plate_operator(side.plate, weights @ rays[key],
                                                    weights @ part[key])
                 for name, (key, weights) in projections.items()}
         ta, tb = traces[a.plate, a.edge], traces[b.plate, b.edge]
@@ -592,7 +606,7 @@ def build_assembly_system(case, frequency, resolution=None) -> AssemblySystem:
         for part in slots.values():
             unknown_groups[part] = group_of[jid]
     for group, flags in enumerate(arrangement.junctions, start=len(case.joints)):
-        values = {(pid, c): system.affine_plate_operator(pid, corner_w[pid][0][c][None, :],
+        values = {(pid, c): plates.affine_plate_operator(pid, corner_w[pid][0][c][None, :],
                                                           corner_w[pid][1][c:c + 1])
                   for (pid, c), _ in flags}
         static = [corner for corner, kinematic in flags if not kinematic]
@@ -610,13 +624,12 @@ def build_assembly_system(case, frequency, resolution=None) -> AssemblySystem:
             rows.append(Block(columns, np.ones((1, len(columns)), dtype=complex),
                               np.zeros(1, dtype=complex), group))
         unknown_groups[[corner_columns[corner] for corner in static]] = group
-    system.constraints = _constraint_matrix(rows, n_s)
-    system.unknown_groups = unknown_groups
-    system.constraint_groups = np.repeat([b.group for b in rows],
-                                         [len(b.offset) for b in rows]).astype(int)
-    system.channels = channels
-    system.timings = {"plates": t1 - t0, "interface": time.perf_counter() - t1}
-    return system
+    constraint_groups = np.repeat([b.group for b in rows],
+                                  [len(b.offset) for b in rows]).astype(int)
+    return AssemblySystem(**vars(plates), constraints=_constraint_matrix(rows, n_s),
+                          channels=channels,
+                          timings={"plates": t1 - t0, "interface": time.perf_counter() - t1},
+                          unknown_groups=unknown_groups, constraint_groups=constraint_groups)
 
 
 def _plate_signature(problem, basis):
@@ -639,7 +652,7 @@ def plate_bases(case, problems, resolution):
     return bases
 
 
-def _junction_line(case, system, jid, k_max, counts, group, traces_cache):
+def _junction_line(case, plates, jid, k_max, counts, group, traces_cache):
     r"""Constraint rows and spring channels of a junction line
     (``docs/method.md`` section 6.2b).
 
@@ -659,13 +672,13 @@ def _junction_line(case, system, jid, k_max, counts, group, traces_cache):
     sigma, wq = joint_gauss(length, max(k_max[p] for p in joint.plates))
     root_w = np.sqrt(wq)
     psi = legendre_values(sigma, length, counts[jid])
-    slots = system.layout[jid]
+    slots = plates.layout[jid]
     rotation = {}  # Theta_i of every member, unweighted, over its plate's unknowns
     for side, direction in zip(sides, directions):
         arc = sigma if direction > 0 else length - sigma
-        rays, part = edge_values(system.problems[side.plate], system.bases[side.plate],
+        rays, part = edge_values(plates.problems[side.plate], plates.bases[side.plate],
                                  side.edge, arc, traces_cache)
-        slope = system.affine_plate_operator(side.plate, rays["slope"], part["slope"])
+        slope = plates.affine_plate_operator(side.plate, rays["slope"], part["slope"])
         rotation[side.plate] = _scaled(slope, -float(direction))
     rigid = _rigid_members(joint)
     if rigid:
@@ -684,8 +697,8 @@ def _junction_line(case, system, jid, k_max, counts, group, traces_cache):
     balance = np.hstack([np.eye(counts[jid], dtype=complex)] * len(joint.plates))
     rows.append(Block(moments[order], balance[:, order], np.zeros(counts[jid], dtype=complex),
                       group))
-    stiffness, kappa0 = max((system.problems[p].bending_stiffness.real,
-                             system.problems[p].kappa.real) for p in joint.plates)
+    stiffness, kappa0 = max((plates.problems[p].bending_stiffness.real,
+                             plates.problems[p].kappa.real) for p in joint.plates)
     channels = []
     on_functions = load_function_projection(root_w, psi)
     for plate in joint.finite_members():
