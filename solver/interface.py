@@ -197,6 +197,9 @@ class InterfaceFactor:
         The minimiser.
     residuals : list of ndarray
         :math:`\\rho_b` of each block at the minimiser.
+    block_rows : list of slice
+        The rows of each block, in the order they were given, in the augmented system (its
+        residual rows :math:`\\rho`): what a caller keeps of the solves without counting rows.
     """
 
     lu: object
@@ -206,6 +209,7 @@ class InterfaceFactor:
     s: np.ndarray
     residuals: list
     constraint_rhs: np.ndarray
+    block_rows: list
 
     def solve(self, rhs):
         """The whole augmented solution :math:`(\\rho, S, \\lambda)` for ``rhs`` (n_s, k) in
@@ -301,8 +305,10 @@ def factorise_interface(n_s, blocks, constraints, groups=None, keep=True):
         x = lu.solve(scaled_rhs)
     x = x * scale
     s = x[n_rho:n_rho + n_s]
+    ends = np.cumsum([len(b.offset) for b in blocks], dtype=int)
+    rows = [slice(int(end - len(b.offset)), int(end)) for b, end in zip(blocks, ends)]
     return InterfaceFactor(lu if keep else None, scale, n_rho, n_s, s,
-                           [b.residual(s) for b in blocks], g_rhs)
+                           [b.residual(s) for b in blocks], g_rhs, rows)
 
 
 def _equilibrated(n_s, blocks, g_mat):

@@ -582,10 +582,11 @@ class JointCorrection:
             params = channel_parameters(parameters, system.omega)
             channels = [ch for ch in system.channels if ch.name == joint]
             factor = factors[frequency]
-            measured = sum(len(v) for v in freq.data)  # the last residual rows
+            # the measurement blocks come last in the factorised problem (evaluate)
+            measured = factor.block_rows[-len(freq.operators):]
             condensation = JointCondensation(
                 factor, [(ch.load, ch.kinematic, kappa, params[joint, ch.kind], ch.crossover)
-                         for ch in channels], keep=slice(factor.n_rho - measured, factor.n_rho))
+                         for ch in channels], keep=slice(measured[0].start, measured[-1].stop))
             return (system.omega, [ch.kind for ch in channels], condensation)
 
         self._frequencies = dict(zip(problem.frequencies,
