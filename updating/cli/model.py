@@ -47,7 +47,12 @@ from updating.figures.figure_tools import require_matplotlib
 from updating.figures.plots import (
     write_sweep_figures,
 )
-from updating.forward.sweep import BALANCE_TOLERANCE, frequency_sweep
+from updating.forward.sweep import (
+    BALANCE_TOLERANCE,
+    band_resolutions,
+    frequency_sweep,
+    strongest_peaks,
+)
 
 
 def cmd_check(args):
@@ -162,15 +167,32 @@ def cmd_frf(args):
         points, order, nodes = probes.by_plate, list(probes.order), probes.nodes
     count = None if args.step is not None else args.start_frequencies
     executor = executor_for(args, case)
+    resolutions, tolerance = None, case.discretisation.tolerance
+    if tolerance is not None:  # a first sweep finds the resonances the resolution must meet
+        with progress_bar(console, "resolution per sub-band", None):
+            first = frequency_sweep(case, tuple(args.band), points, step=args.step, count=count,
+                                    tolerance=args.sampling_tolerance,
+                                    max_points=args.max_points, executor=executor, check=False)
+            resolutions = band_resolutions(case, tuple(args.band), tolerance,
+                                           strongest_peaks(first, SWEEP_ESTIMATE_PEAKS))
+        console.print(f"{resolutions.describe()}: meets the tolerance {tolerance:g} at each "
+                      "sub-band's top and at the strongest resonances")
     with progress_bar(console, f"sweep on {executor.description}", None) as advance:
         sweep = frequency_sweep(case, tuple(args.band), points, step=args.step, count=count,
                                 tolerance=args.sampling_tolerance, max_points=args.max_points,
-                                executor=executor, check=False,
+                                executor=executor, check=False, resolutions=resolutions,
                                 on_round=lambda n: advance(f"{n} frequencies solved", 0))
     _print_sweep(console, case, sweep, len(order))
-    estimates = {} if args.no_estimate else _sweep_estimates(case, sweep)
+    estimates = {} if args.no_estimate else _sweep_estimates(case, sweep, resolutions)
     print_estimates(console, estimates, f" of the sweep at its {SWEEP_ESTIMATE_PEAKS} strongest "
                                         "peaks and its top")
+    missed = {f: e.total for f, e in estimates.items()
+              if tolerance is not None and e.total is not None and e.total > tolerance}
+    if missed:
+        warn(console, f"the tolerance {tolerance:g} is not met at "
+                      + ", ".join(f"{f:g} Hz ({v:.1e})" for f, v in missed.items())
+                      + " (a resonance of the final sweep away from the first one's): "
+                        "lower [discretisation] tolerance or raise resolution")
     if args.csv:
         write_measurements(args.csv, sweep.measurements(), sweep=True)
     if args.json:
@@ -195,17 +217,18 @@ the band: the relative error is largest at the resonances (where the field is mo
 the boundary conditions) and at the highest frequency (where the ray counts are tightest)."""
 
 
-def _sweep_estimates(case, sweep):
+def _sweep_estimates(case, sweep, resolutions=None):
     """Error estimates at the sweep's :data:`SWEEP_ESTIMATE_PEAKS` strongest response peaks
     and at its highest frequency, the largest of which stands for the band (one solve and one
-    enriched solve each, not one per frequency of the sweep)."""
-    rms = sweep.spatial_rms()
-    peaks = [i for i in range(len(rms)) if (i == 0 or rms[i] >= rms[i - 1])
-             and (i == len(rms) - 1 or rms[i] >= rms[i + 1])]
-    strongest = sorted(peaks, key=lambda i: -rms[i])[:SWEEP_ESTIMATE_PEAKS]
-    chosen = sorted({float(sweep.frequencies[i]) for i in strongest}
+    enriched solve each, not one per frequency of the sweep), each at the resolution the sweep
+    used there (``resolutions``, :class:`updating.forward.sweep.BandResolutions`)."""
+    chosen = sorted(set(strongest_peaks(sweep, SWEEP_ESTIMATE_PEAKS))
                     | {float(sweep.frequencies[-1])})
-    return {f: estimate_error(case, solve_case(case, f, residuals=False, check=False))
+    def at(f):
+        return None if resolutions is None else resolutions.at(f)
+
+    return {f: estimate_error(case, solve_case(case, f, resolution=at(f), residuals=False,
+                                               check=False), at(f))
             for f in chosen}
 
 

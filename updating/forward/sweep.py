@@ -15,6 +15,7 @@ import numpy as np
 
 from solver import solve_case
 from solver.plate import evaluate_field
+from solver.estimate import solve_to_tolerance
 from solver.guards import check_description
 from solver.power import power_flow
 from solver.substructure import build_assembly_system
@@ -22,8 +23,9 @@ from solver.sweep import initial_frequencies, refine_frequencies
 from updating.inverse.cost import direct_amplitudes
 from updating.data.measurements import Measurements
 
-__all__ = ["Sweep", "sweep_point", "frequency_sweep", "smallest_loss_factor",
-           "round_evaluator", "BALANCE_TOLERANCE", "FrequencyResponseData",
+__all__ = ["Sweep", "sweep_point", "frequency_sweep", "band_resolutions", "BandResolutions",
+           "strongest_peaks",
+           "smallest_loss_factor", "round_evaluator", "BALANCE_TOLERANCE", "FrequencyResponseData",
            "frequency_response_data", "frequency_band", "spatial_rms", "plate_deflection"]
 
 BALANCE_TOLERANCE = 1e-2
@@ -55,13 +57,73 @@ def round_evaluator(task, executor=None, on_round=None):
     return evaluate
 
 
-def sweep_point(case, points, frequency):
+TOLERANCE_BANDS = 4
+"""Sub-bands of a sweep that meets a tolerance, each solved at the resolution its top frequency
+needs (the ray counts the rule gives grow with the frequency)."""
+
+
+@dataclass(frozen=True)
+class BandResolutions:
+    """Per sub-band of a sweep, the resolution of every plate that meets a tolerance at its top
+    (:func:`band_resolutions`)."""
+
+    low: float  # the band's lower frequency (Hz)
+    tops: tuple  # the sub-bands' upper frequencies (Hz), increasing
+    resolutions: tuple  # per sub-band, {plate: resolution}
+
+    def at(self, frequency):
+        """``{plate: resolution}`` of the sub-band that holds ``frequency``."""
+        index = int(np.searchsorted(self.tops, frequency * (1.0 - 1e-12)))
+        return self.resolutions[min(index, len(self.tops) - 1)]
+
+    def describe(self) -> str:
+        """One line: each sub-band's largest resolution."""
+        low = self.low
+        parts = []
+        for top, resolution in zip(self.tops, self.resolutions):
+            parts.append(f"{low:g}-{top:g} Hz: {max(resolution.values()):.3g}")
+            low = top
+        return "resolution per sub-band (largest over the plates): " + ", ".join(parts)
+
+
+def band_resolutions(case, band, tolerance, peaks=(), bands=TOLERANCE_BANDS) -> BandResolutions:
+    """The resolutions at which a sweep over ``band`` meets ``tolerance`` (relative L2 of w):
+    per each of ``bands`` equal sub-bands, the finest that
+    :func:`solver.estimate.solve_to_tolerance` needs at its top (the ray counts grow with the
+    frequency) and at the resonance ``peaks`` it holds (where the relative error is largest),
+    starting from the sub-band below (never coarser). Raises
+    :class:`solver.estimate.ToleranceError` where the tolerance cannot be reached."""
+    low, high = band
+    tops = tuple(low + (high - low) * (k + 1) / bands for k in range(bands))
+    resolutions, start, bottom = [], None, low
+    for top in tops:
+        inside = [f for f in peaks if bottom <= f < top] + [top]
+        for frequency in inside:
+            estimate = solve_to_tolerance(case, frequency, tolerance, resolution=start)[1]
+            start = {pid: estimate.resolution_of(pid) for pid in case.plates}
+        resolutions.append(start)
+        bottom = top
+    return BandResolutions(low, tops, tuple(resolutions))
+
+
+def strongest_peaks(sweep, count):
+    """The frequencies of the ``count`` largest local maxima of the sweep's spatial RMS."""
+    rms = sweep.spatial_rms()
+    peaks = [i for i in range(len(rms)) if (i == 0 or rms[i] >= rms[i - 1])
+             and (i == len(rms) - 1 or rms[i] >= rms[i + 1])]
+    return sorted(float(sweep.frequencies[i]) for i in sorted(peaks, key=lambda i: -rms[i])[:count])
+
+
+def sweep_point(case, points, frequency, resolutions=None):
     """One frequency: ``(response vector, {plate: w at points}, PowerFlow)``.
 
     ``points`` is ``{plate: (n, 2) plate-local points}``; the response vector concatenates the
     plates' values in that order (what :func:`solver.sweep.refine_frequencies` compares).
+    ``resolutions`` (:class:`BandResolutions`) gives the resolution at the frequency (default
+    the description's).
     """
-    solution = solve_case(case, frequency, residuals=False, check=False)
+    resolution = resolutions.at(frequency) if resolutions is not None else None
+    solution = solve_case(case, frequency, resolution=resolution, residuals=False, check=False)
     values = {pid: solution.w(pid, pts) for pid, pts in points.items()}
     vector = np.concatenate([values[pid] for pid in points]) if points else np.zeros(0)
     return vector, values, power_flow(case, solution)
@@ -113,7 +175,8 @@ class Sweep:
 
 
 def frequency_sweep(case, band, points, step=None, count=None, tolerance=0.1, fraction=0.25,
-                    max_points=2000, executor=None, on_round=None, check=True) -> Sweep:
+                    max_points=2000, executor=None, on_round=None, check=True,
+                    resolutions=None) -> Sweep:
     """Sweep ``band = (F1, F2)`` Hz, refining until the resonances are resolved.
 
     Parameters
@@ -134,10 +197,14 @@ def frequency_sweep(case, band, points, step=None, count=None, tolerance=0.1, fr
         check grow or fall with the frequency): errors raise
         :class:`assembly.DescriptionError`, warnings go into the sampling report (default
         True; False where they ran already).
+    resolutions : BandResolutions, optional
+        The resolution per sub-band (:func:`band_resolutions`: a sweep that meets
+        ``[discretisation] tolerance``); default the description's everywhere.
     """
     warnings = check_description(case, case.name, list(band), need_loads=True) if check else []
     grid = initial_frequencies(band[0], band[1], step=step, points=count)
-    evaluate = round_evaluator(functools.partial(sweep_point, case, points), executor, on_round)
+    evaluate = round_evaluator(functools.partial(sweep_point, case, points,
+                                                 resolutions=resolutions), executor, on_round)
     frequencies, results, report = refine_frequencies(
         evaluate, grid, smallest_loss_factor(case), tolerance, fraction, max_points)
     report = dict(report, requested={"band": [float(band[0]), float(band[1])],
