@@ -19,20 +19,15 @@ from .errors import AssemblyError, listing
 from .grid import grid_points
 from .models import (
     Boundary,
-    Compute,
     CrossReferenceError,
-    Discretisation,
     HingeJoint,
     Joint,
     JunctionJoint,
     Load,
     Material,
-    Measurement,
     Plate,
-    Truth,
-    Updating,
-    default_spacing,
 )
+from .settings import Compute, Discretisation, Measurement, Truth, Updating, default_spacing
 from .types import (
     EDGE_NAMES,
     JOINT_PARAMETERS,

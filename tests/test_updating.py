@@ -13,10 +13,10 @@ from scipy import optimize
 
 from assembly import load_case, parse_case
 from updating.cli import main
+from updating.data.measurements import add_noise, simulate_measurements
+from updating.executor import frequency_threads, usable_cores
 from updating.inverse.confidence import ScoreTest, confidence_intervals
 from updating.inverse.cost import ModifiedProblem
-from updating.executor import frequency_threads, usable_cores
-from updating.data.measurements import add_noise, simulate_measurements
 from updating.inverse.strategy import correct_joint, update_joints
 
 E, NU, RHO, ETA = (MATERIAL[k] for k in ("young_modulus", "poisson_ratio", "density",
@@ -238,7 +238,7 @@ def test_status_1_names_the_joints_that_still_stand_out():
     """A loop that stops because no correction helps (status 1) says which joints still stand
     out of their thresholds and by how much, largest first, at most five of them; a step
     without calibrated thresholds (an older run file) stands on ``stop_ratio`` x floor."""
-    from assembly.models import Updating
+    from assembly.settings import Updating
     from updating.inverse.strategy import TERMINATION_MESSAGES, Step, _message
 
     joints = [f"J{i}" for i in range(8)]
@@ -263,7 +263,7 @@ def test_a_fitted_joint_above_its_threshold_does_not_stop_the_loop_unconverged()
     thresholds are calibrated for joints the data did not fit) lets the loop go on to its
     re-corrections and converge (status 0: no candidate in the re-correction phase); an
     uncorrected joint standing out that no correction helps stops it (status 1)."""
-    from assembly.models import Updating
+    from assembly.settings import Updating
     from updating.inverse.strategy import Step, _candidates
 
     joints = ["J0", "J1", "J2"]
@@ -482,8 +482,8 @@ def test_an_estimate_outside_its_interval_is_said_to_be_biased():
     the value is on an end within the printed digits."""
     from types import SimpleNamespace
 
-    from updating.inverse.confidence import ConfidenceInterval
     from updating.cli.report import OUTSIDE, identified_lines
+    from updating.inverse.confidence import ConfidenceInterval
 
     def line(value, low, high):
         kind = "two-sided" if low is not None and high is not None else (
