@@ -37,7 +37,8 @@ from assembly import parse_case
 from assembly.generate import plate_grid
 from solver import interface
 from solver.joint_rules import joint_parameters
-from solver.substructure import build_assembly_system, channel_blocks
+from solver.channels import channel_blocks
+from solver.substructure import build_assembly_system
 
 DENSE_LIMIT = 4000  # unknowns of the dense LU yardstick (2 GB of complex entries at most)
 
@@ -144,7 +145,7 @@ def violation(system, s):
 def bench(n, frequency, repeats):
     case = parse_case(plate_grid(n, n, frequency=frequency))
     system = build_assembly_system(case, frequency)
-    blocks = channel_blocks(system, joint_parameters(case, system.omega), case.updating.alpha)
+    blocks = channel_blocks(system.channels, joint_parameters(case, system.omega), case.updating.alpha)
     n_s = system.n_s
     aug, aug_rhs, n_rho = augmented(n_s, blocks, system.constraints)
     kkt, kkt_rhs = normal_kkt(n_s, blocks, system.constraints)

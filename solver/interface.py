@@ -131,6 +131,31 @@ class Block:
         product = self.matrix @ s[self.index]
         return product + (self.offset if product.ndim == 1 else self.offset[:, None])
 
+    def scaled(self, factor: complex | np.ndarray) -> Block:
+        """The Block with its rows multiplied by ``factor`` (a scalar or one value per row)."""
+        factor = np.asarray(factor)
+        return Block(self.index, (factor.T * self.matrix.T).T, factor * self.offset, self.group)
+
+    def projected(self, projection: np.ndarray) -> Block:
+        """The Block's rows replaced by ``projection`` of them (for instance on a joint's
+        load functions, :func:`solver.joint_rules.load_function_projection`)."""
+        return Block(self.index, projection @ self.matrix, projection @ self.offset, self.group)
+
+    def constraint(self, group: int) -> Block:
+        """The rows ``matrix S_I = -offset`` as a constraint Block of ``group``: the sign of
+        :math:`GS = g` from a quantity :math:`AS_I + a` that must vanish."""
+        return Block(self.index, self.matrix, -self.offset, group)
+
+    @staticmethod
+    def union(*blocks: Block) -> Block:
+        """Sum of Blocks with as many rows as one another, as one Block over the union of their
+        unknowns."""
+        index = np.unique(np.concatenate([b.index for b in blocks]))
+        matrix = np.zeros((blocks[0].matrix.shape[0], len(index)), dtype=complex)
+        for b in blocks:
+            matrix[:, np.searchsorted(index, b.index)] += b.matrix
+        return Block(index, matrix, sum(b.offset for b in blocks))
+
 
 def squared_norm(r):
     r""":math:`\|r\|^2` of a vector, or of each column of a matrix (an array of them)."""
@@ -362,7 +387,7 @@ class JointCondensation:
     :math:`c_0`, each :meth:`cost` is a dense solve of the size of the joint's residual samples.
 
     Each channel's load and kinematic samples are :math:`n_f` numbers each (the joint's
-    residual on its load functions, :func:`solver.substructure.load_function_projection`), so a
+    residual on its load functions, :func:`solver.joint_rules.load_function_projection`), so a
     joint's dense solves are of size :math:`2n_f` per channel.
 
     Parameters

@@ -344,8 +344,8 @@ def edge_values(problem, basis, edge_name, s, cache=None):
     r"""Deflection and outward slope of the shape functions at arc lengths ``s`` of an edge.
 
     ``cache`` (a dict, optional) keeps the rays' values by basis object, plate stiffness, edge
-    and points: identical plates sharing one basis (:func:`solver.substructure.
-    build_assembly_system`) then compute their joint traces once. The particular solution,
+    and points: identical plates sharing one basis (:func:`solver.problems.
+    plate_bases`) then compute their joint traces once. The particular solution,
     which differs with the loads, is computed every time.
 
     Returns

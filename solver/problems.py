@@ -13,7 +13,7 @@ from solver.kirchhoff import complex_bending_stiffness
 from solver.plate import EdgeCondition, EdgeLoad, PlateProblem, PointForce
 from solver.rays import EDGES, RayCounts, automatic_ray_counts, build_ray_basis
 
-__all__ = ["plate_problem", "plate_problems", "plate_ray_counts", "plate_basis",
+__all__ = ["plate_problem", "plate_problems", "plate_ray_counts", "plate_basis", "plate_bases",
            "joint_edge_kinds"]
 
 
@@ -138,3 +138,14 @@ def plate_basis(case, plate_id, problem, resolution=None):
                            tau=settings.edge_wavenumber_ratio)
 
 
+def plate_bases(case, problems, resolution):
+    """Each plate's ray basis; plates of the same size, wavenumber and ray counts share one
+    object (a grid's or a panel's identical plates), so that their joint traces are computed
+    once (:func:`solver.plate.edge_values`' cache)."""
+    bases, shared = {}, {}
+    for pid, problem in problems.items():
+        key = (problem.size, problem.kappa, plate_ray_counts(case, pid, problem, resolution))
+        if key not in shared:
+            shared[key] = plate_basis(case, pid, problem, resolution)
+        bases[pid] = shared[key]
+    return bases

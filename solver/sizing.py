@@ -45,7 +45,8 @@ import numpy as np
 
 from solver.interface import GROUPED_MIN_SIZE
 from solver.problems import plate_problems
-from solver.substructure import interface_layout, plate_bases
+from solver.layout import interface_layout
+from solver.problems import plate_bases
 
 __all__ = ["SizeEstimate", "estimate_size", "available_memory"]
 

@@ -21,12 +21,8 @@ from chains import dense_interface, field_difference, grid, mixed_chain
 from assembly import load_case, parse_case
 from assembly.generate import plate_grid
 from solver.joint_rules import joint_parameters
-from solver.substructure import (
-    build_assembly_system,
-    channel_blocks,
-    joint_residuals,
-    solve_assembly,
-)
+from solver.channels import channel_blocks, joint_residuals
+from solver.substructure import build_assembly_system, solve_assembly
 from updating.inverse.cost import ModifiedProblem, channel_parameters, with_joint
 from updating.data.measurements import simulate_measurements
 
@@ -40,12 +36,13 @@ def test_direct_problem_matches_the_dense_reference(case):
     system = build_assembly_system(case, frequency)
     solution = solve_assembly(case, frequency, system=system)
     params = joint_parameters(case, system.omega)
-    blocks = channel_blocks(system, params, case.updating.alpha)
+    blocks = channel_blocks(system.channels, params, case.updating.alpha)
     reference = dense_interface(system, blocks)
     # measured: 1e-10 (chain) and 4e-12 (four plates); both are far below the discretisation
     # error (1e-4..1e-3), and a wrong assembly (a misplaced block) shows at order 1
     assert field_difference(system, solution.interface, reference) < 1e-8
-    dense_residuals = joint_residuals(system, params, reference)
+    dense_residuals = joint_residuals(system.channels, params, reference,
+                                      solution.reference.total)
     for jid, value in solution.residuals.items():
         assert value == pytest.approx(dense_residuals[jid], rel=1e-6, abs=1e-14)
 
@@ -64,7 +61,7 @@ def test_modified_problem_matches_the_dense_reference(four_plates):
     for frequency, freq in problem.frequencies.items():
         system = freq.system
         params = channel_parameters(parameters, system.omega)
-        blocks = (channel_blocks(system, params, problem.joint_weights(system))
+        blocks = (channel_blocks(system.channels, params, problem.joint_weights(freq))
                   + freq.blocks(freq.data, problem.r))
         reference = dense_interface(system, blocks)
         # measured up to 2e-8 (309.4 Hz): the reference's normal equations square the
@@ -155,7 +152,7 @@ def test_identical_plates_share_their_basis_and_nothing_changes(monkeypatch):
     """The plates of a grid share one ray basis, their joint traces are computed once, and
     the unforced plates with the same edges share their factorised block; the system is the
     same, to the bit, as with a basis of its own for every plate."""
-    from solver import substructure
+    from solver import channels, substructure
     from solver.plate import edge_values
     from solver.problems import plate_basis
 
@@ -170,7 +167,7 @@ def test_identical_plates_share_their_basis_and_nothing_changes(monkeypatch):
         return edge_values(problem, basis, edge, s)
 
     monkeypatch.setattr(substructure, "plate_bases", own_bases)
-    monkeypatch.setattr(substructure, "edge_values", uncached_edge_values)
+    monkeypatch.setattr(channels, "edge_values", uncached_edge_values)
     alone = build_assembly_system(case, 250.0)
     assert len({id(b) for b in alone.bases.values()}) == len(case.plates)
     for a, b in zip(shared.channels, alone.channels):

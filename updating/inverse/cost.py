@@ -49,10 +49,11 @@ from solver.interface import Block, JointCondensation, squared_norm
 from solver.joint_rules import channel_parameters
 from solver.plate import particular_field
 from solver.rays import ray_field
+from solver.channels import channel_blocks, joint_residuals
 from solver.substructure import (
+    AssemblySystem,
+    ReferenceEnergy,
     build_assembly_system,
-    channel_blocks,
-    joint_residuals,
     solve_assembly,
     solve_interface,
 )
@@ -92,7 +93,7 @@ def direct_factor(system, parameters, alpha):
     :math:`\sum\alpha_\Gamma e_\Gamma^2` under admissibility, as
     :func:`solver.substructure.solve_assembly` does, on an already built system."""
     params = channel_parameters(parameters, system.omega)
-    return solve_interface(system, channel_blocks(system, params, alpha))
+    return solve_interface(system, channel_blocks(system.channels, params, alpha))
 
 
 def direct_interface(system, parameters, alpha):
@@ -142,7 +143,8 @@ class FrequencyData:
     interface unknowns with the measured values, the normalisation of its misfit and the
     model's discretisation error there."""
 
-    system: object
+    system: AssemblySystem
+    reference: ReferenceEnergy  # E_ref of the model's response at p0
     plates: list  # measured plates
     operators: list  # Block per measured plate: w at its points per unit S, and at S = 0
     data: list  # measured values per measured plate
@@ -192,7 +194,7 @@ def _frequency_data(case, resolution, estimate, discretisation, task):
     intervals'). Both come from one enriched solve, made only when one of them is asked for."""
     frequency, measured_plates = task
     system = build_assembly_system(case, frequency, resolution)
-    initial = solve_assembly(case, frequency, resolution, system=system)  # fixes E_ref at p0
+    initial = solve_assembly(case, frequency, resolution, system=system)  # E_ref at p0
     enriched = (enriched_plates(case, frequency, resolution) if estimate or discretisation
                 else None)
     error = estimate_error(case, initial, resolution, enriched) if estimate else None
@@ -208,7 +210,8 @@ def _frequency_data(case, resolution, estimate, discretisation, task):
         if finer is not None:
             offsets.append(finer[pid].field(points)["w"] - operators[-1].residual(
                 initial.interface))
-    return FrequencyData(system, plates, operators, data, initial.interface, error,
+    return FrequencyData(system, initial.reference, plates, operators, data, initial.interface,
+                         error,
                       case.updating.misfit_kind == "per_plate",
                       offsets if finer is not None else None, reason)
 
@@ -276,7 +279,7 @@ class ModifiedProblem:
         plates = {name: case.joints[jid].plates
                   for name, (jid, _) in case.updatable_joints().items()}
         return scale_free_weights(
-            plates, [freq.system.plate_energies for freq in self.frequencies.values()],
+            plates, [freq.reference.plates for freq in self.frequencies.values()],
             [sum(np.size(v) for v in freq.data) for freq in self.frequencies.values()],
             case.measurement.noise, case.updating.balance, case.updatable_alpha())
 
@@ -308,9 +311,10 @@ class ModifiedProblem:
         jid, member = self.case.updatable_joints()[joint]
         return member is None and self.case.joints[jid].kind == "coplanar"
 
-    def joint_weights(self, system):
-        """Per joint, the weight of its energy (J) in E_mod^2: alpha (1 - r) / E_ref."""
-        return {jid: (1.0 - self.r) * a / system.e_ref for jid, a in self.alpha.items()}
+    def joint_weights(self, freq: FrequencyData) -> dict[str, float]:
+        """Per joint, the weight of its energy (J) in E_mod^2 at one measured frequency:
+        alpha (1 - r) / E_ref."""
+        return {jid: (1.0 - self.r) * a / freq.reference.total for jid, a in self.alpha.items()}
 
     def evaluate(self, parameters, data=None) -> Evaluation:
         """:math:`E_{mod}^2`, :math:`E_{int}^2`, :math:`E_{mes}^2` and every :math:`E_\\Gamma^2`.
@@ -325,7 +329,7 @@ class ModifiedProblem:
             values = freq.data if data is None else data[frequency]
             system = freq.system
             params = channel_parameters(parameters, system.omega)
-            blocks = channel_blocks(system, params, self.joint_weights(system))
+            blocks = channel_blocks(system.channels, params, self.joint_weights(freq))
             return solve_interface(system, blocks + freq.blocks(values, self.r))
 
         factors = dict(zip(self.frequencies, self._map(factorise, self.frequencies)))
@@ -351,7 +355,8 @@ class ModifiedProblem:
             params = channel_parameters(parameters, freq.system.omega)
             for pid, value in freq.misfits(s, values).items():
                 misfits[pid] = misfits.get(pid, 0.0) + value
-            for jid, value in joint_residuals(freq.system, params, s).items():
+            for jid, value in joint_residuals(freq.system.channels, params, s,
+                                                 freq.reference.total).items():
                 residuals[jid] += value
         e_int = sum(self.alpha[jid] * value for jid, value in residuals.items())
         e_mes = sum(misfits.values())
@@ -491,12 +496,12 @@ class ModifiedProblem:
             data = [draw[frequency] for draw in draws]
             norm = np.mean([freq.norms(values) for values in data], axis=0)
             params = channel_parameters(parameters, system.omega)
-            blocks = channel_blocks(system, params, self.joint_weights(system))
+            blocks = channel_blocks(system.channels, params, self.joint_weights(freq))
             factor = solve_interface(system, blocks + freq.blocks(data[0], self.r, norm))
             offsets = [[b.offset for b in blocks + freq.blocks(values, self.r, norm)]
                        for values in data]
             columns = factor.resolve(offsets).T  # the draws' interface unknowns, by columns
-            at_draws = joint_residuals(system, params, columns)
+            at_draws = joint_residuals(system.channels, params, columns, freq.reference.total)
             by_plate = [np.column_stack(plate) for plate in zip(*data)]  # points x draws
             return (np.array([at_draws[jid] for jid in self.joints]),
                     sum(freq.misfits(columns, by_plate, norm).values()))
@@ -537,7 +542,7 @@ class ModifiedProblem:
 
     @property
     def reference_energies(self):
-        return {f: d.system.e_ref for f, d in self.frequencies.items()}
+        return {f: d.reference.total for f, d in self.frequencies.items()}
 
     @property
     def warnings(self):
@@ -578,7 +583,7 @@ class JointCorrection:
         def condense(frequency):
             freq = problem.frequencies[frequency]
             system = freq.system
-            kappa = problem.joint_weights(system)[joint]
+            kappa = problem.joint_weights(freq)[joint]
             params = channel_parameters(parameters, system.omega)
             channels = [ch for ch in system.channels if ch.name == joint]
             factor = factors[frequency]
@@ -610,7 +615,7 @@ class JointCorrection:
         index = np.unique(np.concatenate([ch.kinematic.index for ch in channels]
                                          + [op.index for _, op, _ in measured]))
         norms = dict(zip(freq.plates, freq.norms()))
-        return freq.system, channels, measured, index, norms
+        return freq, channels, measured, index, norms
 
     def _channels(self, values):
         """Per frequency, the joint's channel parameters with ``values`` set."""
@@ -635,11 +640,12 @@ class JointCorrection:
         residuals, misfits = dict.fromkeys(joints, 0.0), dict.fromkeys(plates, 0.0)
         trial = with_joint(self.parameters, self.joint, **values)
         for frequency, condensation, params in self._channels(values):
-            system, channels, measured, index, norm = self._neighbourhood[frequency]
+            freq, channels, measured, index, norm = self._neighbourhood[frequency]
             s = condensation.interface(params, index)
-            all_params = channel_parameters(trial, system.omega)
+            all_params = channel_parameters(trial, freq.system.omega)
+            e_ref = freq.reference.total
             for ch in channels:
-                residuals[ch.name] += ch.energy(s, all_params[ch.name, ch.kind]) / system.e_ref
+                residuals[ch.name] += ch.energy(s, all_params[ch.name, ch.kind]) / e_ref
             for pid, op, v in measured:
                 misfits[pid] += _norm2([op.residual(s) - v]) / norm[pid]
         return self.problem.neighbourhood_cost(self.joint, residuals, misfits)

@@ -153,7 +153,7 @@ def _relative_change(moved, base, norm):
 def _dissipated_share(system, s, own, params, joint):
     r"""Power the joint dissipates at interface unknowns ``s``,
     :math:`\tfrac12\omega\,\mathrm{Im}\,c\,\|\Pi_\psi[q]\|^2`
-    (:meth:`solver.substructure.Channel.dissipated_power`), over the power the loads inject
+    (:meth:`solver.channels.Channel.dissipated_power`), over the power the loads inject
     (the plates' and the joints' dissipation together, the model's power balance)."""
     joint_power = sum(ch.dissipated_power(s, params[joint, ch.kind], system.omega)
                       for ch in own)

@@ -1,0 +1,143 @@
+r"""The plates of an assembly, each admissible for any interface unknowns.
+
+Each plate :math:`i` is a complete VTCR problem whose joined edges carry the interface loads as
+static data (``docs/method.md`` section 7.1): :math:`K_iU_i = F_i + B_iS`, so that
+:math:`U_i = U_i^0 + T_iS` with :math:`U_i^0 = K_i^{-1}F_i` and :math:`T_i = K_i^{-1}B_i`.
+:func:`plate_admissibility` factorises every plate once and keeps :math:`U_i^0` and
+:math:`T_i`; identical unforced plates (a grid's, a panel's) share one factorisation.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+
+import numpy as np
+
+from assembly import Case
+from solver.interface import Block
+from solver.layout import InterfaceLayout, plate_loads, plate_sides
+from solver.plate import (
+    PlateBoundary,
+    PlateProblem,
+    assemble_plate,
+    boundary_traces,
+    factorise_dense,
+)
+from solver.rays import RayBasis
+
+__all__ = ["PlateAdmissibility", "PlateBlock", "plate_block", "plate_admissibility"]
+
+CornerDeflections = tuple[np.ndarray, np.ndarray]
+"""A plate's corner deflections: per corner, the rays' ``w`` (4, n_i) and the particular
+solution's (4,)."""
+
+
+@dataclass
+class PlateAdmissibility:
+    """The plates of an assembly at one frequency, each admissible for any interface unknowns:
+    what the joints' channels and constraints are built on (:class:`AssemblySystem` adds them).
+
+    Attributes
+    ----------
+    frequency : float
+        Hz.
+    problems, bases : dict of str to PlateProblem / RayBasis
+    unknowns : dict of str to ndarray of int
+        Per plate, the (sorted) interface unknowns it sees.
+    u0 : dict of str to ndarray, shape (n_i,)
+        Plate amplitudes for ``S = 0``.
+    transfer : dict of str to ndarray, shape (n_i, len(unknowns[plate]))
+        :math:`T_i`: plate amplitudes per unit interface unknown of the plate.
+    n_s : int
+        Number of interface unknowns.
+    layout : dict of str to dict of str to slice
+        Position of each joint's unknown functions (``"C"``, ``"F"``, ``"FA"``, ``"FB"``) in S.
+    rcond : dict of str to float
+        Reciprocal condition estimate of each plate's VTCR matrix.
+    """
+
+    frequency: float
+    problems: dict[str, PlateProblem]
+    bases: dict[str, RayBasis]
+    unknowns: dict[str, np.ndarray]
+    u0: dict[str, np.ndarray]
+    transfer: dict[str, np.ndarray]
+    n_s: int
+    layout: dict[str, dict[str, slice]]
+    rcond: dict[str, float]
+
+    @property
+    def omega(self) -> float:
+        return 2.0 * math.pi * self.frequency
+
+    def plate_amplitudes(self, s: np.ndarray) -> dict[str, np.ndarray]:
+        """Ray amplitudes of every plate for interface unknowns ``s``."""
+        return {pid: self.u0[pid] + self.transfer[pid] @ s[self.unknowns[pid]]
+                for pid in self.problems}
+
+    def affine_plate_operator(self, plate_id: str, values: np.ndarray,
+                              particular: np.ndarray) -> Block:
+        r"""A plate quantity :math:`XU_i + x_p` as a :class:`Block` over the plate's unknowns:
+        ``(X T_i, X U_i^0 + x_p)``."""
+        return Block(self.unknowns[plate_id], values @ self.transfer[plate_id],
+                     values @ self.u0[plate_id] + particular)
+
+
+@dataclass(frozen=True)
+class PlateBlock:
+    """One plate's VTCR block, factorised (:func:`plate_block`): its boundary traces, its
+    right-hand side :math:`F_i`, a solve with :math:`K_i` and the reciprocal condition
+    estimate of :math:`K_i`."""
+
+    boundary: PlateBoundary
+    force: np.ndarray
+    solve: Callable[[np.ndarray], np.ndarray]
+    rcond: float
+
+
+def plate_block(problem: PlateProblem, basis: RayBasis) -> PlateBlock:
+    r"""One plate's VTCR block, factorised. The plate's admissibility is then
+    :math:`U_i^0 = K_i^{-1}F_i` and :math:`T_i = K_i^{-1}B_i`, with its loads :math:`B_i`
+    (:func:`solver.layout.plate_loads`)."""
+    boundary = boundary_traces(problem, basis)
+    matrix, force = assemble_plate(problem, boundary)
+    solve, rcond = factorise_dense(matrix)
+    return PlateBlock(boundary, force, solve, rcond)
+
+
+def _plate_signature(problem: PlateProblem, basis: RayBasis) -> tuple:
+    """What a plate's VTCR block depends on besides its point forces: its basis object
+    (:func:`solver.problems.plate_bases`), material, frequency and edge conditions with their
+    data."""
+    return (id(basis), problem.size, problem.bending_stiffness, problem.poisson_ratio,
+            problem.mass_per_area, problem.omega, tuple(sorted(problem.edges.items())))
+
+
+def plate_admissibility(case: Case, frequency: float, problems: Mapping[str, PlateProblem],
+                        bases: Mapping[str, RayBasis], arrangement: InterfaceLayout
+                        ) -> tuple[PlateAdmissibility, dict[str, CornerDeflections]]:
+    r"""Every plate's :math:`U_i^0` and :math:`T_i` for the interface unknowns of
+    ``arrangement``, and its corner deflections (what the junction corners need).
+
+    A plate's boundary traces are the largest data of the build: they are kept only for the
+    identical unforced plates that share them, else used and dropped here.
+    """
+    sides, corners = plate_sides(case, arrangement.corner_columns)
+    u0, transfer, rcond, corner_w = {}, {}, {}, {}
+    shared: dict[tuple, PlateBlock] = {}
+    for pid in case.plates:
+        problem = problems[pid]
+        key = None if problem.point_forces else _plate_signature(problem, bases[pid])
+        block = shared.get(key) or plate_block(problem, bases[pid])
+        if key is not None:
+            shared[key] = block
+        loads = plate_loads(case, block.boundary, sides[pid], corners[pid], arrangement.counts,
+                            arrangement.slots, arrangement.unknowns[pid])
+        solution = block.solve(np.column_stack([block.force, loads]))
+        u0[pid], transfer[pid], rcond[pid] = solution[:, 0], solution[:, 1:], block.rcond
+        corner_w[pid] = block.boundary.corner_w, block.boundary.corner_w_p
+    plates = PlateAdmissibility(frequency, dict(problems), dict(bases), arrangement.unknowns, u0,
+                                transfer, arrangement.n_s, arrangement.slots, rcond)
+    return plates, corner_w

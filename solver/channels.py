@@ -1,0 +1,314 @@
+r"""The joints of an assembly: their residual channels and their constraint rows.
+
+Formulation: ``docs/method.md`` sections 6.2 (coplanar joints and hinges), 6.2b (junction
+lines), 6.3 (residuals) and 6.4 (junction points). Each joint gives
+
+* *channels*, the samples of its unreliable laws (a spring, a line mass), affine in the
+  interface unknowns :math:`S` and in the law's parameter :math:`c`:
+  :math:`r = (LS + l) - c\,(RS + \rho)` (:class:`Channel`);
+* *constraint rows*, its reliable equations (rigid translation of a coplanar joint, rigid
+  members and moment balance of a junction line, the corners of a junction point), as
+  :class:`solver.interface.Block` rows of :math:`GS = g`.
+
+Everything here is built once per frequency and is independent of the joint parameters.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from assembly import Case
+from solver.admissibility import CornerDeflections, PlateAdmissibility
+from solver.interface import Block, residual_weight, squared_norm
+from solver.joint_rules import joint_gauss, legendre_values, load_function_projection
+from solver.layout import InterfaceLayout, rigid_members
+from solver.plate import edge_values
+
+__all__ = ["Channel", "JointBuild", "RIGID_CROSSOVER", "two_plate_joint", "junction_line",
+           "junction_corner_rows", "channel_blocks", "joint_residuals"]
+
+RIGID_CROSSOVER = 1e3
+r"""Crossover of the joint residuals to compliance form, in units of the plates' own
+stiffness: :math:`10^3D\kappa_0` for rotation (N), :math:`10^3D\kappa_0^3` for a line mass
+(:math:`\omega^2\mu`, N/m^2). A rotational spring :math:`10^3` times stiffer than the plate's
+bending stiffness over a wavelength (log10 k = 5.8 for 1 mm steel at 250 Hz) makes a joint
+rigid to 1e-3 of the plates' rotations; above it the residual is measured in compliance form
+(:func:`solver.interface.residual_weight`), whose weight no longer grows with k."""
+
+
+@dataclass(frozen=True)
+class Channel:
+    r"""One residual channel of one joint, on the joint's load functions.
+
+    The residual is :math:`r = (LS + l) - c\,(RS + \rho)`; both parts are
+    :class:`solver.interface.Block` samples: the Gauss samples multiplied by
+    :math:`\sqrt{\omega_q}` (the Gauss weights) and taken on an orthonormal basis :math:`Q`
+    of the weighted load functions (:func:`load_function_projection`), so that the channel's energy
+    is :math:`\|r\|^2 / (2\,\mathrm{Re}\,c)` of the projected law.
+
+    Attributes
+    ----------
+    joint : str
+        The description's joint.
+    kind : {"rotation", "mass"}
+    load : Block
+        :math:`Q^HW^{1/2}(LS + l)`, over the joint's own load unknowns.
+    kinematic : Block
+        :math:`Q^HW^{1/2}(RS + \rho)`, over the interface unknowns its two plates see.
+    member : str or None
+        The member plate of a junction's spring channel (:attr:`name` ``JOINT.PLATE``).
+    group : int
+        The joint's group of interface unknowns (:attr:`AssemblySystem.unknown_groups`).
+    """
+
+    joint: str
+    kind: str
+    load: Block
+    kinematic: Block
+    crossover: float = math.inf
+    member: str | None = None
+    group: int = -1
+
+    @property
+    def name(self) -> str:
+        """The channel's name: the joint's id, or ``JOINT.PLATE`` for a junction member."""
+        return self.joint if self.member is None else f"{self.joint}.{self.member}"
+
+    def samples(self, s: np.ndarray, c: complex) -> np.ndarray:
+        """Residual samples :math:`Q^HW^{1/2}r` at interface unknowns ``s``."""
+        return self.load.residual(s) - c * self.kinematic.residual(s)
+
+    def energy(self, s: np.ndarray, c: complex) -> float | np.ndarray:
+        r""":math:`e^2 = g(c)\|\Pi_\psi r\|_\Gamma^2` (J), :math:`g = 1/(2\,\mathrm{Re}\,c)`
+        below the crossover (:func:`solver.interface.residual_weight`); one per column of a
+        matrix ``s`` (:meth:`solver.interface.Block.residual`)."""
+        return squared_norm(self.samples(s, c)) * residual_weight(c, self.crossover)
+
+    def dissipated_power(self, s: np.ndarray, c: complex, omega: float) -> float:
+        r"""Power dissipated in the channel, :math:`\tfrac12\omega\,\mathrm{Im}\,c\,
+        \|\Pi_\psi[q]\|^2`: the power its loads do on the jump (kinematic samples) on the
+        joint's load functions."""
+        return 0.5 * omega * c.imag * squared_norm(self.kinematic.residual(s))
+
+    def block(self, c: complex, kappa: float) -> Block:
+        r"""The rows :math:`\sqrt{\kappa g(c)}\,Q^HW^{1/2}r` as one Block over
+        :attr:`kinematic` ``.index`` (the load unknowns are a subset of it)."""
+        scale = math.sqrt(kappa * residual_weight(c, self.crossover))
+        matrix = -c * self.kinematic.matrix
+        matrix[:, np.searchsorted(self.kinematic.index, self.load.index)] += self.load.matrix
+        return Block(self.kinematic.index, scale * matrix,
+                     scale * (self.load.offset - c * self.kinematic.offset), self.group)
+
+
+@dataclass(frozen=True)
+class JointBuild:
+    """What every joint's channels and rows are built from at one frequency.
+
+    Attributes
+    ----------
+    case : Case
+    plates : PlateAdmissibility
+    counts : mapping of str to int
+        Legendre functions per unknown function of each joint.
+    k_max : mapping of str to float
+        Per plate, the largest ray wavenumber (what a joint's quadrature must resolve).
+    traces_cache : dict
+        The rays' joint traces, shared by plates with one basis
+        (:func:`solver.plate.edge_values`).
+    """
+
+    case: Case
+    plates: PlateAdmissibility
+    counts: Mapping[str, int]
+    k_max: Mapping[str, float]
+    traces_cache: dict
+
+
+def _plate_stiffness(plates: PlateAdmissibility, members: Sequence[str]) -> tuple[float, float]:
+    r"""The largest :math:`(D, \kappa_0)` of a joint's plates (real parts): the scale of its
+    crossover to compliance form (:data:`RIGID_CROSSOVER`)."""
+    return max((plates.problems[p].bending_stiffness.real, plates.problems[p].kappa.real)
+               for p in members)
+
+
+def two_plate_joint(build: JointBuild, jid: str, group: int
+                    ) -> tuple[list[Block], list[Channel]]:
+    r"""Constraint rows and channels of a coplanar joint or a hinge (``docs/method.md``
+    section 6.2): the rotation channel :math:`r = C - k^*(\theta_A + \theta_B)`, with a line
+    mass the mass channel :math:`r = F_A + F_B - \omega^2\mu\tfrac12(w_A + w_B)`, and for a
+    coplanar joint the rigid translation :math:`\int(w_A - w_B)\psi_m = 0`.
+
+    Each trace is taken on the joint's functions (:math:`Q^HW^{1/2}`, a channel's samples;
+    :math:`\psi^TW`, the moments of the translation constraint) before the plate's transfer
+    operator multiplies it: n_f rows instead of the Gauss points', a third of the products of
+    the build.
+    """
+    case, plates = build.case, build.plates
+    joint = case.joints[jid]
+    a, b = joint.sides
+    length = case.edge_length(a)
+    sigma, wq = joint_gauss(length, max(build.k_max[a.plate], build.k_max[b.plate]))
+    psi = legendre_values(sigma, length, build.counts[jid])
+    slots = plates.layout[jid]
+    on_functions = load_function_projection(np.sqrt(wq), psi)
+    projections = {"slope": ("slope", on_functions)}
+    if "FA" in slots:
+        projections["w"] = ("w", on_functions)
+    if joint.kind == "coplanar":
+        projections["w moments"] = ("w", psi.T * wq)
+    traces = {}
+    for side, s in ((a, sigma), (b, length - sigma)):
+        rays, part = edge_values(plates.problems[side.plate], plates.bases[side.plate],
+                                 side.edge, s, build.traces_cache)
+        traces[side.plate, side.edge] = {
+            name: plates.affine_plate_operator(side.plate, weights @ rays[key],
+                                               weights @ part[key])
+            for name, (key, weights) in projections.items()}
+    ta, tb = traces[a.plate, a.edge], traces[b.plate, b.edge]
+
+    def unknown(*names: str) -> Block:
+        columns = np.concatenate([np.arange(slots[n].start, slots[n].stop) for n in names])
+        return Block(columns, on_functions @ np.hstack([psi] * len(names)),
+                     np.zeros(len(on_functions), dtype=complex))
+
+    stiffness, kappa0 = _plate_stiffness(plates, (a.plate, b.plate))
+    channels = [Channel(jid, "rotation", unknown("C"), Block.union(ta["slope"], tb["slope"]),
+                        RIGID_CROSSOVER * stiffness * kappa0, group=group)]
+    if "FA" in slots:
+        channels.append(Channel(jid, "mass", unknown("FA", "FB"),
+                                Block.union(ta["w"], tb["w"]).scaled(0.5),
+                                RIGID_CROSSOVER * stiffness * kappa0**3, group=group))
+    rows = []
+    if joint.kind == "coplanar":
+        rows.append(Block.union(ta["w moments"], tb["w moments"].scaled(-1.0)).constraint(group))
+    return rows, channels
+
+
+def junction_line(build: JointBuild, jid: str, group: int) -> tuple[list[Block], list[Channel]]:
+    r"""Constraint rows and spring channels of a junction line
+    (``docs/method.md`` section 6.2b).
+
+    Member :math:`i` (direction :math:`s_i`, :meth:`assembly.Case.member_directions`)
+    rotates by :math:`\Theta_i = -s_i\theta_i` about the line. The line's rotation
+    :math:`\Theta_J` is that of the first rigid member, or, without one, its own unknown
+    ``T`` on the joint's Legendre functions. Reliable: :math:`\sum_iC_i = 0` (per Legendre
+    coefficient) and :math:`\int(\Theta_i - \Theta_J)\psi_m = 0` for the other rigid
+    members; each finite member's spring :math:`C_i = k_i^*(\Theta_J - \Theta_i)` is a
+    channel ``JOINT.PLATE``, load :math:`C_i`, kinematic :math:`\Theta_J + s_i\theta_i`.
+    Its crossover is twice a two-plate joint's: two members of :math:`2k` in series are a
+    hinge of :math:`k`, with the same residual at every stiffness.
+    """
+    case, plates, counts = build.case, build.plates, build.counts
+    joint = case.joints[jid]
+    sides, directions = joint.sides, case.member_directions(jid)
+    length = case.edge_length(sides[0])
+    sigma, wq = joint_gauss(length, max(build.k_max[p] for p in joint.plates))
+    root_w = np.sqrt(wq)
+    psi = legendre_values(sigma, length, counts[jid])
+    slots = plates.layout[jid]
+    # Theta_i of every member, unweighted, over its plate's unknowns
+    rotation: dict[str, Block] = {}
+    for side, direction in zip(sides, directions):
+        arc = sigma if direction > 0 else length - sigma
+        rays, part = edge_values(plates.problems[side.plate], plates.bases[side.plate],
+                                 side.edge, arc, build.traces_cache)
+        slope = plates.affine_plate_operator(side.plate, rays["slope"], part["slope"])
+        rotation[side.plate] = slope.scaled(-float(direction))
+    rigid = rigid_members(joint)
+    if rigid:
+        line = rotation[rigid[0]]
+    else:
+        line = Block(np.arange(slots["T"].start, slots["T"].stop), psi.astype(complex),
+                     np.zeros(len(sigma), dtype=complex))
+    weighted = psi.T * wq
+    rows = []
+    for plate in rigid[1:]:
+        gap = Block.union(rotation[plate], line.scaled(-1.0)).projected(weighted)
+        rows.append(gap.constraint(group))
+    moments = np.concatenate([np.arange(slots[f"C.{p}"].start, slots[f"C.{p}"].stop)
+                              for p in joint.plates])
+    order = np.argsort(moments)
+    balance = np.hstack([np.eye(counts[jid], dtype=complex)] * len(joint.plates))
+    rows.append(Block(moments[order], balance[:, order], np.zeros(counts[jid], dtype=complex),
+                      group))
+    stiffness, kappa0 = _plate_stiffness(plates, joint.plates)
+    channels = []
+    on_functions = load_function_projection(root_w, psi)
+    for plate in joint.finite_members():
+        moment = slots[f"C.{plate}"]
+        load = Block(np.arange(moment.start, moment.stop), on_functions @ psi,
+                     np.zeros(len(on_functions), dtype=complex))
+        kinematic = Block.union(line, rotation[plate].scaled(-1.0)).projected(on_functions)
+        channels.append(Channel(jid, "rotation", load, kinematic,
+                                2.0 * RIGID_CROSSOVER * stiffness * kappa0, member=plate,
+                                group=group))
+    return rows, channels
+
+
+def junction_corner_rows(plates: PlateAdmissibility,
+                         corner_deflections: Mapping[str, CornerDeflections],
+                         arrangement: InterfaceLayout, first_group: int
+                         ) -> tuple[list[Block], dict[int, list[int]]]:
+    r"""Constraint rows of the junction points (``docs/method.md`` section 6.4), one group
+    each from ``first_group`` on, and the corner-force columns of each group.
+
+    With a kinematic corner among them, every static corner's deflection vanishes; without
+    one, the static corners share one deflection and their forces balance,
+    :math:`\sum_cP_c = 0`.
+    """
+    rows, columns_of = [], {}
+    for group, flags in enumerate(arrangement.junctions, start=first_group):
+        values = {(pid, c): plates.affine_plate_operator(
+                      pid, corner_deflections[pid][0][c][None, :],
+                      corner_deflections[pid][1][c:c + 1])
+                  for (pid, c), _ in flags}
+        static = [corner for corner, kinematic in flags if not kinematic]
+        if any(kinematic for _, kinematic in flags):
+            rows += [values[corner].constraint(group) for corner in static]
+        else:
+            reference = values[static[0]]
+            rows += [Block.union(values[corner], reference.scaled(-1.0)).constraint(group)
+                     for corner in static[1:]]
+            columns = np.array(sorted(arrangement.corner_columns[corner] for corner in static))
+            rows.append(Block(columns, np.ones((1, len(columns)), dtype=complex),
+                              np.zeros(1, dtype=complex), group))
+        columns_of[group] = [arrangement.corner_columns[corner] for corner in static]
+    return rows, columns_of
+
+
+def channel_blocks(channels: Sequence[Channel], params: Mapping[tuple[str, str], complex],
+                   weights: Mapping[str, float]) -> list[Block]:
+    r"""Least-squares Blocks of the joint term :math:`\sum_\Gamma w_\Gamma e_\Gamma^2`.
+
+    Parameters
+    ----------
+    params : dict
+        ``{(joint, kind): c}`` (:func:`solver.joint_rules.joint_parameters`).
+    weights : dict of str to float
+        Per channel name (joint, or junction member ``JOINT.PLATE``), the weight
+        :math:`w_\Gamma` of its energy (J^-1 for a dimensionless cost).
+    """
+    blocks = []
+    for channel in channels:
+        c = params[channel.name, channel.kind]
+        if channel.kind == "mass" and c.real <= 0.0:
+            raise ValueError(f"joint {channel.joint}: the mass channel needs a line mass > 0")
+        if weights[channel.name] > 0.0:
+            blocks.append(channel.block(c, weights[channel.name]))
+    return blocks
+
+
+def joint_residuals(channels: Sequence[Channel], params: Mapping[tuple[str, str], complex],
+                    s: np.ndarray, e_ref: float) -> dict[str, float | np.ndarray]:
+    """``{channel name: E_Gamma^2}`` (dimensionless) at interface unknowns ``s``: per joint,
+    and per finite member ``JOINT.PLATE`` of a junction (arrays, one value per column, for a
+    matrix ``s``)."""
+    out = {}
+    for channel in channels:
+        energy = channel.energy(s, params[channel.name, channel.kind])
+        out[channel.name] = out.get(channel.name, 0.0) + energy / e_ref
+    return out

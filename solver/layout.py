@@ -1,0 +1,221 @@
+r"""Where the interface unknowns of an assembly sit, and the loads they put on each plate.
+
+The interface unknowns :math:`S` (``docs/method.md`` sections 6.2, 6.2b, 6.4 and 7.1) are,
+per joint, its load functions on the joint's Legendre functions (``C``, ``F`` or ``FA``,
+``FB``; per junction member ``C.PLATE`` and, without a rigid member, the line's rotation
+``T``), then one force per static corner at a junction point. :func:`interface_layout`
+counts and places them from the description alone (all that :mod:`solver.sizing` needs);
+:func:`plate_loads` is a plate's :math:`B_i`, its VTCR right-hand sides per unit interface
+unknown.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Collection, Mapping, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from assembly import Case, EdgeId
+from assembly.models import Joint
+from solver.joint_rules import interface_function_count, legendre_values
+from solver.plate import PlateBoundary, PlateProblem, edge_projection
+from solver.problems import plate_resolution
+from solver.rays import EDGES
+
+__all__ = ["InterfaceLayout", "interface_layout", "plate_loads", "plate_sides", "rigid_members",
+           "KINEMATIC_DEFLECTION"]
+
+Corner = tuple[str, int]
+"""A plate corner: the plate and the corner's index (:data:`solver.rays.EDGES` order)."""
+
+KINEMATIC_DEFLECTION = frozenset({"clamped", "simply_supported"})
+
+
+def _has_mass_channel(joint: Joint, identify: Collection[str]) -> bool:
+    return joint.kind == "coplanar" and (joint.mass > 0.0 or "mass" in identify)
+
+
+def _layout(case: Case, counts: Mapping[str, int]) -> tuple[dict[str, dict[str, slice]], int]:
+    """Slices of S: per joint ``C`` and ``F`` (or ``FA``, ``FB``), per junction ``C.PLATE``
+    for each member and, without a rigid member, ``T`` (the line's rotation, on the joint's
+    Legendre functions); then the corner forces."""
+    layout, start = {}, 0
+    identify = case.updating.identify
+    for jid, joint in case.joints.items():
+        sizes = {"C": counts[jid]}
+        if joint.kind == "coplanar":
+            sizes.update(dict.fromkeys(["FA", "FB"] if _has_mass_channel(joint, identify)
+                                       else ["F"], counts[jid]))
+        elif joint.kind == "junction":
+            sizes = {f"C.{plate}": counts[jid] for plate in joint.plates}
+            if not rigid_members(joint):
+                sizes["T"] = counts[jid]
+        layout[jid] = {}
+        for name, size in sizes.items():
+            layout[jid][name] = slice(start, start + size)
+            start += size
+    return layout, start
+
+
+def rigid_members(joint: Joint) -> list[str]:
+    """The rigid members of a junction (the first one carries the line's rotation)."""
+    finite = joint.finite_members()
+    return [plate for plate in joint.plates if plate not in finite]
+
+
+def _corner_of(edge_name: str, end: int) -> int:
+    """Plate corner index at the start (end=0) or end (end=1) of an edge."""
+    return (EDGES.index(edge_name) + end) % 4
+
+
+def _junctions(case: Case, problems: Mapping[str, PlateProblem]) -> list[list[tuple[Corner, bool]]]:
+    """Groups of plate corners that coincide at joint ends, with their kinematic flags."""
+    parent = {}
+
+    def find(a: Corner) -> Corner:
+        while parent.setdefault(a, a) != a:
+            a = parent[a]
+        return a
+
+    for jid, joint in case.joints.items():
+        sides, directions = joint.sides, case.member_directions(jid)
+        for end in (0, 1):  # the corners of every member at each end of the line
+            corners = [find((side.plate, _corner_of(side.edge, end if d > 0 else 1 - end)))
+                       for side, d in zip(sides, directions)]
+            for other in corners[1:]:
+                root, other = find(corners[0]), find(other)
+                if root != other:
+                    parent[other] = root
+    groups = {}
+    for corner in list(parent):
+        groups.setdefault(find(corner), []).append(corner)
+    junctions = []
+    for members in groups.values():
+        flags = []
+        for pid, c in sorted(members):
+            kinds = [problems[pid].condition(EDGES[c]).kind,
+                     problems[pid].condition(EDGES[c - 1]).kind]
+            flags.append(((pid, c), any(k in KINEMATIC_DEFLECTION for k in kinds)))
+        if any(not kinematic for _, kinematic in flags):
+            junctions.append(flags)
+    return junctions
+
+
+def _plate_unknowns(case: Case, layout: Mapping[str, Mapping[str, slice]],
+                    corner_columns: Mapping[Corner, int]) -> dict[str, np.ndarray]:
+    """Per plate, the sorted interface unknowns of its joints and of its junction corners."""
+    seen = {pid: [] for pid in case.plates}
+    for jid, joint in case.joints.items():
+        columns = np.concatenate([np.arange(sl.start, sl.stop) for sl in layout[jid].values()])
+        for side in joint.sides:
+            seen[side.plate].append(columns)
+    for (pid, _), column in corner_columns.items():
+        seen[pid].append(np.array([column]))
+    return {pid: np.unique(np.concatenate(cols)) if cols else np.zeros(0, dtype=int)
+            for pid, cols in seen.items()}
+
+
+@dataclass(frozen=True)
+class InterfaceLayout:
+    """Where the interface unknowns of an assembly sit in S (:func:`interface_layout`).
+
+    Attributes
+    ----------
+    counts : dict of str to int
+        Legendre functions per unknown function of each joint.
+    slots : dict
+        Slices of each joint's unknown functions in S (:func:`_layout`).
+    junctions : list
+        Corner groups at joint ends (:func:`_junctions`).
+    corner_columns : dict of (str, int) to int
+        Position in S of the unknown corner force of each static junction corner.
+    n_s : int
+    unknowns : dict of str to ndarray of int
+        Per plate, the interface unknowns it sees.
+    """
+
+    counts: dict
+    slots: dict
+    junctions: list
+    corner_columns: dict
+    n_s: int
+    unknowns: dict
+
+
+def interface_layout(case: Case, problems: Mapping[str, PlateProblem],
+                     resolution: float | Mapping[str, float] | None = None) -> InterfaceLayout:
+    """The interface unknowns of an assembly, counted from its description.
+
+    ``resolution`` is None (the description's), one factor, or a mapping by plate; a joint's
+    interface functions follow the finest of its plates.
+    """
+    counts = {}
+    for jid, joint in case.joints.items():
+        length = case.edge_length(joint.sides[0])
+        kappa0 = max(problems[plate].kappa.real for plate in joint.plates)
+        joint_scale = max(plate_resolution(case, side.plate, resolution) for side in joint.sides)
+        counts[jid] = (case.discretisation.interface_functions
+                       or interface_function_count(kappa0, length, joint_scale))
+    layout, n_s = _layout(case, counts)
+    junctions = _junctions(case, problems)
+    corner_columns = {}
+    for flags in junctions:
+        for corner, kinematic in flags:
+            if not kinematic:
+                corner_columns[corner] = n_s
+                n_s += 1
+    return InterfaceLayout(counts, layout, junctions, corner_columns, n_s,
+                           _plate_unknowns(case, layout, corner_columns))
+
+
+JointSide = tuple[str, int, EdgeId]
+"""A plate's edge on a joint: the joint, the side's index in it and the edge."""
+
+
+def plate_sides(case: Case, corner_columns: Mapping[Corner, int]
+                ) -> tuple[dict[str, list[JointSide]], dict[str, list[tuple[int, int]]]]:
+    """Per plate, its joint sides ``(joint, side index, side)`` and its static junction
+    corners ``(corner, column)``: what its load operator needs, found once for all plates."""
+    sides = {pid: [] for pid in case.plates}
+    corners = {pid: [] for pid in case.plates}
+    for jid, joint in case.joints.items():
+        for side_index, side in enumerate(joint.sides):
+            sides[side.plate].append((jid, side_index, side))
+    for (pid, c), column in corner_columns.items():
+        corners[pid].append((c, column))
+    return sides, corners
+
+
+def plate_loads(case: Case, boundary: PlateBoundary, sides: Sequence[JointSide],
+                corners: Sequence[tuple[int, int]], counts: Mapping[str, int],
+                layout: Mapping[str, Mapping[str, slice]], unknowns: np.ndarray) -> np.ndarray:
+    r""":math:`B_i`: the plate's VTCR right-hand sides per unit interface unknown, over the
+    interface unknowns ``unknowns`` it sees: the Legendre loads of its joint ``sides`` and the
+    forces of its junction ``corners`` (:func:`plate_sides`), with the signs of
+    ``docs/method.md`` section 6.2."""
+    loads = np.zeros((boundary.corner_w.shape[1], len(unknowns)), dtype=complex)
+
+    def add(columns: Sequence[int] | np.ndarray, values: np.ndarray) -> None:
+        loads[:, np.searchsorted(unknowns, columns)] += values
+
+    for jid, side_index, side in sides:
+        length = case.edge_length(side)
+        slots = {name: np.arange(sl.start, sl.stop) for name, sl in layout[jid].items()}
+        traces = boundary.edges[side.edge]
+        direction = case.member_directions(jid)[side_index]
+        sigma = traces.s if direction > 0 else length - traces.s
+        psi = legendre_values(sigma, length, counts[jid])
+        if f"C.{side.plate}" in slots:  # a junction member: M_n = s_i C_i
+            add(slots[f"C.{side.plate}"], direction * edge_projection(traces, "moment", psi))
+            continue
+        add(slots["C"], edge_projection(traces, "moment", psi))
+        if "F" in slots:
+            sign = 1.0 if side_index == 0 else -1.0
+            add(slots["F"], sign * edge_projection(traces, "shear", psi))
+        elif "FA" in slots:
+            key = "FA" if side_index == 0 else "FB"
+            add(slots[key], edge_projection(traces, "shear", psi))
+    for c, column in corners:
+        add([column], boundary.corner_w[c].conj()[:, None])
+    return loads
