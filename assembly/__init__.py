@@ -25,14 +25,12 @@ AssemblyError, DescriptionError
 from .case import Case
 from .errors import AssemblyError, DescriptionError
 from .graph import build_graph, joint_ids
+from .joints import CoplanarJoint, HingeJoint, JunctionJoint
 from .loading import load_case, load_case_text, parse_case
 from .models import (
     Boundary,
-    CoplanarJoint,
     EdgeMoment,
     EdgeShear,
-    HingeJoint,
-    JunctionJoint,
     Material,
     Plate,
     PointForce,

@@ -17,12 +17,10 @@ from pydantic import AfterValidator, Field, ValidationError, model_serializer, m
 from .checks import View, cross_check
 from .errors import AssemblyError, listing
 from .grid import grid_points
+from .joints import HingeJoint, Joint, JunctionJoint
 from .models import (
     Boundary,
     CrossReferenceError,
-    HingeJoint,
-    Joint,
-    JunctionJoint,
     Load,
     Material,
     Plate,

@@ -18,14 +18,12 @@ import numpy as np
 
 from assembly.errors import did_you_mean, listing
 from assembly.grid import on_grid
+from assembly.joints import CoplanarJoint, HingeJoint, JunctionJoint
 from assembly.models import (
     FRAME_TOLERANCE,
     Boundary,
-    CoplanarJoint,
     EdgeMoment,
     EdgeShear,
-    HingeJoint,
-    JunctionJoint,
     Loc,
     Material,
     Plate,

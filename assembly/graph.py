@@ -9,8 +9,8 @@ Node attributes
     ``plate`` (:class:`~assembly.models.Plate`), ``material``
     (:class:`~assembly.models.Material`).
 Edge attributes (key = joint id)
-    ``joint`` (:class:`~assembly.models.CoplanarJoint`, :class:`~assembly.models.HingeJoint`
-    or :class:`~assembly.models.JunctionJoint`), ``id`` (the joint id), ``edges`` (the edge
+    ``joint`` (:class:`~assembly.joints.CoplanarJoint`, :class:`~assembly.joints.HingeJoint`
+    or :class:`~assembly.joints.JunctionJoint`), ``id`` (the joint id), ``edges`` (the edge
     references ``("P1.right", "P2.left")``, in the order of ``between``; use this, not the
     networkx ``(u, v)`` order, to know which edge belongs to which plate).  A junction line
     of n members is n(n-1)/2 graph edges, one per pair of members, all keyed by its id: every

@@ -33,15 +33,12 @@ except ModuleNotFoundError:  # Python 3.10: the same parser, as the tomli packag
 from .case import Case
 from .checks import View, cross_check
 from .errors import DescriptionError, Issue, did_you_mean, format_path
+from .joints import CoplanarJoint, HingeJoint, Joint, JunctionJoint
 from .models import (
     Boundary,
-    CoplanarJoint,
     CrossReferenceError,
     EdgeMoment,
     EdgeShear,
-    HingeJoint,
-    Joint,
-    JunctionJoint,
     Load,
     Material,
     Plate,

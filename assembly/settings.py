@@ -10,7 +10,7 @@ from typing import Annotated, Any, Literal, Union
 
 from pydantic import AfterValidator, Field, Strict
 
-from .models import MemberLossFactor, MemberStiffness
+from .joints import MemberLossFactor, MemberStiffness
 from .types import (
     Count,
     FrozenDict,

@@ -18,7 +18,8 @@ from typing import Any, Literal
 
 from .case import Case
 from .graph import build_graph, components, plate_degrees
-from .models import CoplanarJoint, PointForce
+from .joints import CoplanarJoint
+from .models import PointForce
 from .types import EDGE_NAMES, EdgeId
 
 __all__ = ["summarise", "summary_text"]

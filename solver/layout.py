@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from assembly import Case, EdgeId
-from assembly.models import Joint
+from assembly.joints import Joint
 from solver.joint_rules import interface_function_count, legendre_values
 from solver.plate import PlateBoundary, PlateProblem, edge_projection
 from solver.problems import plate_resolution

@@ -20,7 +20,7 @@ import pytest
 
 from assembly import DescriptionError, load_case, parse_case
 from assembly.generate import box_with_wall, description_toml, stiffened_panel
-from assembly.models import JunctionJoint
+from assembly.joints import JunctionJoint
 from solver.substructure import solve_assembly
 from updating.cli import main
 

@@ -19,11 +19,9 @@ from updating.cli import main
 from updating.inverse.cost import ModifiedProblem, cost_curve
 from updating.figures.figure_tools import MISSING_MATPLOTLIB
 from updating.data.measurements import simulate_measurements
-from updating.figures.plots import (
-    cost_curve_data,
-    field_map_data,
-    residual_bars_data,
-)
+from updating.figures.curves import cost_curve_data
+from updating.figures.fields import field_map_data
+from updating.figures.residuals import residual_bars_data
 from updating.inverse.strategy import update_joints
 from updating.forward.sweep import frequency_band, frequency_response_data, spatial_rms
 
@@ -310,7 +308,7 @@ def test_framed_assembly_field_map_is_drawn_in_space(tmp_path):
     pytest.importorskip("matplotlib")
     from assembly import parse_case
     from assembly.generate import stiffened_panel
-    from updating.figures.plots import draw_field_maps
+    from updating.figures.fields import draw_field_maps
 
     case = parse_case(stiffened_panel(2, truth={"W1": 1.0}, spacing=0.2))
     measurements = simulate_measurements(case)
@@ -350,7 +348,7 @@ def test_residual_map_places_each_joint_on_its_edge_and_colours_it_by_its_excess
     from assembly import parse_case
     from assembly.generate import plate_grid
     from updating.figures.figure_tools import new_figure, save_figure_atomic
-    from updating.figures.plots_map import MAP_JOINTS, draw_residual_map, residual_map_data
+    from updating.figures.residual_map import MAP_JOINTS, draw_residual_map, residual_map_data
 
     case = parse_case(plate_grid(4, 4))
     assert len(case.joints) > MAP_JOINTS
@@ -370,7 +368,7 @@ def test_residual_map_draws_junction_members_inside_their_own_plates():
     """The stiffened panel (plates with frames: a 3D map): weld W2's member T2 is drawn on the
     stiffener, MEMBER_OFFSET of its height above the skin, parallel to the weld line."""
     from assembly import load_case
-    from updating.figures.plots_map import MEMBER_OFFSET, residual_map_data
+    from updating.figures.residual_map import MEMBER_OFFSET, residual_map_data
 
     case = load_case(Path(__file__).resolve().parents[1] / "cases" / "stiffened_panel.toml")
     data = residual_map_data(case, _synthetic_step(case, {"W2.T2": 9.0}),

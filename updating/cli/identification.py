@@ -56,11 +56,9 @@ from updating.data.runfile import (
     refuse_replacing,
 )
 from updating.figures.figure_tools import require_matplotlib
-from updating.figures.plots import (
-    write_curve_figure,
-    write_plan_figure,
-    write_update_figures,
-)
+from updating.figures.curves import write_curve_figure
+from updating.figures.plots import write_update_figures
+from updating.figures.responses import write_plan_figure
 from updating.inverse.cost import cost_curve, log_grid
 from updating.inverse.plan import identifiability_plan
 from updating.inverse.strategy import (

@@ -44,9 +44,7 @@ from updating.data.measurements import (
 )
 from updating.data.uff_export import write_uff
 from updating.figures.figure_tools import require_matplotlib
-from updating.figures.plots import (
-    write_sweep_figures,
-)
+from updating.figures.responses import write_sweep_figures
 from updating.forward.sweep import (
     BALANCE_TOLERANCE,
     band_resolutions,

@@ -1,6 +1,6 @@
 """What every figure of vtcr needs: matplotlib on demand, a new figure, field colours and atomic
-PNG writing (a leaf of the figure modules :mod:`updating.figures.plots`, :mod:`updating.figures.plots_space` and
-:mod:`updating.figures.plots_map`, so that none of them imports another's private helpers).
+PNG writing, log-axis values and the truth of a simulated experiment (a leaf of the figure
+modules, so that none of them imports another's private helpers).
 
 matplotlib is imported inside the functions only: the core runs without the ``plot`` extra.
 """
@@ -9,13 +9,21 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import numpy as np
+from numpy.typing import ArrayLike
+
+from assembly import Case
 from updating.data.files import InputError, atomic_output
 
 __all__ = ["MISSING_MATPLOTLIB", "require_matplotlib", "new_figure", "field_colours",
-           "costs_text", "powers_of_ten_bar", "save_figure_atomic"]
+           "costs_text", "powers_of_ten_bar", "save_figure_atomic", "positive", "true_parameters",
+           "true_log_k", "LOG_K_LABEL"]
 
 MISSING_MATPLOTLIB = ("--plot needs matplotlib: pip install 'matplotlib>=3.7' (the extra plot "
                       "of vtcr)")
+
+LOG_K_LABEL = r"$\log_{10} k$  ($k$ in N·m/m per rad)"
+"""The axis label of a joint's log10 stiffness."""
 
 
 def require_matplotlib():
@@ -63,3 +71,22 @@ def save_figure_atomic(figure, path, dpi=120):
     with atomic_output(path, binary=True) as handle:
         figure.savefig(handle, format="png", dpi=dpi)
     return path
+
+
+def true_parameters(case: Case) -> dict[str, dict[str, float]] | None:
+    """Joint parameters of ``[truth.joints]`` (None when the description has none)."""
+    if not case.truth.joints:
+        return None
+    return case.true_case().updatable_parameters()
+
+
+def true_log_k(case: Case, joint: str) -> float | None:
+    """The true log10 k of an updatable joint (``[truth.joints]``), or None."""
+    return case.true_log10_stiffness().get(joint)
+
+
+def positive(values: ArrayLike) -> np.ndarray:
+    """Values for a log axis: non-positive entries become NaN (gaps, not warnings)."""
+    values = np.asarray(values, dtype=float).copy()
+    values[~(values > 0)] = np.nan
+    return values

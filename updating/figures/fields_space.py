@@ -1,6 +1,6 @@
 """Field maps of assemblies placed in 3D (plates with frames: stiffened panels, boxes).
 
-The same three panels as :func:`updating.figures.plots.draw_field_maps` (measured, initial model,
+The same three panels as :func:`updating.figures.fields.draw_field_maps` (measured, initial model,
 updated model, one colour scale), each a 3D view of the plates: the model panels colour every
 plate's surface by the field, the measured panel colours the measurement points. Colours are
 mapped by hand (``facecolors``) because matplotlib's 3D surfaces take no shared norm.
@@ -61,8 +61,8 @@ def _equal_box(ax, space):
 
 
 def draw_field_maps_in_space(data, title=""):
-    """Three 3D panels (measured, initial, updated) of a :class:`updating.figures.plots.FieldMapData`
-    whose :attr:`~updating.figures.plots.FieldMapData.space` is set."""
+    """Three 3D panels (measured, initial, updated) of a
+    :class:`updating.figures.fields.FieldMapData` whose :attr:`~updating.figures.fields.FieldMapData.space` is set."""
     from matplotlib import colormaps
     from matplotlib.cm import ScalarMappable
     from matplotlib.colors import Normalize

@@ -8,8 +8,8 @@ it: it stands out), the corrected joints drawn thick with their new :math:`\log_
 joint that stands out most named. A junction's members are drawn on their own plates, just off
 the line, so that the weak weld of a stiffener is told from the others on the same line.
 
-As in :mod:`updating.figures.plots`, :func:`residual_map_data` computes (numpy only, tested on its own)
-and :func:`draw_residual_map` draws (matplotlib, imported inside).
+As in :mod:`updating.figures.residuals`, :func:`residual_map_data` computes (numpy only, tested
+on its own) and :func:`draw_residual_map` draws (matplotlib, imported inside).
 """
 
 from __future__ import annotations
