@@ -4,7 +4,14 @@ warnings of ill-conditioned plate matrices (a leaf of :mod:`solver`).
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+from typing import TYPE_CHECKING, TypeVar
+
 import numpy as np
+
+if TYPE_CHECKING:  # for annotations only: at run time this module stays a leaf
+    from solver.plate import PlateSolution
+    from solver.solution import CaseSolution
 
 __all__ = ["CONDITION_WARNING", "NumericalError", "condition_warnings",
            "plate_condition_warnings", "check_finite"]
@@ -23,7 +30,10 @@ class NumericalError(ArithmeticError):
     """A solve produced a non-finite result; the message names the frequency and the plate."""
 
 
-def condition_warnings(rcond, frequency):
+_Solution = TypeVar("_Solution", bound="CaseSolution")
+
+
+def condition_warnings(rcond: Mapping[str, float], frequency: float) -> tuple[str, ...]:
     """One warning per plate whose condition estimate exceeds :data:`CONDITION_WARNING`.
 
     Parameters
@@ -47,7 +57,7 @@ def condition_warnings(rcond, frequency):
     return tuple(out)
 
 
-def plate_condition_warnings(solutions):
+def plate_condition_warnings(solutions: Mapping[str, PlateSolution]) -> tuple[str, ...]:
     """:func:`condition_warnings` of plate solutions ``{plate: PlateSolution}``, each at its
     own frequency."""
     frequencies = {pid: s.problem.omega / (2.0 * np.pi) for pid, s in solutions.items()}
@@ -55,7 +65,7 @@ def plate_condition_warnings(solutions):
                  for w in condition_warnings({pid: s.rcond}, frequencies[pid]))
 
 
-def check_finite(solution):
+def check_finite(solution: _Solution) -> _Solution:
     """Raise :class:`NumericalError` if a solution holds a non-finite amplitude or residual.
 
     Nothing downstream should receive NaN silently: a non-finite ray amplitude (a singular

@@ -54,14 +54,19 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
+from assembly.case import Case
+from solver.plate import PlateProblem, PlateSolution
 from solver.power import grid_deflections, plate_gauss_axes
 from solver.problems import plate_resolution
 from solver.rays import QUASI_STATIC_KAPPA_R
-from solver.sizing import available_memory, estimate_size
+from solver.sizing import SizeEstimate, available_memory, estimate_size
+from solver.solution import CaseSolution
 from solver.vtcr import solve_case
 
 __all__ = ["ENRICHMENT", "ErrorEstimate", "ToleranceError", "enriched_size", "estimate_error",
@@ -108,18 +113,18 @@ class ErrorEstimate:
     def worst_plate(self) -> str:
         return max(self.plates, key=self.plates.get)
 
-    def resolution_of(self, plate_id) -> float:
+    def resolution_of(self, plate_id: str) -> float:
         if isinstance(self.resolution, dict):
             return self.resolution[plate_id]
         return self.resolution
 
-    def to_json(self):
+    def to_json(self) -> dict[str, Any]:
         return {"total": self.total, "plates": dict(self.plates),
                 "resolution": self.resolution, "enriched_resolution": self.enriched_resolution,
                 "method": self.method, "enrichment": ENRICHMENT, "reason": self.reason}
 
 
-def plate_l2_rule(problem):
+def plate_l2_rule(problem: PlateProblem) -> tuple[np.ndarray, np.ndarray]:
     r"""Tensor Gauss rule over a plate: points (n, 2) and weights (n,), with
     :math:`\lceil\kappa_0L\rceil + 12` points per side."""
     (x, wx), (y, wy) = plate_gauss_axes(problem)
@@ -127,7 +132,8 @@ def plate_l2_rule(problem):
     return np.c_[X.ravel(), Y.ravel()], np.outer(wx, wy).ravel()
 
 
-def relative_l2_errors(solution, enriched):
+def relative_l2_errors(solution: CaseSolution,
+                       enriched: Mapping[str, PlateSolution]) -> dict[str, tuple[float, float]]:
     r"""Per plate :math:`(\int|w^+ - w_h|^2, \int|w^+|^2)` over the plate's Gauss rule;
     ``enriched`` maps each plate to its enriched :class:`solver.plate.PlateSolution`."""
     w_h = grid_deflections({pid: (p.problem, p.basis, p.amplitudes)
@@ -143,7 +149,9 @@ def relative_l2_errors(solution, enriched):
     return out
 
 
-def enriched_plates(case, frequency, resolution=None):
+def enriched_plates(
+    case: Case, frequency: float, resolution: float | Mapping[str, float] | None = None,
+) -> tuple[dict[str, PlateSolution] | None, str, float]:
     """``(plates, reason, seconds)``: the enriched solve's :class:`solver.plate.PlateSolution`
     of every plate (every count of the rule at ``resolution`` times :data:`ENRICHMENT`), or
     None and why it was not made (:mod:`solver.sizing` estimates it too long or too large),
@@ -159,7 +167,10 @@ def enriched_plates(case, frequency, resolution=None):
     return plates, "", time.perf_counter() - t0
 
 
-def estimate_error(case, solution, resolution=None, enriched=None) -> ErrorEstimate:
+def estimate_error(
+    case: Case, solution: CaseSolution, resolution: float | Mapping[str, float] | None = None,
+    enriched: tuple[Mapping[str, PlateSolution] | None, str, float] | None = None,
+) -> ErrorEstimate:
     """Estimate the relative L2 error of ``w`` of ``solution`` (see the module docstring).
 
     Parameters
@@ -190,26 +201,30 @@ def estimate_error(case, solution, resolution=None, enriched=None) -> ErrorEstim
                          time.perf_counter() - t0, shares=shares)
 
 
-def _resolutions(case, resolution):
+def _resolutions(
+    case: Case, resolution: float | Mapping[str, float] | None,
+) -> tuple[dict[str, float], dict[str, float]]:
     """Per plate, the resolution of the solve (``resolution``: one number, a mapping or None
     for the description's) and of its enriched solve (:data:`ENRICHMENT` times it)."""
     per_plate = {pid: plate_resolution(case, pid, resolution) for pid in case.plates}
     return per_plate, {pid: ENRICHMENT * r for pid, r in per_plate.items()}
 
 
-def _compact(resolution):
+def _compact(resolution: Mapping[str, float]) -> float | dict[str, float]:
     """One number when every plate has the same resolution, else the mapping."""
     values = set(resolution.values())
     return values.pop() if len(values) == 1 else dict(resolution)
 
 
-def enriched_size(case, frequency=None, resolution=None):
+def enriched_size(case: Case, frequency: float | None = None,
+                  resolution: float | Mapping[str, float] | None = None) -> SizeEstimate:
     """:func:`solver.sizing.estimate_size` of the estimate's enriched solve (every count of
     the rule at ``resolution``, default the description's, times :data:`ENRICHMENT`)."""
     return estimate_size(case, frequency, _resolutions(case, resolution)[1])
 
 
-def _enriched_solve_unaffordable(case, frequency, enriched_resolution):
+def _enriched_solve_unaffordable(case: Case, frequency: float,
+                                 enriched_resolution: Mapping[str, float]) -> str:
     """Why the enriched assembly solve is not made (:mod:`solver.sizing` estimates), or ''."""
     size = estimate_size(case, frequency, enriched_resolution)
     memory = available_memory()
@@ -226,7 +241,10 @@ class ToleranceError(ValueError):
     """The requested tolerance cannot be reached; the message names the plate and the cause."""
 
 
-def solve_to_tolerance(case, frequency, tolerance, max_refinements=4, resolution=None):
+def solve_to_tolerance(
+    case: Case, frequency: float, tolerance: float, max_refinements: int = 4,
+    resolution: float | Mapping[str, float] | None = None,
+) -> tuple[CaseSolution, ErrorEstimate]:
     r"""Solve, estimate, and raise the resolution until the estimate is below ``tolerance``.
 
     Each refinement multiplies the ray counts of the plates that need it by
@@ -271,7 +289,9 @@ def solve_to_tolerance(case, frequency, tolerance, max_refinements=4, resolution
     raise AssertionError("unreachable")
 
 
-def _tolerance_message(case, frequency, tolerance, history, solution, stalled):
+def _tolerance_message(case: Case, frequency: float, tolerance: float,
+                       history: Sequence[ErrorEstimate], solution: CaseSolution,
+                       stalled: bool) -> str:
     plate = history[-1].worst_plate()
     steps = ", ".join(f"{e.plates[plate]:.1e} at resolution {e.resolution_of(plate):.3g}"
                       for e in history)

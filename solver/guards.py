@@ -8,10 +8,13 @@ the memory). Every entry point runs them: the commands and the library calls ali
 from __future__ import annotations
 
 import math
+from collections.abc import Callable, Iterable, Sequence
+from dataclasses import dataclass
 
+from assembly.case import Case
 from assembly.errors import DescriptionError, Issue, format_path
 from solver.problems import plate_problems, plate_ray_counts
-from solver.rays import automatic_ray_counts
+from solver.rays import RayCounts, automatic_ray_counts
 from solver.sizing import available_memory, estimate_size
 
 __all__ = ["description_issues", "check_description", "UNDER_RESOLVED", "UNDER_RESOLVED_WARNING",
@@ -96,23 +99,31 @@ _FAMILY_NAMES = {"interior": "interior", "edge_propagating": "propagating edge",
                  "edge_evanescent": "evanescent edge"}
 
 
-def _family_counts(counts, family):
+_Loc = tuple[str | int, ...]  # where an issue is: a field path, or ("--frequency",)
+
+
+def _family_counts(counts: RayCounts, family: str) -> tuple[int, ...]:
     value = getattr(counts, family)
     return (value,) if isinstance(value, int) else tuple(value)
 
 
-def _short(counts, floor, families):
+def _short(counts: RayCounts, floor: RayCounts, families: Iterable[str]) -> list[str]:
     """Families of ``counts`` with a count below ``floor`` (per edge for edge families)."""
     return [f for f in families
             if any(u < m for u, m in zip(_family_counts(counts, f), _family_counts(floor, f)))]
 
 
-def _shown(counts, family):
+def _shown(counts: RayCounts, family: str) -> str:
     values = _family_counts(counts, family)
     return str(values[0]) if len(set(values)) == 1 else "/".join(map(str, values))
 
 
-def _millimetres_against_pascals(case):
+def _counts_text(counts: RayCounts, rule: RayCounts, families: Iterable[str]) -> str:
+    return ", ".join(f"{_shown(counts, fam)} {_FAMILY_NAMES[fam]} (rule: {_shown(rule, fam)})"
+                     for fam in families)
+
+
+def _millimetres_against_pascals(case: Case) -> tuple[_Loc, str] | None:
     """The error of a description whose lengths look like millimetres (a plate side above
     :data:`SI_PLAUSIBLE_SIZE`) while its materials are in pascals: every derived quantity
     is then wrong by powers of 1000, and the other checks' messages (ray counts, memory) would
@@ -127,7 +138,9 @@ def _millimetres_against_pascals(case):
             "in N, mm, t, s: E in MPa, density in t/mm^3)")
 
 
-def _scale_issues(case, frequencies, location):
+def _scale_issues(
+    case: Case, frequencies: Sequence[float], location: Callable[[float], _Loc],
+) -> tuple[list[tuple[_Loc, str]], list[tuple[_Loc, str]]]:
     r"""Magnitudes a double-precision Trefftz solve cannot take, found before computing them.
 
     Computed in logarithms, so that absurd inputs (a thickness of 1e300, a frequency of
@@ -137,7 +150,8 @@ def _scale_issues(case, frequencies, location):
     :data:`LOW_FREQUENCY_KAPPA_R` and :data:`HIGH_FREQUENCY_KAPPA_R`. A plate thicker than a
     tenth of its smaller side warns (thin-plate theory needs h much smaller than the plate).
     """
-    errors, warnings = [], []
+    errors: list[tuple[_Loc, str]] = []
+    warnings: list[tuple[_Loc, str]] = []
     low, high = min(frequencies), max(frequencies)
     largest = max(max(plate.size) for plate in case.plates.values())
     if largest > SI_PLAUSIBLE_SIZE and not _millimetres_against_pascals(case):
@@ -203,7 +217,189 @@ def _scale_issues(case, frequencies, location):
     return errors, warnings
 
 
-def description_issues(case, frequencies=None, need_loads=False):
+def _load_issues(case: Case, need_loads: bool) -> list[tuple[_Loc, str]]:
+    """**loads** (if ``need_loads``): a description without loads has a zero response."""
+    if need_loads and not case.loads:
+        return [(("loads",), "the description has no [[loads]], so its forced response "
+                 "is zero (nothing to solve or compare with measurements); add a load, "
+                 'e.g. [[loads]] kind = "point_force", plate = "P1", at = [0.1, 0.1], '
+                 "amplitude = 1.0")]
+    return []
+
+
+def _grid_issues(case: Case) -> list[tuple[_Loc, str]]:
+    """**measurement grid**: more than :data:`MAX_GRID_POINTS` points on a plate is an error,
+    named for the first such plate."""
+    spacing = case.measurement.spacing
+    for pid in case.plates:  # the grid of `vtcr solve` covers every plate
+        nx, ny = (max(1, round(length / spacing)) for length in case.plates[pid].size)
+        if nx * ny > MAX_GRID_POINTS:
+            return [(("measurement", "spacing"),
+                     f"spacing {spacing:g} m puts {nx} x {ny} grid points on plate {pid} "
+                     f"(more than {MAX_GRID_POINTS}); give the spacing in metres, e.g. "
+                     "spacing = 0.05")]
+    return []
+
+
+@dataclass(frozen=True)
+class _PlateRays:
+    """One plate's ray counts at the checked frequency, and the resolution rule's there."""
+
+    pid: str
+    where: str  # the plate, the frequency and the wavelength, as the messages name them
+    wavelength: float  # bending wavelength, m
+    thickness: float  # m
+    rule: RayCounts  # the resolution rule (resolution 1)
+    floor: RayCounts  # the rule at UNDER_RESOLVED
+    fair: RayCounts  # the rule at UNDER_RESOLVED_WARNING
+    used: RayCounts  # the model's counts
+    simulated: RayCounts  # the simulated experiment's counts
+    own: list[str]  # the families the description's per-plate override sets
+    auto: list[str]  # the families the rule sets
+
+
+def _plate_rays(case: Case, f: float) -> list[_PlateRays]:
+    """:class:`_PlateRays` of every plate at frequency ``f``."""
+    settings = case.discretisation
+    tau = settings.edge_wavenumber_ratio
+    simulation = settings.resolution * case.measurement.resolution
+    problems = plate_problems(case, f)
+    out = []
+    for pid, plate in case.plates.items():
+        problem = problems[pid]
+        kappa0 = problem.kappa.real
+        wavelength = 2.0 * math.pi / kappa0
+        lx, ly = plate.size
+        override = settings.for_plate(pid)
+        own = [fam for fam in _FAMILIES if getattr(override, fam) is not None]
+        out.append(_PlateRays(
+            pid=pid,
+            where=(f"plate {pid} at {f:g} Hz (bending wavelength {wavelength:.3g} m, "
+                   f"{lx / wavelength:.1f} x {ly / wavelength:.1f} wavelengths)"),
+            wavelength=wavelength,
+            thickness=plate.thickness,
+            rule=automatic_ray_counts(kappa0, plate.size, 1.0, tau),
+            floor=automatic_ray_counts(kappa0, plate.size, UNDER_RESOLVED, tau),
+            fair=automatic_ray_counts(kappa0, plate.size, UNDER_RESOLVED_WARNING, tau),
+            used=plate_ray_counts(case, pid, problem),
+            simulated=plate_ray_counts(case, pid, problem, simulation),
+            own=own,
+            auto=[fam for fam in _FAMILIES if fam not in own],
+        ))
+    return out
+
+
+def _override_issues(
+    rays: _PlateRays,
+) -> tuple[list[tuple[_Loc, str]], list[tuple[_Loc, str]]]:
+    """**ray resolution** of the families a plate's override sets: below
+    :data:`UNDER_RESOLVED` of the rule an error naming the override, below
+    :data:`UNDER_RESOLVED_WARNING` a warning."""
+    errors: list[tuple[_Loc, str]] = []
+    warnings: list[tuple[_Loc, str]] = []
+    pid, where, used, rule, floor = rays.pid, rays.where, rays.used, rays.rule, rays.floor
+    for fam in _short(used, floor, rays.own):
+        errors.append((("discretisation", "plates", pid, fam),
+                       f"{_shown(used, fam)} {_FAMILY_NAMES[fam]} ray sectors cannot resolve "
+                       f"{where}: the resolution rule asks {_shown(rule, fam)} (below "
+                       f"{_shown(floor, fam)}, {UNDER_RESOLVED:g} of it, the field is wrong); "
+                       f"give {fam} = "
+                       f"{max(_family_counts(rule, fam))} or remove the override"))
+    for fam in _short(used, rays.fair, rays.own):
+        if fam not in _short(used, floor, rays.own):
+            warnings.append((("discretisation", "plates", pid, fam),
+                             f"{_shown(used, fam)} {_FAMILY_NAMES[fam]} ray sectors for "
+                             f"{where}, below the {_shown(rule, fam)} of the resolution "
+                             "rule: expect errors of a few per cent near a resonance"))
+    return errors, warnings
+
+
+def _thin_plate_issues(rays: _PlateRays, f: float, f_loc: _Loc) -> list[tuple[_Loc, str]]:
+    """**thin-plate theory**: a bending wavelength below :data:`KIRCHHOFF_WAVELENGTH`
+    thicknesses warns."""
+    if rays.wavelength < KIRCHHOFF_WAVELENGTH * rays.thickness:
+        return [(f_loc, f"plate {rays.pid} at {f:g} Hz: the bending wavelength "
+                 f"{rays.wavelength:.3g} m is less than {KIRCHHOFF_WAVELENGTH:g} "
+                 f"thicknesses ({rays.thickness:g} m), beyond thin-plate "
+                 "(Kirchhoff) theory; lower the frequency")]
+    return []
+
+
+def _size_issues(plates: Sequence[_PlateRays], f: float, f_loc: _Loc) -> list[tuple[_Loc, str]]:
+    """**size**: more than :data:`MAX_RAYS_PER_PLATE` ray unknowns on a plate is an error, one
+    per location (the frequency when the rule itself asks that many, else the resolution)
+    naming the first such plate."""
+    huge: dict[_Loc, list[tuple[str, str, int]]] = {}
+    for rays in plates:
+        if rays.used.total > MAX_RAYS_PER_PLATE:
+            loc = (f_loc if rays.rule.total > MAX_RAYS_PER_PLATE
+                   else ("discretisation", "resolution"))
+            huge.setdefault(loc, []).append((rays.pid, rays.where, rays.used.total))
+    errors: list[tuple[_Loc, str]] = []
+    for loc, found in huge.items():
+        _, where, total = found[0]
+        others = [p for p, *_ in found[1:]]
+        likewise = f"; likewise plate(s) {', '.join(others)}" if others else ""
+        f_ok = float(f"{f * (MAX_RAYS_PER_PLATE / total) ** 2:.2g}")  # counts ~ sqrt(f)
+        errors.append((loc, f"{where}: the VTCR would need {total} ray unknowns on it, beyond "
+                       f"{MAX_RAYS_PER_PLATE} (each dense solve takes seconds to minutes and its "
+                       "condition estimate passes 1e20, where double precision loses the "
+                       f"field){likewise}; lower the frequency (below about {f_ok:g} Hz) or "
+                       "split the plate into smaller plates joined by stiff coplanar joints"))
+    return errors
+
+
+def _resolution_issues(
+    case: Case, plates: Sequence[_PlateRays],
+) -> tuple[list[tuple[_Loc, str]], list[tuple[_Loc, str]]]:
+    """**ray resolution** of the families the rule sets, scaled by ``[discretisation]
+    resolution`` (the model) and by ``[measurement] resolution`` too (the simulated
+    experiment): below :data:`UNDER_RESOLVED` of the rule an error per setting, below
+    :data:`UNDER_RESOLVED_WARNING` a warning, each naming the first such plate."""
+    settings = case.discretisation
+    scaled: dict[str, list[tuple[str, RayCounts, RayCounts, list[str]]]] = {
+        "error": [], "warning": [], "simulation": []}
+    for rays in plates:
+        used, rule, floor, auto = rays.used, rays.rule, rays.floor, rays.auto
+        if _short(used, floor, auto):
+            scaled["error"].append((rays.where, used, rule, _short(used, floor, auto)))
+        elif _short(used, rays.fair, auto):
+            scaled["warning"].append((rays.where, used, rule, _short(used, rays.fair, auto)))
+        sim = rays.simulated
+        if _short(sim, floor, auto) and case.measurement.resolution < 1.0:
+            scaled["simulation"].append((rays.where, sim, rule, _short(sim, floor, auto)))
+    fixes = {
+        "error": f"give a resolution of at least {UNDER_RESOLVED:g} (1.0 is the rule)",
+        "simulation": (f"give a resolution of at least "
+                       f"{UNDER_RESOLVED / settings.resolution:.2g} (the simulation multiplies "
+                       "it by [discretisation] resolution; the default 1.6 refines the model's "
+                       "rays, so that the simulated experiment is not the model itself)"),
+    }
+    errors: list[tuple[_Loc, str]] = []
+    warnings: list[tuple[_Loc, str]] = []
+    for kind, loc, value, what in (
+            ("error", ("discretisation", "resolution"), settings.resolution, "the model"),
+            ("simulation", ("measurement", "resolution"), case.measurement.resolution,
+             "the simulated experiment")):
+        if scaled[kind]:
+            where, counts, rule, families = scaled[kind][0]
+            others = len(scaled[kind]) - 1
+            more = f"; likewise {others} other plate(s)" if others else ""
+            errors.append((loc, f"resolution {value:g} leaves {what} too few rays to resolve "
+                           f"{where}: {_counts_text(counts, rule, families)} ray sectors{more}; "
+                           + fixes[kind]))
+    if scaled["warning"]:
+        where, counts, rule, families = scaled["warning"][0]
+        warnings.append((("discretisation", "resolution"),
+                         f"resolution {settings.resolution:g} gives {where} "
+                         f"{_counts_text(counts, rule, families)} ray sectors: expect errors of a "
+                         "few per cent near a resonance; 1.0 is the rule"))
+    return errors, warnings
+
+
+def description_issues(
+    case: Case, frequencies: Iterable[float] | None = None, need_loads: bool = False,
+) -> tuple[list[tuple[_Loc, str]], list[tuple[_Loc, str]]]:
     """Physical and numerical sanity of a valid description: ``(errors, warnings)``.
 
     Checked at the highest frequency (ray counts grow with it), each plate:
@@ -238,25 +434,11 @@ def description_issues(case, frequencies=None, need_loads=False):
         ``(location, message)``, the location a field path such as
         ``("discretisation", "plates", "P1", "interior")``.
     """
-    errors, warnings = [], []
-    if need_loads and not case.loads:
-        errors.append((("loads",), "the description has no [[loads]], so its forced response "
-                       "is zero (nothing to solve or compare with measurements); add a load, "
-                       'e.g. [[loads]] kind = "point_force", plate = "P1", at = [0.1, 0.1], '
-                       "amplitude = 1.0"))
-    spacing = case.measurement.spacing
-    for pid in case.plates:  # the grid of `vtcr solve` covers every plate
-        nx, ny = (max(1, round(length / spacing)) for length in case.plates[pid].size)
-        if nx * ny > MAX_GRID_POINTS:
-            errors.append((("measurement", "spacing"),
-                           f"spacing {spacing:g} m puts {nx} x {ny} grid points on plate {pid} "
-                           f"(more than {MAX_GRID_POINTS}); give the spacing in metres, e.g. "
-                           "spacing = 0.05"))
-            break
+    errors = _load_issues(case, need_loads) + _grid_issues(case)
     given = frequencies is not None
     frequencies = tuple(frequencies) if given else case.frequencies
 
-    def location(g):
+    def location(g: float) -> _Loc:
         """Where frequency ``g`` was given: the option, or the description's field."""
         if given:
             return ("--frequency",)
@@ -268,104 +450,24 @@ def description_issues(case, frequencies=None, need_loads=False):
     f_loc = location(f)
     units = _millimetres_against_pascals(case)
     errors = ([units] if units else []) + errors
-    scale_errors, scale_warnings = _scale_issues(case, frequencies, location)
-    warnings += scale_warnings
+    scale_errors, warnings = _scale_issues(case, frequencies, location)
     if scale_errors:  # the quantities below would overflow or vanish
         return errors + scale_errors, warnings
-    settings = case.discretisation
-    tau = settings.edge_wavenumber_ratio
-    simulation = settings.resolution * case.measurement.resolution
-    scaled = {"error": [], "warning": [], "simulation": []}
-    huge = {}
-    problems = plate_problems(case, f)
-    for pid, plate in case.plates.items():
-        problem = problems[pid]
-        kappa0 = problem.kappa.real
-        wavelength = 2.0 * math.pi / kappa0
-        lx, ly = plate.size
-        rule = automatic_ray_counts(kappa0, plate.size, 1.0, tau)
-        floor = automatic_ray_counts(kappa0, plate.size, UNDER_RESOLVED, tau)
-        fair = automatic_ray_counts(kappa0, plate.size, UNDER_RESOLVED_WARNING, tau)
-        used = plate_ray_counts(case, pid, problem)
-        override = settings.for_plate(pid)
-        own = [fam for fam in _FAMILIES if getattr(override, fam) is not None]
-        auto = [fam for fam in _FAMILIES if fam not in own]
-        where = (f"plate {pid} at {f:g} Hz (bending wavelength {wavelength:.3g} m, "
-                 f"{lx / wavelength:.1f} x {ly / wavelength:.1f} wavelengths)")
-        for fam in _short(used, floor, own):
-            errors.append((("discretisation", "plates", pid, fam),
-                           f"{_shown(used, fam)} {_FAMILY_NAMES[fam]} ray sectors cannot resolve "
-                           f"{where}: the resolution rule asks {_shown(rule, fam)} (below "
-                           f"{_shown(floor, fam)}, {UNDER_RESOLVED:g} of it, the field is wrong); "
-                           f"give {fam} = "
-                           f"{max(_family_counts(rule, fam))} or remove the override"))
-        for fam in _short(used, fair, own):
-            if fam not in _short(used, floor, own):
-                warnings.append((("discretisation", "plates", pid, fam),
-                                 f"{_shown(used, fam)} {_FAMILY_NAMES[fam]} ray sectors for "
-                                 f"{where}, below the {_shown(rule, fam)} of the resolution "
-                                 "rule: expect errors of a few per cent near a resonance"))
-        if _short(used, floor, auto):
-            scaled["error"].append((where, used, rule, _short(used, floor, auto)))
-        elif _short(used, fair, auto):
-            scaled["warning"].append((where, used, rule, _short(used, fair, auto)))
-        sim = plate_ray_counts(case, pid, problem, simulation)
-        if _short(sim, floor, auto) and case.measurement.resolution < 1.0:
-            scaled["simulation"].append((where, sim, rule, _short(sim, floor, auto)))
-        if used.total > MAX_RAYS_PER_PLATE:
-            loc = f_loc if rule.total > MAX_RAYS_PER_PLATE else ("discretisation", "resolution")
-            huge.setdefault(loc, []).append((pid, where, used.total))
-        if wavelength < KIRCHHOFF_WAVELENGTH * plate.thickness:
-            warnings.append((f_loc, f"plate {pid} at {f:g} Hz: the bending wavelength "
-                             f"{wavelength:.3g} m is less than {KIRCHHOFF_WAVELENGTH:g} "
-                             f"thicknesses ({plate.thickness:g} m), beyond thin-plate "
-                             "(Kirchhoff) theory; lower the frequency"))
-
-    for loc, plates in huge.items():
-        pid, where, total = plates[0]
-        others = [p for p, *_ in plates[1:]]
-        likewise = f"; likewise plate(s) {', '.join(others)}" if others else ""
-        f_ok = float(f"{f * (MAX_RAYS_PER_PLATE / total) ** 2:.2g}")  # counts ~ sqrt(f)
-        errors.append((loc, f"{where}: the VTCR would need {total} ray unknowns on it, beyond "
-                       f"{MAX_RAYS_PER_PLATE} (each dense solve takes seconds to minutes and its "
-                       "condition estimate passes 1e20, where double precision loses the "
-                       f"field){likewise}; lower the frequency (below about {f_ok:g} Hz) or "
-                       "split the plate into smaller plates joined by stiff coplanar joints"))
-
-    def counts_text(counts, rule, families):
-        return ", ".join(f"{_shown(counts, fam)} {_FAMILY_NAMES[fam]} (rule: {_shown(rule, fam)})"
-                         for fam in families)
-
-    fixes = {
-        "error": f"give a resolution of at least {UNDER_RESOLVED:g} (1.0 is the rule)",
-        "simulation": (f"give a resolution of at least "
-                       f"{UNDER_RESOLVED / settings.resolution:.2g} (the simulation multiplies "
-                       "it by [discretisation] resolution; the default 1.6 refines the model's "
-                       "rays, so that the simulated experiment is not the model itself)"),
-    }
-    for kind, loc, value, what in (
-            ("error", ("discretisation", "resolution"), settings.resolution, "the model"),
-            ("simulation", ("measurement", "resolution"), case.measurement.resolution,
-             "the simulated experiment")):
-        if scaled[kind]:
-            where, counts, rule, families = scaled[kind][0]
-            others = len(scaled[kind]) - 1
-            more = f"; likewise {others} other plate(s)" if others else ""
-            errors.append((loc, f"resolution {value:g} leaves {what} too few rays to resolve "
-                           f"{where}: {counts_text(counts, rule, families)} ray sectors{more}; "
-                           + fixes[kind]))
-    if scaled["warning"]:
-        where, counts, rule, families = scaled["warning"][0]
-        warnings.append((("discretisation", "resolution"),
-                         f"resolution {settings.resolution:g} gives {where} "
-                         f"{counts_text(counts, rule, families)} ray sectors: expect errors of a "
-                         "few per cent near a resonance; 1.0 is the rule"))
+    plates = _plate_rays(case, f)
+    for rays in plates:  # plate by plate: its overrides' counts, then thin-plate theory
+        override_errors, override_warnings = _override_issues(rays)
+        errors += override_errors
+        warnings += override_warnings + _thin_plate_issues(rays, f, f_loc)
+    errors += _size_issues(plates, f, f_loc)
+    resolution_errors, resolution_warnings = _resolution_issues(case, plates)
+    errors += resolution_errors
+    warnings += resolution_warnings
     if case.joints and not errors:
         errors += _memory_issues(case, f, f_loc)
     return errors, warnings
 
 
-def _memory_issues(case, frequency, loc):
+def _memory_issues(case: Case, frequency: float, loc: _Loc) -> list[tuple[_Loc, str]]:
     """An error if the estimated memory of a solve exceeds the memory available now."""
     estimate = estimate_size(case, frequency)
     available = available_memory()
@@ -380,7 +482,8 @@ def _memory_issues(case, frequency, loc):
              "of the structure")]
 
 
-def check_description(case, source, frequencies=None, need_loads=False):
+def check_description(case: Case, source: str, frequencies: Iterable[float] | None = None,
+                      need_loads: bool = False) -> list[str]:
     """Raise the errors of :func:`description_issues`; return its warnings as lines.
 
     Parameters

@@ -65,11 +65,13 @@ from __future__ import annotations
 
 import math
 import warnings
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
 import scipy.sparse
 import scipy.sparse.linalg
+from numpy.typing import ArrayLike
 
 from solver.multifrontal import GroupedLDL, GroupPivotError
 
@@ -88,7 +90,7 @@ BACKWARD_ERROR = 1e-14
 GROUPED_MIN_SIZE = 1500
 
 
-def residual_weight(c, crossover=math.inf):
+def residual_weight(c: complex, crossover: float = math.inf) -> float:
     r"""Weight :math:`g` of a joint channel's residual energy :math:`e^2 = g(c)\int|r|^2`.
 
     .. math:: g(c) = \frac{1}{2\max(\mathrm{Re}\,c,\ |c|^2/c_\times)} .
@@ -125,7 +127,7 @@ class Block:
     offset: np.ndarray
     group: int = -1
 
-    def residual(self, s):
+    def residual(self, s: np.ndarray) -> np.ndarray:
         """:math:`A_bS_{I_b} + a_b` for interface unknowns ``s`` of shape (n_s,), or of shape
         (n_s, k) for k sets of them at once (one column each)."""
         product = self.matrix @ s[self.index]
@@ -157,14 +159,15 @@ class Block:
         return Block(index, matrix, sum(b.offset for b in blocks))
 
 
-def squared_norm(r):
+def squared_norm(r: np.ndarray) -> float | np.ndarray:
     r""":math:`\|r\|^2` of a vector, or of each column of a matrix (an array of them)."""
     if np.ndim(r) == 1:
         return float(np.vdot(r, r).real)
     return np.einsum("ij,ij->j", r.conj(), r).real
 
 
-def _augmented_matrix(n_s, blocks, g_mat):
+def _augmented_matrix(n_s: int, blocks: Iterable[Block],
+                      g_mat: scipy.sparse.spmatrix) -> tuple[scipy.sparse.coo_matrix, int]:
     """The lower triangle of the Hermitian augmented matrix ``[-I A 0; A^H 0 G^H; 0 G 0]`` in
     COO form (:func:`hermitian_full` completes it), and the number of residual rows."""
     rows, cols, vals = [], [], []
@@ -190,7 +193,7 @@ def _augmented_matrix(n_s, blocks, g_mat):
     return lower, n_rho
 
 
-def _hermitian_product(lower, x):
+def _hermitian_product(lower: scipy.sparse.coo_matrix, x: ArrayLike) -> np.ndarray:
     """:math:`Hx` for the Hermitian :math:`H` whose lower triangle is ``lower`` (COO, each
     entry once)."""
     on = lower.row == lower.col
@@ -201,7 +204,7 @@ def _hermitian_product(lower, x):
     return product - diagonal.reshape((-1,) + (1,) * (x.ndim - 1)) * x
 
 
-def hermitian_full(lower):
+def hermitian_full(lower: scipy.sparse.coo_matrix) -> scipy.sparse.csc_matrix:
     """The whole Hermitian matrix (CSC) whose lower triangle is ``lower`` (COO)."""
     strict = lower.row != lower.col
     return scipy.sparse.coo_matrix(
@@ -236,7 +239,7 @@ class InterfaceFactor:
     constraint_rhs: np.ndarray
     block_rows: list
 
-    def solve(self, rhs):
+    def solve(self, rhs: ArrayLike) -> np.ndarray:
         """The whole augmented solution :math:`(\\rho, S, \\lambda)` for ``rhs`` (n_s, k) in
         the S rows, zero elsewhere."""
         rhs = np.asarray(rhs, dtype=complex).reshape(self.n_s, -1)
@@ -244,14 +247,14 @@ class InterfaceFactor:
         full[self.n_rho:self.n_rho + self.n_s] = rhs
         return self.lu.solve(full * self.scale[:, None]) * self.scale[:, None]
 
-    def solve_interface(self, rhs):
+    def solve_interface(self, rhs: ArrayLike) -> np.ndarray:
         """S-part of the augmented solve with ``rhs`` (n_s, k) in the S rows, zero elsewhere.
 
         This is :math:`[A^HA\\ G^H; G\\ 0]^{-1}[rhs; 0]` restricted to S.
         """
         return self.solve(rhs)[self.n_rho:self.n_rho + self.n_s].copy()
 
-    def resolve(self, offsets):
+    def resolve(self, offsets: Iterable[Iterable[np.ndarray]]) -> np.ndarray:
         """Minimisers for other block offsets :math:`a_b` (same matrices, same constraints).
 
         Parameters
@@ -275,7 +278,10 @@ class InterfaceFactor:
         return float(sum(np.vdot(r, r).real for r in self.residuals))
 
 
-def factorise_interface(n_s, blocks, constraints, groups=None, keep=True):
+def factorise_interface(n_s: int, blocks: Sequence[Block],
+                        constraints: tuple[scipy.sparse.spmatrix, ArrayLike],
+                        groups: tuple[np.ndarray, np.ndarray] | None = None,
+                        keep: bool = True) -> InterfaceFactor:
     """Factorise and solve :math:`\\min\\sum_b\\|A_bS_{I_b}+a_b\\|^2` s.t. :math:`GS = g`.
 
     Parameters
@@ -336,7 +342,8 @@ def factorise_interface(n_s, blocks, constraints, groups=None, keep=True):
                            [b.residual(s) for b in blocks], g_rhs, rows)
 
 
-def _equilibrated(n_s, blocks, g_mat):
+def _equilibrated(n_s: int, blocks: Iterable[Block],
+                  g_mat: scipy.sparse.spmatrix) -> tuple[scipy.sparse.coo_matrix, int, np.ndarray]:
     r"""The lower triangle of the augmented matrix scaled symmetrically, ``D H D``, with
     :math:`D_{ii} = (\max_j|H_{ij}|)^{-1/2}` (its rows mix residuals, energies per unit load
     and displacements), the number of residual rows and the scale D."""
@@ -349,7 +356,7 @@ def _equilibrated(n_s, blocks, g_mat):
     return matrix, n_rho, scale
 
 
-def backward_error(lower, x, rhs):
+def backward_error(lower: scipy.sparse.coo_matrix, x: np.ndarray, rhs: np.ndarray) -> float:
     r"""Normwise backward error :math:`\|Hx - b\|_\infty / (\|H\|_\infty\|x\|_\infty +
     \|b\|_\infty)` of a solution ``x`` of :math:`Hx = b`, :math:`H` Hermitian given by its
     lower triangle ``lower`` (COO)."""
@@ -361,7 +368,8 @@ def backward_error(lower, x, rhs):
     return float(np.max(np.abs(residual)) / (norm * np.max(np.abs(x)) + np.max(np.abs(rhs))))
 
 
-def _variable_groups(blocks, n_rho, groups):
+def _variable_groups(blocks: Sequence[Block], n_rho: int,
+                     groups: tuple[np.ndarray, np.ndarray]) -> np.ndarray | None:
     """Group of every variable of the augmented system — ``rho`` rows by their blocks, then
     S, then the multipliers — or None when a group holds fewer rows than unknowns (its pivot
     block would be singular: a joint without residual weight, say)."""
@@ -406,7 +414,9 @@ class JointCondensation:
         rows, to a change of the measured values: :mod:`updating.inverse.confidence`).
     """
 
-    def __init__(self, factor, channels, keep=None):
+    def __init__(self, factor: InterfaceFactor,
+                 channels: Sequence[tuple[Block, Block, float, complex, float]],
+                 keep: slice | None = None) -> None:
         n_s = factor.n_s
         index = np.unique(np.concatenate([b.index for load, kinematic, *_ in channels
                                           for b in (load, kinematic)]))
@@ -439,7 +449,7 @@ class JointCondensation:
         self._solved = {}
 
     @classmethod
-    def combined(cls, parts):
+    def combined(cls, parts: Sequence[JointCondensation]) -> JointCondensation:
         r"""One condensation on the channels of several, all made from the same
         factorisation, without solving again: the cross blocks are
         :math:`Z_{jk} = P_jX_k`."""
@@ -461,17 +471,17 @@ class JointCondensation:
         return out
 
     @staticmethod
-    def weight_matrix(kappa, c, crossover):
+    def weight_matrix(kappa: float, c: complex, crossover: float) -> np.ndarray:
         """The 2 x 2 matrix of :math:`M(c)` per sample:
         ``kappa g(c) [[1, -c], [-c*, |c|^2]]`` (:func:`residual_weight`)."""
         factor = kappa * residual_weight(c, crossover)
         return factor * np.array([[1.0, -c], [-np.conj(c), abs(c) ** 2]])
 
-    def _deltas(self, params):
+    def _deltas(self, params: Sequence[complex]) -> list[np.ndarray]:
         return [self.weight_matrix(k, c, x) - self.weight_matrix(k, c0, x)
                 for k, c, c0, x in zip(self.weights, params, self.base, self.crossovers)]
 
-    def apply(self, coefficients, v):
+    def apply(self, coefficients: Sequence[np.ndarray | None], v: np.ndarray) -> np.ndarray:
         r""":math:`\Delta M\,v` (or any matrix of the same structure: per channel 2 x 2
         ``coefficients``, None for zero) on the channels' samples, for ``v`` of shape
         (samples,) or (samples, k)."""
@@ -483,7 +493,7 @@ class JointCondensation:
             out[b] = d[1, 0] * v[a] + d[1, 1] * v[b]
         return out
 
-    def _system(self, deltas):
+    def _system(self, deltas: Sequence[np.ndarray]) -> np.ndarray:
         r""":math:`I + Z\,\Delta M` for the channels' :math:`\Delta M` coefficients."""
         z_delta = np.empty_like(self.z)  # Z dM by columns: dM's blocks are multiples of I
         for d, (a, b) in zip(deltas, self._slices):
@@ -492,7 +502,7 @@ class JointCondensation:
         z_delta[np.diag_indices_from(z_delta)] += 1.0
         return z_delta
 
-    def solve_samples(self, params, rhs):
+    def solve_samples(self, params: Sequence[complex], rhs: np.ndarray) -> np.ndarray:
         r""":math:`(I + Z\,\Delta M)^{-1}` ``rhs`` at ``params``.
 
         Only the channels whose parameters differ from the base ones have a nonzero
@@ -519,7 +529,7 @@ class JointCondensation:
         y[outside] = rhs[outside] - self.z[np.ix_(outside, rows)] @ (delta @ y[rows])
         return y
 
-    def _solve(self, params):
+    def _solve(self, params: Sequence[complex]) -> tuple[np.ndarray, np.ndarray]:
         # the scans of a correction evaluate the same parameters for the cost and for the
         # neighbourhood's residuals: solve each once
         key = tuple(complex(c) for c in params)
@@ -529,12 +539,13 @@ class JointCondensation:
             self._solved[key] = y, self.apply(deltas, y)
         return self._solved[key]
 
-    def cost(self, params):
+    def cost(self, params: Sequence[complex]) -> float:
         """Cost of the interface problem with the joint's channel parameters ``params``."""
         y, t = self._solve(params)
         return float(self.e0 + np.vdot(t, self.z @ t).real + np.vdot(y, t).real)
 
-    def interface(self, params, index=None):
+    def interface(self, params: Sequence[complex],
+                  index: np.ndarray | None = None) -> np.ndarray:
         """Minimiser S at ``params``; with ``index``, only those entries are updated (the others
         keep their values at :math:`c_0`), at a cost proportional to ``len(index)``."""
         _, t = self._solve(params)

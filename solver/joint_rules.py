@@ -8,17 +8,20 @@ and :mod:`solver.power` integrates the power through the joints on the same ones
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 
 import numpy as np
 import scipy.linalg
+from numpy.typing import ArrayLike
 
+from assembly.case import Case
 from solver.rays import gauss_legendre
 
 __all__ = ["interface_function_count", "load_function_projection", "legendre_values",
            "joint_gauss", "channel_parameters", "joint_parameters"]
 
 
-def interface_function_count(kappa0, length, resolution=1.0):
+def interface_function_count(kappa0: float, length: float, resolution: float = 1.0) -> int:
     r"""Legendre functions per interface unknown: :math:`M = \lceil 0.75\,s\,\kappa_0 L\rceil + 2`.
 
     A Legendre series resolves :math:`e^{j\beta\sigma}` on :math:`[0, L]` once
@@ -32,7 +35,7 @@ def interface_function_count(kappa0, length, resolution=1.0):
     return math.ceil(0.75 * resolution * kappa0 * length) + 2
 
 
-def load_function_projection(root_w, psi):
+def load_function_projection(root_w: np.ndarray, psi: np.ndarray) -> np.ndarray:
     r""":math:`Q^HW^{1/2}`, shape (n_f, Gauss points): the coordinates, on an orthonormal basis
     :math:`Q` of the joint's weighted load functions :math:`W^{1/2}\psi`, of a quantity sampled
     at the joint's Gauss points. A channel's load and kinematic samples are taken through it.
@@ -47,20 +50,21 @@ def load_function_projection(root_w, psi):
     return scipy.linalg.orth(root_w[:, None] * psi).conj().T * root_w
 
 
-def legendre_values(sigma, length, n):
+def legendre_values(sigma: ArrayLike, length: float, n: int) -> np.ndarray:
     """``P_m(2 sigma / L - 1)`` for ``m < n``, shape ``(len(sigma), n)``."""
     x = 2.0 * np.asarray(sigma) / length - 1.0
     return np.polynomial.legendre.legvander(x, n - 1)
 
 
-def joint_gauss(length, k_max):
+def joint_gauss(length: float, k_max: float) -> tuple[np.ndarray, np.ndarray]:
     r"""Gauss points and weights on a joint line of ``length`` (m): :math:`\lceil k_{max}L\rceil + 16`
     points, where :math:`k_{max}` is the largest ray wavenumber of the two plates."""
     x, w = gauss_legendre(math.ceil(k_max * length) + 16)
     return 0.5 * length * (x + 1.0), 0.5 * length * w
 
 
-def channel_parameters(parameters, omega):
+def channel_parameters(parameters: Mapping[str, Mapping[str, float]],
+                       omega: float) -> dict[tuple[str, str], complex]:
     r"""``{(channel name, kind): c}`` from ``{name: {log10_stiffness, loss_factor, mass}}``
     (:meth:`assembly.Case.updatable_parameters`): the rotation channel's
     :math:`k(1 + j\zeta)` and the mass channel's :math:`\omega^2\mu`."""
@@ -71,6 +75,6 @@ def channel_parameters(parameters, omega):
     return out
 
 
-def joint_parameters(case, omega):
+def joint_parameters(case: Case, omega: float) -> dict[tuple[str, str], complex]:
     """Channel parameters ``{(channel name, kind): c}`` of the description's joints."""
     return channel_parameters(case.updatable_parameters(), omega)

@@ -27,6 +27,7 @@ The point-force particular solution is the outgoing infinite-plate Green functio
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy import special
 
 __all__ = [
@@ -38,14 +39,15 @@ __all__ = [
 ]
 
 
-def complex_bending_stiffness(young_modulus, thickness, poisson_ratio, loss_factor):
+def complex_bending_stiffness(young_modulus: float, thickness: float, poisson_ratio: float,
+                              loss_factor: float) -> complex:
     r"""Hysteretic bending stiffness :math:`D^* = E h^3 (1 + j\eta) / (12(1-\nu^2))`, N·m."""
     return (
         young_modulus * thickness**3 * (1.0 + 1j * loss_factor) / (12.0 * (1.0 - poisson_ratio**2))
     )
 
 
-def bending_wavenumber(mass_per_area, omega, bending_stiffness):
+def bending_wavenumber(mass_per_area: float, omega: float, bending_stiffness: complex) -> complex:
     r"""Complex bending wavenumber :math:`\kappa = (\rho h \omega^2 / D^*)^{1/4}`, 1/m.
 
     The principal fourth root is taken; for :math:`\eta > 0` it has
@@ -55,7 +57,8 @@ def bending_wavenumber(mass_per_area, omega, bending_stiffness):
     return (mass_per_area * omega**2 / complex(bending_stiffness)) ** 0.25
 
 
-def wave_edge_factors(k, normal, tangent, bending_stiffness, poisson_ratio):
+def wave_edge_factors(k: np.ndarray, normal: ArrayLike, tangent: ArrayLike,
+                      bending_stiffness: complex, poisson_ratio: float) -> dict[str, np.ndarray]:
     r"""Edge quantities of exponentials :math:`e^{\mathbf k\cdot\mathbf x}`, per unit amplitude.
 
     With :math:`k_n = \mathbf k\cdot\mathbf n`, :math:`k_t = \mathbf k\cdot\mathbf t` and
@@ -96,7 +99,8 @@ def wave_edge_factors(k, normal, tangent, bending_stiffness, poisson_ratio):
     }
 
 
-def point_force_radial(r, kappa, bending_stiffness, force):
+def point_force_radial(r: ArrayLike, kappa: complex, bending_stiffness: complex,
+                       force: complex) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     r"""Radial function and derivatives of the point-force Green function.
 
     .. math::
@@ -123,7 +127,8 @@ def point_force_radial(r, kappa, bending_stiffness, force):
     return f, df, d2f, dlap
 
 
-def point_force_derivatives(points, source, kappa, bending_stiffness, force):
+def point_force_derivatives(points: ArrayLike, source: ArrayLike, kappa: complex,
+                            bending_stiffness: complex, force: complex) -> dict[str, np.ndarray]:
     r"""Displacement, gradient, Hessian and shear force of the point-force field.
 
     For a radial field :math:`f(r)` with :math:`\mathbf e = (\mathbf x - \mathbf x_0)/r`:

@@ -51,9 +51,11 @@ against 6.6e6 and 1.25e7, in the same time and with the same backward errors.
 from __future__ import annotations
 
 import heapq
+from collections.abc import Sequence
 
 import numpy as np
 import scipy.sparse
+from numpy.typing import ArrayLike
 from scipy.linalg.blas import ztrsm
 from scipy.linalg.lapack import zhetrf, zsyconv, ztfsm, ztrttf
 
@@ -72,7 +74,8 @@ class GroupPivotError(np.linalg.LinAlgError):
     """A group's pivot block is singular: restricted pivoting cannot factorise the matrix."""
 
 
-def group_graph(row_groups, col_groups, n_groups):
+def group_graph(row_groups: np.ndarray, col_groups: np.ndarray,
+                n_groups: int) -> scipy.sparse.csr_matrix:
     """Adjacency (CSR, symmetric, no diagonal) of the groups coupled by a matrix's entries,
     given the groups of each entry's row and column. The distinct pairs are found by one sort
     of their codes: a sparse matrix built from every entry would sum millions of duplicates
@@ -86,7 +89,8 @@ def group_graph(row_groups, col_groups, n_groups):
     return adjacency
 
 
-def minimum_degree_order(adjacency, sizes):
+def minimum_degree_order(adjacency: scipy.sparse.csr_matrix,
+                         sizes: Sequence[int] | np.ndarray) -> np.ndarray:
     """Elimination order of the groups: repeatedly the group whose current neighbours hold the
     fewest unknowns (weighted minimum degree on the elimination graph; ties by index, so the
     order is reproducible)."""
@@ -94,7 +98,7 @@ def minimum_degree_order(adjacency, sizes):
     neighbours = [set(adjacency.indices[adjacency.indptr[v]:adjacency.indptr[v + 1]].tolist())
                   for v in range(n)]
 
-    def weight(v):
+    def weight(v: int) -> int:
         return sum(sizes[u] for u in neighbours[v])
 
     current = [weight(v) for v in range(n)]
@@ -119,7 +123,8 @@ def minimum_degree_order(adjacency, sizes):
     return np.array(order, dtype=int)
 
 
-def _elimination_structure(adjacency, order):
+def _elimination_structure(adjacency: scipy.sparse.csr_matrix,
+                           order: np.ndarray) -> tuple[list[list[int]], list[list[int]]]:
     """Per group, the groups it is coupled to when it is eliminated (sorted by elimination
     position), and its children in the elimination tree."""
     n = len(order)
@@ -139,7 +144,8 @@ def _elimination_structure(adjacency, order):
     return later, children
 
 
-def _supernodes(order, later, children):
+def _supernodes(order: np.ndarray, later: Sequence[list[int]],
+                children: Sequence[list[int]]) -> list[list[list[int]]]:
     """Fronts: ``(groups, later groups, child fronts)``; a group joins its only child's front
     when the child's structure is the group and the group's own (a fundamental supernode)."""
     fronts, front_of = [], {}
@@ -156,7 +162,8 @@ def _supernodes(order, later, children):
     return fronts
 
 
-def _extend_add(front, at, contribution):
+def _extend_add(front: tuple[np.ndarray, np.ndarray, np.ndarray], at: np.ndarray,
+                contribution: np.ndarray) -> None:
     """Add a child's ``contribution`` to a front stored by its lower part,
     ``front = (f11, f21, f22)`` (:math:`F_{11}`, :math:`F_{21}` and :math:`F_{22}`); ``at`` are
     the contribution's positions in the front. Entries above the diagonal that fall in
@@ -182,7 +189,8 @@ def _extend_add(front, at, contribution):
             block[r:r + b - a, c0:c0 + col_end - col] += contribution[a:b, c:d]
 
 
-def _block_of(front, row, col):
+def _block_of(front: tuple[np.ndarray, np.ndarray, np.ndarray], row: int,
+              col: int) -> tuple[np.ndarray, int, int]:
     """The block of ``front = (f11, f21, f22)`` holding position (row, col) on or below the
     diagonal, and the position's row and column in it."""
     s = front[0].shape[0]
@@ -191,7 +199,8 @@ def _block_of(front, row, col):
     return (front[0], row, col) if row < s else (front[1], row - s, col)
 
 
-def _scatter(front, rows, cols, values, add=False):
+def _scatter(front: tuple[np.ndarray, np.ndarray, np.ndarray], rows: np.ndarray, cols: np.ndarray,
+             values: np.ndarray, add: bool = False) -> None:
     """Set (or add) ``values`` at the positions ``(rows, cols)``, ``rows >= cols``, of a front
     ``(f11, f21, f22)``; each position at most once."""
     f11, f21, f22 = front
@@ -207,7 +216,7 @@ def _scatter(front, rows, cols, values, add=False):
             target.reshape(-1)[at] = values[part]
 
 
-def _symmetric_pivots(ipiv):
+def _symmetric_pivots(ipiv: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     r"""From LAPACK's ``hetrf`` interchanges (lower, 1-based; a 2 x 2 block marked by two equal
     negative entries): the permutation ``perm`` with :math:`F_{11}[perm][:, perm] = LDL^H` (the
     interchanges as ``hetrs2`` applies them) and the first index of each 2 x 2 block of D."""
@@ -233,7 +242,7 @@ class _BlockDiagonal:
     :math:`D_{k,k+1} = \bar D_{k+1,k}`): the 1 x 1 blocks' reciprocals and each 2 x 2 block's
     explicit inverse, formed once and applied by every solve."""
 
-    def __init__(self, diagonal, below, pairs):
+    def __init__(self, diagonal: np.ndarray, below: np.ndarray, pairs: np.ndarray) -> None:
         self.pairs = pairs
         self.reciprocal = np.zeros(len(diagonal), dtype=complex)
         single = np.ones(len(diagonal), dtype=bool)
@@ -244,7 +253,7 @@ class _BlockDiagonal:
         # rows k and k + 1 of [[a, conj(b)], [b, c]]^-1
         self.inverse = np.stack([c, -b.conj(), -b, a]) / det
 
-    def solve(self, z):
+    def solve(self, z: np.ndarray) -> np.ndarray:
         r""":math:`D^{-1}z` for ``z`` of shape (s, k)."""
         out = self.reciprocal[:, None] * z
         if len(self.pairs):
@@ -256,7 +265,7 @@ class _BlockDiagonal:
         return out
 
 
-def _subtract_lower(schur, z, m):
+def _subtract_lower(schur: np.ndarray, z: np.ndarray, m: np.ndarray) -> None:
     r"""``schur -= z^H @ m`` on and below the diagonal (and on some blocks above it), by panels
     of rows: the Schur complement :math:`Z^HD^{-1}Z` is Hermitian, so its lower triangle is all
     the elimination needs, and the panels cost :math:`\tfrac12(1 + 1/n_{panels})` of the full
@@ -284,7 +293,8 @@ class GroupedLDL:
         Group of each variable (row and column), labels 0 .. n_groups - 1.
     """
 
-    def __init__(self, matrix, groups):
+    def __init__(self, matrix: scipy.sparse.spmatrix | list[scipy.sparse.spmatrix],
+                 groups: ArrayLike) -> None:
         matrix = (matrix.pop() if isinstance(matrix, list) else matrix).tocoo(copy=False)
         n = matrix.shape[0]
         groups = np.asarray(groups)
@@ -369,7 +379,7 @@ class GroupedLDL:
         """Stored entries of the factors."""
         return sum(packed.size + m.size for _, _, packed, _, _, m in self.factors)
 
-    def solve(self, rhs):
+    def solve(self, rhs: ArrayLike) -> np.ndarray:
         r""":math:`A^{-1}` ``rhs`` for ``rhs`` of shape (n,) or (n, k): front by front,
         :math:`y = L^{-1}b_{own}[perm]`, :math:`b_{coupled} \mathrel{-}= M^Hy`,
         :math:`y \leftarrow D^{-1}y`; then from the root,
@@ -388,7 +398,7 @@ class GroupedLDL:
         return x[:, 0] if np.ndim(rhs) == 1 else x
 
 
-def _columns(rhs):
+def _columns(rhs: ArrayLike) -> np.ndarray:
     """A complex copy of ``rhs`` with one column per right-hand side."""
     x = np.array(rhs, dtype=complex)
     return x[:, None] if x.ndim == 1 else x

@@ -50,14 +50,17 @@ function is needed.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.linalg
+from numpy.typing import ArrayLike
 
 from solver.kirchhoff import point_force_derivatives, wave_edge_factors
 from solver.rays import (
     EDGES,
+    EdgeGeometry,
     RayBasis,
     gauss_legendre,
     line_exponentials,
@@ -95,7 +98,7 @@ class EdgeLoad:
     amplitude: complex
     distribution: str = "uniform"
 
-    def values(self, s, length):
+    def values(self, s: np.ndarray, length: float) -> np.ndarray:
         """Load at arc lengths ``s`` of an edge of length ``length``."""
         if self.distribution == "half_sine":
             return self.amplitude * np.sin(np.pi * s / length)
@@ -194,7 +197,8 @@ class PlateBoundary:
     edge_end_w: np.ndarray  # (4, 2, n_dof): shape functions at the start/end of edge i
 
 
-def edge_rule_size(length, k_max, sources, edge):
+def edge_rule_size(length: float, k_max: float, sources: Iterable[tuple[float, float]],
+                   edge: EdgeGeometry) -> int:
     """Number of Gauss–Legendre points for one edge, sized to the wavelength and to sources.
 
     Bandwidth: products of traces oscillate or decay at rates up to :math:`2\\max|k|`; a
@@ -212,7 +216,8 @@ def edge_rule_size(length, k_max, sources, edge):
     return min(q, 4000)
 
 
-def particular_traces(problem, points, normal, tangent):
+def particular_traces(problem: PlateProblem, points: np.ndarray, normal: ArrayLike,
+                      tangent: ArrayLike) -> dict[str, np.ndarray]:
     """Edge quantities of the point-force particular solution at ``points``.
 
     ``normal`` and ``tangent`` are one unit vector each, shape (2,), or one per point.
@@ -241,14 +246,18 @@ def particular_traces(problem, points, normal, tangent):
 _TRACE_KEYS = ("w", "slope", "moment", "shear")
 
 
-def _trace_factors(problem, basis, edge, keys):
+def _trace_factors(problem: PlateProblem, basis: RayBasis, edge: EdgeGeometry,
+                   keys: Iterable[str]) -> np.ndarray:
     """Factor of each node for each trace in ``keys``, shape (len(keys), n_nodes)."""
     factors = wave_edge_factors(basis.k, edge.normal, edge.tangent, problem.bending_stiffness,
                                 problem.poisson_ratio) | {"w": np.ones(len(basis.k))}
     return np.array([factors[key] for key in keys])
 
 
-def _pair_traces(problem, basis, edges, q, keys):
+def _pair_traces(
+    problem: PlateProblem, basis: RayBasis, edges: Sequence[EdgeGeometry], q: int,
+    keys: Sequence[tuple[str, ...]],
+) -> tuple[np.ndarray, np.ndarray, list[dict[str, np.ndarray]]]:
     """Ray traces on two opposite edges at ``[0, s_1..s_q, L]`` along each edge.
 
     Both edges get the same Gauss rule, so that their points share the coordinate along
@@ -284,7 +293,7 @@ def _pair_traces(problem, basis, edges, q, keys):
     return s, weights, traces
 
 
-def boundary_traces(problem, basis: RayBasis) -> PlateBoundary:
+def boundary_traces(problem: PlateProblem, basis: RayBasis) -> PlateBoundary:
     """Traces of every shape function on the four edges and at the four corners.
 
     Opposite edges share one Gauss rule (the larger of their two) and their node
@@ -340,7 +349,10 @@ def boundary_traces(problem, basis: RayBasis) -> PlateBoundary:
     )
 
 
-def edge_values(problem, basis, edge_name, s, cache=None):
+def edge_values(
+    problem: PlateProblem, basis: RayBasis, edge_name: str, s: ArrayLike,
+    cache: dict[tuple[int, complex, float, str, bytes], dict[str, np.ndarray]] | None = None,
+) -> tuple[dict[str, np.ndarray], dict[str, np.ndarray]]:
     r"""Deflection and outward slope of the shape functions at arc lengths ``s`` of an edge.
 
     ``cache`` (a dict, optional) keeps the rays' values by basis object, plate stiffness, edge
@@ -371,7 +383,7 @@ def edge_values(problem, basis, edge_name, s, cache=None):
     return rays, {"w": part["w"], "slope": part["slope"]}
 
 
-def _edge_terms(condition: EdgeCondition):
+def _edge_terms(condition: EdgeCondition) -> list[tuple[float, str, str, EdgeLoad | None]]:
     """``(sigma, test, trial, datum)`` for the two components of an edge condition."""
     if condition.kind == "clamped":
         return [(-1.0, "shear", "w", None), (+1.0, "moment", "slope", None)]
@@ -382,7 +394,7 @@ def _edge_terms(condition: EdgeCondition):
     raise ValueError(f"unknown edge condition {condition.kind!r}")
 
 
-def _twist_remainder(traces: EdgeTraces, end_w: np.ndarray):
+def _twist_remainder(traces: EdgeTraces, end_w: np.ndarray) -> np.ndarray:
     r""":math:`\int K_n(w_p)\,w^*ds - \int Q_n(w_p)\,w^*ds` for every test function :math:`w`.
 
     By parts along the edge, :math:`\int K_n\varphi^* = \int Q_n\varphi^*
@@ -395,7 +407,9 @@ def _twist_remainder(traces: EdgeTraces, end_w: np.ndarray):
     return (ends - inner).conj()
 
 
-def _boundary_terms(problem: PlateProblem, boundary: PlateBoundary):
+def _boundary_terms(
+    problem: PlateProblem, boundary: PlateBoundary,
+) -> Iterator[tuple[float, np.ndarray, np.ndarray, np.ndarray, np.ndarray]]:
     r"""Every term :math:`\sigma\sum_q \omega_q A_q^*(B_q(w) - d_q)` of the variational form.
 
     Yields ``(sigma, weights, A, B, d)`` with ``A``, ``B`` of shape ``(m, n_dof)`` (the test
@@ -424,7 +438,8 @@ def _boundary_terms(problem: PlateProblem, boundary: PlateBoundary):
             yield +1.0, one, w_c, force_c, -boundary.corner_force_p[c:c + 1]
 
 
-def assemble_plate(problem: PlateProblem, boundary: PlateBoundary):
+def assemble_plate(problem: PlateProblem,
+                   boundary: PlateBoundary) -> tuple[np.ndarray, np.ndarray]:
     r"""VTCR matrix and right-hand side of one plate (see the module docstring).
 
     :math:`[K \mid F] = \sum\sigma A^H\mathrm{diag}(\omega)\,[B \mid d]` over the terms of
@@ -457,7 +472,7 @@ def assemble_plate(problem: PlateProblem, boundary: PlateBoundary):
     return K, F
 
 
-def edge_projection(traces: EdgeTraces, component: str, values):
+def edge_projection(traces: EdgeTraces, component: str, values: np.ndarray) -> np.ndarray:
     r"""Columns of the load operator of an edge datum given at the edge's Gauss points.
 
     For a static datum :math:`d_m(s)` (one column per function ``m``), returns
@@ -476,7 +491,7 @@ def edge_projection(traces: EdgeTraces, component: str, values):
     raise ValueError(f"unknown component {component!r}")
 
 
-def factorise_dense(matrix):
+def factorise_dense(matrix: np.ndarray) -> tuple[Callable[[np.ndarray], np.ndarray], float]:
     """LU factors of a column-equilibrated matrix and its reciprocal condition estimate.
 
     Trefftz matrices are ill-conditioned by nature (1e17 is normal while the field is
@@ -496,14 +511,14 @@ def factorise_dense(matrix):
     gecon = scipy.linalg.get_lapack_funcs("gecon", (lu,))
     rcond, _ = gecon(lu, np.linalg.norm(scaled, 1), norm="1")
 
-    def solve(rhs):
+    def solve(rhs: np.ndarray) -> np.ndarray:
         x = scipy.linalg.lu_solve((lu, piv), rhs, check_finite=False)
         return (x.T * scale).T
 
     return solve, float(rcond)
 
 
-def solve_dense(matrix, rhs):
+def solve_dense(matrix: np.ndarray, rhs: np.ndarray) -> tuple[np.ndarray, float]:
     """LU solve with column equilibration; returns ``(x, rcond)`` (see :func:`factorise_dense`)."""
     solve, rcond = factorise_dense(matrix)
     return solve(rhs), rcond
@@ -523,12 +538,15 @@ class PlateSolution:
         """1-norm condition estimate of the equilibrated VTCR matrix."""
         return 1.0 / self.rcond if self.rcond > 0 else math.inf
 
-    def field(self, points, quantities=("w",)):
+    def field(self, points: ArrayLike,
+              quantities: Sequence[str] = ("w",)) -> dict[str, np.ndarray]:
         """Displacement and derivatives at plate-local points (see :func:`evaluate_field`)."""
         return evaluate_field(self.problem, self.basis, self.amplitudes, points, quantities)
 
 
-def evaluate_field(problem, basis, amplitudes, points, quantities=("w",)):
+def evaluate_field(problem: PlateProblem, basis: RayBasis, amplitudes: np.ndarray,
+                   points: ArrayLike,
+                   quantities: Sequence[str] = ("w",)) -> dict[str, np.ndarray]:
     """``w`` and its derivatives (``w_x, w_y, w_xx, w_xy, w_yy``) at points, vectorised.
 
     Parameters
@@ -547,7 +565,8 @@ def evaluate_field(problem, basis, amplitudes, points, quantities=("w",)):
     return out
 
 
-def particular_field(problem, points, quantities=("w",)):
+def particular_field(problem: PlateProblem, points: ArrayLike,
+                     quantities: Sequence[str] = ("w",)) -> dict[str, np.ndarray]:
     """The particular solution's part of :func:`evaluate_field` (the point forces' infinite
     plate fields), shape (n,) per quantity; zero without point forces."""
     points = np.atleast_2d(np.asarray(points, dtype=float))

@@ -43,23 +43,38 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections.abc import Hashable, Mapping
 from dataclasses import dataclass
+from typing import Any, TypeVar
 
 import numpy as np
+from numpy.typing import ArrayLike
 
+from assembly.case import Case
 from solver.joint_rules import joint_gauss, joint_parameters, legendre_values
 from solver.kirchhoff import wave_edge_factors
 from solver.plate import (
+    PlateProblem,
     edge_rule_size,
     edge_values,
     evaluate_field,
     particular_field,
     particular_traces,
 )
-from solver.rays import gauss_legendre, node_exponentials, plate_edges, tensor_grid_field
+from solver.rays import (
+    EdgeGeometry,
+    RayBasis,
+    gauss_legendre,
+    node_exponentials,
+    plate_edges,
+    tensor_grid_field,
+)
+from solver.solution import CaseSolution
 
 __all__ = ["PowerFlow", "power_flow", "plate_powers", "kinetic_energies", "plate_gauss_axes",
            "grid_deflections"]
+
+_Key = TypeVar("_Key", bound=Hashable)
 
 
 @dataclass(frozen=True)
@@ -98,7 +113,7 @@ class PowerFlow:
             return 0.0 if self.total_dissipated == 0.0 else math.inf
         return abs(injected - self.total_dissipated) / abs(injected)
 
-    def to_json(self):
+    def to_json(self) -> dict[str, Any]:
         return {"frequency": self.frequency, "injected": self.total_injected,
                 "dissipated": self.total_dissipated, "imbalance": self.imbalance,
                 "plates": {pid: {"injected": self.injected[pid], "kinetic_energy": self.kinetic[pid],
@@ -109,7 +124,8 @@ class PowerFlow:
                            for jid in self.transmitted}}
 
 
-def _edge_field(problem, basis, amplitudes, edge, s):
+def _edge_field(problem: PlateProblem, basis: RayBasis, amplitudes: np.ndarray,
+                edge: EdgeGeometry, s: ArrayLike) -> dict[str, np.ndarray]:
     """Field quantities on an edge at arc lengths ``s``: ``w``, ``slope`` (outward
     :math:`\\partial_nw`), ``tangential`` (:math:`\\partial_sw`), ``moment`` (:math:`M_n`),
     ``twist`` (:math:`M_{nt}`) and ``shear_q`` (:math:`Q_n`)."""
@@ -125,7 +141,8 @@ def _edge_field(problem, basis, amplitudes, edge, s):
     return {key: values @ amplitudes + particular[key] for key, values in zip(keys, rays)}
 
 
-def plate_powers(problem, basis, amplitudes):
+def plate_powers(problem: PlateProblem, basis: RayBasis,
+                 amplitudes: np.ndarray) -> tuple[float, float]:
     """``(injected, dissipated)`` power of one plate (W): its loads' and, by the Green identity,
     its bending dissipation (module docstring)."""
     k_max = float(np.max(np.abs(basis.k)))
@@ -152,7 +169,7 @@ def plate_powers(problem, basis, amplitudes):
             half_omega * float((forces + boundary).imag))
 
 
-def plate_gauss_axes(problem):
+def plate_gauss_axes(problem: PlateProblem) -> tuple[tuple[np.ndarray, np.ndarray], ...]:
     r"""1D Gauss rules ``(x, wx), (y, wy)`` over a plate, :math:`\lceil\kappa_0L\rceil + 12`
     points per side (:math:`\kappa_0 = \mathrm{Re}\,\kappa`): the domain rule of the kinetic
     energy and of the error estimate's L2 integrals."""
@@ -163,13 +180,15 @@ def plate_gauss_axes(problem):
     return tuple(rules)
 
 
-def _grid_particular(problem, x, y):
+def _grid_particular(problem: PlateProblem, x: np.ndarray, y: np.ndarray) -> np.ndarray:
     """The particular solution's ``w`` on the tensor grid ``x`` x ``y``."""
     X, Y = np.meshgrid(x, y, indexing="ij")
     return particular_field(problem, np.c_[X.ravel(), Y.ravel()])["w"].reshape(X.shape)
 
 
-def grid_deflections(plates):
+def grid_deflections(
+    plates: Mapping[_Key, tuple[PlateProblem, RayBasis, np.ndarray]],
+) -> dict[_Key, np.ndarray]:
     r"""``{key: w}`` on each plate's Gauss grid (:func:`plate_gauss_axes`), shape (n_x, n_y),
     for ``plates`` ``{key: (problem, basis, amplitudes)}``: the rays summed as a product of 1D
     exponentials (:func:`solver.rays.tensor_grid_field`), plus the particular solution. The
@@ -188,7 +207,9 @@ def grid_deflections(plates):
     return out
 
 
-def kinetic_energies(plates):
+def kinetic_energies(
+    plates: Mapping[_Key, tuple[PlateProblem, RayBasis, np.ndarray]],
+) -> dict[_Key, float]:
     r"""``{key:`` :math:`\tfrac14\omega^2\rho h\int|w|^2dA` ``}`` (J), the time-averaged
     kinetic energy of each of ``plates`` ``{key: (problem, basis, amplitudes)}`` on the rule of
     :func:`plate_gauss_axes` (fields by :func:`grid_deflections`)."""
@@ -201,7 +222,10 @@ def kinetic_energies(plates):
     return energies
 
 
-def _side_powers(case, system, jid, amplitudes, s):
+# system is the solution's solver.substructure.AssemblySystem, typed Any: substructure imports
+# this module, and importing it here, even for annotations only, would close an import circle
+def _side_powers(case: Case, system: Any, jid: str, amplitudes: Mapping[str, np.ndarray],
+                 s: np.ndarray) -> list[float]:
     """Power the joint ``jid`` delivers to each of its plates (W), from its loads (interface
     unknowns ``s``) and the plates' traces on the joint line."""
     joint = case.joints[jid]
@@ -234,7 +258,7 @@ def _side_powers(case, system, jid, amplitudes, s):
     return powers
 
 
-def power_flow(case, solution) -> PowerFlow:
+def power_flow(case: Case, solution: CaseSolution) -> PowerFlow:
     """The :class:`PowerFlow` of a solution of ``case`` (:func:`solver.solve_case`'s result).
 
     Joint quantities need the assembly's interface solution

@@ -7,17 +7,18 @@ arrays and frozen dataclasses.
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 
+from assembly.case import Case
 from solver.kirchhoff import complex_bending_stiffness
 from solver.plate import EdgeCondition, EdgeLoad, PlateProblem, PointForce
-from solver.rays import EDGES, RayCounts, automatic_ray_counts, build_ray_basis
+from solver.rays import EDGES, RayBasis, RayCounts, automatic_ray_counts, build_ray_basis
 
 __all__ = ["plate_problem", "plate_problems", "plate_ray_counts", "plate_basis", "plate_bases",
            "joint_edge_kinds"]
 
 
-def joint_edge_kinds(case):
+def joint_edge_kinds(case: Case) -> dict[tuple[str, str], str]:
     """Edge condition that each joined edge takes in its plate's subproblem.
 
     A coplanar joint leaves both components static (translation and rotation loads are
@@ -32,7 +33,7 @@ def joint_edge_kinds(case):
     return kinds
 
 
-def plate_problem(case, plate_id, frequency):
+def plate_problem(case: Case, plate_id: str, frequency: float) -> PlateProblem:
     """The plate ``plate_id`` of ``case`` at ``frequency`` (Hz) as a :class:`PlateProblem`.
 
     Joined edges carry no data here (their loads are interface unknowns, see
@@ -41,7 +42,8 @@ def plate_problem(case, plate_id, frequency):
     return plate_problems(case, frequency, [plate_id])[plate_id]
 
 
-def plate_problems(case, frequency, plate_ids=None):
+def plate_problems(case: Case, frequency: float,
+                   plate_ids: Iterable[str] | None = None) -> dict[str, PlateProblem]:
     """``{plate: PlateProblem}`` (:func:`plate_problem`) of ``plate_ids`` (default every plate),
     from one pass over the joints, boundaries and loads: plate by plate, the passes would cost
     plates x joints."""
@@ -89,7 +91,8 @@ def plate_problems(case, frequency, plate_ids=None):
     return problems
 
 
-def plate_resolution(case, plate_id, resolution=None):
+def plate_resolution(case: Case, plate_id: str,
+                     resolution: float | Mapping[str, float] | None = None) -> float:
     """The resolution factor of one plate: ``resolution`` is None (the description's), one
     number for every plate, or a mapping by plate (plates it lacks: the description's)."""
     if resolution is None:
@@ -99,7 +102,8 @@ def plate_resolution(case, plate_id, resolution=None):
     return float(resolution)
 
 
-def plate_ray_counts(case, plate_id, problem, resolution=None):
+def plate_ray_counts(case: Case, plate_id: str, problem: PlateProblem,
+                     resolution: float | Mapping[str, float] | None = None) -> RayCounts:
     """Sector counts of one plate: the automatic rule, then the description's overrides.
 
     The overrides are counts at the description's own resolution; a ``resolution`` other than
@@ -113,7 +117,7 @@ def plate_ray_counts(case, plate_id, problem, resolution=None):
     override = settings.for_plate(plate_id)
     ratio = scale / settings.resolution
 
-    def scaled(value, multiple=1):
+    def scaled(value: int, multiple: int = 1) -> int:
         if ratio == 1.0:
             return value
         return multiple * math.ceil(ratio * value / multiple - 1e-9)
@@ -129,7 +133,8 @@ def plate_ray_counts(case, plate_id, problem, resolution=None):
     )
 
 
-def plate_basis(case, plate_id, problem, resolution=None):
+def plate_basis(case: Case, plate_id: str, problem: PlateProblem,
+                resolution: float | Mapping[str, float] | None = None) -> RayBasis:
     """Ray basis of one plate (counts from :func:`plate_ray_counts`)."""
     counts = plate_ray_counts(case, plate_id, problem, resolution)
     settings = case.discretisation

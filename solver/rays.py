@@ -49,9 +49,11 @@ from __future__ import annotations
 
 import functools
 import math
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 __all__ = [
     "EDGES",
@@ -82,7 +84,7 @@ class EdgeGeometry:
     length: float
 
 
-def plate_edges(size):
+def plate_edges(size: tuple[float, float]) -> tuple[EdgeGeometry, ...]:
     """The four edges of ``[0, Lx] x [0, Ly]`` in counter-clockwise order (see :data:`EDGES`)."""
     lx, ly = size
     corners = np.array([[0.0, 0.0], [lx, 0.0], [lx, ly], [0.0, ly]])
@@ -124,7 +126,8 @@ class RayCounts:
 QUASI_STATIC_KAPPA_R = 5.0
 
 
-def automatic_ray_counts(kappa0, size, resolution=1.0, tau=2.5):
+def automatic_ray_counts(kappa0: float, size: tuple[float, float], resolution: float = 1.0,
+                         tau: float = 2.5) -> RayCounts:
     r"""Sector counts from the resolution rule of ``docs/method.md`` section 5.2.
 
     .. math::
@@ -201,7 +204,7 @@ class RayBasis:
     def n_dof(self) -> int:
         return len(self.family)
 
-    def sector_means(self, nodal, factors):
+    def sector_means(self, nodal: np.ndarray, factors: np.ndarray) -> np.ndarray:
         r"""Shape-function values from node exponentials, for several derivative factors.
 
         :math:`T_c[p, i] = \sum_{q\in i} \omega_q f_{c,q}\, E[p, q]`, done as one batched
@@ -224,12 +227,13 @@ class RayBasis:
         return np.matmul(blocks, weighted).transpose(2, 1, 0)
 
 
-def _sector_nodes(lower, upper, n_sectors, n_q):
+def _sector_nodes(lower: float, upper: float, n_sectors: int,
+                  n_q: int) -> tuple[np.ndarray, np.ndarray]:
     """Gauss–Legendre nodes and normalised weights on ``n_sectors`` equal sectors."""
     return _sector_nodes_mapped(np.linspace(lower, upper, n_sectors + 1), n_q)
 
 
-def _sector_nodes_mapped(edges, n_q):
+def _sector_nodes_mapped(edges: np.ndarray, n_q: int) -> tuple[np.ndarray, np.ndarray]:
     """Gauss–Legendre nodes and normalised weights on the sectors ``[edges[i], edges[i+1]]``."""
     x, w = gauss_legendre(n_q)
     half = 0.5 * (edges[1:] - edges[:-1])
@@ -239,7 +243,7 @@ def _sector_nodes_mapped(edges, n_q):
     return nodes, weights
 
 
-def _circle_nodes(n_sectors, n_q):
+def _circle_nodes(n_sectors: int, n_q: int) -> tuple[np.ndarray, np.ndarray]:
     r"""Directions :math:`(\cos\theta, \sin\theta)` and weights of the interior-ray nodes.
 
     The directions are made exactly (in floating point) symmetric under :math:`\theta\to-\theta`
@@ -259,7 +263,7 @@ def _circle_nodes(n_sectors, n_q):
 
 
 @functools.lru_cache(maxsize=256)
-def gauss_legendre(n):
+def gauss_legendre(n: int) -> tuple[np.ndarray, np.ndarray]:
     """Gauss–Legendre points and weights on [-1, 1] (``numpy``'s ``leggauss``), computed once
     per ``n`` and read-only: every plate edge, joint and sector of a build asks for them."""
     x, w = np.polynomial.legendre.leggauss(n)
@@ -267,13 +271,14 @@ def gauss_legendre(n):
     return x, w
 
 
-def _root_positive_real(z):
+def _root_positive_real(z: np.ndarray) -> np.ndarray:
     r"""Square root with :math:`\mathrm{Re} \ge 0` (the decaying branch)."""
     s = np.sqrt(z + 0j)
     return np.where(s.real < 0, -s, s)
 
 
-def _propagating_locus(kappa, n_sectors, n_q, tau):
+def _propagating_locus(kappa: complex, n_sectors: int, n_q: int,
+                       tau: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     r"""Propagating edge rays, :math:`\mathbf k = \mp j\kappa\cosh\psi\,\mathbf t
     + \kappa\sinh\psi\,\mathbf n`: ``(along, across, weights)``, half the sectors per sign."""
     n_half = n_sectors // 2
@@ -283,7 +288,8 @@ def _propagating_locus(kappa, n_sectors, n_q, tau):
     return -1j * sign * kappa * np.cosh(psi), kappa * np.sinh(psi), w
 
 
-def _evanescent_locus(kappa, n_sectors, n_q, tau):
+def _evanescent_locus(kappa: complex, n_sectors: int, n_q: int,
+                      tau: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     r"""Evanescent edge rays, :math:`\mathbf k = -j\beta\,\mathbf t
     + \sqrt{\beta^2+\kappa^2}\,\mathbf n`: ``(along, across, weights)``."""
     kappa0 = kappa.real
@@ -292,7 +298,8 @@ def _evanescent_locus(kappa, n_sectors, n_q, tau):
     return -1j * beta, _root_positive_real(beta**2 + kappa**2), w
 
 
-def _corner_locus(kappa, n_sectors, n_q, tau):
+def _corner_locus(kappa: complex, n_sectors: int, n_q: int,
+                  tau: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     r"""Corner rays, :math:`\mathbf k = -\kappa(\cos\varphi\,\mathbf t - \sin\varphi\,\mathbf n)`,
     :math:`\varphi\in[0, \pi/2]` from the edge leaving the corner into the plate
     (:math:`-\mathbf n` points inwards): ``(along, across, weights)``; ``tau`` is unused."""
@@ -300,7 +307,8 @@ def _corner_locus(kappa, n_sectors, n_q, tau):
     return -kappa * np.cos(phi), kappa * np.sin(phi), w
 
 
-def build_ray_basis(size, kappa, counts, n_q=8, tau=2.5):
+def build_ray_basis(size: tuple[float, float], kappa: complex, counts: RayCounts, n_q: int = 8,
+                    tau: float = 2.5) -> RayBasis:
     """Shape functions of one plate for the given sector counts.
 
     Parameters
@@ -321,7 +329,8 @@ def build_ray_basis(size, kappa, counts, n_q=8, tau=2.5):
     """
     ks, origins, weights, family = [], [], [], []
 
-    def add(k, origin, weight, n_sectors, name):
+    def add(k: np.ndarray, origin: np.ndarray, weight: np.ndarray, n_sectors: int,
+            name: str) -> None:
         ks.append(k)
         origins.append(np.broadcast_to(origin, k.shape).copy())
         weights.append(weight)
@@ -335,7 +344,8 @@ def build_ray_basis(size, kappa, counts, n_q=8, tau=2.5):
     # counts, so each locus is sampled once per count
     loci = {}
 
-    def locus(kind, n_sectors):
+    def locus(kind: Callable[[complex, int, int, float], tuple[np.ndarray, np.ndarray, np.ndarray]],
+              n_sectors: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         if (kind, n_sectors) not in loci:
             loci[kind, n_sectors] = kind(kappa, n_sectors, n_q, tau)
         return loci[kind, n_sectors]
@@ -375,7 +385,8 @@ FIELD_CHUNK_ENTRIES = 2_000_000
 """Node exponentials formed at once by :func:`ray_field` (32 MB of complex values)."""
 
 
-def ray_field(basis, points, quantities=("w",)):
+def ray_field(basis: RayBasis, points: ArrayLike,
+              quantities: Sequence[str] = ("w",)) -> dict[str, np.ndarray]:
     r"""Values of the shape functions and their derivatives at points.
 
     :math:`\partial_x^a\partial_y^b \Phi_i(\mathbf x) = \sum_{q} \omega_q\, k_{x,q}^a k_{y,q}^b
@@ -414,7 +425,8 @@ def ray_field(basis, points, quantities=("w",)):
     return out
 
 
-def tensor_grid_field(basis, amplitudes, xs, ys):
+def tensor_grid_field(basis: RayBasis, amplitudes: ArrayLike, xs: ArrayLike,
+                      ys: ArrayLike) -> np.ndarray:
     r"""The rays' part of :math:`w` on the tensor grid ``xs`` x ``ys``, shape (len(xs), len(ys));
     for amplitudes of shape (n_dof, m), m fields of one basis, shape (m, len(xs), len(ys)).
 
@@ -435,7 +447,7 @@ def tensor_grid_field(basis, amplitudes, xs, ys):
     return fields[0] if amplitudes.ndim == 1 else fields
 
 
-def node_exponentials(basis, points):
+def node_exponentials(basis: RayBasis, points: ArrayLike) -> np.ndarray:
     r"""Node exponentials :math:`e^{\mathbf k_q\cdot(\mathbf x_p - \mathbf x_{r,q})}`, shape (n_points, n_nodes)."""
     points = np.asarray(points, dtype=float)
     exponent = (points[:, None, 0] - basis.origin[None, :, 0]) * basis.k[None, :, 0]
@@ -443,7 +455,8 @@ def node_exponentials(basis, points):
     return np.exp(exponent)
 
 
-def line_exponentials(basis, axis, u, offsets):
+def line_exponentials(basis: RayBasis, axis: int, u: np.ndarray,
+                      offsets: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
     r"""Node exponentials on segments parallel to a coordinate axis, through shared factors.
 
     On the segment :math:`x_{axis} = u \in [0, U]`, :math:`x_{other} = c` each node's

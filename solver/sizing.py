@@ -39,10 +39,12 @@ from __future__ import annotations
 
 import math
 import os
+from collections.abc import Mapping
 from dataclasses import dataclass
 
 import numpy as np
 
+from assembly.case import Case
 from solver.interface import GROUPED_MIN_SIZE
 from solver.problems import plate_problems
 from solver.layout import interface_layout
@@ -129,13 +131,13 @@ class SizeEstimate:
         per_entry = GROUPED_PLAN_SECONDS_PER_ENTRY if self.grouped else PLAN_SECONDS_PER_ENTRY
         return self.frequencies * per_entry * self.factor_entries
 
-    def plan_seconds(self, joints=None) -> float:
+    def plan_seconds(self, joints: int | None = None) -> float:
         """``vtcr plan`` of ``joints`` updatable joints (default every one)."""
         joints = self.channels if joints is None else joints
         return (PLATE_SECONDS * self.plates + self.frequencies * PLAN_SOLVES
                 * self.factorisation_seconds + joints * self.plan_seconds_per_joint)
 
-    def lines(self, enriched=None):
+    def lines(self, enriched: SizeEstimate | None = None) -> list[str]:
         """Human-readable lines for ``vtcr check``; ``enriched``, the estimate of the error
         estimate's enriched solve, adds what ``vtcr solve`` takes with it (its peak memory is
         the enriched solve's, its time the sum of both)."""
@@ -159,7 +161,8 @@ class SizeEstimate:
         ]
 
 
-def estimate_size(case, frequency=None, resolution=None) -> SizeEstimate:
+def estimate_size(case: Case, frequency: float | None = None,
+                  resolution: float | Mapping[str, float] | None = None) -> SizeEstimate:
     """Count the unknowns of ``case`` at ``frequency`` (default its highest) and estimate costs.
 
     Parameters
@@ -206,14 +209,14 @@ def estimate_size(case, frequency=None, resolution=None) -> SizeEstimate:
                         len(case.updatable_joints()))
 
 
-def _measured_points(case):
+def _measured_points(case: Case) -> dict[str, int]:
     counts = {}
     for plate, _, _ in case.measurement_points():
         counts[plate] = counts.get(plate, 0) + 1
     return counts
 
 
-def available_memory():
+def available_memory() -> float | None:
     """Bytes of memory available to a new computation (``MemAvailable``), or None."""
     try:
         with open("/proc/meminfo") as meminfo:

@@ -7,6 +7,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import numpy as np
+from numpy.typing import ArrayLike
+
 __all__ = ["CaseSolution"]
 
 
@@ -39,6 +42,6 @@ class CaseSolution:
         """Largest condition estimate of the solves."""
         return max(p.condition_estimate for p in self.plates.values())
 
-    def w(self, plate_id, points):
+    def w(self, plate_id: str, points: ArrayLike) -> np.ndarray:
         """Complex displacement (m) at plate-local points of one plate, shape (n,)."""
         return self.plates[plate_id].field(points)["w"]

@@ -18,13 +18,16 @@ whole round at once.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable, Iterable, Sequence
+from typing import Any
 
 import numpy as np
 
 __all__ = ["initial_frequencies", "refine_frequencies", "relative_change"]
 
 
-def initial_frequencies(low, high, step=None, points=None):
+def initial_frequencies(low: float, high: float, step: float | None = None,
+                        points: int | None = None) -> np.ndarray:
     """The requested grid over ``[low, high]`` (Hz): ``step`` apart, or ``points`` values.
 
     With ``step`` the last interval may be shorter (``high`` is always included).
@@ -41,14 +44,17 @@ def initial_frequencies(low, high, step=None, points=None):
     return np.linspace(low, high, points)
 
 
-def relative_change(a, b):
+def relative_change(a: np.ndarray, b: np.ndarray) -> float:
     """:math:`\\|b - a\\| / \\max(\\|a\\|, \\|b\\|)` of two response vectors (0 if both vanish)."""
     scale = max(float(np.linalg.norm(a)), float(np.linalg.norm(b)))
     return float(np.linalg.norm(b - a)) / scale if scale > 0.0 else 0.0
 
 
-def refine_frequencies(evaluate, frequencies, loss_factor, tolerance=0.1, fraction=0.25,
-                       max_points=2000):
+def refine_frequencies(
+    evaluate: Callable[[list[float]], Iterable[tuple[Any, ...]]],
+    frequencies: Sequence[float] | np.ndarray, loss_factor: float, tolerance: float = 0.1,
+    fraction: float = 0.25, max_points: int = 2000,
+) -> tuple[np.ndarray, list[tuple[Any, ...]], dict[str, Any]]:
     """Sample a response adaptively; returns ``(frequencies, responses, report)``.
 
     Parameters
@@ -104,6 +110,7 @@ def refine_frequencies(evaluate, frequencies, loss_factor, tolerance=0.1, fracti
     return np.array(freqs), results, report
 
 
-def _needs_point(f1, f2, w1, w2, loss_factor, tolerance, fraction):
+def _needs_point(f1: float, f2: float, w1: np.ndarray, w2: np.ndarray, loss_factor: float,
+                 tolerance: float, fraction: float) -> bool:
     return (f2 - f1 > fraction * loss_factor * f1
             and relative_change(w1, w2) > tolerance)

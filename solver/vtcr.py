@@ -18,9 +18,11 @@ from __future__ import annotations
 
 import dataclasses
 import time
+from collections.abc import Mapping
 
 import numpy as np
 
+from assembly.case import Case
 from solver.errors import check_finite, plate_condition_warnings
 from solver.guards import check_description
 from solver.plate import PlateSolution, assemble_plate, boundary_traces, solve_dense
@@ -31,7 +33,9 @@ from solver.substructure import solve_assembly
 __all__ = ["solve_case", "field_grid"]
 
 
-def solve_case(case, frequency=None, resolution=None, residuals=True, check=True) -> CaseSolution:
+def solve_case(case: Case, frequency: float | None = None,
+               resolution: float | Mapping[str, float] | None = None, residuals: bool = True,
+               check: bool = True) -> CaseSolution:
     """Solve the forced response of ``case`` at one frequency.
 
     Parameters
@@ -79,7 +83,8 @@ def solve_case(case, frequency=None, resolution=None, residuals=True, check=True
         else solution
 
 
-def _solve(case, frequency, resolution, residuals):
+def _solve(case: Case, frequency: float, resolution: float | Mapping[str, float] | None,
+           residuals: bool) -> CaseSolution:
     """:func:`solve_case` after its checks."""
     if case.joints:
         if not case.loads:
@@ -102,7 +107,7 @@ def _solve(case, frequency, resolution, residuals):
         CaseSolution(frequency, solutions, timings, plate_condition_warnings(solutions)))
 
 
-def field_grid(case, plate_id, spacing):
+def field_grid(case: Case, plate_id: str, spacing: float) -> np.ndarray:
     """Interior grid of a plate with about ``spacing`` between points (plate-local, m)."""
     lx, ly = case.plates[plate_id].size
     nx, ny = max(1, round(lx / spacing)), max(1, round(ly / spacing))
