@@ -8,15 +8,23 @@ mapped by hand (``facecolors``) because matplotlib's 3D surfaces take no shared 
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+from typing import TYPE_CHECKING, Protocol
+
 import numpy as np
 
 from updating.figures.figure_tools import (
+    MapCosts,
     costs_text,
     field_colours,
     new_figure,
     powers_of_ten_bar,
     require_matplotlib,
 )
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+    from mpl_toolkits.mplot3d import Axes3D
 
 __all__ = ["draw_field_maps_in_space"]
 
@@ -25,7 +33,56 @@ VIEW = {"elev": 28.0, "azim": -58.0}
 x-y plane and stiffeners standing on it are both seen."""
 
 
-def _frame_lines(ax, space, labels):
+class SpaceMap(Protocol):
+    """What is drawn of a :class:`updating.figures.plots.SpaceLayout` (named by its attributes:
+    :mod:`updating.figures.plots` imports this module)."""
+
+    @property
+    def surfaces(self) -> Mapping[str, tuple[np.ndarray, np.ndarray, np.ndarray]]: ...
+
+    @property
+    def measured(self) -> Mapping[str, np.ndarray]: ...
+
+    @property
+    def outlines(self) -> Mapping[str, np.ndarray]: ...
+
+    @property
+    def joints(self) -> Mapping[str, np.ndarray]: ...
+
+    @property
+    def forces(self) -> np.ndarray: ...
+
+
+class FieldMapInSpace(MapCosts, Protocol):
+    """What is drawn of a :class:`updating.figures.plots.FieldMapData` whose ``space`` is set
+    (named by its attributes: :mod:`updating.figures.plots` imports this module)."""
+
+    @property
+    def frequency(self) -> float: ...
+
+    @property
+    def quantity(self) -> str: ...
+
+    @property
+    def initial(self) -> Mapping[str, np.ndarray]: ...
+
+    @property
+    def updated(self) -> Mapping[str, np.ndarray]: ...
+
+    @property
+    def measured(self) -> Mapping[str, tuple[np.ndarray, np.ndarray]]: ...
+
+    @property
+    def misfit(self) -> tuple[float, float]: ...
+
+    @property
+    def limits(self) -> tuple[float, float]: ...
+
+    @property
+    def space(self) -> SpaceMap: ...
+
+
+def _frame_lines(ax: Axes3D, space: SpaceMap, labels: bool) -> None:
     """Plate outlines (black), joint lines (dashed) and point forces (orange stars)."""
     for pid, outline in space.outlines.items():
         ax.plot(outline[:, 0], outline[:, 1], outline[:, 2], color="black", lw=0.6)
@@ -39,7 +96,7 @@ def _frame_lines(ax, space, labels):
                    edgecolors="black", depthshade=False)
 
 
-def _equal_box(ax, space):
+def _equal_box(ax: Axes3D, space: SpaceMap) -> None:
     """Axes limits and box aspect so that one metre is as long along x, y and z; fewer ticks
     along the short sides."""
     from matplotlib.ticker import MaxNLocator
@@ -60,7 +117,7 @@ def _equal_box(ax, space):
     ax.view_init(**VIEW)
 
 
-def draw_field_maps_in_space(data, title=""):
+def draw_field_maps_in_space(data: FieldMapInSpace, title: str = "") -> Figure:
     """Three 3D panels (measured, initial, updated) of a :class:`updating.figures.plots.FieldMapData`
     whose :attr:`~updating.figures.plots.FieldMapData.space` is set."""
     from matplotlib import colormaps
