@@ -16,14 +16,14 @@ import pytest
 from assembly import load_case_text
 from solver import solve_case
 from updating.cli import main
-from updating.inverse.cost import ModifiedProblem, cost_curve
-from updating.figures.figure_tools import MISSING_MATPLOTLIB
 from updating.data.measurements import simulate_measurements
 from updating.figures.curves import cost_curve_data
-from updating.figures.fields import field_map_data
+from updating.figures.field_data import field_map_data
+from updating.figures.figure_tools import MISSING_MATPLOTLIB
 from updating.figures.residuals import residual_bars_data
-from updating.inverse.strategy import update_joints
 from updating.forward.sweep import frequency_band, frequency_response_data, spatial_rms
+from updating.inverse.cost import ModifiedProblem, cost_curve
+from updating.inverse.strategy import update_joints
 
 ROOT = Path(__file__).resolve().parents[1]
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"

@@ -8,6 +8,7 @@ command) loads no numpy before it has set its BLAS threads.
 from __future__ import annotations
 
 import importlib
+from typing import Any
 
 _EXPORTS = {
     "update_case": "updating.api",
@@ -27,11 +28,11 @@ _EXPORTS = {
 __all__ = sorted(_EXPORTS)
 
 
-def __getattr__(name):
+def __getattr__(name: str) -> Any:
     if name in _EXPORTS:
         return getattr(importlib.import_module(_EXPORTS[name]), name)
     raise AttributeError(f"module 'updating' has no attribute {name!r}")
 
 
-def __dir__():
+def __dir__() -> list[str]:
     return __all__

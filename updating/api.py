@@ -14,20 +14,29 @@ description states (``[truth]``, ``[measurement]``), as the commands do.
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from typing import TYPE_CHECKING
+
 from updating.inverse.cost import ModifiedProblem
-from updating.data.measurements import simulate_measurements
+from updating.data.measurements import Measurements, simulate_measurements
 from updating.inverse.strategy import Step, UpdateResult, localise, update_joints
+
+if TYPE_CHECKING:
+    from assembly import Case
+    from updating.executor import Executor
 
 __all__ = ["localise_case", "update_case"]
 
 
-def _problem(case, measurements, executor):
+def _problem(case: Case, measurements: Measurements | None,
+             executor: Executor | None) -> ModifiedProblem:
     measurements = simulate_measurements(case, executor=executor) if measurements is None \
         else measurements
     return ModifiedProblem(case, measurements, executor=executor, estimate=True)
 
 
-def localise_case(case, measurements=None, executor=None) -> Step:
+def localise_case(case: Case, measurements: Measurements | None = None,
+                  executor: Executor | None = None) -> Step:
     """The first localisation of ``case``: every joint's residual, floor and threshold at the
     model's parameters (:func:`updating.inverse.strategy.localise`), against ``measurements``
     (:class:`updating.data.measurements.Measurements`; default the simulated experiment), with the
@@ -37,7 +46,9 @@ def localise_case(case, measurements=None, executor=None) -> Step:
                     settings=case.updating)
 
 
-def update_case(case, measurements=None, executor=None, on_step=None) -> UpdateResult:
+def update_case(case: Case, measurements: Measurements | None = None,
+                executor: Executor | None = None,
+                on_step: Callable[[Step], object] | None = None) -> UpdateResult:
     """The localisation–correction loop on ``case`` (:func:`updating.inverse.strategy.update_joints`)
     with the description's ``[updating]`` settings and stated noise, against ``measurements``
     (default the simulated experiment); ``on_step(step)`` after each finished step."""

@@ -22,9 +22,17 @@ import ctypes
 import math
 import multiprocessing
 import os
+from collections.abc import Callable, Iterable, Sequence
 from concurrent.futures import ProcessPoolExecutor, ThreadPoolExecutor
+from typing import TYPE_CHECKING, Literal, Self, TypeVar
 
 from updating.data.files import InputError
+
+if TYPE_CHECKING:
+    from distributed import Client
+
+_T = TypeVar("_T")
+_R = TypeVar("_R")
 
 __all__ = ["Executor", "CHUNKS_PER_WORKER", "frequency_threads", "thread_map", "usable_cores"]
 
@@ -38,7 +46,7 @@ CHUNKS_PER_WORKER = 4
 holds several solves."""
 
 
-def _keep_freed_memory():
+def _keep_freed_memory() -> None:
     """Let a worker keep the memory it frees, where the C library is glibc.
 
     A solve allocates and frees arrays of a few MB; by default glibc hands freed memory back
@@ -61,7 +69,7 @@ def _keep_freed_memory():
 _keep_freed_memory.done = False
 
 
-def usable_cores():
+def usable_cores() -> int:
     """Cores this process may run on (its CPU affinity, which job schedulers and ``taskset``
     restrict), else the machine's."""
     try:
@@ -70,7 +78,7 @@ def usable_cores():
         return os.cpu_count() or 1
 
 
-def frequency_threads(tasks, task_bytes, available_bytes):
+def frequency_threads(tasks: int, task_bytes: float, available_bytes: float | None) -> int:
     """Threads for ``tasks`` independent per-frequency solves of ``task_bytes`` peak memory each:
     one per usable core and per task, as many as fit in half the ``available_bytes`` (None:
     unknown, then one)."""
@@ -80,7 +88,7 @@ def frequency_threads(tasks, task_bytes, available_bytes):
     return max(1, min(usable_cores(), tasks, fit))
 
 
-def thread_map(function, items, threads):
+def thread_map(function: Callable[[_T], _R], items: Iterable[_T], threads: int) -> list[_R]:
     """``[function(item) for item in items]`` on up to ``threads`` threads, in order.
 
     For tasks that spend their time in compiled code releasing the GIL (sparse and dense
@@ -93,12 +101,12 @@ def thread_map(function, items, threads):
         return list(pool.map(function, items))
 
 
-def _run_chunk(function, chunk):
+def _run_chunk(function: Callable[[_T], _R], chunk: Iterable[_T]) -> list[_R]:
     _keep_freed_memory()
     return [function(item) for item in chunk]
 
 
-def _chunks(items, count):
+def _chunks(items: Sequence[_T], count: int) -> list[Sequence[_T]]:
     size = max(1, math.ceil(len(items) / max(count, 1)))
     return [items[i:i + size] for i in range(0, len(items), size)]
 
@@ -109,13 +117,16 @@ class Executor:
     Use as a context manager: the worker processes or the cluster connection are closed on exit.
     """
 
-    def __init__(self, workers=1, scheduler=None, threads=1):
+    _pool: ProcessPoolExecutor | None
+    _client: Client | None
+
+    def __init__(self, workers: int = 1, scheduler: str | None = None, threads: int = 1) -> None:
         if workers < 1:
             raise ValueError(f"workers must be at least 1, got {workers}")
         self.workers, self.scheduler, self.threads = workers, scheduler, threads
         self._pool = self._client = None
 
-    def __enter__(self):
+    def __enter__(self) -> Self:
         if self.scheduler is not None:
             try:
                 from distributed import Client
@@ -135,7 +146,7 @@ class Executor:
                                              mp_context=multiprocessing.get_context("spawn"))
         return self
 
-    def __exit__(self, *exc):
+    def __exit__(self, *exc: object) -> Literal[False]:
         if self._pool is not None:
             self._pool.shutdown(cancel_futures=True)
         if self._client is not None:
@@ -151,7 +162,7 @@ class Executor:
             return f"{self.workers} local processes"
         return f"this process ({self.threads} threads)" if self.threads > 1 else "this process"
 
-    def map(self, function, items):
+    def map(self, function: Callable[[_T], _R], items: Iterable[_T]) -> list[_R]:
         """``[function(item) for item in items]``, possibly in parallel, in order."""
         items = list(items)
         if self._pool is None and self._client is None or len(items) <= 1:

@@ -8,6 +8,7 @@ no traceback (``docs/cli.md``).
 from __future__ import annotations
 
 import os
+from collections.abc import Sequence
 
 from updating.cli.parser import build_parser
 
@@ -20,7 +21,7 @@ contention than it gains (measured: the four-plate run 10x slower on 2 cores wit
 threads). A script that imports the library keeps its own settings."""
 
 
-def main(argv=None):
+def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``vtcr`` console script; returns the exit status."""
     for variable in SINGLE_THREADED:
         os.environ.setdefault(variable, "1")

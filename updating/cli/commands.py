@@ -8,6 +8,7 @@ no traceback. The commands only format what the library returns.
 
 from __future__ import annotations
 
+import argparse
 import contextlib
 import errno
 import math
@@ -39,7 +40,7 @@ from updating.data.files import (
 __all__ = ["execute", "COMMANDS"]
 
 
-def _check_description(args):
+def _check_description(args: argparse.Namespace) -> None:
     """Physical and numerical sanity of the description, before any work; prints warnings."""
     if not getattr(args, "case", None):
         return
@@ -56,7 +57,7 @@ def _check_description(args):
             map_large_arrays()
 
 
-def _option_problems(args):
+def _option_problems(args: argparse.Namespace) -> list[str]:
     """One line per bad option value, naming the option and the fix (before any work)."""
     problems = []
     frequencies, noise = getattr(args, "frequency", None) or (), getattr(args, "noise", None)
@@ -112,7 +113,7 @@ def _option_problems(args):
     return problems
 
 
-def _sweep_option_problems(args):
+def _sweep_option_problems(args: argparse.Namespace) -> list[str]:
     """Bad values of ``vtcr frf``'s sweep options, one line each."""
     problems = []
     low, high = args.band
@@ -158,7 +159,7 @@ COMMANDS = {"check": cmd_check, "solve": cmd_solve, "simulate": cmd_simulate,
 """The function of each command (the parser's ``run`` default)."""
 
 
-def execute(args):
+def execute(args: argparse.Namespace) -> int:
     """Check the options and the description of the parsed ``args``, run their command and
     return its exit status: every expected failure is one line on standard error and a status
     (2 bad input, 1 numerical failure, 130 interrupted; ``docs/cli.md``)."""

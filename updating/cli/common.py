@@ -3,20 +3,24 @@ modified problem they build, the error-estimate lines, provenance and the execut
 
 from __future__ import annotations
 
+import argparse
 import ctypes
 import ctypes.util
 import hashlib
 import math
 import os
 import sys
+from collections.abc import Mapping
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 from rich.console import Console
 from rich.markup import escape
 
-from assembly import load_case
+from assembly import Case, load_case
 from solver.errors import NumericalError
 from solver.estimate import (
+    ErrorEstimate,
     solve_to_tolerance,
 )
 from solver.sizing import available_memory, estimate_size
@@ -25,6 +29,7 @@ from updating.data.files import (
     InputError,
 )
 from updating.data.measurements import (
+    Measurements,
     check_joints_seen,
     read_measurements,
     simulate_measurements,
@@ -36,6 +41,9 @@ from updating.data.runfile import (
 from updating.data.uff import UFF_SUFFIXES, is_uff, read_uff
 from updating.executor import Executor, frequency_threads
 from updating.inverse.cost import ModifiedProblem
+
+if TYPE_CHECKING:
+    from solver import CaseSolution
 
 NOT_CONVERGED = 3
 """Exit status of ``vtcr update`` when the loop stops without converging (status 1: joints
@@ -59,7 +67,7 @@ OUTPUT_OPTIONS = (("out", "--out"), ("json", "--json"), ("csv", "--csv"), ("repo
 """The options that name output files (``-``: standard output)."""
 
 
-def map_large_arrays():
+def map_large_arrays() -> None:
     """Fix glibc's mmap threshold at :data:`MMAP_THRESHOLD` (nothing on other C libraries)."""
     if "MALLOC_MMAP_THRESHOLD_" in os.environ or "mmap_threshold" in os.environ.get(
             "GLIBC_TUNABLES", ""):
@@ -72,7 +80,7 @@ def map_large_arrays():
         pass
 
 
-def console_for(args):
+def console_for(args: argparse.Namespace) -> Console:
     # with an output on standard output (``--json -``) the tables go to standard error, so
     # that the output can be piped; a file or a pipe has no width: 120 columns keeps wide
     # tables (Table 4) on one line
@@ -83,29 +91,29 @@ def console_for(args):
                    stderr=to_stderr)
 
 
-def load_description(args):
+def load_description(args: argparse.Namespace) -> Case:
     """The description of ``args.case``, loaded and validated once per command."""
     if getattr(args, "case_model", None) is None:
         args.case_model = load_case(args.case)
     return args.case_model
 
 
-def frequencies_of(case, args):
+def frequencies_of(case: Case, args: argparse.Namespace) -> tuple[float, ...]:
     if getattr(args, "frequency", None) is None:
         return case.frequencies
     return tuple(args.frequency)
 
 
-def print_solution_warnings(console, solution):
+def print_solution_warnings(console: Console, solution: CaseSolution) -> None:
     for warning in solution.warnings:
         warn(console, warning)
 
 
-def warn(console, line):
+def warn(console: Console, line: str) -> None:
     console.print(f"[yellow]warning:[/] {escape(line)}", soft_wrap=True)
 
 
-def checked_measurements(case, args):
+def checked_measurements(case: Case, args: argparse.Namespace) -> Measurements:
     """:func:`load_measurements`, after checking that they can see the joints to update."""
     if not case.joints:
         raise InputError(f"{args.case}: joints: the description has no joint to update; add a "
@@ -123,7 +131,7 @@ def checked_measurements(case, args):
     return measurements
 
 
-def print_problem_warnings(args, problem):
+def print_problem_warnings(args: argparse.Namespace, problem: ModifiedProblem) -> None:
     """Print the condition warnings of a ModifiedProblem; stop on a non-finite set-up."""
     for line in getattr(problem, "warnings", ()):
         warn(console_for(args), line)
@@ -142,7 +150,7 @@ MAX_PROBLEM_LINES = 50
 ESTIMATE_WARNING = 1e-2
 
 
-def resolution_text(resolution):
+def resolution_text(resolution: float | dict[str, float]) -> str:
     """A resolution factor, or the range of per-plate factors."""
     if isinstance(resolution, dict):
         values = resolution.values()
@@ -150,7 +158,7 @@ def resolution_text(resolution):
     return f"{resolution:.3g}"
 
 
-def load_measurements(case, args):
+def load_measurements(case: Case, args: argparse.Namespace) -> Measurements:
     path, uff_map = getattr(args, "measurements", None), getattr(args, "uff_map", None)
     if path and is_uff(path):  # dispatch on the suffix: UFF 58 (needs pyuff) or CSV
         return read_uff(path, case, uff_map)
@@ -163,7 +171,7 @@ def load_measurements(case, args):
     return simulate_measurements(case, executor=executor_for(args, case))
 
 
-def warn_untrue_simulation(args, case):
+def warn_untrue_simulation(args: argparse.Namespace, case: Case) -> None:
     """A simulated experiment of a description without [truth] measures the model itself."""
     if case.joints and not case.truth.joints:
         warn(console_for(args), f"{args.case} has no [truth.joints] table: the simulated "
@@ -172,7 +180,9 @@ def warn_untrue_simulation(args, case):
                               "[truth.joints.ID] tables, or give measured data")
 
 
-def modified_problem(case, args, measurements=None, discretisation=True):
+def modified_problem(case: Case, args: argparse.Namespace,
+                     measurements: Measurements | None = None,
+                     discretisation: bool = True) -> ModifiedProblem:
     """The updating problem on ``measurements`` (default: read or simulated per ``args``);
     ``discretisation``: see :class:`updating.inverse.cost.ModifiedProblem`."""
     if measurements is None:
@@ -189,7 +199,7 @@ def modified_problem(case, args, measurements=None, discretisation=True):
     return problem
 
 
-def resolution_for_tolerance(case, console):
+def resolution_for_tolerance(case: Case, console: Console) -> dict[str, float] | None:
     """With ``[discretisation] tolerance``: the resolution at which the model's response meets
     it at every frequency (the highest any frequency needs); else None (the description's)."""
     tolerance = case.discretisation.tolerance
@@ -204,7 +214,8 @@ def resolution_for_tolerance(case, console):
     return resolution
 
 
-def print_estimates(console, estimates, what=""):
+def print_estimates(console: Console, estimates: Mapping[float, ErrorEstimate],
+                    what: str = "") -> None:
     """One line: the estimated error of w at each frequency of ``estimates`` (``{frequency:
     ErrorEstimate}``), its resolution and the worst plate; a warning above
     :data:`ESTIMATE_WARNING` or when the estimate was skipped."""
@@ -239,7 +250,7 @@ def print_estimates(console, estimates, what=""):
                          "tolerance")
 
 
-def estimates_json(estimates):
+def estimates_json(estimates: Mapping[float, ErrorEstimate]) -> dict[str, Any] | None:
     """``error_estimate`` of a multi-frequency JSON: the worst total and plate values over the
     frequencies, and every frequency's estimate."""
     if not estimates:
@@ -254,7 +265,7 @@ def estimates_json(estimates):
             "frequencies": {f"{f:g}": e.to_json() for f, e in estimates.items()}}
 
 
-def run_path_for(args):
+def run_path_for(args: argparse.Namespace) -> Path:
     """The run file: ``--run``, else beside the report or the JSON, else ``CASE.run.json``."""
     if args.run_file:
         return Path(args.run_file)
@@ -272,7 +283,8 @@ UNITS = {"length": "m", "w": "m", "frequency": "Hz", "power": "W", "energy": "J"
          "costs and residuals": "fractions, or % in fields named *_percent"}
 
 
-def provenance(args, case, measurements=None):
+def provenance(args: argparse.Namespace, case: Case,
+               measurements: Measurements | None = None) -> dict[str, Any]:
     """The tool, the units and fingerprints of the inputs, for every JSON output."""
     inputs = {"description": {"path": str(args.case), "sha256": description_digest(case)}}
     probes = getattr(args, "probes", None)
@@ -287,7 +299,7 @@ def provenance(args, case, measurements=None):
             "inputs": inputs}
 
 
-def executor_for(args, case):
+def executor_for(args: argparse.Namespace, case: Case) -> Executor:
     """The command's executor, started once and closed when the command ends (``main``).
 
     Command-line options win over the description's ``[compute]`` table; ``--workers`` alone
@@ -302,7 +314,7 @@ def executor_for(args, case):
     return args.executor
 
 
-def threads_for(args, case):
+def threads_for(args: argparse.Namespace, case: Case) -> int:
     """Threads for the per-frequency solves of this process: one per usable core, as many as
     the estimated peak memory of one solve (``solver.sizing``) lets fit in half the memory."""
     if getattr(args, "threads", None) is None:

@@ -2,10 +2,13 @@
 
 from __future__ import annotations
 
+import argparse
 import csv
 import io
 import sys
 import time
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from rich.table import Table
@@ -59,9 +62,10 @@ from updating.figures.figure_tools import require_matplotlib
 from updating.figures.curves import write_curve_figure
 from updating.figures.plots import write_update_figures
 from updating.figures.responses import write_plan_figure
-from updating.inverse.cost import cost_curve, log_grid
+from updating.inverse.cost import ModifiedProblem, cost_curve, log_grid
 from updating.inverse.plan import identifiability_plan
 from updating.inverse.strategy import (
+    Step,
     excess_ratios,
     finished_result,
     localise,
@@ -70,8 +74,11 @@ from updating.inverse.strategy import (
     update_joints,
 )
 
+if TYPE_CHECKING:
+    from assembly import Case
 
-def cmd_localise(args):
+
+def cmd_localise(args: argparse.Namespace) -> int:
     case = load_description(args)
     measurements = checked_measurements(case, args)
     problem = modified_problem(case, args, measurements)
@@ -109,7 +116,7 @@ def cmd_localise(args):
     return 0
 
 
-def _planned_points(case, args):
+def _planned_points(case: Case, args: argparse.Namespace) -> Measurements:
     """The points of the planned measurement: a measurement file's (values unused), else the
     description's grid and point measurements, at every frequency of the description."""
     if getattr(args, "measurements", None):
@@ -122,7 +129,8 @@ def _planned_points(case, args):
                              for pid, points in layout.items()} for f in case.frequencies})
 
 
-def _updatable_joint_names(case, args, option, names):
+def _updatable_joint_names(case: Case, args: argparse.Namespace, option: str,
+                           names: list[str]) -> list[str]:
     """``names`` checked against the case's updatable joints (one line and exit 2 naming the
     first that is not one)."""
     for name in names:
@@ -133,7 +141,7 @@ def _updatable_joint_names(case, args, option, names):
     return names
 
 
-def cmd_plan(args):
+def cmd_plan(args: argparse.Namespace) -> int:
     case = load_description(args)
     if not case.joints:
         raise InputError(f"{args.case}: joints: the description has no joint to plan for; add "
@@ -198,7 +206,7 @@ def cmd_plan(args):
     return 0
 
 
-def _weights_json(problem):
+def _weights_json(problem: ModifiedProblem) -> dict[str, Any]:
     """The weights of the modified error a run used: ``r`` and, for the scale-free ones, the
     balance and the noise the data were weighed by (``docs/updating.md``, section 2)."""
     if problem.weights is None:
@@ -207,7 +215,7 @@ def _weights_json(problem):
     return {"rule": "scale-free", "r": w.r, "balance": w.balance, "noise": w.noise}
 
 
-def _truth(case, args):
+def _truth(case: Case, args: argparse.Namespace) -> dict[str, dict[str, float]]:
     """``{joint: {parameter: true value}}`` of a simulated experiment (none with measured
     data); a junction's every finite member when its truth gives a value."""
     if getattr(args, "measurements", None):
@@ -215,11 +223,11 @@ def _truth(case, args):
     return case.true_parameters()
 
 
-def _finished_steps(count):
+def _finished_steps(count: int) -> str:
     return f"{count} finished step{'' if count == 1 else 's'} {'is' if count == 1 else 'are'}"
 
 
-def _resume_command(args, run_path):
+def _resume_command(args: argparse.Namespace, run_path: str | Path) -> str:
     """The command that continues an interrupted ``vtcr update``, with the outputs it asked for
     (the same JSON, report, figures and measurements)."""
     kept = [f"{option} {value}" for option, value in (
@@ -229,7 +237,7 @@ def _resume_command(args, run_path):
     return " ".join([f"vtcr update {args.case}", *kept, f"--resume {run_path}"])
 
 
-def cmd_update(args):
+def cmd_update(args: argparse.Namespace) -> int:
     case = load_description(args)
     console = console_for(args)
     if args.plot:
@@ -258,10 +266,10 @@ def cmd_update(args):
     if args.confidence is not None:
         settings = settings.model_copy(update={"confidence": args.confidence})
     with progress_bar(console, "localising", settings.max_steps + 1) as advance:
-        def corrected(number, joint, again):
+        def corrected(number: int, joint: str, again: bool) -> None:
             advance(f"step {number}: {'re-' if again else ''}correcting {joint}", amount=0)
 
-        def finished(step):
+        def finished(step: Step) -> None:
             run.save_step(step)
             advance(f"step {step.step} finished (E_mod^2 {100 * step.e_mod:.2f} %)")
 
@@ -333,7 +341,7 @@ def cmd_update(args):
     return 0
 
 
-def cmd_curve(args):
+def cmd_curve(args: argparse.Namespace) -> int:
     case = load_description(args)
     _updatable_joint_names(case, args, "--joint", [args.joint])
     if args.plot:

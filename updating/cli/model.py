@@ -2,17 +2,20 @@
 
 from __future__ import annotations
 
+import argparse
 import json
 import sys
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from rich.table import Table
 
-from assembly import summarise
+from assembly import Case, summarise
 from assembly.schema import case_json_schema
-from solver import field_grid, solve_case
+from solver import CaseSolution, field_grid, solve_case
 from solver.estimate import (
+    ErrorEstimate,
     enriched_plates,
     enriched_size,
     estimate_error,
@@ -33,6 +36,7 @@ from updating.cli.common import (
 )
 from updating.cli.progress import progress_bar
 from updating.data.files import (
+    Probes,
     read_probes,
     write_json_atomic,
     write_text_atomic,
@@ -47,13 +51,18 @@ from updating.figures.figure_tools import require_matplotlib
 from updating.figures.responses import write_sweep_figures
 from updating.forward.sweep import (
     BALANCE_TOLERANCE,
+    BandResolutions,
+    Sweep,
     band_resolutions,
     frequency_sweep,
     strongest_peaks,
 )
 
+if TYPE_CHECKING:
+    from rich.console import Console
 
-def cmd_check(args):
+
+def cmd_check(args: argparse.Namespace) -> int:
     case = load_description(args)
     console = console_for(args)
     console.print(summarise(case))
@@ -63,7 +72,7 @@ def cmd_check(args):
     return 0
 
 
-def cmd_solve(args):
+def cmd_solve(args: argparse.Namespace) -> int:
     case = load_description(args)
     probes = read_probes(args.probes, case) if args.probes else None
     tolerance = args.tolerance if args.tolerance is not None else case.discretisation.tolerance
@@ -77,7 +86,8 @@ def cmd_solve(args):
     return 0
 
 
-def _solve_frequency(args, case, frequency, probes, tolerance):
+def _solve_frequency(args: argparse.Namespace, case: Case, frequency: float, probes: Probes | None,
+                     tolerance: float | None) -> dict[str, Any]:
     """``vtcr solve`` at one frequency: prints its table, returns its JSON entry."""
     console = console_for(args)
     solution, estimate = _solve_with_estimate(case, frequency, tolerance, not args.no_estimate)
@@ -126,7 +136,8 @@ def _solve_frequency(args, case, frequency, probes, tolerance):
     }
 
 
-def _solve_with_estimate(case, frequency, tolerance, estimate):
+def _solve_with_estimate(case: Case, frequency: float, tolerance: float | None,
+                         estimate: bool) -> tuple[CaseSolution, ErrorEstimate | None]:
     """A solve and its error estimate: to ``tolerance`` if given, else at the description's
     resolution (estimate None when not wanted)."""
     if tolerance is not None:
@@ -140,7 +151,7 @@ def _solve_with_estimate(case, frequency, tolerance, estimate):
     return solution, estimate_error(case, solution, enriched=enriched)
 
 
-def cmd_simulate(args):
+def cmd_simulate(args: argparse.Namespace) -> int:
     case = load_description(args)
     warn_untrue_simulation(args, case)
     measurements = simulate_measurements(case, noise=args.noise, seed=args.seed,
@@ -152,7 +163,7 @@ def cmd_simulate(args):
     return 0
 
 
-def cmd_frf(args):
+def cmd_frf(args: argparse.Namespace) -> int:
     case = load_description(args)
     console = console_for(args)
     if args.plot:
@@ -215,14 +226,15 @@ the band: the relative error is largest at the resonances (where the field is mo
 the boundary conditions) and at the highest frequency (where the ray counts are tightest)."""
 
 
-def _sweep_estimates(case, sweep, resolutions=None):
+def _sweep_estimates(case: Case, sweep: Sweep, resolutions: BandResolutions | None = None
+                     ) -> dict[float, ErrorEstimate]:
     """Error estimates at the sweep's :data:`SWEEP_ESTIMATE_PEAKS` strongest response peaks
     and at its highest frequency, the largest of which stands for the band (one solve and one
     enriched solve each, not one per frequency of the sweep), each at the resolution the sweep
     used there (``resolutions``, :class:`updating.forward.sweep.BandResolutions`)."""
     chosen = sorted(set(strongest_peaks(sweep, SWEEP_ESTIMATE_PEAKS))
                     | {float(sweep.frequencies[-1])})
-    def at(f):
+    def at(f: float) -> dict[str, float] | None:
         return None if resolutions is None else resolutions.at(f)
 
     return {f: estimate_error(case, solve_case(case, f, resolution=at(f), residuals=False,
@@ -230,7 +242,7 @@ def _sweep_estimates(case, sweep, resolutions=None):
             for f in chosen}
 
 
-def _print_sweep(console, case, sweep, n_points):
+def _print_sweep(console: Console, case: Case, sweep: Sweep, n_points: int) -> None:
     """Sampling, resonance peaks and the power flow at the strongest one."""
     s = sweep.sampling
     requested = (f"step {s['requested']['step']:g} Hz" if s["requested"]["step"] is not None
@@ -280,7 +292,7 @@ def _print_sweep(console, case, sweep, n_points):
                   f"imbalance {sweep.imbalances[worst]:.1e} at {sweep.frequencies[worst]:g} Hz")
 
 
-def cmd_schema(args):
+def cmd_schema(args: argparse.Namespace) -> int:
     text = json.dumps(case_json_schema(), indent=2, ensure_ascii=False) + "\n"
     if not args.out:
         sys.stdout.write(text)

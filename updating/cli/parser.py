@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import argparse
 from importlib.metadata import PackageNotFoundError, version
+from typing import Any, NoReturn
 
 __all__ = ["build_parser", "version_text", "SUMMARY_JOINTS"]
 
@@ -15,7 +16,7 @@ __all__ = ["build_parser", "version_text", "SUMMARY_JOINTS"]
 class _DefaultsFormatter(argparse.HelpFormatter):
     """Help that states each option's default, unless its text already does."""
 
-    def _get_help_string(self, action):
+    def _get_help_string(self, action: argparse.Action) -> str:
         text = action.help or ""
         if ("default" not in text and action.default not in (None, False, argparse.SUPPRESS)
                 and action.option_strings):
@@ -27,21 +28,22 @@ class _Parser(argparse.ArgumentParser):
     """Argument parser whose usage errors are one line ``vtcr: ...`` (exit status 2), and
     whose help states every default."""
 
-    def __init__(self, *args, **kwargs):
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
         kwargs.setdefault("formatter_class", _DefaultsFormatter)
         super().__init__(*args, **kwargs)
 
-    def error(self, message):
+    def error(self, message: str) -> NoReturn:
         self.exit(2, f"vtcr: {message}; see `{self.prog} --help`\n")
 
 
-def _estimate_option(parser):
+def _estimate_option(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--no-estimate", action="store_true",
                         help="skip the a-posteriori estimate of the discretisation error (an "
                              "enriched solve per frequency, 1.5 to 3 times a solve)")
 
 
-def _measurement_options(parser, what="measured field", default="simulated"):
+def _measurement_options(parser: argparse.ArgumentParser, what: str = "measured field",
+                         default: str = "simulated") -> None:
     parser.add_argument("--measurements", metavar="FILE",
                         help=f"{what}: CSV plate,x,y,re,im[,frequency], or a UFF file "
                              f"(.uff, .unv, .58: datasets 58/58b, needs pyuff) with "
@@ -51,7 +53,7 @@ def _measurement_options(parser, what="measured field", default="simulated"):
                              "(plate-local metres)")
 
 
-def _confidence_option(parser, what):
+def _confidence_option(parser: argparse.ArgumentParser, what: str) -> None:
     parser.add_argument("--confidence", type=float, metavar="LEVEL",
                         help=f"level of {what} (default [updating] confidence, 0.9)")
 
@@ -60,21 +62,22 @@ SUMMARY_JOINTS = 30
 """Joints above which vtcr localise prints only those that stand out and the next five."""
 
 
-def _renamed(parser, old, new, why="renamed to"):
+def _renamed(parser: argparse.ArgumentParser, old: str, new: str,
+             why: str = "renamed to") -> None:
     """``old``, kept for one release to be refused with a line naming ``new`` (the value is
     read but not used: ``updating.cli.commands`` refuses it)."""
     parser.add_argument(old, dest=f"renamed_{old.lstrip('-').replace('-', '_')}",
                         metavar="VALUE", help=f"refused: {why} {new}")
 
 
-def version_text():
+def version_text() -> str:
     try:
         return version("vtcr")
     except PackageNotFoundError:  # run from a checkout that was not installed
         return "unknown"
 
 
-def _compute_options(parser):
+def _compute_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--workers", type=int, metavar="N",
                         help="local worker processes for independent tasks (default [compute] "
                              "workers, else 1: this process)")
@@ -83,17 +86,16 @@ def _compute_options(parser):
                              "scheduler; needs distributed)")
 
 
-def build_parser():
-    parser = _Parser(
-        prog="vtcr",
-        description="Localise and correct badly modelled joints of plate assemblies (VTCR).")
-    parser.add_argument("--version", action="version", version=f"vtcr {version_text()}")
-    sub = parser.add_subparsers(dest="command", required=True)
-
+def _add_check(sub: argparse._SubParsersAction[_Parser]) -> _Parser:
+    """Add ``vtcr check`` to ``sub``; return its parser (without ``--quiet``)."""
     check = sub.add_parser("check", help="validate and summarise an assembly description")
     check.add_argument("case", help="assembly description (TOML)")
     check.set_defaults(run="check")
+    return check
 
+
+def _add_solve(sub: argparse._SubParsersAction[_Parser]) -> _Parser:
+    """Add ``vtcr solve`` to ``sub``; return its parser (without ``--quiet``)."""
     solve = sub.add_parser("solve", help="forced response at the description's frequencies")
     solve.add_argument("case", help="assembly description (TOML)")
     solve.add_argument("--probes", help="CSV with header plate,x,y (plate-local metres)")
@@ -110,7 +112,11 @@ def build_parser():
                             "description's resolution)")
     _estimate_option(solve)
     solve.set_defaults(run="solve")
+    return solve
 
+
+def _add_simulate(sub: argparse._SubParsersAction[_Parser]) -> _Parser:
+    """Add ``vtcr simulate`` to ``sub``; return its parser (without ``--quiet``)."""
     simulate = sub.add_parser("simulate", help="simulated experiment from the true joints")
     simulate.add_argument("case", help="assembly description (TOML)")
     simulate.add_argument("--out", required=True, help="measurement CSV to write")
@@ -119,7 +125,11 @@ def build_parser():
     simulate.add_argument("--seed", type=int, help="noise seed (default [measurement] seed)")
     _compute_options(simulate)
     simulate.set_defaults(run="simulate")
+    return simulate
 
+
+def _add_localise(sub: argparse._SubParsersAction[_Parser]) -> _Parser:
+    """Add ``vtcr localise`` to ``sub``; return its parser (without ``--quiet``)."""
     localise = sub.add_parser("localise", help="per-joint residuals at the model's parameters")
     localise.add_argument("case", help="assembly description (TOML)")
     _measurement_options(localise)
@@ -131,7 +141,11 @@ def build_parser():
                                "that stand out and the next five are printed)")
     _compute_options(localise)
     localise.set_defaults(run="localise")
+    return localise
 
+
+def _add_plan(sub: argparse._SubParsersAction[_Parser]) -> _Parser:
+    """Add ``vtcr plan`` to ``sub``; return its parser (without ``--quiet``)."""
     plan = sub.add_parser("plan", help="before the test: which joints the planned "
                                        "measurement can identify")
     plan.add_argument("case", help="assembly description (TOML)")
@@ -150,7 +164,11 @@ def build_parser():
                       help="write the sensitivity figure into DIR (needs matplotlib)")
     _compute_options(plan)
     plan.set_defaults(run="plan")
+    return plan
 
+
+def _add_update(sub: argparse._SubParsersAction[_Parser]) -> _Parser:
+    """Add ``vtcr update`` to ``sub``; return its parser (without ``--quiet``)."""
     update = sub.add_parser("update", help="localisation-correction loop")
     update.add_argument("case", help="assembly description (TOML)")
     _measurement_options(update)
@@ -175,7 +193,11 @@ def build_parser():
     _confidence_option(update, "the confidence interval of every corrected joint")
     _compute_options(update)
     update.set_defaults(run="update")
+    return update
 
+
+def _add_curve(sub: argparse._SubParsersAction[_Parser]) -> _Parser:
+    """Add ``vtcr curve`` to ``sub``; return its parser (without ``--quiet``)."""
     curve = sub.add_parser("curve", help="E_mod^2, E_int^2, E_mes^2 against one joint's log10 k")
     curve.add_argument("case", help="assembly description (TOML)")
     curve.add_argument("--joint", required=True, help="the joint whose log10 k is varied")
@@ -189,7 +211,11 @@ def build_parser():
                        help="write the curve as DIR/cost_JOINT.png (needs matplotlib)")
     _compute_options(curve)
     curve.set_defaults(run="curve")
+    return curve
 
+
+def _add_frf(sub: argparse._SubParsersAction[_Parser]) -> _Parser:
+    """Add ``vtcr frf`` to ``sub``; return its parser (without ``--quiet``)."""
     frf = sub.add_parser("frf", help="frequency response and power flow over a band")
     frf.add_argument("case", help="assembly description (TOML)")
     _estimate_option(frf)
@@ -219,11 +245,25 @@ def build_parser():
                      help="write frf.png and power.png into DIR (needs matplotlib)")
     _compute_options(frf)
     frf.set_defaults(run="frf")
+    return frf
 
+
+def _add_schema(sub: argparse._SubParsersAction[_Parser]) -> _Parser:
+    """Add ``vtcr schema`` to ``sub``; return its parser (without ``--quiet``)."""
     schema = sub.add_parser("schema", help="JSON Schema of the description (editor completion)")
     schema.add_argument("--out", help="write it to this file (default: standard output)")
     schema.set_defaults(run="schema")
+    return schema
 
-    for p in (check, solve, simulate, localise, plan, update, curve, frf, schema):
+
+def build_parser() -> _Parser:
+    parser = _Parser(
+        prog="vtcr",
+        description="Localise and correct badly modelled joints of plate assemblies (VTCR).")
+    parser.add_argument("--version", action="version", version=f"vtcr {version_text()}")
+    sub = parser.add_subparsers(dest="command", required=True)
+    commands = [add(sub) for add in (_add_check, _add_solve, _add_simulate, _add_localise,
+                                     _add_plan, _add_update, _add_curve, _add_frf, _add_schema)]
+    for p in commands:
         p.add_argument("--quiet", action="store_true", help="print nothing but errors")
     return parser

@@ -11,15 +11,21 @@ from __future__ import annotations
 
 import sys
 import time
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager
+from typing import TYPE_CHECKING
 
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+
+if TYPE_CHECKING:
+    from rich.console import Console
 
 __all__ = ["progress_bar"]
 
 
 @contextmanager
-def progress_bar(console, description, total):
+def progress_bar(console: Console, description: str,
+                 total: float | None) -> Iterator[Callable[..., None]]:
     """Yield ``advance(description=None)``: one unit of work done, optionally relabelled."""
     shown = console.is_terminal and not console.quiet
     logged = not console.is_terminal and not console.quiet
@@ -29,7 +35,7 @@ def progress_bar(console, description, total):
                   disable=not shown) as progress:
         task = progress.add_task(description, total=total)
 
-        def advance(label=None, amount=1):
+        def advance(label: str | None = None, amount: float = 1) -> None:
             progress.update(task, advance=amount,
                             **({"description": label} if label is not None else {}))
             if logged and label is not None:

@@ -5,15 +5,21 @@ Formatting only: everything shown comes from :class:`updating.inverse.strategy.U
 
 from __future__ import annotations
 
+from collections.abc import Collection, Mapping
+from typing import TYPE_CHECKING, Any
+
 from rich import box
 from rich.table import Table
 
-from updating.inverse.strategy import thresholds
+from updating.inverse.strategy import Step, UpdateResult, thresholds
+
+if TYPE_CHECKING:
+    from updating.inverse.confidence import ConfidenceInterval
 
 __all__ = ["steps_table", "identified_lines", "result_json", "result_markdown", "notable_joints"]
 
 
-def _label(step):
+def _label(step: Step) -> str:
     return f"step {step.step}" + ("*" if step.recorrection else "")
 
 
@@ -32,7 +38,8 @@ OUTSIDE_NOISE_FREE = ("; the estimate lies outside it: without noise, what the d
 cannot be the noise's."""
 
 
-def identified_lines(result, truth=None, noise=None):
+def identified_lines(result: UpdateResult, truth: Mapping[str, Mapping[str, float]] | None = None,
+                     noise: float | None = None) -> list[str]:
     """One line per corrected joint and identified parameter: its value and its confidence
     interval (or bound), its true value where ``truth`` (``{joint: {parameter: value}}``,
     :meth:`assembly.Case.true_parameters`) has it, and why the value lies outside its interval
@@ -42,7 +49,8 @@ def identified_lines(result, truth=None, noise=None):
     truth = truth or {}
     lines = []
 
-    def line(joint, name, interval, label, digits):
+    def line(joint: str, name: str, interval: ConfidenceInterval, label: str,
+             digits: str) -> str:
         value = result.parameters[joint][name]
         text = f"{joint}: {label} = {value:{digits}}; {interval.text}"
         if name in truth.get(joint, {}):
@@ -62,7 +70,8 @@ def identified_lines(result, truth=None, noise=None):
     return lines
 
 
-def steps_table(result, title, joints=None):
+def steps_table(result: UpdateResult, title: str,
+                joints: Collection[str] | None = None) -> Table:
     """Rows: joints, then E_mod^2 and its noise floor; per step log10 k and E_Gamma^2 (%).
 
     The joint corrected in a step is shown in bold (the paper's Table 4) and marked ``>``, which
@@ -98,7 +107,7 @@ def steps_table(result, title, joints=None):
     return table
 
 
-def notable_joints(result, stop_ratio):
+def notable_joints(result: UpdateResult, stop_ratio: float) -> set[str]:
     """The joints corrected or standing out of their thresholds in some step of ``result``:
     the rows of a large structure's summary table."""
     notable = set()
@@ -108,7 +117,8 @@ def notable_joints(result, stop_ratio):
     return notable
 
 
-def result_json(result, extra=None, bounds=None):
+def result_json(result: UpdateResult, extra: Mapping[str, Any] | None = None,
+                bounds: tuple[float, float] | None = None) -> dict[str, Any]:
     """The contract's JSON: ``{"steps": [...], ...}``, the status and the identified values."""
     out = {"steps": [step.to_json() for step in result.steps], "status": result.status,
            "message": result.message}
@@ -121,7 +131,7 @@ def result_json(result, extra=None, bounds=None):
     return out
 
 
-def _more_parameters(result, joint):
+def _more_parameters(result: UpdateResult, joint: str) -> dict[str, Any]:
     """``{"parameters": {name: {value, interval, ...}}}`` of the joint's other identified
     parameters that have an interval (loss factor, line mass), or nothing."""
     more = {name: {"value": result.parameters[joint][name], **interval.to_json()}
@@ -130,7 +140,9 @@ def _more_parameters(result, joint):
     return {"parameters": more} if more else {}
 
 
-def result_markdown(result, title, truth=None, noise=None):
+def result_markdown(result: UpdateResult, title: str,
+                    truth: Mapping[str, Mapping[str, float]] | None = None,
+                    noise: float | None = None) -> str:
     """A Markdown report of the run (same content as :func:`steps_table`), for a lab notebook."""
     joints = list(result.steps[0].parameters)
     head = ["joint"] + [f"{_label(s)} log k / E_Γ² %" for s in result.steps]

@@ -22,11 +22,19 @@ import os
 import secrets
 import stat
 import sys
+from collections.abc import Iterable, Iterator, Mapping, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass
+from io import BufferedReader
 from pathlib import Path
+from typing import IO, TYPE_CHECKING, Any
 
 import numpy as np
+
+if TYPE_CHECKING:
+    import _csv
+
+    from assembly import Case
 
 __all__ = ["InputError", "Probes", "atomic_output", "output_collisions", "output_path_problem",
            "parse_finite", "plate_point", "plot_directory_problem", "point_key", "point_problem",
@@ -37,7 +45,7 @@ __all__ = ["InputError", "Probes", "atomic_output", "output_collisions", "output
 class InputError(ValueError):
     """Bad user input (file, option): one line per problem, shown without a traceback."""
 
-    def __init__(self, lines):
+    def __init__(self, lines: str | Iterable[str]) -> None:
         self.lines = [lines] if isinstance(lines, str) else list(lines)
         super().__init__("\n".join(self.lines))
 
@@ -55,7 +63,8 @@ class Probes:
     nodes: tuple | None = None  # the optional ``node`` column, in row order (UFF node numbers)
 
 
-def parse_finite(path, row_number, column, text, what):
+def parse_finite(path: str | Path, row_number: int, column: str, text: str | None,
+                 what: str) -> float:
     """A finite float from one CSV cell, or :class:`InputError` naming the row, column and fix."""
     where = f"{path}: row {row_number}, column {column!r}"
     if text is None or not str(text).strip():
@@ -70,7 +79,8 @@ def parse_finite(path, row_number, column, text, what):
     return value
 
 
-def point_problem(path, row_number, case, plate_id, x, y):
+def point_problem(path: str | Path, row_number: int, case: Case, plate_id: str, x: float,
+                  y: float) -> str | None:
     """Message when a CSV row's point is not on its plate (None when it is)."""
     if plate_id not in case.plates:
         close = difflib.get_close_matches(plate_id, list(case.plates), n=1)
@@ -84,7 +94,8 @@ def point_problem(path, row_number, case, plate_id, x, y):
     return None
 
 
-def plate_point(path, row_number, case, plate_id, row):
+def plate_point(path: str | Path, row_number: int, case: Case, plate_id: str,
+                row: Mapping[str, str]) -> tuple[float, float]:
     """``(x, y)`` of a CSV row's point on its plate, or :class:`InputError` naming the fix."""
     x, y = (parse_finite(path, row_number, c, row[c], "plate-local metres") for c in ("x", "y"))
     problem = point_problem(path, row_number, case, plate_id, x, y)
@@ -93,7 +104,7 @@ def plate_point(path, row_number, case, plate_id, row):
     return x, y
 
 
-def _open_text(path, what, header):
+def _open_text(path: str | Path, what: str, header: str) -> BufferedReader:
     """The CSV file opened in binary for streaming (:func:`_decoded_lines`), or
     :class:`InputError`."""
     hint = f"give an existing CSV file with the header {header}"
@@ -107,7 +118,7 @@ def _open_text(path, what, header):
         raise InputError(f"{path}: cannot read the {what} file ({err.strerror}); {hint}") from None
 
 
-def _decoded_lines(handle, path):
+def _decoded_lines(handle: Iterable[bytes], path: str | Path) -> Iterator[str]:
     """The file's lines as text, one at a time (a UTF-8 byte-order mark removed); a line that
     is not UTF-8 is an :class:`InputError` naming its line number."""
     for number, raw in enumerate(handle, start=1):
@@ -120,7 +131,7 @@ def _decoded_lines(handle, path):
                              "UTF-8 (comma delimited)") from None
 
 
-def _records(reader, path, header_text):
+def _records(reader: _csv.Reader, path: str | Path, header_text: str) -> Iterator[list[str]]:
     """The reader's rows, read as they are used (memory bounded by what the caller keeps); a
     row the csv module cannot read (a cell beyond its field limit of 131072 characters, a
     quote left open to the end of the file) is an :class:`InputError`."""
@@ -135,13 +146,14 @@ def _records(reader, path, header_text):
         yield cells
 
 
-def _closing(rows, handle):
+def _closing(rows: Iterable[list[str]], handle: BufferedReader) -> Iterator[list[str]]:
     """``rows``, then the file closed (also when the caller stops early or raises)."""
     with handle:
         yield from rows
 
 
-def read_csv_table(path, what, columns, optional=()):
+def read_csv_table(path: str | Path, what: str, columns: Sequence[str], optional: Sequence[str] = ()
+                   ) -> tuple[tuple[str, ...], Iterator[tuple[int, dict[str, str] | None]]]:
     """Check a CSV file and its header; return its columns and its rows.
 
     Parameters
@@ -208,7 +220,7 @@ def read_csv_table(path, what, columns, optional=()):
         raise InputError(problems)
     index = {h: i for i, h in enumerate(header) if h in known}
 
-    def rows():
+    def rows() -> Iterator[tuple[int, dict[str, str] | None]]:
         for cells in records:
             if not any(cell.strip() for cell in cells):
                 continue
@@ -222,17 +234,17 @@ def read_csv_table(path, what, columns, optional=()):
     return tuple(index), rows()
 
 
-def too_many_cells(path, number, columns):
+def too_many_cells(path: str | Path, number: int, columns: Iterable[str]) -> str:
     return (f"{path}: row {number}: more cells than the header's columns; remove the extra "
             f"cells (or the thousands separators), one point per row {','.join(columns)}")
 
 
-def point_key(plate_id, x, y, *rest):
+def point_key(plate_id: str, x: float, y: float, *rest: float) -> tuple[str | float, ...]:
     """A key that identifies a point up to 1e-9 m (the precision of written CSV values)."""
     return (plate_id, round(x, 9), round(y, 9), *rest)
 
 
-def read_probes(path, case):
+def read_probes(path: str | Path, case: Case) -> Probes:
     """Read a probe CSV (header ``plate,x,y``, plate-local metres) and check it against ``case``.
 
     An optional ``node`` column numbers the points (whole numbers >= 1, each once): the UFF
@@ -288,7 +300,8 @@ def read_probes(path, case):
     return Probes({k: np.array(v) for k, v in by_plate.items()}, tuple(order), nodes)
 
 
-def output_path_problem(path, option, inputs=()):
+def output_path_problem(path: str | Path, option: str,
+                        inputs: Iterable[str | Path | None] = ()) -> str | None:
     """Why an output file cannot be written (one line naming the option), or None.
 
     Checked before any work is done, so that a long run does not fail at its end: the path
@@ -328,7 +341,7 @@ def output_path_problem(path, option, inputs=()):
     return None
 
 
-def output_collisions(outputs):
+def output_collisions(outputs: Iterable[tuple[str, str | Path | None]]) -> list[str]:
     """One line per pair of outputs that name the same file (through symlinks too), or none.
 
     Parameters
@@ -351,7 +364,7 @@ def output_collisions(outputs):
     return problems
 
 
-def plot_directory_problem(path, option="--plot"):
+def plot_directory_problem(path: str | Path, option: str = "--plot") -> str | None:
     """Why figures cannot be written into directory ``path``, or None.
 
     The directory and its missing parents are created by the run; the nearest existing
@@ -372,7 +385,7 @@ def plot_directory_problem(path, option="--plot"):
 
 
 @contextmanager
-def atomic_output(path, binary=False):
+def atomic_output(path: str | Path, binary: bool = False) -> Iterator[IO[Any]]:
     """Yield a handle on a temporary file beside ``path``, renamed onto it on success.
 
     A reader never sees a half-written file, and an interruption (Ctrl-C, crash) leaves the
@@ -404,7 +417,7 @@ def atomic_output(path, binary=False):
         raise OSError(err.errno, err.strerror, str(path)) from err
 
 
-def _process_ended(pid):
+def _process_ended(pid: int) -> bool:
     """Whether no process ``pid`` runs any more (a live or foreign process counts as running)."""
     try:
         os.kill(pid, 0)
@@ -415,7 +428,7 @@ def _process_ended(pid):
     return False
 
 
-def _remove_stale_temporaries(path):
+def _remove_stale_temporaries(path: Path) -> None:
     """Remove the temporary files of ``path`` left by writers that were killed between
     writing and renaming (``.NAME.PID.HEX.tmp`` whose PID no longer runs)."""
     for tmp in path.parent.glob(f".{glob.escape(path.name)}.*.tmp"):
@@ -425,7 +438,7 @@ def _remove_stale_temporaries(path):
 
 
 @contextmanager
-def _replaced_atomically(path, binary):
+def _replaced_atomically(path: Path, binary: bool) -> Iterator[IO[Any]]:
     path.parent.mkdir(parents=True, exist_ok=True)
     _remove_stale_temporaries(path)
     tmp = path.parent / f".{path.name}.{os.getpid()}.{secrets.token_hex(4)}.tmp"
@@ -438,12 +451,12 @@ def _replaced_atomically(path, binary):
         raise
 
 
-def write_text_atomic(path, text):
+def write_text_atomic(path: str | Path, text: str) -> None:
     """Write ``text`` to ``path`` atomically (:func:`atomic_output`)."""
     with atomic_output(path) as handle:
         handle.write(text)
 
 
-def write_json_atomic(path, data):
+def write_json_atomic(path: str | Path, data: Any) -> None:
     """Write JSON atomically (see :func:`write_text_atomic`)."""
     write_text_atomic(path, json.dumps(data, indent=2) + "\n")

@@ -12,7 +12,10 @@ from __future__ import annotations
 import csv
 import functools
 import io
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -28,6 +31,10 @@ from updating.data.files import (
     write_text_atomic,
 )
 
+if TYPE_CHECKING:
+    from assembly import Case
+    from updating.executor import Executor
+
 __all__ = ["Measurements", "simulate_measurements", "read_measurements", "write_measurements",
            "add_noise"]
 
@@ -39,15 +46,15 @@ class Measurements:
     data: dict
 
     @property
-    def frequencies(self):
+    def frequencies(self) -> tuple[float, ...]:
         return tuple(sorted(self.data))
 
-    def count(self, frequency=None):
+    def count(self, frequency: float | None = None) -> int:
         freqs = self.frequencies if frequency is None else (frequency,)
         return sum(len(w) for f in freqs for _, w in self.data[f].values())
 
 
-def measurement_layout(case):
+def measurement_layout(case: Case) -> dict[str, np.ndarray]:
     """``{plate: points (n, 2)}`` of the description's grid and point measurements."""
     layout = {}
     for plate_id, x, y in case.measurement_points():
@@ -55,7 +62,7 @@ def measurement_layout(case):
     return {pid: np.array(points, dtype=float) for pid, points in layout.items()}
 
 
-def add_noise(values, noise, rng):
+def add_noise(values: np.ndarray, noise: float, rng: np.random.Generator) -> np.ndarray:
     """``w (1 + e)``, ``e ~ U[-noise, noise]`` independently for every value."""
     return values * (1.0 + rng.uniform(-noise, noise, size=values.shape))
 
@@ -65,7 +72,8 @@ def add_noise(values, noise, rng):
 SIMULATION_TIGHTENING = 0.3
 
 
-def _true_response(truth, scale, layout, frequency):
+def _true_response(truth: Case, scale: float, layout: Mapping[str, np.ndarray],
+                   frequency: float) -> dict[str, np.ndarray]:
     """``{plate: w at its layout points}`` of the true structure (an executor task): at
     ``scale``, or from there to :data:`SIMULATION_TIGHTENING` times the description's
     tolerance; when the Trefftz round-off floor does not allow that, to the tolerance itself
@@ -82,7 +90,9 @@ def _true_response(truth, scale, layout, frequency):
     return {pid: solution.w(pid, points) for pid, points in layout.items()}
 
 
-def simulate_measurements(case, noise=None, seed=None, resolution=None, executor=None):
+def simulate_measurements(case: Case, noise: float | None = None, seed: int | None = None,
+                          resolution: float | None = None,
+                          executor: Executor | None = None) -> Measurements:
     """Simulated experiment on the description's measurement layout.
 
     Parameters
@@ -112,7 +122,7 @@ def simulate_measurements(case, noise=None, seed=None, resolution=None, executor
     return Measurements(data)
 
 
-def write_measurements(path, measurements, sweep=False):
+def write_measurements(path: str | Path, measurements: Measurements, sweep: bool = False) -> None:
     """CSV ``plate,x,y,re,im[,frequency]`` (the frequency column when several), atomically.
 
     ``sweep=True`` writes the columns of a frequency sweep (``vtcr frf``),
@@ -141,7 +151,7 @@ MAX_MEASUREMENT_ROWS = 100_000
 few thousand points per frequency; 1e5 values already take about 1 GB in the updating."""
 
 
-def read_measurements(path, case):
+def read_measurements(path: str | Path, case: Case) -> Measurements:
     """Read a measurement CSV (contract: ``plate,x,y,re,im`` and optional ``frequency``).
 
     Rows without a frequency column belong to the description's single frequency. Every bad
@@ -224,14 +234,14 @@ than 3 points the measurement term barely depends on the joints, so any noise de
 """
 
 
-def _layout_counts(case):
+def _layout_counts(case: Case) -> dict[str, int]:
     counts = {}
     for pid, _, _ in case.measurement_points():
         counts[pid] = counts.get(pid, 0) + 1
     return counts
 
 
-def _joint_label(case, name):
+def _joint_label(case: Case, name: str) -> str:
     jid, member = case.updatable_joints()[name]
     if member is None:
         a, b = case.joints[jid].between
@@ -239,7 +249,8 @@ def _joint_label(case, name):
     return f"member {name} of junction {jid} ({' | '.join(case.joints[jid].between)})"
 
 
-def joint_visibility(case, counts, joints=None):
+def joint_visibility(case: Case, counts: Mapping[str, int], joints: Iterable[str] | None = None
+                     ) -> tuple[list[str], list[str]]:
     """Which joints the measurements cannot see: ``(errors, warnings)``, one message each.
 
     The rule (per connected sub-assembly of the joint graph, points summed over frequencies):
@@ -306,7 +317,9 @@ def joint_visibility(case, counts, joints=None):
     return errors, warnings
 
 
-def check_joints_seen(case, measurements=None, joints=None, source="<measurements>"):
+def check_joints_seen(case: Case, measurements: Measurements | None = None,
+                      joints: Iterable[str] | None = None,
+                      source: str = "<measurements>") -> list[str]:
     """Check, before an updating run, that the measurements can see the joints to update.
 
     Parameters

@@ -24,13 +24,19 @@ import hashlib
 import json
 import math
 import os
+from collections.abc import Iterable, Sequence
 from pathlib import Path
-from typing import Annotated, Literal
+from typing import IO, TYPE_CHECKING, Annotated, Any, Literal, Self
 
 import numpy as np
 import pydantic
 
 from updating.data.files import InputError, write_json_atomic
+
+if TYPE_CHECKING:
+    from assembly import Case
+    from updating.data.measurements import Measurements
+    from updating.inverse.strategy import Step, UpdateResult
 
 try:  # advisory locks where the system has them (POSIX); elsewhere runs are not locked
     import fcntl
@@ -45,18 +51,18 @@ RUN_FORMAT = "vtcr-run/2"
 noise alone: their steps are not steps of this version's problem, and are not resumed."""
 
 
-def fingerprint(case, measurements):
+def fingerprint(case: Case, measurements: Measurements) -> tuple[str, str]:
     """``(description digest, measurement digest)``: SHA-256 hex strings."""
     return description_digest(case), measurement_digest(measurements)
 
 
-def description_digest(case):
+def description_digest(case: Case) -> str:
     """SHA-256 of the validated description (its meaning, not its text: comments, key order
     and number spelling do not change it)."""
     return hashlib.sha256(case.model_dump_json().encode()).hexdigest()
 
 
-def measurement_digest(measurements):
+def measurement_digest(measurements: Measurements) -> str:
     """SHA-256 of the measured points and values, frequency by frequency."""
     digest = hashlib.sha256()
     for frequency in measurements.frequencies:
@@ -72,14 +78,16 @@ def measurement_digest(measurements):
 class RunFile:
     """The run file of one updating run; :meth:`save_step` is the loop's ``on_step`` hook."""
 
-    def __init__(self, path, case_name, digests, steps=(), finished=None):
+    def __init__(self, path: str | Path, case_name: str, digests: tuple[str, str],
+                 steps: Iterable[Step] = (),
+                 finished: tuple[int, str | None] | None = None) -> None:
         self.path = Path(path)
         self.case_name = case_name
         self.digests = digests
         self.steps = list(steps)
         self.finished = finished  # (status, message) of a finished run read back
 
-    def _write(self, status=None, message=None):
+    def _write(self, status: int | None = None, message: str | None = None) -> None:
         write_json_atomic(self.path, {
             "format": RUN_FORMAT,
             "case": self.case_name,
@@ -91,12 +99,12 @@ class RunFile:
             "steps": [step.to_record() for step in self.steps],
         })
 
-    def save_step(self, step):
+    def save_step(self, step: Step) -> None:
         """Append a finished step and rewrite the file."""
         self.steps.append(step)
         self._write()
 
-    def finish(self, result):
+    def finish(self, result: UpdateResult) -> None:
         """Mark the run finished with the loop's status."""
         self.steps = list(result.steps)
         self._write(result.status, result.message)
@@ -151,7 +159,7 @@ class _RunRecord(pydantic.BaseModel):
     steps: list[_StepRecord]
 
     @pydantic.model_validator(mode="after")
-    def _status_when_finished(self):
+    def _status_when_finished(self) -> _RunRecord:
         if self.finished != (self.status is not None):
             raise ValueError("a finished run has a status (0, 1 or 2) and an unfinished one "
                              "none")
@@ -168,7 +176,7 @@ def _first_problem(err: pydantic.ValidationError) -> str:
     return f"{where.lstrip('.') or 'the file'}: {message}{more}"
 
 
-def _step_problems(steps, case):
+def _step_problems(steps: Sequence[_StepRecord], case: Case) -> str | None:
     """What makes ``steps`` (validated records) impossible for ``case``, or None."""
     joints = set(case.updatable_joints())
     lo, hi = case.updating.bounds
@@ -202,7 +210,7 @@ def _step_problems(steps, case):
 _FIX = "give a run file written by vtcr update (or start a new run without --resume)"
 
 
-def read_run(path):
+def read_run(path: str | Path) -> tuple[str, dict[str, Any]]:
     """``(text, parsed JSON)`` of a run file to resume: readable, JSON, of this format (checked
     before any work, see :func:`load_run` for the rest)."""
     try:
@@ -222,7 +230,7 @@ def read_run(path):
     return text, data
 
 
-def load_run(path, case, digests):
+def load_run(path: str | Path, case: Case, digests: tuple[str, str]) -> RunFile:
     """Read a run file to resume; returns a :class:`RunFile` holding its finished steps.
 
     Raises
@@ -259,7 +267,7 @@ def load_run(path, case, digests):
                    (record.status, record.message) if record.finished else None)
 
 
-def refuse_replacing(path, description_sha256=None):
+def refuse_replacing(path: str | Path, description_sha256: str | None = None) -> str | None:
     """Refuse to start a new run over an existing run file (``--force`` replaces it).
 
     A finished run of the same description may be replaced: running the same command again
@@ -288,7 +296,8 @@ def refuse_replacing(path, description_sha256=None):
 _OF_ANOTHER = " of another description"
 
 
-def refuse_other_measurements(path, expected, measurements_sha256):
+def refuse_other_measurements(path: str | Path, expected: str | None,
+                              measurements_sha256: str) -> None:
     """The second half of :func:`refuse_replacing`, once the measurements are known: a
     finished run of the same description but other measurements is kept."""
     if expected is not None and expected != measurements_sha256:
@@ -305,12 +314,12 @@ class RunLock:
     on ``kill -9``, so a lock is never stale. The lock file is removed on release.
     """
 
-    def __init__(self, path):
+    def __init__(self, path: str | Path) -> None:
         path = Path(os.path.realpath(path))
         self.path = path.parent / f".{path.name}.lock"
-        self._handle = None
+        self._handle: IO[str] | None = None
 
-    def __enter__(self):
+    def __enter__(self) -> Self:
         if fcntl is None:  # pragma: no cover - not POSIX
             return self
         while True:
@@ -332,7 +341,7 @@ class RunLock:
                 return self
             handle.close()
 
-    def __exit__(self, *exc):
+    def __exit__(self, *exc: object) -> Literal[False]:
         if self._handle is not None:
             self.path.unlink(missing_ok=True)
             self._handle.close()

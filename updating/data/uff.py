@@ -52,13 +52,23 @@ from __future__ import annotations
 import math
 import re
 import warnings
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from types import ModuleType
+from typing import TYPE_CHECKING, Any, TypeVar
 
 import numpy as np
 
 from updating.data.files import InputError, plate_point, point_key, read_csv_table
 from updating.data.measurements import Measurements
+
+if TYPE_CHECKING:
+    from pyuff import UFF
+
+    from assembly import Case
+
+_T = TypeVar("_T")
 
 __all__ = ["UFF_SUFFIXES", "is_uff", "read_uff", "read_uff_map"]
 
@@ -83,12 +93,12 @@ DIRECTIONS = {1: "X", 2: "Y", 3: "Z", 4: "RX", 5: "RY", 6: "RZ"}
 RESPONSES = {8: "displacement", 11: "velocity", 12: "acceleration"}
 
 
-def is_uff(path):
+def is_uff(path: str | Path) -> bool:
     """True when ``path`` has a UFF suffix (:data:`UFF_SUFFIXES`, any case)."""
     return Path(path).suffix.lower() in UFF_SUFFIXES
 
 
-def _pyuff(path):
+def _pyuff(path: str | Path) -> ModuleType:
     try:
         import pyuff
     except ImportError:
@@ -97,7 +107,7 @@ def _pyuff(path):
     return pyuff
 
 
-def _node_key(text):
+def _node_key(text: str) -> str:
     """A node as text: integers normalised (``"012"`` -> ``"12"``), names stripped."""
     text = str(text).strip()
     try:
@@ -106,7 +116,7 @@ def _node_key(text):
         return text
 
 
-def _direction_label(direction):
+def _direction_label(direction: int) -> str:
     if direction == 0:
         return "scalar"
     name = DIRECTIONS.get(abs(direction), str(abs(direction)))
@@ -128,7 +138,7 @@ class MapEntry:
     row: int
 
 
-def _map_rows(path, case):
+def _map_rows(path: str | Path, case: Case) -> tuple[dict[str, MapEntry], list[str]]:
     """``({node: MapEntry}, problems)``: every problem of the table, none raised."""
     columns = ("node", "plate", "x", "y")
     try:  # the shared CSV checks: UTF-8 (BOM allowed), commas, header, misspelt columns
@@ -170,7 +180,7 @@ def _map_rows(path, case):
     return entries, problems
 
 
-def _first_line(path, length=60):
+def _first_line(path: Path, length: int = 60) -> str:
     """What the file starts with, for a message: its first line cut to ``length``, or
     "binary data" (or "nothing")."""
     with open(path, "rb") as handle:
@@ -182,7 +192,7 @@ def _first_line(path, length=60):
     return f"its first line is {line[:length] + ('...' if len(line) > length else '')!r}"
 
 
-def read_uff_map(path, case):
+def read_uff_map(path: str | Path, case: Case) -> dict[str, MapEntry]:
     """Read the UFF node correspondence table ``node,plate,x,y`` (plate-local metres).
 
     Parameters
@@ -223,13 +233,13 @@ class _Function:
     length_factor: float
     force_factor: float
 
-    def label(self, path):
+    def label(self, path: Path) -> str:
         node = self.node if self.node is not None else "?"
         return (f"{path}: dataset {self.index} (node {node}, direction "
                 f"{_direction_label(self.direction)})")
 
 
-def _quiet(call, *args, **kwargs):
+def _quiet(call: Callable[..., _T], *args: Any, **kwargs: Any) -> _T:
     # pyuff is noisy in ways that say nothing about the data: it warns about its own deprecated
     # arguments (FutureWarning), numpy may warn while it converts a malformed block, and its 58b
     # code leaves file handles to the garbage collector (ResourceWarning). vtcr checks every
@@ -241,7 +251,7 @@ def _quiet(call, *args, **kwargs):
         return call(*args, **kwargs)
 
 
-def _raw_record6(path, uff, position):
+def _raw_record6(path: Path, uff: UFF, position: int) -> str | None:
     """Record 6 of dataset ``position`` (0-based) as raw text, or None when unavailable.
 
     pyuff parses record 6 in fixed columns and silently turns a non-numeric node into 0; an
@@ -260,7 +270,7 @@ def _raw_record6(path, uff, position):
         return None
 
 
-def _node_and_direction(raw, header):
+def _node_and_direction(raw: str | None, header: Mapping[str, Any]) -> tuple[str | None, int]:
     """``(node key or None, direction)`` of record 6, robust to vendor layouts."""
     node_text, entity, direction = None, str(header.get("rsp_ent_name", "")), None
     if raw is not None:
@@ -284,14 +294,14 @@ def _node_and_direction(raw, header):
     if direction is None:
         node_text = str(header.get("rsp_node", 0))
         direction = int(header.get("rsp_dir", 0))
-    node = _node_key(node_text) if node_text is not None else ""
+    node: str | None = _node_key(node_text) if node_text is not None else ""
     if node in ("", "0"):
         entity = entity.strip()
         node = _node_key(entity) if entity and entity.upper() != "NONE" else None
     return node, direction
 
 
-def _scan(pyuff, path):
+def _scan(pyuff: ModuleType, path: Path) -> tuple[UFF, list[int], list[_Function], list[str]]:
     """Headers of the datasets 58 and the problems met; other datasets are skipped."""
     try:
         uff = _quiet(pyuff.UFF, str(path))
@@ -333,14 +343,14 @@ def _scan(pyuff, path):
     return uff, types, functions, problems
 
 
-def _header(uff, position):
+def _header(uff: UFF, position: int) -> dict[str, Any]:
     try:
         return _quiet(uff.read_sets, position, header_only=True)
     except TypeError:  # pyuff without header_only
         return _quiet(uff.read_sets, position)
 
 
-def _read_values(uff, function, path):
+def _read_values(uff: UFF, function: _Function, path: Path) -> tuple[np.ndarray, np.ndarray]:
     """``(x, data)`` of one dataset, or raise InputError naming it."""
     try:
         dataset = _quiet(uff.read_sets, function.index - 1)
@@ -358,7 +368,7 @@ def _read_values(uff, function, path):
     return x, data
 
 
-def _check_kind(function, path):
+def _check_kind(function: _Function, path: Path) -> str | None:
     """Message when the dataset is not a complex frequency-domain response (None when it is)."""
     h, label = function.header, function.label(path)
     func_type = int(h.get("func_type", 0))
@@ -388,7 +398,7 @@ def _check_kind(function, path):
     return None
 
 
-def _pick_line(x, frequency):
+def _pick_line(x: np.ndarray, frequency: float) -> tuple[int, None] | tuple[None, str]:
     """``(index, None)`` of the line taken for ``frequency``, or ``(None, reason)``."""
     i = int(np.argmin(np.abs(x - frequency)))
     band = f"{x[0]:g}-{x[-1]:g} Hz"
@@ -411,7 +421,7 @@ def _pick_line(x, frequency):
                   "lines); set the description's frequency to a measured line")
 
 
-def _to_displacement(function, value, line_frequency):
+def _to_displacement(function: _Function, value: complex, line_frequency: float) -> complex:
     """Convert one ordinate value to ``w`` in metres (per newton for FRFs)."""
     h = function.header
     quantity = int(h["ordinate_spec_data_type"])
@@ -431,7 +441,7 @@ def _to_displacement(function, value, line_frequency):
     return scale * value
 
 
-def read_uff(path, case, uff_map):
+def read_uff(path: str | Path, case: Case, uff_map: str | Path | None) -> Measurements:
     """Read measured fields from a UFF file (datasets 58 / 58b) through a node map.
 
     Parameters
@@ -465,23 +475,51 @@ def read_uff(path, case, uff_map):
     """
     pyuff = _pyuff(path)
     path = Path(path)
+    entries, map_problems = _node_map(path, case, uff_map)
+    uff, types, functions, problems = _datasets_58(pyuff, path, map_problems)
+    problems = map_problems + problems  # the valid map rows are still checked below
+    z_functions, other = _z_functions(path, uff_map, entries, functions, types, problems)
+    values, node_problems = _node_values(path, uff_map, case, uff, entries, z_functions, other)
+    problems += node_problems
+    if problems:
+        raise InputError(problems)
+    return _measurements(path, case, entries, values)
+
+
+def _node_map(path: Path, case: Case,
+              uff_map: str | Path | None) -> tuple[dict[str, MapEntry], list[str]]:
+    """``({node: MapEntry}, problems)`` of the node map of the UFF file ``path`` (none given:
+    :class:`InputError`)."""
     if uff_map is None:
         raise InputError(f"{path}: a UFF file needs --uff-map MAP.csv (header node,plate,x,y, "
                          "plate-local metres) to place its response nodes on the plates")
-    entries, map_problems = _map_rows(uff_map, case)
+    return _map_rows(uff_map, case)
+
+
+def _datasets_58(pyuff: ModuleType, path: Path, map_problems: Sequence[str]
+                 ) -> tuple[UFF, list[int], list[_Function], list[str]]:
+    """:func:`_scan` of the UFF file ``path``; a missing file (reported with the map's
+    ``map_problems``) or one holding no UFF dataset is an :class:`InputError`."""
     if not path.is_file():
         what = "is a directory, not a file" if path.is_dir() else "no such file"
-        raise InputError(map_problems + [f"{path}: {what}; give an existing UFF file "
+        raise InputError([*map_problems, f"{path}: {what}; give an existing UFF file "
                                          "(datasets 58 or 58b)"])
     uff, types, functions, problems = _scan(pyuff, path)
     if not types and not functions:  # not a universal file: say so rather than blame the map
         raise InputError(f"{path}: holds no UFF dataset ({_first_line(path)}); give a "
                          "universal file with datasets 58 or 58b, or a CSV measurement file "
                          "named .csv")
-    problems = map_problems + problems  # the valid map rows are still checked below
+    return uff, types, functions, problems
 
-    z_functions = {}
-    other = {}
+
+def _z_functions(path: Path, uff_map: str | Path | None, entries: Mapping[str, MapEntry],
+                 functions: Sequence[_Function], types: Sequence[int], problems: Sequence[str]
+                 ) -> tuple[dict[str, list[_Function]], dict[str, list[str]]]:
+    """``({node: its datasets in direction +Z or -Z}, {node: labels of its other
+    directions})`` of the map's nodes; when none of the file's Z nodes is in the map (and no
+    other ``problems`` explain it), an :class:`InputError` naming both."""
+    z_functions: dict[str, list[_Function]] = {}
+    other: dict[str, list[str]] = {}
     for function in functions:
         if function.node not in entries:
             continue  # not in the map: ignored by design (README)
@@ -499,51 +537,72 @@ def read_uff(path, case, uff_map):
             f"(nodes {_some(sorted(entries, key=_sort_key))}); the map's node column must hold "
             f"the UFF response node numbers (record 6, field 6); dataset types in the file: "
             f"{', '.join(map(str, kinds)) or 'none'}")
+    return z_functions, other
 
-    frequency_problems = {}
-    values = {}
+
+def _node_values(path: Path, uff_map: str | Path | None, case: Case, uff: UFF,
+                 entries: Mapping[str, MapEntry], z_functions: Mapping[str, list[_Function]],
+                 other: Mapping[str, list[str]]
+                 ) -> tuple[dict[str, dict[float, complex]], list[str]]:
+    """``({node: {frequency: w}}, problems)``: each map node's values from its one usable Z
+    response (:func:`_node_response`), then one problem per frequency and reason shared by
+    the datasets it names."""
+    frequency_problems: dict[tuple[float, str], list[int]] = {}
+    values: dict[str, dict[float, complex]] = {}
+    problems: list[str] = []
     for node, entry in entries.items():
-        found = z_functions.get(node, [])
         where = f"{uff_map}: row {entry.row}: node {node}"
-        if not found:
-            extra = (f" (it has directions {', '.join(sorted(set(other[node])))} only)"
-                     if node in other else "")
-            problems.append(f"{where} has no dataset 58 in direction +Z or -Z in {path}{extra}; "
-                            "remove the row or export that node's Z response")
-            continue
-        # coherences, auto spectra... of the same node and direction travel with the FRFs:
-        # only the complex responses count
-        kinds = [_check_kind(f, path) for f in found]
-        usable = [f for f, kind in zip(found, kinds) if kind is None]
-        if not usable:
-            problems.extend(kinds)
-            continue
-        if len(usable) > 1:
-            refs = ", ".join(f"dataset {f.index} (reference node {f.header.get('ref_node')}, "
-                             f"{_direction_label(int(f.header.get('ref_dir', 0)))})"
-                             for f in usable)
-            problems.append(f"{where} has {len(usable)} Z responses in {path}: {refs}; keep one "
-                            "per node (one excitation, one response quantity)")
-            continue
-        function = usable[0]
-        try:
-            x, data = _read_values(uff, function, path)
-        except InputError as err:
-            problems.extend(err.lines)
-            continue
-        picked, problem = _pick(function, x, data, case.frequencies, path, frequency_problems)
-        if problem:
-            problems.append(problem)
-        elif picked is not None:
+        picked, node_problems = _node_response(path, where, z_functions.get(node, []),
+                                               other.get(node), uff, case.frequencies,
+                                               frequency_problems)
+        problems.extend(node_problems)
+        if picked is not None:
             values[node] = picked
     for (frequency, reason), indices in frequency_problems.items():
         problems.append(f"{path}: {_datasets(indices)}: {reason}")
-    if problems:
-        raise InputError(problems)
+    return values, problems
 
-    data = {}
+
+def _node_response(path: Path, where: str, found: Sequence[_Function],
+                   other: Sequence[str] | None, uff: UFF, frequencies: Sequence[float],
+                   frequency_problems: dict[tuple[float, str], list[int]]
+                   ) -> tuple[dict[float, complex] | None, list[str]]:
+    """``({frequency: w}, [])`` of one map node (``where``) from its Z datasets ``found``
+    (``other``: the labels of its other directions), ``(None, [])`` when a frequency is off
+    the measured lines (that goes to ``frequency_problems``), else ``(None, problems)``."""
+    if not found:
+        extra = (f" (it has directions {', '.join(sorted(set(other)))} only)"
+                 if other is not None else "")
+        return None, [(f"{where} has no dataset 58 in direction +Z or -Z in {path}{extra}; "
+                       "remove the row or export that node's Z response")]
+    # coherences, auto spectra... of the same node and direction travel with the FRFs:
+    # only the complex responses count
+    kinds = [_check_kind(f, path) for f in found]
+    usable = [f for f, kind in zip(found, kinds) if kind is None]
+    if not usable:
+        return None, [kind for kind in kinds if kind is not None]
+    if len(usable) > 1:
+        refs = ", ".join(f"dataset {f.index} (reference node {f.header.get('ref_node')}, "
+                         f"{_direction_label(int(f.header.get('ref_dir', 0)))})"
+                         for f in usable)
+        return None, [(f"{where} has {len(usable)} Z responses in {path}: {refs}; keep one "
+                       "per node (one excitation, one response quantity)")]
+    function = usable[0]
+    try:
+        x, data = _read_values(uff, function, path)
+    except InputError as err:
+        return None, err.lines
+    picked, problem = _pick(function, x, data, frequencies, path, frequency_problems)
+    return (None, [problem]) if problem else (picked, [])
+
+
+def _measurements(path: Path, case: Case, entries: Mapping[str, MapEntry],
+                  values: Mapping[str, Mapping[float, complex]]) -> Measurements:
+    """The :class:`Measurements` of the map's nodes at the description's frequencies, points
+    in map order; a frequency where every value is zero is an :class:`InputError`."""
+    data: dict[float, dict[str, tuple[np.ndarray, np.ndarray]]] = {}
     for frequency in case.frequencies:
-        by_plate = {}
+        by_plate: dict[str, list[tuple[tuple[float, float], complex]]] = {}
         for node, entry in entries.items():
             by_plate.setdefault(entry.plate, []).append(((entry.x, entry.y),
                                                          values[node][frequency]))
@@ -556,7 +615,9 @@ def read_uff(path, case, uff_map):
     return Measurements(data)
 
 
-def _pick(function, x, data, frequencies, path, frequency_problems):
+def _pick(function: _Function, x: np.ndarray, data: np.ndarray, frequencies: Sequence[float],
+          path: Path, frequency_problems: dict[tuple[float, str], list[int]]
+          ) -> tuple[dict[float, complex] | None, str | None]:
     """``({frequency: w}, None)``, or ``(None, message)``; line problems go to the shared dict."""
     label = function.label(path)
     n = int(function.header.get("num_pts", len(data)))
@@ -583,17 +644,17 @@ def _pick(function, x, data, frequencies, path, frequency_problems):
     return (None if bad else picked), None
 
 
-def _sort_key(node):
+def _sort_key(node: str) -> tuple[int, int, str]:
     return (0, int(node), "") if node.lstrip("-").isdigit() else (1, 0, node)
 
 
-def _some(items, limit=6):
+def _some(items: Iterable[str], limit: int = 6) -> str:
     items = list(items)
     head = ", ".join(items[:limit])
     return head + (f", ... ({len(items)} in all)" if len(items) > limit else "")
 
 
-def _datasets(indices):
+def _datasets(indices: Sequence[int]) -> str:
     if len(indices) == 1:
         return f"dataset {indices[0]}"
     return f"datasets {_some(map(str, indices))}"

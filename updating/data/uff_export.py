@@ -29,12 +29,19 @@ from __future__ import annotations
 
 import tempfile
 import warnings
+from collections.abc import Sequence
 from pathlib import Path
+from types import ModuleType
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from assembly.models import PointForce
+from assembly.models import Plate, PointForce
 from updating.data.files import InputError, atomic_output
+
+if TYPE_CHECKING:
+    from assembly import Case
+    from updating.forward.sweep import Sweep
 
 __all__ = ["sweep_datasets", "write_uff"]
 
@@ -42,7 +49,7 @@ ENTITY_WIDTH = 10  # record 6 entity names are 10 characters (Format 10A1)
 BINARY_SUFFIXES = (".58b", ".ufb", ".bunv")
 
 
-def _pyuff():
+def _pyuff() -> ModuleType:
     try:
         import pyuff
     except ImportError:
@@ -51,7 +58,7 @@ def _pyuff():
     return pyuff
 
 
-def frf_force(case):
+def frf_force(case: Case) -> PointForce | None:
     """The single point force the sweep is normalised by, or None (several or edge loads)."""
     loads = [load for load in case.loads if load is not None]
     if len(loads) == 1 and isinstance(loads[0], PointForce) and loads[0].amplitude != 0:
@@ -59,14 +66,16 @@ def frf_force(case):
     return None
 
 
-def _node_position(plate, x, y):
+def _node_position(plate: Plate, x: float, y: float) -> np.ndarray:
     """A probe's node: in space by the plate's frame, else in the layout plane at z = 0."""
     if plate.frame is not None:
         return plate.frame.to_space(x, y)
     return np.array([*np.ravel(plate.to_global(x, y)), 0.0])
 
 
-def sweep_datasets(case, sweep, order, nodes=None, binary=False):
+def sweep_datasets(case: Case, sweep: Sweep, order: Sequence[tuple[str, int]],
+                   nodes: Sequence[int] | None = None,
+                   binary: bool = False) -> list[dict[str, Any]]:
     """The pyuff dictionaries of a sweep: units (164), geometry (15), one 58 per probe.
 
     Parameters
@@ -127,7 +136,8 @@ def sweep_datasets(case, sweep, order, nodes=None, binary=False):
     return datasets
 
 
-def write_uff(path, case, sweep, order, nodes=None):
+def write_uff(path: str | Path, case: Case, sweep: Sweep, order: Sequence[tuple[str, int]],
+              nodes: Sequence[int] | None = None) -> Path:
     """Write :func:`sweep_datasets` to ``path`` (binary 58b for :data:`BINARY_SUFFIXES`,
     ASCII otherwise), atomically.
 

@@ -1,22 +1,28 @@
 """Field maps of assemblies placed in 3D (plates with frames: stiffened panels, boxes).
 
-The same three panels as :func:`updating.figures.fields.draw_field_maps` (measured, initial model,
-updated model, one colour scale), each a 3D view of the plates: the model panels colour every
-plate's surface by the field, the measured panel colours the measurement points. Colours are
-mapped by hand (``facecolors``) because matplotlib's 3D surfaces take no shared norm.
+The same three panels as :func:`updating.figures.fields.draw_field_maps` (measured, initial
+model, updated model, one colour scale), each a 3D view of the plates: the model panels colour
+every plate's surface by the field, the measured panel colours the measurement points. Colours
+are mapped by hand (``facecolors``) because matplotlib's 3D surfaces take no shared norm.
 """
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 
+from updating.figures.field_data import FieldMapData, SpaceLayout, costs_text
 from updating.figures.figure_tools import (
-    costs_text,
     field_colours,
     new_figure,
     powers_of_ten_bar,
     require_matplotlib,
 )
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+    from mpl_toolkits.mplot3d import Axes3D
 
 __all__ = ["draw_field_maps_in_space"]
 
@@ -25,7 +31,7 @@ VIEW = {"elev": 28.0, "azim": -58.0}
 x-y plane and stiffeners standing on it are both seen."""
 
 
-def _frame_lines(ax, space, labels):
+def _frame_lines(ax: Axes3D, space: SpaceLayout, labels: bool) -> None:
     """Plate outlines (black), joint lines (dashed) and point forces (orange stars)."""
     for pid, outline in space.outlines.items():
         ax.plot(outline[:, 0], outline[:, 1], outline[:, 2], color="black", lw=0.6)
@@ -39,7 +45,7 @@ def _frame_lines(ax, space, labels):
                    edgecolors="black", depthshade=False)
 
 
-def _equal_box(ax, space):
+def _equal_box(ax: Axes3D, space: SpaceLayout) -> None:
     """Axes limits and box aspect so that one metre is as long along x, y and z; fewer ticks
     along the short sides."""
     from matplotlib.ticker import MaxNLocator
@@ -60,9 +66,10 @@ def _equal_box(ax, space):
     ax.view_init(**VIEW)
 
 
-def draw_field_maps_in_space(data, title=""):
+def draw_field_maps_in_space(data: FieldMapData, title: str = "") -> Figure:
     """Three 3D panels (measured, initial, updated) of a
-    :class:`updating.figures.fields.FieldMapData` whose :attr:`~updating.figures.fields.FieldMapData.space` is set."""
+    :class:`updating.figures.fields.FieldMapData` whose
+    :attr:`~updating.figures.fields.FieldMapData.space` is set."""
     from matplotlib import colormaps
     from matplotlib.cm import ScalarMappable
     from matplotlib.colors import Normalize

@@ -8,6 +8,8 @@ matplotlib is imported inside the functions only: the core runs without the ``pl
 from __future__ import annotations
 
 from pathlib import Path
+from types import ModuleType
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -15,8 +17,12 @@ from numpy.typing import ArrayLike
 from assembly import Case
 from updating.data.files import InputError, atomic_output
 
+if TYPE_CHECKING:
+    from matplotlib.colorbar import Colorbar
+    from matplotlib.figure import Figure
+
 __all__ = ["MISSING_MATPLOTLIB", "require_matplotlib", "new_figure", "field_colours",
-           "costs_text", "powers_of_ten_bar", "save_figure_atomic", "positive", "true_parameters",
+           "powers_of_ten_bar", "save_figure_atomic", "positive", "true_parameters",
            "true_log_k", "LOG_K_LABEL"]
 
 MISSING_MATPLOTLIB = ("--plot needs matplotlib: pip install 'matplotlib>=3.7' (the extra plot "
@@ -26,7 +32,7 @@ LOG_K_LABEL = r"$\log_{10} k$  ($k$ in N·m/m per rad)"
 """The axis label of a joint's log10 stiffness."""
 
 
-def require_matplotlib():
+def require_matplotlib() -> ModuleType:
     """Import matplotlib or raise :class:`InputError` with the install hint (exit 2)."""
     try:
         import matplotlib
@@ -35,7 +41,7 @@ def require_matplotlib():
     return matplotlib
 
 
-def new_figure(**kwargs):
+def new_figure(**kwargs: Any) -> Figure:
     """An empty matplotlib figure (constrained layout) on the Agg canvas, or
     :class:`~updating.data.files.InputError` without matplotlib."""
     require_matplotlib()
@@ -47,25 +53,18 @@ def new_figure(**kwargs):
     return figure
 
 
-def field_colours(quantity):
+def field_colours(quantity: str) -> tuple[str, str]:
     """``(colour map, colour-bar label)`` of a field map of ``|w|`` or ``Re w``."""
     return ("viridis", "|w| [m]") if quantity == "abs" else ("RdBu_r", "Re w [m]")
 
 
-def costs_text(data):
-    """:math:`E_{mod}^2` at the initial and updated parameters of a :class:`FieldMapData`."""
-    summed = f" (sum over {data.n_frequencies} frequencies)" if data.n_frequencies > 1 else ""
-    return (f"$E_{{mod}}^2$ {100 * data.e_mod[0]:.2f} % initial, "
-            f"{100 * data.e_mod[1]:.2f} % updated{summed}")
-
-
-def powers_of_ten_bar(bar):
+def powers_of_ten_bar(bar: Colorbar) -> None:
     """A colour bar's ticks with a ``1e-5``-style multiplier, not 0.00001 ticks."""
     bar.formatter.set_powerlimits((-2, 3))
     bar.update_ticks()
 
 
-def save_figure_atomic(figure, path, dpi=120):
+def save_figure_atomic(figure: Figure, path: str | Path, dpi: float = 120) -> Path:
     """Write ``figure`` as PNG through a temporary file in the same directory and a rename."""
     path = Path(path)
     with atomic_output(path, binary=True) as handle:

@@ -51,7 +51,8 @@ from pathlib import Path
 import numpy as np
 
 from updating.figures.curves import cost_curve_data, draw_cost_curve
-from updating.figures.fields import draw_field_maps, field_map_data
+from updating.figures.field_data import field_map_data
+from updating.figures.fields import draw_field_maps
 from updating.figures.figure_tools import (
     new_figure,
     require_matplotlib,
@@ -99,7 +100,7 @@ def write_update_figures(case, problem, measurements, result, directory, curve_p
     quantity : {"abs", "real"}
         Field maps of ``|w|`` or ``Re w``.
     field_source : {"direct", "modified"}
-        See :func:`field_map_data`.
+        See :func:`updating.figures.field_data.field_map_data`.
     on_work : callable, optional
         Called with a label before each cost curve and after each round of response-curve
         frequencies (progress display).

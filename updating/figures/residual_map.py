@@ -14,11 +14,19 @@ on its own) and :func:`draw_residual_map` draws (matplotlib, imported inside).
 
 from __future__ import annotations
 
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from updating.inverse.strategy import excess_ratios
+from updating.inverse.strategy import Step, excess_ratios
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+    from assembly import Case
+    from assembly.models import Joint
 
 __all__ = ["ResidualMapData", "residual_map_data", "draw_residual_map", "MAP_JOINTS",
            "MEMBER_OFFSET"]
@@ -63,7 +71,8 @@ class ResidualMapData:
         return next(iter(self.outlines.values())).shape[1]
 
 
-def _place(case, plate_id, x, y):
+def _place(case: Case, plate_id: str, x: Sequence[float] | np.ndarray,
+           y: Sequence[float] | np.ndarray) -> np.ndarray:
     """Plate-local points in the assembly plane, or in space when every plate has a frame."""
     plate = case.plates[plate_id]
     if all(p.frame is not None for p in case.plates.values()):
@@ -71,7 +80,7 @@ def _place(case, plate_id, x, y):
     return np.column_stack(plate.to_global(x, y))
 
 
-def _segment(case, joint, member):
+def _segment(case: Case, joint: Joint, member: str | None) -> np.ndarray:
     """End points of a joint's line; a junction member's moved into its own plate."""
     side = next((s for s in joint.sides if s.plate == member), joint.sides[0])
     plate = case.plates[side.plate]
@@ -81,7 +90,8 @@ def _segment(case, joint, member):
     return _place(case, side.plate, local[:, 0], local[:, 1])
 
 
-def residual_map_data(case, step, stop_ratio, corrected=()):
+def residual_map_data(case: Case, step: Step, stop_ratio: float,
+                      corrected: Iterable[str] = ()) -> ResidualMapData:
     """The map of ``step`` (an :class:`updating.inverse.strategy.Step`) of ``case``; ``corrected``
     names the joints to mark as corrected (default: those corrected in the step)."""
     outlines = {}
@@ -98,7 +108,7 @@ def residual_map_data(case, step, stop_ratio, corrected=()):
                            max(standing, key=ratios.get) if standing else None)
 
 
-def draw_residual_map(data, figure, title=""):
+def draw_residual_map(data: ResidualMapData, figure: Figure, title: str = "") -> Figure:
     r"""Draw the map on an empty matplotlib ``figure``: plates grey, joints coloured by
     :math:`\log_{10}` of their residual over threshold (red above 0), corrected joints thick and
     labelled with their log10 k. Returns the figure."""

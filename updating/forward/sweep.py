@@ -9,7 +9,9 @@ grid until the resonances are resolved.
 from __future__ import annotations
 
 import functools
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any, TypeVar
 
 import numpy as np
 
@@ -17,11 +19,17 @@ from solver import solve_case
 from solver.plate import evaluate_field
 from solver.estimate import solve_to_tolerance
 from solver.guards import check_description
-from solver.power import power_flow
-from solver.substructure import build_assembly_system
+from solver.power import PowerFlow, power_flow
+from solver.substructure import AssemblySystem, build_assembly_system
 from solver.sweep import initial_frequencies, refine_frequencies
 from updating.inverse.cost import direct_amplitudes
 from updating.data.measurements import Measurements
+
+if TYPE_CHECKING:
+    from assembly import Case
+    from updating.executor import Executor
+
+_R = TypeVar("_R")
 
 __all__ = ["Sweep", "sweep_point", "frequency_sweep", "band_resolutions", "BandResolutions",
            "strongest_peaks",
@@ -34,19 +42,21 @@ imbalance follows the field error: 5e-4 on the Levy chain of the tests (field er
 at resolution 1.5; a per cent means the discretisation misses a condition somewhere."""
 
 
-def smallest_loss_factor(case):
+def smallest_loss_factor(case: Case) -> float:
     """The smallest loss factor of the plates' materials: the narrowest half-power bandwidth
     of a resonance is this times its frequency (joint damping only widens it)."""
     return min(case.materials[plate.material].loss_factor for plate in case.plates.values())
 
 
-def round_evaluator(task, executor=None, on_round=None):
+def round_evaluator(task: Callable[[float], _R], executor: Executor | None = None,
+                    on_round: Callable[[int], object] | None = None
+                    ) -> Callable[[Sequence[float]], list[_R]]:
     """``evaluate(frequencies) -> [task(f) for f in frequencies]`` for
     :func:`solver.sweep.refine_frequencies`: each round of frequencies on ``executor`` (default
     in this process), then ``on_round(number of frequencies solved so far)`` (progress)."""
     solved = 0
 
-    def evaluate(frequencies):
+    def evaluate(frequencies: Sequence[float]) -> list[_R]:
         nonlocal solved
         results = executor.map(task, frequencies) if executor else [task(f) for f in frequencies]
         solved += len(results)
@@ -71,7 +81,7 @@ class BandResolutions:
     tops: tuple  # the sub-bands' upper frequencies (Hz), increasing
     resolutions: tuple  # per sub-band, {plate: resolution}
 
-    def at(self, frequency):
+    def at(self, frequency: float) -> dict[str, float]:
         """``{plate: resolution}`` of the sub-band that holds ``frequency``."""
         index = int(np.searchsorted(self.tops, frequency * (1.0 - 1e-12)))
         return self.resolutions[min(index, len(self.tops) - 1)]
@@ -86,7 +96,8 @@ class BandResolutions:
         return "resolution per sub-band (largest over the plates): " + ", ".join(parts)
 
 
-def band_resolutions(case, band, tolerance, peaks=(), bands=TOLERANCE_BANDS) -> BandResolutions:
+def band_resolutions(case: Case, band: tuple[float, float], tolerance: float,
+                     peaks: Sequence[float] = (), bands: int = TOLERANCE_BANDS) -> BandResolutions:
     """The resolutions at which a sweep over ``band`` meets ``tolerance`` (relative L2 of w):
     per each of ``bands`` equal sub-bands, the finest that
     :func:`solver.estimate.solve_to_tolerance` needs at its top (the ray counts grow with the
@@ -106,7 +117,7 @@ def band_resolutions(case, band, tolerance, peaks=(), bands=TOLERANCE_BANDS) -> 
     return BandResolutions(low, tops, tuple(resolutions))
 
 
-def strongest_peaks(sweep, count):
+def strongest_peaks(sweep: Sweep, count: int) -> list[float]:
     """The frequencies of the ``count`` largest local maxima of the sweep's spatial RMS."""
     rms = sweep.spatial_rms()
     peaks = [i for i in range(len(rms)) if (i == 0 or rms[i] >= rms[i - 1])
@@ -114,7 +125,9 @@ def strongest_peaks(sweep, count):
     return sorted(float(sweep.frequencies[i]) for i in sorted(peaks, key=lambda i: -rms[i])[:count])
 
 
-def sweep_point(case, points, frequency, resolutions=None):
+def sweep_point(case: Case, points: Mapping[str, np.ndarray], frequency: float,
+                resolutions: BandResolutions | None = None
+                ) -> tuple[np.ndarray, dict[str, np.ndarray], PowerFlow]:
     """One frequency: ``(response vector, {plate: w at points}, PowerFlow)``.
 
     ``points`` is ``{plate: (n, 2) plate-local points}``; the response vector concatenates the
@@ -140,20 +153,21 @@ class Sweep:
     sampling: dict  # solver.sweep.refine_frequencies's report, plus the requested grid
 
     @property
-    def imbalances(self):
+    def imbalances(self) -> np.ndarray:
         return np.array([p.imbalance for p in self.powers])
 
-    def spatial_rms(self):
+    def spatial_rms(self) -> np.ndarray:
         """Per frequency, the RMS of |w| over the points (m)."""
         return np.array([spatial_rms(v.values()) for v in self.values])
 
-    def measurements(self):
+    def measurements(self) -> Measurements:
         """The sweep as :class:`updating.data.measurements.Measurements` (one set per frequency)."""
         return Measurements({float(f): {pid: (self.points[pid], values[pid])
                                         for pid in self.points}
                              for f, values in zip(self.frequencies, self.values)})
 
-    def to_json(self, order, nodes=None):
+    def to_json(self, order: Sequence[tuple[str, int]],
+                nodes: Iterable[int] | None = None) -> dict[str, Any]:
         """JSON: sampling report, probe points in ``order`` ((plate, index) pairs) with their
         UFF node numbers (``nodes``, default 1, 2, ...), and per frequency ``w`` at the probes
         ([re, im]) and the power flow."""
@@ -174,9 +188,12 @@ class Sweep:
         }
 
 
-def frequency_sweep(case, band, points, step=None, count=None, tolerance=0.1, fraction=0.25,
-                    max_points=2000, executor=None, on_round=None, check=True,
-                    resolutions=None) -> Sweep:
+def frequency_sweep(case: Case, band: tuple[float, float], points: dict[str, np.ndarray],
+                    step: float | None = None, count: int | None = None, tolerance: float = 0.1,
+                    fraction: float = 0.25, max_points: int = 2000,
+                    executor: Executor | None = None,
+                    on_round: Callable[[int], object] | None = None, check: bool = True,
+                    resolutions: BandResolutions | None = None) -> Sweep:
     """Sweep ``band = (F1, F2)`` Hz, refining until the resonances are resolved.
 
     Parameters
@@ -214,7 +231,8 @@ def frequency_sweep(case, band, points, step=None, count=None, tolerance=0.1, fr
                  [power for _, _, power in results], report)
 
 
-def plate_deflection(system, amplitudes, plate_id, points):
+def plate_deflection(system: AssemblySystem, amplitudes: Mapping[str, np.ndarray], plate_id: str,
+                     points: np.ndarray) -> np.ndarray:
     """``w`` of plate ``plate_id`` at its plate-local ``points`` (n, 2), from the plates'
     ray ``amplitudes`` on ``system``."""
     return evaluate_field(system.problems[plate_id], system.bases[plate_id],
@@ -243,7 +261,8 @@ class FrequencyResponseData:
     measured: np.ndarray
 
 
-def frequency_band(frequencies, width=0.2, points=60):
+def frequency_band(frequencies: Sequence[float], width: float = 0.2,
+                   points: int = 60) -> np.ndarray:
     """``points`` frequencies over ``[(1 - width) f_min, (1 + width) f_max]`` plus ``frequencies``.
 
     The analysed frequencies are inserted so that the curves pass through them.
@@ -256,13 +275,15 @@ def frequency_band(frequencies, width=0.2, points=60):
     return np.union1d(np.linspace(lo, hi, points), np.asarray(frequencies, dtype=float))
 
 
-def spatial_rms(values):
+def spatial_rms(values: Iterable[np.ndarray]) -> float:
     r"""Return :math:`\sqrt{\mathrm{mean}|w|^2}` of a sequence of complex arrays."""
     flat = np.concatenate([np.ravel(v) for v in values])
     return float(np.sqrt(np.mean(np.abs(flat) ** 2)))
 
 
-def _set_responses(case, parameter_sets, points, resolution, frequency):
+def _set_responses(case: Case, parameter_sets: Mapping[str, Mapping[str, Mapping[str, float]]],
+                   points: Mapping[str, np.ndarray], resolution: float | None,
+                   frequency: float) -> tuple[np.ndarray, list[float]]:
     """The response vector of every parameter set at ``points`` and their spatial RMS at one
     frequency, from one shared system (a task of :func:`frequency_response_data`)."""
     system = build_assembly_system(case, float(frequency), resolution)
@@ -275,9 +296,15 @@ def _set_responses(case, parameter_sets, points, resolution, frequency):
     return np.concatenate(values), [spatial_rms([v]) for v in values]
 
 
-def frequency_response_data(case, parameter_sets, frequencies, points, measured=None,
-                            analysed=(), resolution=None, on_round=None, tolerance=0.1,
-                            max_points=400, executor=None):
+def frequency_response_data(case: Case,
+                            parameter_sets: Mapping[str, Mapping[str, Mapping[str, float]]],
+                            frequencies: Sequence[float] | np.ndarray,
+                            points: Mapping[str, np.ndarray],
+                            measured: Sequence[float] | np.ndarray | None = None,
+                            analysed: Iterable[float] = (), resolution: float | None = None,
+                            on_round: Callable[[int], object] | None = None,
+                            tolerance: float = 0.1, max_points: int = 400,
+                            executor: Executor | None = None) -> FrequencyResponseData:
     """Spatial RMS of the model response at ``points`` for several joint parameter sets.
 
     One parameter-independent system per frequency

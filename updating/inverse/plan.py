@@ -27,7 +27,9 @@ description's grid, or a measurement file's points), per joint:
 from __future__ import annotations
 
 import math
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -35,6 +37,13 @@ from solver.power import plate_powers
 from updating.inverse.confidence import (ConfidenceInterval, NoiseModel, ScoreTest, confidence_interval,
                                  noise_model)
 from updating.inverse.cost import ModifiedProblem, channel_parameters
+
+if TYPE_CHECKING:
+    from assembly import Case
+    from solver.estimate import ErrorEstimate
+    from solver.substructure import AssemblySystem, Channel
+    from updating.data.measurements import Measurements
+    from updating.executor import Executor
 
 __all__ = ["JointPlan", "identifiability_plan", "SENSITIVITY_STEP", "DAMPING_STEP"]
 
@@ -64,11 +73,11 @@ class JointPlan:
             self.interval.kind, "invisible")
 
     @property
-    def best_source(self):
+    def best_source(self) -> tuple[float, str] | None:
         """The (frequency, plate) that carries most of the joint's information."""
         return max(self.information, key=self.information.get) if self.information else None
 
-    def to_json(self):
+    def to_json(self) -> dict[str, Any]:
         return {
             "log10_stiffness": self.value, "verdict": self.verdict,
             "sensitivity_percent_per_0.1_decade": {
@@ -83,8 +92,13 @@ class JointPlan:
                                                     key=lambda item: -item[1])]}
 
 
-def identifiability_plan(case, layout_measurements, level=None, resolution=None, threads=1,
-                         estimate=False, joints=None, on_joint=None, executor=None):
+def identifiability_plan(case: Case, layout_measurements: Measurements,
+                         level: float | None = None,
+                         resolution: float | Mapping[str, float] | None = None, threads: int = 1,
+                         estimate: bool = False, joints: Iterable[str] | None = None,
+                         on_joint: Callable[[str], object] | None = None,
+                         executor: Executor | None = None
+                         ) -> tuple[dict[str, JointPlan], NoiseModel, dict[float, ErrorEstimate]]:
     """``({joint: JointPlan}, noise, {frequency: ErrorEstimate})`` of ``case`` measured at the
     points of ``layout_measurements`` (their values are not used: the problem is given the
     model's own prediction there); the estimates of the model's discretisation error, which
@@ -146,11 +160,13 @@ def identifiability_plan(case, layout_measurements, level=None, resolution=None,
     return plans, noise, estimates
 
 
-def _relative_change(moved, base, norm):
+def _relative_change(moved: Sequence[np.ndarray], base: Sequence[np.ndarray],
+                     norm: float) -> float:
     return math.sqrt(sum(float(np.vdot(m - b, m - b).real) for m, b in zip(moved, base))) / norm
 
 
-def _dissipated_share(system, s, own, params, joint):
+def _dissipated_share(system: AssemblySystem, s: np.ndarray, own: Iterable[Channel],
+                      params: Mapping[tuple[str, str], complex], joint: str) -> float:
     r"""Power the joint dissipates at interface unknowns ``s``,
     :math:`\tfrac12\omega\,\mathrm{Im}\,c\,\|\Pi_\psi[q]\|^2`
     (:meth:`solver.channels.Channel.dissipated_power`), over the power the loads inject

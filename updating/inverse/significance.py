@@ -33,8 +33,13 @@ With :math:`K` draws the familywise level is reached within about
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 from scipy import special
+
+if TYPE_CHECKING:
+    import numpy.typing as npt
 
 __all__ = ["FLOOR_DRAWS", "scaled_chi_square", "chi_square_tail", "chi_square_quantile",
            "familywise_level", "standing_thresholds"]
@@ -45,7 +50,7 @@ factorisation, and their residuals are evaluated for all draws at once (10 x 10 
 draws 1.7 s against 1.2 s for 4, the factorisation included)."""
 
 
-def scaled_chi_square(draws):
+def scaled_chi_square(draws: npt.ArrayLike) -> tuple[np.ndarray, np.ndarray]:
     r"""Per row of ``draws`` (one joint, one column per draw), the scale and degrees of freedom
     of the chi-square matching its mean and variance: :math:`g = s^2/(2m)`,
     :math:`\nu = 2m^2/s^2`. Rows without spread (no noise) have :math:`g = 0`,
@@ -56,7 +61,7 @@ def scaled_chi_square(draws):
     return _scale_and_dof(mean, variance)
 
 
-def _scale_and_dof(mean, variance):
+def _scale_and_dof(mean: np.ndarray, variance: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     with np.errstate(divide="ignore", invalid="ignore"):
         spread = (variance > 0) & (mean > 0)
         scale = np.where(spread, variance / (2.0 * mean), 0.0)
@@ -64,7 +69,7 @@ def _scale_and_dof(mean, variance):
     return scale, dof
 
 
-def _tail(values, scale, dof):
+def _tail(values: np.ndarray, scale: np.ndarray, dof: np.ndarray) -> np.ndarray:
     """:math:`P(g\\chi^2_\\nu > x)`; 1 where the joint has no spread (never stands out by the
     tail: its threshold is its floor)."""
     spread = scale > 0
@@ -73,18 +78,18 @@ def _tail(values, scale, dof):
     return out
 
 
-def chi_square_tail(x, dof):
+def chi_square_tail(x: np.ndarray, dof: np.ndarray) -> np.ndarray:
     r""":math:`P(\chi^2_\nu > x) = Q(\nu/2, x/2)`, the regularised upper incomplete gamma
     function (``scipy.stats`` would cost a third of a second to import)."""
     return special.gammaincc(dof / 2.0, x / 2.0)
 
 
-def chi_square_quantile(tail, dof):
+def chi_square_quantile(tail: float | np.ndarray, dof: np.ndarray) -> np.ndarray:
     r"""The :math:`x` with :math:`P(\chi^2_\nu > x) =` ``tail``: :math:`2\,Q^{-1}(\nu/2, tail)`."""
     return 2.0 * special.gammainccinv(dof / 2.0, tail)
 
 
-def familywise_level(draws, significance):
+def familywise_level(draws: npt.ArrayLike, significance: float) -> float:
     r"""The per-joint tail probability :math:`c` below which, in a fraction ``significance`` of
     the draws, at least one joint falls: the ``significance`` quantile over the draws of
     :math:`\min_j p_j(x_{jk})`, each :math:`p_j` from the moments of the other draws
@@ -101,7 +106,7 @@ def familywise_level(draws, significance):
     return float(smallest[int(np.floor(significance * count))])
 
 
-def standing_thresholds(draws, significance):
+def standing_thresholds(draws: npt.ArrayLike, significance: float) -> np.ndarray:
     r"""Per joint (rows of ``draws``, a right model's residuals in columns of synthetic
     experiments), the residual :math:`t_j = g_j\chi^{2\,-1}_{\nu_j}(1 - c)` above which it
     stands out at familywise level ``significance`` (module docstring). With fewer than three

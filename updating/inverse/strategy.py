@@ -54,14 +54,27 @@ only ``>= x`` is identifiable; a joint much softer acts as a moment-free line: `
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Callable, Collection, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from scipy import optimize
 
 from updating.inverse.confidence import confidence_intervals
-from updating.inverse.cost import PARAMETER_BOUNDS, SMALLEST_MASS, log_grid, with_joint
+from updating.inverse.cost import (
+    PARAMETER_BOUNDS,
+    SMALLEST_MASS,
+    Evaluation,
+    JointCorrection,
+    ModifiedProblem,
+    log_grid,
+    with_joint,
+)
 from updating.inverse.significance import FLOOR_DRAWS, standing_thresholds
+
+if TYPE_CHECKING:
+    from assembly.settings import Updating
 
 __all__ = ["Step", "UpdateResult", "TERMINATION_MESSAGES", "correct_joint", "update_joints",
            "localise", "thresholds", "flat_interval", "finished_result", "standing_summary",
@@ -100,11 +113,11 @@ class Step:
     thresholds: dict = field(default_factory=dict)
 
     @property
-    def corrected(self):
+    def corrected(self) -> tuple[str, ...]:
         """Every joint corrected in this step: ``selected``, then those of ``also``."""
         return ((self.selected,) if self.selected is not None else ()) + tuple(self.also)
 
-    def to_record(self):
+    def to_record(self) -> dict[str, Any]:
         """Every field at full precision (JSON floats round-trip exactly), for run files."""
         record = dataclasses.asdict(self)
         record["interval"] = list(self.interval) if self.interval is not None else None
@@ -112,7 +125,7 @@ class Step:
         return record
 
     @classmethod
-    def from_record(cls, record):
+    def from_record(cls, record: Mapping[str, Any]) -> Step:
         """Inverse of :meth:`to_record`."""
         record = dict(record)
         if record.get("interval") is not None:
@@ -120,7 +133,7 @@ class Step:
         record["also"] = {j: tuple(v) for j, v in record.get("also", {}).items()}
         return cls(**record)
 
-    def to_json(self):
+    def to_json(self) -> dict[str, Any]:
         joints = {}
         for jid, p in self.parameters.items():
             joints[jid] = {
@@ -163,8 +176,11 @@ class UpdateResult:
         return len(self.steps) - 1
 
 
-def localise(problem, parameters, step=0, selected=None, interval=None, noise=0.0,
-             recorrection=False, also=None, settings=None):
+def localise(problem: ModifiedProblem, parameters: Mapping[str, Mapping[str, float]],
+             step: int = 0, selected: str | None = None,
+             interval: tuple[float, float] | None = None, noise: float = 0.0,
+             recorrection: bool = False, also: Mapping[str, tuple[float, float]] | None = None,
+             settings: Updating | None = None) -> Step:
     """Evaluate the modified problem at ``parameters``, with each joint's floor and its
     threshold from :data:`FLOOR_DRAWS` synthetic experiments on the model; returns a
     :class:`Step`.
@@ -187,7 +203,8 @@ def localise(problem, parameters, step=0, selected=None, interval=None, noise=0.
                 thresholds)
 
 
-def flat_interval(grid, costs, best, value, best_cost):
+def flat_interval(grid: np.ndarray, costs: np.ndarray, best: int, value: float,
+                  best_cost: float) -> tuple[float, float]:
     """The scanned values around the optimum whose cost is within :data:`FLAT` of the minimum.
 
     Only the run of grid points contiguous with the best one counts (another valley elsewhere
@@ -203,7 +220,8 @@ def flat_interval(grid, costs, best, value, best_cost):
     return float(min(low, value)), float(max(high, value))
 
 
-def _minimise_on_log_scale(cost, bounds, n_scan):
+def _minimise_on_log_scale(cost: Callable[[float], float], bounds: tuple[float, float],
+                           n_scan: int) -> tuple[float, float, np.ndarray, np.ndarray, int]:
     """Scan ``cost(log10 k)`` on ``n_scan`` points over ``bounds``, then Brent around the best.
 
     Returns ``(value, minimum, grid, costs, best index)``; the scan keeps Brent out of the
@@ -220,7 +238,9 @@ def _minimise_on_log_scale(cost, bounds, n_scan):
     return float(grid[best]), float(costs[best]), grid, costs, best
 
 
-def correct_joint(problem, parameters, joint, bounds, identify=("stiffness",)):
+def correct_joint(problem: ModifiedProblem, parameters: Mapping[str, Mapping[str, float]],
+                  joint: str, bounds: tuple[float, float], identify: Sequence[str] = ("stiffness",)
+                  ) -> tuple[dict[str, dict[str, float]], tuple[float, float], Evaluation]:
     """Optimise one joint's parameters, the others fixed.
 
     Returns ``(parameters, interval, evaluation)``: the evaluation (residuals and misfits) at
@@ -253,14 +273,16 @@ _EXTRA_VARIABLES = {
 }
 
 
-def _optimise_more(local, parameters, joint, bounds, extra):
+def _optimise_more(local: JointCorrection, parameters: Mapping[str, Mapping[str, float]],
+                   joint: str, bounds: tuple[float, float],
+                   extra: Sequence[str]) -> dict[str, dict[str, float]]:
     """Joint optimisation of log10 k with the loss factor and/or the log of the line mass
     (``local``: the joint's :class:`updating.inverse.cost.JointCorrection`)."""
     variables = [("log10_stiffness", float, float, tuple(bounds))]
     variables += [_EXTRA_VARIABLES[e] for e in extra]
     start = np.array([to_x(parameters[joint][name]) for name, to_x, _, _ in variables])
 
-    def values(x):
+    def values(x: np.ndarray) -> dict[str, float]:
         return {name: from_x(v) for (name, _, from_x, _), v in zip(variables, x)}
 
     # L-BFGS-B's tolerances are absolute below a cost of 1 (its relative decrease is taken
@@ -275,19 +297,20 @@ def _optimise_more(local, parameters, joint, bounds, extra):
     return with_joint(parameters, joint, **values(result.x))
 
 
-def thresholds(step, stop_ratio):
+def thresholds(step: Step, stop_ratio: float) -> dict[str, float]:
     """Each joint's threshold in ``step`` (:attr:`Step.thresholds`); ``stop_ratio`` times its
     floor in a step of a run file written before the thresholds were calibrated."""
     return {j: step.thresholds.get(j, stop_ratio * step.floors[j]) for j in step.residuals}
 
 
-def excess_ratios(step, stop_ratio):
+def excess_ratios(step: Step, stop_ratio: float) -> dict[str, float]:
     """Each joint's residual over its threshold in ``step`` (above 1: it stands out)."""
     limits = thresholds(step, stop_ratio)
     return {j: step.residuals[j] / max(limits[j], 1e-300) for j in step.residuals}
 
 
-def standing_summary(step, neighbours, stop_ratio):
+def standing_summary(step: Step, neighbours: Callable[[str], Iterable[str]],
+                     stop_ratio: float) -> str | None:
     """One sentence on what stands out in ``step``: the joint that stands out most, how many
     others stand out and how many of those are its neighbours (``neighbours(joint)``: the
     joints sharing a plate with it), which may stand out only through it; None when no joint
@@ -310,7 +333,8 @@ def standing_summary(step, neighbours, stop_ratio):
             "localises again")
 
 
-def _candidates(step, settings, corrected, exhausted):
+def _candidates(step: Step, settings: Updating, corrected: Collection[str],
+                exhausted: Collection[str]) -> tuple[list[str], bool]:
     """Joints to try next and whether they are re-corrections (rule steps 2 and 5).
 
     A corrected joint that still stands out once its correction no longer lowers the cost
@@ -328,7 +352,7 @@ def _candidates(step, settings, corrected, exhausted):
     return [j for j in by_excess if j in corrected and j not in exhausted], True
 
 
-def _apart(problem, candidates):
+def _apart(problem: ModifiedProblem, candidates: Iterable[str]) -> list[str]:
     """The first candidate and, in order, every later one whose neighbourhood shares no joint
     with the neighbourhoods already taken: corrections far enough apart not to see each other,
     made in one step (each judged on its own neighbourhood) before one localisation."""
@@ -341,7 +365,10 @@ def _apart(problem, candidates):
     return taken
 
 
-def update_joints(problem, settings, noise=0.0, start=None, on_step=None, on_correct=None):
+def update_joints(problem: ModifiedProblem, settings: Updating, noise: float = 0.0,
+                  start: Sequence[Step] | None = None,
+                  on_step: Callable[[Step], object] | None = None,
+                  on_correct: Callable[[int, str, bool], object] | None = None) -> UpdateResult:
     """The localisation–correction loop (the rule in the module docstring).
 
     Parameters
@@ -415,7 +442,8 @@ def update_joints(problem, settings, noise=0.0, start=None, on_step=None, on_cor
     return finished_result(problem, steps, status, settings, noise)
 
 
-def finished_result(problem, steps, status, settings, noise=0.0):
+def finished_result(problem: ModifiedProblem, steps: Sequence[Step], status: int,
+                    settings: Updating, noise: float = 0.0) -> UpdateResult:
     """The :class:`UpdateResult` of a loop that ended with ``status`` after ``steps`` (also
     of a finished run read back from its run file, without running the loop again), with the
     confidence interval of every corrected joint at ``settings.confidence``, calibrated
@@ -435,7 +463,7 @@ def finished_result(problem, steps, status, settings, noise=0.0):
                         intervals, more)
 
 
-def _message(status, last, settings):
+def _message(status: int, last: Step, settings: Updating) -> str:
     """:data:`TERMINATION_MESSAGES` of ``status``, followed by the joints that still stand out
     of their thresholds and how far: for status 1, those whose corrections were undone; for
     status 0, corrected joints whose data have been fitted (:func:`_candidates`)."""
@@ -455,7 +483,8 @@ def _message(status, last, settings):
             "their corrections were undone)")
 
 
-def _neighbourhood_interval(local, grid, value):
+def _neighbourhood_interval(local: JointCorrection, grid: np.ndarray,
+                            value: float) -> tuple[float, float]:
     """The scanned log10 k whose *neighbourhood* cost is within :data:`FLAT` of its minimum
     (:func:`flat_interval`; ``local`` is the joint's :class:`updating.inverse.cost.JointCorrection`).
 

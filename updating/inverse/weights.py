@@ -49,6 +49,7 @@ to nothing, and plates without data would be left undetermined.
 
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -78,8 +79,10 @@ class ScaleFreeWeights:
                 f"noise, r = {self.r:.3g}")
 
 
-def scale_free_weights(joint_plates, plate_energies, measured_values, noise, balance,
-                       relative=None) -> ScaleFreeWeights:
+def scale_free_weights(joint_plates: Mapping[str, Sequence[str]],
+                       plate_energies: Sequence[Mapping[str, float]],
+                       measured_values: Sequence[int], noise: float, balance: float,
+                       relative: Mapping[str, float] | None = None) -> ScaleFreeWeights:
     r"""The scale-free ``r`` and ``alpha`` (module docstring).
 
     Parameters
