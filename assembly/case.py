@@ -34,6 +34,7 @@ from .types import (
     FrozenDict,
     FrozenModel,
     Id,
+    JointParameters,
     check_frequencies,
     freeze,
     is_real,
@@ -434,7 +435,7 @@ class Case(FrozenModel):
                 out[jid] = (jid, None)
         return out
 
-    def updatable_parameters(self) -> dict[str, dict[str, float]]:
+    def updatable_parameters(self) -> JointParameters:
         """``{name: {log10_stiffness, loss_factor, mass}}`` of :meth:`updatable_joints`."""
         out = {}
         for name, (jid, member) in self.updatable_joints().items():
@@ -445,7 +446,7 @@ class Case(FrozenModel):
             else:
                 out[name] = {"log10_stiffness": joint.member_log10_stiffness(member),
                              "loss_factor": joint.member_loss_factor(member), "mass": 0.0}
-        return out
+        return JointParameters.of(out)
 
     def updatable_alpha(self) -> dict[str, float]:
         """The weight of each updatable joint's residual in :math:`E_{int}^2`: its joint's

@@ -22,7 +22,7 @@ import copy
 import re
 from typing import Any
 
-from . import models, settings
+from . import joints, models, settings
 from .case import Case
 from .types import EDGE_NAMES
 
@@ -128,7 +128,8 @@ def case_json_schema() -> dict[str, Any]:
     schema = copy.deepcopy(Case.model_json_schema())
     defs = schema.setdefault("$defs", {})
     for name, sub in defs.items():
-        cls = getattr(models, name, None) or getattr(settings, name, None)
+        cls = next((getattr(module, name) for module in (models, joints, settings)
+                    if hasattr(module, name)), None)
         if isinstance(cls, type):
             _document(sub, cls)
         if "kind" in sub.get("properties", {}):

@@ -8,6 +8,7 @@ from __future__ import annotations
 import functools
 import math
 import numbers
+from collections.abc import Mapping
 from typing import Annotated, Any, NamedTuple
 
 from pydantic import (
@@ -27,6 +28,7 @@ __all__ = [
     "EDGE_NAMES",
     "JOINT_PARAMETERS",
     "FrozenDict",
+    "JointParameters",
     "freeze",
     "show_value",
     "is_real",
@@ -91,6 +93,37 @@ class FrozenDict(dict):  # type: ignore[type-arg]
     def __repr__(self) -> str:
         """Return ``FrozenDict({...})``."""
         return f"FrozenDict({dict.__repr__(self)})"
+
+
+class JointParameters(FrozenDict):
+    """Joint parameters ``{joint: {name: value}}``, read-only at both levels.
+
+    The names are those of :data:`JOINT_PARAMETERS`; a joint is an updatable joint of
+    :meth:`assembly.case.Case.updatable_joints` (a junction member is ``JOINT.PLATE``). They
+    are what the updating passes from step to step, and what its results and run files hold:
+    being read-only, a set can be shared, kept and compared without defensive copies, and a
+    change makes a new set (:meth:`with_joint`).
+
+    >>> p = JointParameters.of({"G1": {"log10_stiffness": 3.0, "loss_factor": 0.0}})
+    >>> q = p.with_joint("G1", log10_stiffness=2.5)
+    >>> q["G1"]["log10_stiffness"], p["G1"]["log10_stiffness"]
+    (2.5, 3.0)
+    """
+
+    @classmethod
+    def of(cls, parameters: Mapping[str, Mapping[str, float]]) -> JointParameters:
+        """``parameters`` as a :class:`JointParameters` (itself when it already is one)."""
+        if isinstance(parameters, cls):
+            return parameters
+        return cls({joint: FrozenDict(values) for joint, values in parameters.items()})
+
+    def with_joint(self, joint: str, **values: float) -> JointParameters:
+        """A copy with ``values`` set on ``joint``, the others shared."""
+        return JointParameters({**self, joint: FrozenDict({**self[joint], **values})})
+
+    def __repr__(self) -> str:
+        """Return ``JointParameters({...})``."""
+        return f"JointParameters({dict.__repr__(self)})"
 
 
 def freeze(value: dict[Any, Any]) -> FrozenDict:

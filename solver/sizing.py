@@ -46,9 +46,8 @@ import numpy as np
 
 from assembly.case import Case
 from solver.interface import GROUPED_MIN_SIZE
-from solver.problems import plate_problems
 from solver.layout import interface_layout
-from solver.problems import plate_bases
+from solver.problems import plate_bases, plate_problems
 
 __all__ = ["SizeEstimate", "estimate_size", "available_memory"]
 

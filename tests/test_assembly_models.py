@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import copy
+import json
 import math
 import pickle
 from pathlib import Path
@@ -27,7 +28,7 @@ from assembly import (
 )
 from assembly.models import EdgeShear, Material, Plate
 from assembly.summary import summary_text
-from assembly.types import FrozenDict
+from assembly.types import FrozenDict, JointParameters
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -241,6 +242,28 @@ def test_measurement_points(two: Case) -> None:
     assert [p[0] for p in grid[:2]] == ["P1", "P1"]
     np.testing.assert_allclose([p[1:] for p in grid[:2]], [[0.025, 0.025], [0.025, 0.075]])
     assert points[-1] == ("P3", 0.0, 0.3)
+
+
+def test_joint_parameters_are_read_only_and_change_by_copy() -> None:
+    """The updating passes one set of joint parameters from step to step without copying it:
+    neither level can be changed in place, a change makes a new set that shares the other
+    joints, and a set compares, hashes and serialises like the plain dicts it replaces."""
+    case = load_case(ROOT / "cases" / "four_plates.toml")
+    parameters = case.updatable_parameters()
+    assert isinstance(parameters, JointParameters)
+    with pytest.raises(TypeError):
+        parameters["G1"] = {}
+    with pytest.raises(TypeError):
+        parameters["G1"]["log10_stiffness"] = 0.0
+    changed = parameters.with_joint("G2", log10_stiffness=1.5)
+    assert changed["G2"]["log10_stiffness"] == 1.5
+    assert parameters["G2"]["log10_stiffness"] == case.joints["G2"].log10_stiffness
+    assert changed["G1"] is parameters["G1"]
+    plain = {j: dict(p) for j, p in parameters.items()}
+    assert JointParameters.of(plain) == parameters == plain
+    assert JointParameters.of(parameters) is parameters
+    assert hash(JointParameters.of(plain)) == hash(parameters)
+    assert json.loads(json.dumps(changed)) == {j: dict(p) for j, p in changed.items()}
 
 
 def test_parse_edge_ref() -> None:

@@ -50,6 +50,7 @@ from pathlib import Path
 
 import numpy as np
 
+from assembly.types import JointParameters
 from updating.figures.curves import cost_curve_data, draw_cost_curve
 from updating.figures.field_data import field_map_data
 from updating.figures.fields import draw_field_maps
@@ -140,7 +141,7 @@ def write_update_figures(case, problem, measurements, result, directory, curve_p
             draw_residual_bars(bars, f"{name}: joint residuals per step\n{stopped}"),
             directory / "residuals.png"))
 
-    final = {j: dict(p) for j, p in result.parameters.items()}
+    final = JointParameters.of(result.parameters)
     initial = problem.initial_parameters()
     base_grid = log_grid(case.updating.bounds, curve_points)
     frequencies = ", ".join(f"{f:g}" for f in problem.frequencies)

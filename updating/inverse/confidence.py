@@ -51,6 +51,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from assembly.types import JointParameters
 from solver.interface import JointCondensation
 from updating.inverse.cost import PARAMETER_BOUNDS, SMALLEST_MASS, channel_parameters
 
@@ -376,9 +377,9 @@ class _TestedFrequency:
 
     def _values(self, thetas, channels):
         """``channels``' parameters with ``thetas`` ``{(joint, name): value}`` set."""
-        trial = {j: dict(p) for j, p in self.parameters.items()}
+        trial = JointParameters.of(self.parameters)
         for (joint, name), theta in thetas.items():
-            trial[joint][name] = theta
+            trial = trial.with_joint(joint, **{name: theta})
         params = channel_parameters(trial, self.omega)
         return [params[ch.name, ch.kind] for ch in channels]
 

@@ -38,10 +38,13 @@ import dataclasses
 import functools
 import math
 import time
+from collections.abc import Mapping
 from dataclasses import dataclass
 
 import numpy as np
 
+from assembly.types import JointParameters
+from solver.channels import channel_blocks, joint_residuals
 from solver.errors import NumericalError, condition_warnings
 from solver.estimate import enriched_plates, estimate_error
 from solver.guards import check_description
@@ -49,7 +52,6 @@ from solver.interface import Block, JointCondensation, squared_norm
 from solver.joint_rules import channel_parameters
 from solver.plate import particular_field
 from solver.rays import ray_field
-from solver.channels import channel_blocks, joint_residuals
 from solver.substructure import (
     AssemblySystem,
     ReferenceEnergy,
@@ -81,11 +83,10 @@ MAX_KEPT_CORRECTIONS = 8
 through the whole interface problem (interface unknowns x residual samples)."""
 
 
-def with_joint(parameters, joint, **values):
+def with_joint(parameters: Mapping[str, Mapping[str, float]], joint: str,
+               **values: float) -> JointParameters:
     """A copy of ``parameters`` with ``values`` set on ``joint`` (the others untouched)."""
-    trial = {jid: dict(p) for jid, p in parameters.items()}
-    trial[joint].update(values)
-    return trial
+    return JointParameters.of(parameters).with_joint(joint, **values)
 
 
 def direct_factor(system, parameters, alpha):
@@ -336,7 +337,7 @@ class ModifiedProblem:
         interfaces = {frequency: factor.s for frequency, factor in factors.items()}
         evaluation = self.evaluation_at(parameters, interfaces, data)
         if data is None:
-            self._last = ({j: dict(p) for j, p in parameters.items()}, factors)
+            self._last = (JointParameters.of(parameters), factors)
             self.evaluation_times.append(time.perf_counter() - t0)
         return evaluation
 
@@ -406,7 +407,7 @@ class ModifiedProblem:
         identification intervals after it condense at the same final parameters)."""
         key, kept = self._corrections
         if key != parameters:
-            key, kept = {j: dict(p) for j, p in parameters.items()}, {}
+            key, kept = JointParameters.of(parameters), {}
             self._corrections = (key, kept)
         if joint not in kept:
             if self._last is None or self._last[0] != parameters:
@@ -457,7 +458,7 @@ class ModifiedProblem:
         (:func:`direct_interface`). The last parameters' are kept (the noise floor of a
         localisation and the confidence intervals after the last one ask for the same) when
         their factors are small: a large structure's would double the peak memory."""
-        key = {j: dict(p) for j, p in parameters.items()}
+        key = JointParameters.of(parameters)
         if self._direct is not None and self._direct[0] == key:
             return self._direct[1]
 
@@ -577,7 +578,7 @@ class JointCorrection:
     def __init__(self, problem, parameters, joint, factors):
         self.problem = problem
         self.joint = joint
-        self.parameters = {j: dict(p) for j, p in parameters.items()}
+        self.parameters = JointParameters.of(parameters)
         neighbourhood = problem.neighbourhood(joint)
 
         def condense(frequency):

@@ -34,8 +34,13 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from solver.power import plate_powers
-from updating.inverse.confidence import (ConfidenceInterval, NoiseModel, ScoreTest, confidence_interval,
-                                 noise_model)
+from updating.inverse.confidence import (
+    ConfidenceInterval,
+    NoiseModel,
+    ScoreTest,
+    confidence_interval,
+    noise_model,
+)
 from updating.inverse.cost import ModifiedProblem, channel_parameters
 
 if TYPE_CHECKING:

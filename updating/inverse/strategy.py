@@ -61,6 +61,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from scipy import optimize
 
+from assembly.types import JointParameters
 from updating.inverse.confidence import confidence_intervals
 from updating.inverse.cost import (
     PARAMETER_BOUNDS,
@@ -197,7 +198,7 @@ def localise(problem: ModifiedProblem, parameters: Mapping[str, Mapping[str, flo
     calibrated = standing_thresholds(draws, settings.significance)
     thresholds = {j: max(settings.stop_ratio * floors[j], float(t))
                   for j, t in zip(problem.joints, calibrated)}
-    return Step(step, selected, {j: dict(p) for j, p in parameters.items()}, evaluation.residuals,
+    return Step(step, selected, JointParameters.of(parameters), evaluation.residuals,
                 floors, evaluation.e_mod, evaluation.e_int, evaluation.e_mes, interval,
                 recorrection, float(e_mod_draws.mean()), evaluation.misfits, dict(also or {}),
                 thresholds)
@@ -428,9 +429,8 @@ def update_joints(problem: ModifiedProblem, settings: Updating, noise: float = 0
                 accepted[joint] = (parameters[joint], interval)
         if not accepted:
             continue
-        parameters = {j: dict(p) for j, p in current.parameters.items()}
-        for joint, (values, _) in accepted.items():
-            parameters[joint] = dict(values)
+        parameters = JointParameters.of(
+            {**current.parameters, **{joint: values for joint, (values, _) in accepted.items()}})
         first, *others = accepted
         step = localise(problem, parameters, len(steps), first, accepted[first][1], noise,
                         recorrection, {j: accepted[j][1] for j in others}, settings)
