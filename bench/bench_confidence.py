@@ -33,7 +33,7 @@ from scipy import stats
 ROOT = Path(__file__).resolve().parents[1]
 sys.path[:0] = [str(ROOT), str(ROOT / "tests")]
 
-from chains import (  # noqa: E402
+from support import (  # noqa: E402
     chain_description,
     exact_measurements,
     levy_chain_experiment,

@@ -16,7 +16,7 @@ from scipy import optimize
 ROOT = Path(__file__).resolve().parents[1]
 sys.path[:0] = [str(ROOT), str(ROOT / "tests")]
 
-from chains import chain_description  # noqa: E402
+from support import chain_description  # noqa: E402
 
 from assembly import parse_case  # noqa: E402
 from updating.inverse.cost import ModifiedProblem  # noqa: E402

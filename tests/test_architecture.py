@@ -8,8 +8,8 @@ import ast
 from pathlib import Path
 
 import networkx as nx
+from support import ROOT
 
-ROOT = Path(__file__).resolve().parents[1]
 PACKAGES = ("assembly", "solver", "updating")
 LAYER = {name: i for i, name in enumerate(PACKAGES)}
 

@@ -8,7 +8,13 @@ wavelengths each way. Error: relative L2 norm of w over 10 x 10 interior points 
 
 import numpy as np
 import pytest
-from chains import (
+from exact import (
+    Section,
+    levy_chain,
+    levy_plate,
+    navier_point_force,
+)
+from support import (
     ETA,
     FREQUENCY,
     LENGTHS,
@@ -24,17 +30,11 @@ from chains import (
     exact_joint,
     grid,
 )
-from exact import (
-    Section,
-    levy_chain,
-    levy_plate,
-    navier_point_force,
-)
 
 from assembly import parse_case
 from solver import solve_case
-from solver.joint_rules import joint_parameters
 from solver.channels import joint_residuals
+from solver.joint_rules import joint_parameters
 from solver.substructure import build_assembly_system, solve_assembly
 
 
@@ -173,8 +173,8 @@ def test_residual_floor_falls_with_refinement():
     in the modified problem with noise-free data, and it falls as rays are added (measured
     1.2e-1, 1.2e-8, 3e-16 at resolution 0.75, 1.0, 1.25: 0.75 is below the rule; the paper
     reports 1e-3 to 1e-2 with its 100 dof per plate)."""
-    from updating.inverse.cost import ModifiedProblem
     from updating.data.measurements import Measurements, measurement_layout
+    from updating.inverse.cost import ModifiedProblem
 
     joint = {"kind": "coplanar", "log10_stiffness": 1.5, "loss_factor": 0.1}
     floors = []

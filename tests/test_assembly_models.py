@@ -6,11 +6,11 @@ import copy
 import json
 import math
 import pickle
-from pathlib import Path
 
 import numpy as np
 import pytest
 from pydantic import ValidationError
+from support import ROOT
 
 from assembly import (
     AssemblyError,
@@ -29,8 +29,6 @@ from assembly import (
 from assembly.models import EdgeShear, Material, Plate
 from assembly.summary import summary_text
 from assembly.types import FrozenDict, JointParameters
-
-ROOT = Path(__file__).resolve().parents[1]
 
 MINIMAL = """\
 name = "minimal"
@@ -244,11 +242,11 @@ def test_measurement_points(two: Case) -> None:
     assert points[-1] == ("P3", 0.0, 0.3)
 
 
-def test_joint_parameters_are_read_only_and_change_by_copy() -> None:
+def test_joint_parameters_are_read_only_and_change_by_copy(four_plates_case) -> None:
     """The updating passes one set of joint parameters from step to step without copying it:
     neither level can be changed in place, a change makes a new set that shares the other
     joints, and a set compares, hashes and serialises like the plain dicts it replaces."""
-    case = load_case(ROOT / "cases" / "four_plates.toml")
+    case = four_plates_case
     parameters = case.updatable_parameters()
     assert isinstance(parameters, JointParameters)
     with pytest.raises(TypeError):

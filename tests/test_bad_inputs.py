@@ -23,12 +23,11 @@ from types import SimpleNamespace
 
 import numpy as np
 import pytest
-from chains import TWO_PLATES as TWO
+from support import CASES
+from support import TWO_PLATES as TWO
 
 from assembly import load_case, load_case_text
 from updating.cli import main
-
-CASES = Path(__file__).resolve().parents[1] / "cases"
 
 # Two 0.5 x 0.4 m plates joined by G1, a point force on P1; 5 x 4 measurement grid per plate.
 

@@ -7,19 +7,18 @@ an exact series solution, the joint law, resonance), never with numbers saved fr
 run. Tolerances are stated with their reason next to each assertion.
 """
 
-from pathlib import Path
 
 import numpy as np
 import pytest
 from exact import EdgeLoad, Section, coplanar, levy_chain
+from support import CASES
 
 from assembly import load_case
 from solver import field_grid, solve_case
-from solver.joint_rules import joint_parameters
 from solver.channels import joint_residuals
+from solver.joint_rules import joint_parameters
 from solver.substructure import build_assembly_system, solve_assembly
 
-CASES = Path(__file__).resolve().parent.parent / "cases"
 CASE_FILES = sorted(CASES.glob("*.toml"))
 PAPER_CASES = ("two_plates", "four_plates", "folded_plate")
 

@@ -1,11 +1,10 @@
 """What the commands print and write, beyond the numbers (issue 13)."""
 
 import json
-from pathlib import Path
+
+from support import CASES
 
 from updating.cli import main
-
-CASES = Path(__file__).resolve().parents[1] / "cases"
 
 
 def test_solve_follows_the_measurement_layout(tmp_path):

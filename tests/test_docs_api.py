@@ -6,11 +6,8 @@ from __future__ import annotations
 import re
 import subprocess
 import sys
-from pathlib import Path
 
-from chains import TWO_PLATES
-
-ROOT = Path(__file__).resolve().parents[1]
+from support import ROOT, TWO_PLATES
 
 
 def test_the_api_page_runs():

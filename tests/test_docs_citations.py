@@ -14,7 +14,8 @@ is refused: a page of 700 lines is not a reference.
 import re
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parent.parent
+from support import ROOT
+
 METHOD = ROOT / "docs" / "method.md"
 CODE_DIRECTORIES = ("assembly", "solver", "updating", "tests", "bench")
 

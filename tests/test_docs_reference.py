@@ -14,15 +14,15 @@ from __future__ import annotations
 import argparse
 import re
 import typing
-from pathlib import Path
 
 from pydantic import BaseModel
+from support import ROOT
 
 from assembly import load_case_text
 from assembly.case import Case
 from updating.cli import build_parser
 
-DOCS = Path(__file__).resolve().parents[1] / "docs"
+DOCS = ROOT / "docs"
 BACKTICKED = re.compile(r"`([^`]+)`")
 CELL_SPLIT = re.compile(r"(?<!\\)\|")
 CLI_HEADER = ["command", "option", "argument", "default", "meaning"]

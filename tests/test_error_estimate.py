@@ -10,12 +10,11 @@ held to that band here; the measured effectivities are 0.92–1.43 (0.58 for a p
 
 import json
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
-from chains import LENGTHS, LY, NU, OMEGA, RHO, D, H, chain_description, exact_joint
 from exact import Section, complex_rigidity, levy_chain, navier_point_force
+from support import CASES, LENGTHS, LY, NU, OMEGA, RHO, D, H, chain_description, exact_joint
 
 from assembly import parse_case
 from solver import solve_case
@@ -29,7 +28,7 @@ from solver.estimate import (
 from solver.problems import plate_problem, plate_ray_counts
 from updating.cli import main
 
-TWO_PLATES = Path(__file__).resolve().parents[1] / "cases" / "two_plates.toml"
+TWO_PLATES = CASES / "two_plates.toml"
 
 E, PLATE_NU, PLATE_RHO, PLATE_H = 210e9, 0.3, 7800.0, 1e-3
 SIZE = (0.5, 0.4)

@@ -9,17 +9,17 @@ with a finer discretisation (``[measurement] resolution``) than the updated mode
 from __future__ import annotations
 
 from itertools import pairwise
-from pathlib import Path
 
 import numpy as np
 import pytest
+from support import CASES
 
 from assembly import load_case
-from updating.inverse.cost import ModifiedProblem
 from updating.data.measurements import simulate_measurements
+from updating.inverse.cost import ModifiedProblem
 from updating.inverse.strategy import update_joints
 
-CASE = Path(__file__).resolve().parents[1] / "cases" / "four_plates.toml"
+CASE = CASES / "four_plates.toml"
 # a joint whose interval is narrower than this many decades is pinned by the response
 SENSITIVE_WIDTH = 0.3
 

@@ -12,21 +12,17 @@ well determined.
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import numpy as np
 import pytest
-from chains import dense_interface, field_difference, grid, mixed_chain
+from support import CASES, dense_interface, field_difference, grid, mixed_chain
 
 from assembly import load_case, parse_case
 from assembly.generate import plate_grid
-from solver.joint_rules import joint_parameters
 from solver.channels import channel_blocks, joint_residuals
+from solver.joint_rules import joint_parameters
 from solver.substructure import build_assembly_system, solve_assembly
-from updating.inverse.cost import ModifiedProblem, channel_parameters, with_joint
 from updating.data.measurements import simulate_measurements
-
-CASES = Path(__file__).resolve().parents[1] / "cases"
+from updating.inverse.cost import ModifiedProblem, channel_parameters, with_joint
 
 
 @pytest.mark.parametrize("case", [mixed_chain(), load_case(CASES / "four_plates.toml")],
@@ -48,8 +44,8 @@ def test_direct_problem_matches_the_dense_reference(case):
 
 
 @pytest.fixture(scope="module")
-def four_plates():
-    case = load_case(CASES / "four_plates.toml")
+def four_plates(four_plates_case):
+    case = four_plates_case
     return ModifiedProblem(case, simulate_measurements(case))
 
 

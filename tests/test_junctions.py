@@ -13,18 +13,16 @@ stiffened panel's updating among them. The exact Levy-strip comparisons are in
 import json
 import math
 import tomllib
-from pathlib import Path
 
 import numpy as np
 import pytest
+from support import CASES
 
 from assembly import DescriptionError, load_case, parse_case
 from assembly.generate import box_with_wall, description_toml, stiffened_panel
 from assembly.joints import JunctionJoint
 from solver.substructure import solve_assembly
 from updating.cli import main
-
-CASES = Path(__file__).resolve().parents[1] / "cases"
 
 STEEL = {"young_modulus": 210e9, "poisson_ratio": 0.3, "density": 7800.0, "loss_factor": 0.01}
 SKIN_LENGTHS = (0.5, 0.4)

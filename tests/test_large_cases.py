@@ -3,17 +3,13 @@ its generator's output)."""
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import numpy as np
-from chains import grid
 from exact import complex_rigidity, navier_point_force
+from support import CASES, grid
 
 from assembly import load_case, load_case_text
 from assembly.generate import description_toml, plate_grid
 from solver import solve_case
-
-CASES = Path(__file__).resolve().parents[1] / "cases"
 
 # Face frames of cases/closed_box.toml in box coordinates (the header's table): local origin,
 # x axis, y axis; w along x_axis x y_axis, the outward normal.

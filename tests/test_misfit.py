@@ -1,17 +1,14 @@
 """``[updating] misfit``: E_mes^2 normalised by the whole data (the paper's) or per measured
 plate (each plate's misfit relative to its own data, averaged over the plates)."""
 
-from pathlib import Path
 
 import numpy as np
 import pytest
+from support import CASES
 
-from assembly import load_case
 from updating.cli import main
-from updating.inverse.cost import ModifiedProblem
 from updating.data.measurements import simulate_measurements
-
-CASES = Path(__file__).resolve().parents[1] / "cases"
+from updating.inverse.cost import ModifiedProblem
 
 
 def _with_misfit(case, misfit):
@@ -20,8 +17,8 @@ def _with_misfit(case, misfit):
 
 
 @pytest.fixture(scope="module")
-def problems():
-    case = load_case(CASES / "four_plates.toml")
+def problems(four_plates_case):
+    case = four_plates_case
     measurements = simulate_measurements(case)
     return {misfit: ModifiedProblem(_with_misfit(case, misfit), measurements)
             for misfit in ("global", "per_plate")}

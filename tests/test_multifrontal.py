@@ -8,24 +8,20 @@ cannot work.
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import numpy as np
 import pytest
 import scipy.sparse
-from chains import dense_interface, field_difference, mixed_chain
+from support import CASES, dense_interface, field_difference, mixed_chain
 
 from assembly import load_case, parse_case
 from assembly.generate import plate_grid
 from solver import interface
+from solver.channels import channel_blocks, joint_residuals
 from solver.joint_rules import joint_parameters
 from solver.multifrontal import GroupedLDL, GroupPivotError, minimum_degree_order
-from solver.channels import channel_blocks, joint_residuals
 from solver.substructure import build_assembly_system, solve_interface
-from updating.inverse.cost import ModifiedProblem, with_joint
 from updating.data.measurements import simulate_measurements
-
-CASES = Path(__file__).resolve().parents[1] / "cases"
+from updating.inverse.cost import ModifiedProblem, with_joint
 
 
 def lattice_system(n_x, n_y, seed=0, zero_diagonal=False, size=None):
@@ -169,8 +165,8 @@ def test_the_grouped_path_on_junctions_corners_and_line_masses(case, monkeypatch
 
 
 @pytest.fixture(scope="module")
-def four_plates():
-    case = load_case(CASES / "four_plates.toml")
+def four_plates(four_plates_case):
+    case = four_plates_case
     return ModifiedProblem(case, simulate_measurements(case))
 
 
@@ -190,11 +186,11 @@ def test_the_grouped_path_on_the_modified_problem(four_plates, monkeypatch, log1
                                 superlu.interface[frequency]) < 1e-8
 
 
-def test_superlu_takes_over_where_groups_cannot_pivot(monkeypatch):
+def test_superlu_takes_over_where_groups_cannot_pivot(four_plates_case, monkeypatch):
     """A joint without residual weight leaves its group with fewer rows than unknowns, and a
     backward error above the bound rejects a grouped solution: both go to SuperLU."""
     monkeypatch.setattr(interface, "GROUPED_MIN_SIZE", 0)
-    case = load_case(CASES / "four_plates.toml")
+    case = four_plates_case
     system, _, blocks = _direct_blocks(case)
     weighted = [b for b in blocks if b.group != 0]
     factor = solve_interface(system, weighted)
@@ -206,11 +202,11 @@ def test_superlu_takes_over_where_groups_cannot_pivot(monkeypatch):
     assert isinstance(solve_interface(system, blocks).lu, GroupedLDL)
 
 
-def test_corrections_and_floors_through_the_grouped_factorisation(monkeypatch):
+def test_corrections_and_floors_through_the_grouped_factorisation(four_plates_case, monkeypatch):
     """The condensation on one joint (solves with many right-hand sides through the kept
     factorisation) and the noise floors (the factorisation re-solved with the offsets of each
     noise draw) give, through GroupedLDL, what they give through SuperLU."""
-    case = load_case(CASES / "four_plates.toml")
+    case = four_plates_case
     measurements = simulate_measurements(case)
     values = [{"log10_stiffness": v} for v in (-1.0, 1.5, 5.0)]
     reference = ModifiedProblem(case, measurements)

@@ -6,10 +6,10 @@ power balance of ``solver.power``.
 """
 
 import json
-from pathlib import Path
 
 import numpy as np
 import pytest
+from support import CASES
 
 from assembly import load_case
 from solver import solve_case
@@ -17,8 +17,6 @@ from solver.power import power_flow
 from updating.cli import main
 from updating.data.measurements import measurement_layout, simulate_measurements
 from updating.inverse.plan import identifiability_plan
-
-CASES = Path(__file__).resolve().parents[1] / "cases"
 
 
 def _stiff_two_plates(tmp_path, log10_k):
@@ -151,9 +149,9 @@ def test_expected_interval_is_that_of_typical_noisy_data(tmp_path):
     measured: low 1.21 in [1.17, 1.31], high 1.64 in [1.61, 1.67]). Noise-free data compared
     with noisy redraws would give [1.05, 1.56], outside both ranges: the statistic is quadratic
     in the data, and noise moves it on average."""
+    from updating.data.measurements import Measurements
     from updating.inverse.confidence import confidence_interval, noise_model
     from updating.inverse.cost import ModifiedProblem
-    from updating.data.measurements import Measurements
     from updating.inverse.strategy import correct_joint
 
     path = tmp_path / "noisy.toml"

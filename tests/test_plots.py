@@ -8,10 +8,10 @@ import matplotlib nor need it.
 import subprocess
 import sys
 import textwrap
-from pathlib import Path
 
 import numpy as np
 import pytest
+from support import ROOT
 
 from assembly import load_case_text
 from solver import solve_case
@@ -25,7 +25,6 @@ from updating.forward.sweep import frequency_band, frequency_response_data, spat
 from updating.inverse.cost import ModifiedProblem, cost_curve
 from updating.inverse.strategy import update_joints
 
-ROOT = Path(__file__).resolve().parents[1]
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 
 # Two small plates (108 ray unknowns), a point force, the joint modelled 2 decades too stiff:
@@ -370,7 +369,7 @@ def test_residual_map_draws_junction_members_inside_their_own_plates():
     from assembly import load_case
     from updating.figures.residual_map import MEMBER_OFFSET, residual_map_data
 
-    case = load_case(Path(__file__).resolve().parents[1] / "cases" / "stiffened_panel.toml")
+    case = load_case(ROOT / "cases" / "stiffened_panel.toml")
     data = residual_map_data(case, _synthetic_step(case, {"W2.T2": 9.0}),
                              case.updating.stop_ratio)
     segment = data.segments["W2.T2"]

@@ -14,8 +14,8 @@ import pytest
 
 from assembly import parse_case
 from assembly.generate import plate_grid
-from updating.inverse.cost import ModifiedProblem
 from updating.data.measurements import simulate_measurements
+from updating.inverse.cost import ModifiedProblem
 from updating.inverse.strategy import excess_ratios, localise, update_joints
 
 

@@ -12,14 +12,12 @@ import signal
 import subprocess
 import sys
 import time
-from pathlib import Path
 
 import pytest
+from support import ROOT
 
-from updating.data import runfile
 from updating.cli import main
-
-ROOT = Path(__file__).resolve().parents[1]
+from updating.data import runfile
 
 
 @pytest.fixture(scope="module")

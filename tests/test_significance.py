@@ -107,8 +107,8 @@ def test_a_right_model_has_no_joint_standing_out():
     floors)."""
     from assembly import parse_case
     from assembly.generate import plate_grid
-    from updating.inverse.cost import ModifiedProblem
     from updating.data.measurements import simulate_measurements
+    from updating.inverse.cost import ModifiedProblem
     from updating.inverse.strategy import localise, thresholds
 
     description = plate_grid(3, 3, frequency=150.0)

@@ -2,21 +2,17 @@
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import pytest
-from chains import mixed_chain
+from support import CASES, mixed_chain
 
 from assembly import load_case
 from solver import interface
+from solver.channels import channel_blocks
 from solver.estimate import ENRICHMENT, enriched_size
 from solver.joint_rules import joint_parameters
 from solver.sizing import estimate_size
-from solver.channels import channel_blocks
 from solver.substructure import build_assembly_system
 from updating.cli import main
-
-CASES = Path(__file__).resolve().parents[1] / "cases"
 
 
 @pytest.mark.parametrize("case", [mixed_chain(), load_case(CASES / "four_plates.toml")],

@@ -8,14 +8,14 @@ discretised rigid joint stalls at about 1.6e-5 of the rotations); above the cros
 """
 
 import json
-from pathlib import Path
 
 import pytest
+from support import CASES
 
 from solver import solve_case
 from updating.cli import main
 
-TWO_PLATES = Path(__file__).resolve().parents[1] / "cases" / "two_plates.toml"
+TWO_PLATES = CASES / "two_plates.toml"
 
 
 def _two_plates_with(**joint):

@@ -10,12 +10,11 @@ rotation jumps, so it is independent of the Green identity and the loads ``solve
 
 import csv
 import json
-from pathlib import Path
 
 import numpy as np
 import pytest
-from chains import LENGTHS, LY, NU, RHO, D, H, chain_description, exact_joint
 from exact import EdgeLoad, Section, levy_chain
+from support import CASES, LENGTHS, LY, NU, RHO, D, H, chain_description, exact_joint
 
 from assembly import load_case, parse_case
 from solver import solve_case
@@ -23,8 +22,6 @@ from solver.power import power_flow
 from solver.sweep import initial_frequencies, refine_frequencies
 from updating.cli import main
 from updating.forward.sweep import frequency_sweep
-
-CASES = Path(__file__).resolve().parents[1] / "cases"
 
 JOINTS = [{"kind": "coplanar", "log10_stiffness": 1.5, "loss_factor": 0.3},
           {"kind": "hinge", "log10_stiffness": 2.0, "loss_factor": 0.5}]
@@ -322,7 +319,7 @@ def test_uff_datasets_are_frfs_per_newton_only_under_a_single_point_force():
     """A 2 N force gives H = w / 2 (type 4, per newton); a second load makes them response
     spectra of w in metres (type 12, no denominator), which is what the loads produced."""
     pytest.importorskip("pyuff")
-    from chains import chain_description
+    from support import chain_description
 
     from updating.data.uff_export import sweep_datasets
 

@@ -15,18 +15,18 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from support import CASES
 
 from assembly import load_case
 from updating.cli import main
-from updating.inverse.cost import ModifiedProblem
 from updating.data.files import InputError
 from updating.data.measurements import simulate_measurements
-from updating.inverse.strategy import update_joints
 from updating.data.uff import _pick_line, read_uff, read_uff_map
+from updating.inverse.cost import ModifiedProblem
+from updating.inverse.strategy import update_joints
 
 pyuff = pytest.importorskip("pyuff")
 
-CASES = Path(__file__).resolve().parent.parent / "cases"
 F0 = 155.0
 LINES = F0 + 0.5 * np.arange(-4, 5)  # 153-157 Hz, 0.5 Hz resolution, 155 Hz on a line
 QUANTITY = {"displacement": 8, "velocity": 11, "acceleration": 12}

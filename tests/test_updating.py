@@ -3,15 +3,14 @@ compute (exact Levy chain), the localisation–correction loop and its command l
 
 import dataclasses
 import json
-from pathlib import Path
 
 import numpy as np
 import pytest
-from chains import MATERIAL, chain_description, exact_measurements, levy_chain_experiment
 from exact import Section, complex_rigidity, coplanar, levy_chain
 from scipy import optimize
+from support import CASES, MATERIAL, chain_description, exact_measurements, levy_chain_experiment
 
-from assembly import load_case, parse_case
+from assembly import parse_case
 from updating.cli import main
 from updating.data.measurements import add_noise, simulate_measurements
 from updating.executor import frequency_threads, usable_cores
@@ -22,7 +21,6 @@ from updating.inverse.strategy import correct_joint, update_joints
 E, NU, RHO, ETA = (MATERIAL[k] for k in ("young_modulus", "poisson_ratio", "density",
                                        "loss_factor"))
 H = 1e-3
-CASES = Path(__file__).resolve().parents[1] / "cases"
 
 
 def two_plate_study(noise, seed=1, assumed_zeta=0.1):
@@ -282,10 +280,9 @@ def test_a_loop_that_stops_without_converging_exits_3_with_its_outputs(tmp_path,
                                                                       monkeypatch):
     """``max_steps = 1`` on the four-plate case (three joints wrong): status 2 in the JSON,
     the outputs written, one line on standard error, exit status 3."""
-    from pathlib import Path
 
     monkeypatch.chdir(tmp_path)
-    text = (Path(__file__).resolve().parents[1] / "cases" / "four_plates.toml").read_text()
+    text = (CASES / "four_plates.toml").read_text()
     assert "[updating]\n" in text
     case_file = tmp_path / "four.toml"
     case_file.write_text(text.replace("[updating]\n", "[updating]\nmax_steps = 1\n", 1))
@@ -302,10 +299,9 @@ def test_dash_is_standard_output_and_the_tables_move_to_standard_error(tmp_path,
     """``--json -`` writes the JSON, and only it, to standard output (the tables go to standard
     error, so the output pipes); two outputs on ``-`` and a run file ``-`` are refused before
     any work; no file named ``-`` appears."""
-    from pathlib import Path
 
     monkeypatch.chdir(tmp_path)
-    case = Path(__file__).resolve().parents[1] / "cases" / "four_plates.toml"
+    case = CASES / "four_plates.toml"
     assert main(["localise", str(case), "--json", "-"]) == 0
     captured = capsys.readouterr()
     step = json.loads(captured.out)
@@ -318,11 +314,11 @@ def test_dash_is_standard_output_and_the_tables_move_to_standard_error(tmp_path,
     assert not (tmp_path / "-").exists() and not list(tmp_path.glob("*.run.json"))
 
 
-def test_frequencies_on_threads_give_the_serial_numbers():
+def test_frequencies_on_threads_give_the_serial_numbers(four_plates_case):
     """The four-plate problem on two threads (its three frequencies factorised side by side)
     gives bit for bit what one thread gives: the set-up, an evaluation, the noise floors and a
     condensed correction. Each frequency's solve is the same deterministic task either way."""
-    case = load_case(CASES / "four_plates.toml")
+    case = four_plates_case
     measurements = simulate_measurements(case)
     runs = []
     for threads in (1, 2):
@@ -347,11 +343,11 @@ def test_thread_count_follows_cores_tasks_and_memory():
     assert frequency_threads(8, 1e6, None) == 1
 
 
-def test_a_correction_is_condensed_once_per_parameters():
+def test_a_correction_is_condensed_once_per_parameters(four_plates_case):
     """The re-corrections that end a run and the identification intervals after it ask for
     the same joint at the same parameters: one condensation serves both; an evaluation at other
     parameters starts afresh."""
-    case = load_case(CASES / "four_plates.toml")
+    case = four_plates_case
     problem = ModifiedProblem(case, simulate_measurements(case))
     p0 = problem.initial_parameters()
     first = problem.correction(p0, "G2")

@@ -1,11 +1,15 @@
-"""Plate chains shared by the tests and benchmarks: steel plates along x, simply supported on
-y = 0 and y = Ly, at 450 Hz (bending wavelength 0.148 m), their descriptions, their exact Levy
-series (``tests/exact.py``) as measured data, and a mixed chain for the interface solvers.
+"""What the tests and benchmarks share: where the repository's cases are, the two-plate
+description the input checks vary, and plate chains (steel plates along x, simply supported on
+y = 0 and y = Ly, at 450 Hz, bending wavelength 0.148 m) with their descriptions, their exact
+Levy series (``tests/exact.py``) as measured data, and a mixed chain for the interface solvers.
 
-A support module, like ``exact.py``: test modules import it, never each other.
+A support module, like ``exact.py``: test modules import it, never each other. The fixtures
+built on it are in ``tests/conftest.py``.
 """
 
 from __future__ import annotations
+
+from pathlib import Path
 
 import numpy as np
 import scipy.linalg
@@ -14,10 +18,15 @@ from exact import Section, complex_rigidity, coplanar, hinge, levy_chain
 from assembly import parse_case
 from updating.data.measurements import Measurements, add_noise
 
-__all__ = ["TWO_PLATES", "E", "NU", "RHO", "H", "ETA", "D", "LY", "LENGTHS", "FREQUENCY",
+__all__ = ["ROOT", "CASES", "TWO_PLATES", "E", "NU", "RHO", "H", "ETA", "D", "LY", "LENGTHS", "FREQUENCY",
            "OMEGA", "MATERIAL",
            "grid", "chain_description", "levy_chain_experiment", "exact_measurements",
            "exact_joint", "dense_interface", "field_difference", "mixed_chain"]
+
+ROOT = Path(__file__).resolve().parents[1]
+"""The repository."""
+CASES = ROOT / "cases"
+"""The example descriptions (``cases/*.toml``)."""
 
 
 # Two plates side by side, one coplanar joint, a point force, a measurement grid: the
