@@ -41,6 +41,9 @@ from assembly.types import EdgeId, parse_edge_ref
 
 __all__ = ["View", "cross_check"]
 
+LOCAL_EDGES = ("bottom", "right", "top", "left")
+"""A plate's edges counter-clockwise: edge ``i`` meets edges ``i - 1`` and ``i + 1``."""
+
 
 @dataclass
 class View:
@@ -210,6 +213,7 @@ class _CrossCheck:
         self.materials()
         self.joints_()
         self.boundaries()
+        self.moving_lines()
         self.loads()
         self.discretisation()
         self.measurement()
@@ -356,6 +360,49 @@ class _CrossCheck:
                     )
                 else:
                     self.conditions[edge] = (bc.condition, i)
+
+    def moving_lines(self) -> None:
+        """A moving junction line (``held = false``) has framed members, its ends on supported
+        edges (their corners then hold the line's ends, as the shear diaphragm of
+        folded-plate theory does), and no coplanar joint on a member plate (it would need
+        in-plane continuity, not modelled yet)."""
+        if self.view.joints is None or self.plates is None:
+            return
+        members = {}
+        for jid, joint in self.view.joints.items():
+            if isinstance(joint, JunctionJoint) and not joint.held:
+                members.update({side.plate: jid for side in joint.sides})
+        for jid, joint in self.view.joints.items():
+            if not isinstance(joint, JunctionJoint) or joint.held:
+                if isinstance(joint, CoplanarJoint):
+                    for side in joint.sides:
+                        if side.plate in members:
+                            self.issues.append(
+                                (("joints", jid, "kind"),
+                                 f"plate {side.plate!r} is a member of the moving line "
+                                 f"{members[side.plate]!r} (held = false), and a coplanar "
+                                 "joint does not carry in-plane continuity yet; describe "
+                                 f'{jid} as kind = "junction", or hold the line'))
+                            break
+                continue
+            loc = ("joints", jid, "held")
+            for side in joint.sides:
+                plate = self.plates.get(side.plate)
+                if plate is None:
+                    continue
+                if plate.frame is None:
+                    self.issues.append((loc, f"a moving line needs a frame on every member "
+                                        f"plate; add [plates.{side.plate}.frame], or set "
+                                        "held = true"))
+                    continue
+                index = LOCAL_EDGES.index(side.edge)
+                for neighbour in (LOCAL_EDGES[index - 1], LOCAL_EDGES[(index + 1) % 4]):
+                    condition = self.conditions.get(EdgeId(side.plate, neighbour))
+                    if condition is None or condition[0] == "free":
+                        self.issues.append(
+                            (loc, f"the line's end on {side.plate}.{neighbour} is not "
+                             "supported; a moving line needs its ends on simply supported "
+                             "or clamped edges (their corners hold its ends), or held = true"))
 
     def loads(self) -> None:
         """Each load's plate or edge exists, and an edge load acts where the edge lets it."""

@@ -173,9 +173,13 @@ MemberLossFactor = Annotated[
 
 
 class JunctionJoint(FrozenModel):
-    r"""A junction line: two or more plate edges on one line held in translation.
+    r"""A junction line: two or more plate edges on one line, held in translation or moving.
 
-    On the line :math:`w_i = 0` on every member; the line has its own rotation
+    Held (``held = true``, today's default): :math:`w_i = 0` on every member. Moving
+    (``held = false``, ``docs/method.md`` section 10.4): the line translates as one body, every
+    member's edge displacement :math:`(u_n, u_t, w)` mapped through its frame equal to the
+    line's, and the forces the members exert on it balance; each member carries in-plane
+    (membrane) waves besides its bending. Either way the line has its own rotation
     :math:`\Theta_J` and member :math:`i` is tied to it by a rotational spring,
     :math:`C_i = k_i(1 + j\zeta_i)(\Theta_J - \Theta_i)` (the moment per unit length of the
     line on the member), with :math:`\sum_i C_i = 0` (a massless line).  Rotations are about
@@ -195,12 +199,16 @@ class JunctionJoint(FrozenModel):
         ``{ S1 = inf, S2 = inf, T1 = 2.0 }``; ``inf`` is a rigid member.
     loss_factor : float or mapping of str to float, optional
         :math:`\zeta` >= 0, one for every member or a table by member plate.  Default 0.
+    held : bool, optional
+        ``true`` (default): the line is held in translation. ``false``: it moves; every member
+        plate needs a ``frame``, and the line's ends must lie on supported edges.
     """
 
     kind: Literal["junction"] = "junction"
     between: Annotated[tuple[EdgeRef, ...], Field(min_length=2)]
     log10_stiffness: MemberStiffness
     loss_factor: MemberLossFactor = 0.0
+    held: bool = True
 
     @property
     def sides(self) -> tuple[EdgeId, ...]:
@@ -214,7 +222,7 @@ class JunctionJoint(FrozenModel):
 
     @property
     def mass(self) -> float:
-        """Line mass of a junction: always 0 kg/m (its line is fixed)."""
+        """Line mass of a junction: always 0 kg/m (a massless line)."""
         return 0.0
 
     def member_log10_stiffness(self, plate: str) -> float:

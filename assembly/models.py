@@ -412,10 +412,24 @@ class Boundary(FrozenModel):
     condition : {"clamped", "simply_supported", "free"}
         ``clamped``: w = 0 and dw/dn = 0; ``simply_supported``: w = 0 and M_n = 0 (or a
         prescribed ``edge_moment``); ``free``: K_n = 0 and M_n = 0 (or prescribed loads).
+    in_plane : {"fixed", "free", "diaphragm", "roller"}, optional
+        The edge's in-plane condition, for a plate that carries in-plane waves (a member of a
+        moving junction line): ``fixed`` u_n = u_t = 0, ``free`` N_nn = N_nt = 0,
+        ``diaphragm`` u_t = 0 and N_nn = 0 (the shear diaphragm of folded-plate theory),
+        ``roller`` u_n = 0 and N_nt = 0. Default: ``fixed`` for ``clamped`` and
+        ``simply_supported``, ``free`` for ``free``.
     """
 
     edge: EdgeRef
     condition: Literal["clamped", "simply_supported", "free"]
+    in_plane: Literal["fixed", "free", "diaphragm", "roller"] | None = None
+
+    @property
+    def in_plane_condition(self) -> str:
+        """:attr:`in_plane`, or its default for :attr:`condition`."""
+        if self.in_plane is not None:
+            return self.in_plane
+        return "free" if self.condition == "free" else "fixed"
 
 
 class _EdgeLoad(FrozenModel):

@@ -11,13 +11,14 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from assembly import Case
 from solver.interface import Block
-from solver.layout import InterfaceLayout, plate_loads, plate_sides
+from solver.layout import InterfaceLayout, membrane_loads, plate_loads, plate_sides
+from solver.membrane import MembraneBasis, MembraneProblem, assemble_membrane
 from solver.plate import (
     PlateBoundary,
     PlateProblem,
@@ -27,11 +28,24 @@ from solver.plate import (
 )
 from solver.rays import RayBasis
 
-__all__ = ["PlateAdmissibility", "PlateBlock", "plate_block", "plate_admissibility"]
+__all__ = ["PlateAdmissibility", "PlateBlock", "MembraneBlock", "plate_block",
+           "plate_admissibility", "membrane_blocks"]
 
 CornerDeflections = tuple[np.ndarray, np.ndarray]
 """A plate's corner deflections: per corner, the rays' ``w`` (4, n_i) and the particular
 solution's (4,)."""
+
+
+@dataclass(frozen=True)
+class MembraneBlock:
+    """One plate's in-plane field: its problem, basis, transfer operator :math:`T_i^m` (membrane
+    amplitudes per unit interface unknown of the plate) and the reciprocal condition estimate
+    of its VTCR matrix."""
+
+    problem: MembraneProblem
+    basis: MembraneBasis
+    transfer: np.ndarray
+    rcond: float
 
 
 @dataclass
@@ -56,6 +70,9 @@ class PlateAdmissibility:
         Position of each joint's unknown functions (``"C"``, ``"F"``, ``"FA"``, ``"FB"``) in S.
     rcond : dict of str to float
         Reciprocal condition estimate of each plate's VTCR matrix.
+    membranes : dict of str to MembraneBlock
+        The in-plane plates' membrane fields (``docs/method.md`` section 10), affine in the
+        interface unknowns like the bending ones; empty without moving lines.
     """
 
     frequency: float
@@ -67,6 +84,7 @@ class PlateAdmissibility:
     n_s: int
     layout: dict[str, dict[str, slice]]
     rcond: dict[str, float]
+    membranes: dict[str, MembraneBlock] = field(default_factory=dict)
 
     @property
     def omega(self) -> float:
@@ -76,6 +94,17 @@ class PlateAdmissibility:
         """Ray amplitudes of every plate for interface unknowns ``s``."""
         return {pid: self.u0[pid] + self.transfer[pid] @ s[self.unknowns[pid]]
                 for pid in self.problems}
+
+    def membrane_amplitudes(self, s: np.ndarray) -> dict[str, np.ndarray]:
+        """Membrane amplitudes of every in-plane plate for interface unknowns ``s``."""
+        return {pid: block.transfer @ s[self.unknowns[pid]]
+                for pid, block in self.membranes.items()}
+
+    def affine_membrane_operator(self, plate_id: str, values: np.ndarray) -> Block:
+        r"""A membrane quantity :math:`XU_i^m` as a :class:`Block` over the plate's unknowns
+        (no in-plane load acts inside a plate, so :math:`U_i^m = T_i^mS`)."""
+        return Block(self.unknowns[plate_id], values @ self.membranes[plate_id].transfer,
+                     np.zeros(len(values), dtype=complex))
 
     def affine_plate_operator(self, plate_id: str, values: np.ndarray,
                               particular: np.ndarray) -> Block:
@@ -141,3 +170,19 @@ def plate_admissibility(case: Case, frequency: float, problems: Mapping[str, Pla
     plates = PlateAdmissibility(frequency, dict(problems), dict(bases), arrangement.unknowns, u0,
                                 transfer, arrangement.n_s, arrangement.slots, rcond)
     return plates, corner_w
+
+
+def membrane_blocks(case: Case, problems: Mapping[str, MembraneProblem],
+                    bases: Mapping[str, MembraneBasis], arrangement: InterfaceLayout
+                    ) -> dict[str, MembraneBlock]:
+    r"""Every in-plane plate's :math:`T_i^m = K_i^{m\,-1}B_i^m`
+    (:func:`solver.layout.membrane_loads`)."""
+    sides, _ = plate_sides(case, arrangement.corner_columns)
+    blocks = {}
+    for pid, problem in problems.items():
+        matrix, _ = assemble_membrane(problem, bases[pid])
+        solve, rcond = factorise_dense(matrix)
+        loads = membrane_loads(case, problem, bases[pid], sides[pid], arrangement.counts,
+                               arrangement.slots, arrangement.unknowns[pid])
+        blocks[pid] = MembraneBlock(problem, bases[pid], solve(loads), rcond)
+    return blocks

@@ -21,12 +21,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from assembly import Case
+from assembly import Case, EdgeId
 from solver.admissibility import CornerDeflections, PlateAdmissibility
 from solver.interface import Block, residual_weight, squared_norm
 from solver.joint_rules import joint_gauss, legendre_values, load_function_projection
 from solver.layout import InterfaceLayout, rigid_members
+from solver.membrane import membrane_edge_traces
 from solver.plate import edge_values
+from solver.rays import EDGES, plate_edges
 
 __all__ = ["Channel", "JointBuild", "RIGID_CROSSOVER", "two_plate_joint", "junction_line",
            "junction_corner_rows", "channel_blocks", "joint_residuals"]
@@ -200,7 +202,8 @@ def junction_line(build: JointBuild, jid: str, group: int) -> tuple[list[Block],
     members; each finite member's spring :math:`C_i = k_i^*(\Theta_J - \Theta_i)` is a
     channel ``JOINT.PLATE``, load :math:`C_i`, kinematic :math:`\Theta_J + s_i\theta_i`.
     Its crossover is twice a two-plate joint's: two members of :math:`2k` in series are a
-    hinge of :math:`k`, with the same residual at every stiffness.
+    hinge of :math:`k`, with the same residual at every stiffness. A moving line adds its
+    translation and force balance (:func:`_moving_line_rows`).
     """
     case, plates, counts = build.case, build.plates, build.counts
     joint = case.joints[jid]
@@ -229,12 +232,9 @@ def junction_line(build: JointBuild, jid: str, group: int) -> tuple[list[Block],
     for plate in rigid[1:]:
         gap = Block.union(rotation[plate], line.scaled(-1.0)).projected(weighted)
         rows.append(gap.constraint(group))
-    moments = np.concatenate([np.arange(slots[f"C.{p}"].start, slots[f"C.{p}"].stop)
-                              for p in joint.plates])
-    order = np.argsort(moments)
-    balance = np.hstack([np.eye(counts[jid], dtype=complex)] * len(joint.plates))
-    rows.append(Block(moments[order], balance[:, order], np.zeros(counts[jid], dtype=complex),
-                      group))
+    rows.append(_balance(slots, {(f"C.{p}"): 1.0 for p in joint.plates}, group))
+    if not joint.held:
+        rows += _moving_line_rows(build, jid, group, sigma, weighted)
     stiffness, kappa0 = _plate_stiffness(plates, joint.plates)
     channels = []
     on_functions = load_function_projection(root_w, psi)
@@ -247,6 +247,66 @@ def junction_line(build: JointBuild, jid: str, group: int) -> tuple[list[Block],
                                 2.0 * RIGID_CROSSOVER * stiffness * kappa0, member=plate,
                                 group=group))
     return rows, channels
+
+
+def _balance(slots: Mapping[str, slice], coefficients: Mapping[str, float],
+             group: int) -> Block:
+    r"""The rows :math:`\sum_f c_f\,f_m = 0`, one per Legendre coefficient :math:`m`, of the
+    load functions ``f`` named in ``coefficients``: a balance of the loads on a line."""
+    columns = np.concatenate([np.arange(slots[name].start, slots[name].stop)
+                              for name in coefficients])
+    n_f = slots[next(iter(coefficients))].stop - slots[next(iter(coefficients))].start
+    matrix = np.hstack([c * np.eye(n_f, dtype=complex) for c in coefficients.values()])
+    order = np.argsort(columns)
+    return Block(columns[order], matrix[:, order], np.zeros(n_f, dtype=complex), group)
+
+
+def member_axes(case: Case, side: EdgeId) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    r"""In 3D, a member edge's outward in-plane normal :math:`\mathbf n_i`, its tangent
+    :math:`\mathbf t_i` and its plate's normal :math:`\mathbf e_{z,i}` (the frame of
+    :math:`(u_n, u_t, w)` and of :math:`(N_{nn}, N_{nt}, K_n)`)."""
+    plate = case.plates[side.plate]
+    edge = plate_edges(tuple(plate.size))[EDGES.index(side.edge)]
+    x_axis, y_axis = (np.asarray(a, float) for a in (plate.frame.x_axis, plate.frame.y_axis))
+    x_axis, y_axis = x_axis / np.linalg.norm(x_axis), y_axis / np.linalg.norm(y_axis)
+    return (edge.normal[0] * x_axis + edge.normal[1] * y_axis,
+            edge.tangent[0] * x_axis + edge.tangent[1] * y_axis, np.cross(x_axis, y_axis))
+
+
+def _moving_line_rows(build: JointBuild, jid: str, group: int, sigma: np.ndarray,
+                      weighted: np.ndarray) -> list[Block]:
+    r"""The reliable equations of a moving line (``docs/method.md`` section 10.4): its
+    translation is one body's, :math:`\int(\mathbf X_i - \mathbf X_1)\psi_m\,d\sigma = 0`
+    for every member :math:`i > 1`, with :math:`\mathbf X_i = u_n\mathbf n_i + u_t\mathbf t_i
+    + w\,\mathbf e_{z,i}` the member edge's displacement (:func:`member_axes`); and the forces
+    the line exerts on its members balance,
+    :math:`\sum_i(N_{nn}\mathbf n_i + N_{nt}\mathbf t_i + K_n\mathbf e_{z,i}) = 0` per
+    Legendre coefficient (a massless line). Three rows per function and equation."""
+    case, plates = build.case, build.plates
+    joint = case.joints[jid]
+    length = case.edge_length(joint.sides[0])
+    slots = plates.layout[jid]
+    displacements, forces = [], {c: {} for c in range(3)}
+    for side, direction in zip(joint.sides, case.member_directions(jid)):
+        arc = sigma if direction > 0 else length - sigma
+        normal, tangent, plate_normal = member_axes(case, side)
+        rays, part = edge_values(plates.problems[side.plate], plates.bases[side.plate],
+                                 side.edge, arc, build.traces_cache)
+        w = plates.affine_plate_operator(side.plate, rays["w"], part["w"])
+        membrane = plates.membranes[side.plate]
+        edge = plate_edges(membrane.problem.size)[EDGES.index(side.edge)]
+        traces = membrane_edge_traces(membrane.basis, edge, arc, membrane.problem.stiffness,
+                                      membrane.problem.poisson_ratio)
+        u_n = plates.affine_membrane_operator(side.plate, traces["u_n"])
+        u_t = plates.affine_membrane_operator(side.plate, traces["u_t"])
+        displacements.append([Block.union(u_n.scaled(normal[c]), u_t.scaled(tangent[c]),
+                                          w.scaled(plate_normal[c])) for c in range(3)])
+        for c in range(3):
+            forces[c].update({f"Nn.{side.plate}": normal[c], f"Nt.{side.plate}": tangent[c],
+                              f"K.{side.plate}": plate_normal[c]})
+    rows = [Block.union(member[c], displacements[0][c].scaled(-1.0)).projected(weighted)
+            .constraint(group) for member in displacements[1:] for c in range(3)]
+    return rows + [_balance(slots, forces[c], group) for c in range(3)]
 
 
 def junction_corner_rows(plates: PlateAdmissibility,

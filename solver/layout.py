@@ -19,12 +19,18 @@ import numpy as np
 from assembly import Case, EdgeId
 from assembly.joints import Joint
 from solver.joint_rules import interface_function_count, legendre_values
+from solver.membrane import (
+    MembraneBasis,
+    MembraneProblem,
+    membrane_edge_rule,
+    membrane_edge_traces,
+)
 from solver.plate import PlateBoundary, PlateProblem, edge_projection
 from solver.problems import plate_resolution
-from solver.rays import EDGES
+from solver.rays import EDGES, plate_edges
 
-__all__ = ["InterfaceLayout", "interface_layout", "plate_loads", "plate_sides", "rigid_members",
-           "KINEMATIC_DEFLECTION"]
+__all__ = ["InterfaceLayout", "interface_layout", "plate_loads", "membrane_loads", "plate_sides",
+           "rigid_members", "KINEMATIC_DEFLECTION", "MOVING_MEMBER_LOADS"]
 
 Corner = tuple[str, int]
 """A plate corner: the plate and the corner's index (:data:`solver.rays.EDGES` order)."""
@@ -38,8 +44,9 @@ def _has_mass_channel(joint: Joint, identify: Collection[str]) -> bool:
 
 def _layout(case: Case, counts: Mapping[str, int]) -> tuple[dict[str, dict[str, slice]], int]:
     """Slices of S: per joint ``C`` and ``F`` (or ``FA``, ``FB``), per junction ``C.PLATE``
-    for each member and, without a rigid member, ``T`` (the line's rotation, on the joint's
-    Legendre functions); then the corner forces."""
+    for each member (and, on a moving line, its edge forces ``K.PLATE``, ``Nn.PLATE``,
+    ``Nt.PLATE``: :math:`K_n`, :math:`N_{nn}`, :math:`N_{nt}`) and, without a rigid member,
+    ``T`` (the line's rotation, on the joint's Legendre functions); then the corner forces."""
     layout, start = {}, 0
     identify = case.updating.identify
     for jid, joint in case.joints.items():
@@ -48,7 +55,8 @@ def _layout(case: Case, counts: Mapping[str, int]) -> tuple[dict[str, dict[str, 
             sizes.update(dict.fromkeys(["FA", "FB"] if _has_mass_channel(joint, identify)
                                        else ["F"], counts[jid]))
         elif joint.kind == "junction":
-            sizes = {f"C.{plate}": counts[jid] for plate in joint.plates}
+            names = ("C",) if joint.held else MOVING_MEMBER_LOADS
+            sizes = {f"{name}.{plate}": counts[jid] for plate in joint.plates for name in names}
             if not rigid_members(joint):
                 sizes["T"] = counts[jid]
         layout[jid] = {}
@@ -169,6 +177,11 @@ def interface_layout(case: Case, problems: Mapping[str, PlateProblem],
                            _plate_unknowns(case, layout, corner_columns))
 
 
+MOVING_MEMBER_LOADS = ("C", "K", "Nn", "Nt")
+"""The load functions of a member of a moving line: the moment :math:`C_i` (``M_n = s_iC_i``),
+the Kirchhoff shear :math:`K_n`, and the in-plane tractions :math:`N_{nn}`, :math:`N_{nt}` that
+the line exerts on the member (``docs/method.md`` section 10.4)."""
+
 JointSide = tuple[str, int, EdgeId]
 """A plate's edge on a joint: the joint, the side's index in it and the edge."""
 
@@ -208,6 +221,8 @@ def plate_loads(case: Case, boundary: PlateBoundary, sides: Sequence[JointSide],
         psi = legendre_values(sigma, length, counts[jid])
         if f"C.{side.plate}" in slots:  # a junction member: M_n = s_i C_i
             add(slots[f"C.{side.plate}"], direction * edge_projection(traces, "moment", psi))
+            if f"K.{side.plate}" in slots:  # on a moving line, K_n = K_i too
+                add(slots[f"K.{side.plate}"], edge_projection(traces, "shear", psi))
             continue
         add(slots["C"], edge_projection(traces, "moment", psi))
         if "F" in slots:
@@ -218,4 +233,31 @@ def plate_loads(case: Case, boundary: PlateBoundary, sides: Sequence[JointSide],
             add(slots[key], edge_projection(traces, "shear", psi))
     for c, column in corners:
         add([column], boundary.corner_w[c].conj()[:, None])
+    return loads
+
+
+def membrane_loads(case: Case, problem: MembraneProblem, basis: MembraneBasis,
+                   sides: Sequence[JointSide], counts: Mapping[str, int],
+                   layout: Mapping[str, Mapping[str, slice]], unknowns: np.ndarray
+                   ) -> np.ndarray:
+    r""":math:`B_i^m`: the membrane VTCR right-hand sides of an in-plane plate per unit
+    interface unknown, over the interface unknowns ``unknowns`` it sees: on each of its
+    moving-line edges the static data :math:`N_{nn} = \sum_m(N_n)_m\psi_m` and
+    :math:`N_{nt} = \sum_m(N_t)_m\psi_m`, whose columns are
+    :math:`\int\overline{u_\alpha(\Phi_k)}\,\psi_m\,ds` (``docs/method.md`` section 10.2)."""
+    loads = np.zeros((basis.n_dof, len(unknowns)), dtype=complex)
+    for jid, side_index, side in sides:
+        slots = layout[jid]
+        if f"Nn.{side.plate}" not in slots:
+            continue
+        edge = plate_edges(problem.size)[EDGES.index(side.edge)]
+        s, weights = membrane_edge_rule(edge, basis)
+        traces = membrane_edge_traces(basis, edge, s, problem.stiffness, problem.poisson_ratio)
+        direction = case.member_directions(jid)[side_index]
+        sigma = s if direction > 0 else edge.length - s
+        psi = legendre_values(sigma, edge.length, counts[jid])
+        for name, displacement in (("Nn", "u_n"), ("Nt", "u_t")):
+            part = slots[f"{name}.{side.plate}"]
+            columns = np.searchsorted(unknowns, np.arange(part.start, part.stop))
+            loads[:, columns] += traces[displacement].conj().T @ (weights[:, None] * psi)
     return loads

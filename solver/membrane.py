@@ -56,6 +56,8 @@ __all__ = [
     "MembraneProblem",
     "MembraneSolution",
     "membrane_edge_traces",
+    "membrane_edge_rule",
+    "membrane_field",
     "assemble_membrane",
     "solve_membrane",
 ]
@@ -310,7 +312,7 @@ def membrane_edge_traces(basis: MembraneBasis, edge: EdgeGeometry, s: np.ndarray
     return dict(zip(("u_n", "u_t", "N_nn", "N_nt"), traces))
 
 
-def _edge_rule(edge: EdgeGeometry, basis: MembraneBasis) -> tuple[np.ndarray, np.ndarray]:
+def membrane_edge_rule(edge: EdgeGeometry, basis: MembraneBasis) -> tuple[np.ndarray, np.ndarray]:
     """Gauss points (arc lengths) and weights integrating the products of two traces on an
     edge: :math:`\\lceil 0.75\\max|\\mathbf k|L\\rceil + 10` points (``docs/method.md``
     section 5.3)."""
@@ -333,7 +335,7 @@ def assemble_membrane(problem: MembraneProblem,
     """
     rows_test, rows_trial, rows_data = [], [], []
     for edge in plate_edges(problem.size):
-        s, w = _edge_rule(edge, basis)
+        s, w = membrane_edge_rule(edge, basis)
         traces = membrane_edge_traces(basis, edge, s, problem.stiffness, problem.poisson_ratio)
         condition = problem.condition(edge.name)
         for component, kind in zip(COMPONENTS, IN_PLANE_CONDITIONS[condition.condition]):

@@ -21,13 +21,15 @@ __all__ = ["plate_problem", "plate_problems", "plate_ray_counts", "plate_basis",
 def joint_edge_kinds(case: Case) -> dict[tuple[str, str], str]:
     """Edge condition that each joined edge takes in its plate's subproblem.
 
-    A coplanar joint leaves both components static (translation and rotation loads are
-    interface unknowns, so the edge behaves as ``free`` with unknown data); a hinge fixes the
-    joint line (``simply_supported``, with the moment an interface unknown).
+    A coplanar joint, or a moving junction line, leaves both components static (translation
+    and rotation loads are interface unknowns, so the edge behaves as ``free`` with unknown
+    data); a hinge or a held junction line fixes the joint line (``simply_supported``, with the
+    moment an interface unknown).
     """
     kinds = {}
     for joint in case.joints.values():
-        kind = "free" if joint.kind == "coplanar" else "simply_supported"
+        moving = joint.kind == "coplanar" or (joint.kind == "junction" and not joint.held)
+        kind = "free" if moving else "simply_supported"
         for side in joint.sides:
             kinds[(side.plate, side.edge)] = kind
     return kinds
@@ -143,7 +145,8 @@ def plate_basis(case: Case, plate_id: str, problem: PlateProblem,
                            tau=settings.edge_wavenumber_ratio)
 
 
-def plate_bases(case, problems, resolution):
+def plate_bases(case: Case, problems: Mapping[str, PlateProblem],
+                resolution: float | Mapping[str, float] | None) -> dict[str, RayBasis]:
     """Each plate's ray basis; plates of the same size, wavenumber and ray counts share one
     object (a grid's or a panel's identical plates), so that their joint traces are computed
     once (:func:`solver.plate.edge_values`' cache)."""

@@ -69,6 +69,7 @@ floor of the updating comes from the enriched solve (:mod:`updating.inverse.cost
 
 from __future__ import annotations
 
+import dataclasses
 import time
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -77,7 +78,7 @@ import numpy as np
 import scipy.sparse
 
 from assembly import Case
-from solver.admissibility import PlateAdmissibility, plate_admissibility
+from solver.admissibility import PlateAdmissibility, membrane_blocks, plate_admissibility
 from solver.channels import (
     Channel,
     JointBuild,
@@ -88,6 +89,7 @@ from solver.channels import (
     two_plate_joint,
 )
 from solver.errors import plate_condition_warnings
+from solver.in_plane import membrane_bases, membrane_problems
 from solver.interface import Block, InterfaceFactor, factorise_interface
 from solver.joint_rules import joint_parameters
 from solver.layout import interface_layout
@@ -173,6 +175,10 @@ def build_assembly_system(case: Case, frequency: float,
     arrangement = interface_layout(case, problems, resolution)
     plates, corner_deflections = plate_admissibility(case, frequency, problems, bases,
                                                      arrangement)
+    in_plane = membrane_problems(case, frequency)
+    if in_plane:
+        plates = dataclasses.replace(plates, membranes=membrane_blocks(
+            case, in_plane, membrane_bases(case, in_plane, problems, resolution), arrangement))
     t1 = time.perf_counter()
 
     build = JointBuild(case, plates, arrangement.counts,
@@ -239,8 +245,9 @@ class AssemblySolution(CaseSolution):
 
     @property
     def n_unknowns(self) -> int:
-        """Ray unknowns of all plates and the interface unknowns."""
-        return super().n_unknowns + self.system.n_s
+        """Ray unknowns of all plates (bending and in-plane) and the interface unknowns."""
+        in_plane = sum(block.basis.n_dof for block in self.system.membranes.values())
+        return super().n_unknowns + in_plane + self.system.n_s
 
 
 def solve_assembly(case: Case, frequency: float,

@@ -1,0 +1,106 @@
+"""The in-plane problems of an assembly: which plates carry in-plane waves, their membrane
+problems and bases (``docs/method.md`` section 10).
+
+A plate carries in-plane waves when it is a member of a moving junction line (``held =
+false``); a flat assembly under normal loads, and every held line, leave them out, so that
+its fields are today's to the bit.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+
+from assembly.case import Case
+from solver.membrane import (
+    MembraneBasis,
+    MembraneEdge,
+    MembraneProblem,
+    build_membrane_basis,
+    membrane_ray_counts,
+    membrane_stiffness,
+)
+from solver.plate import PlateProblem
+from solver.problems import plate_resolution
+from solver.rays import EDGES
+
+__all__ = ["moving_lines", "in_plane_plates", "membrane_problems", "membrane_bases"]
+
+
+def moving_lines(case: Case) -> list[str]:
+    """The junction lines that move (``held = false``), in the description's order."""
+    return [jid for jid, joint in case.joints.items()
+            if joint.kind == "junction" and not joint.held]
+
+
+def in_plane_plates(case: Case) -> list[str]:
+    """The plates that carry in-plane waves: the members of the moving lines."""
+    members = {plate for jid in moving_lines(case) for plate in case.joints[jid].plates}
+    return [pid for pid in case.plates if pid in members]
+
+
+def _edge_conditions(case: Case, plates: list[str]) -> dict[str, dict[str, str]]:
+    """Per in-plane plate, each edge's in-plane condition: ``free`` (with the interface loads
+    as data) on a moving line, the boundary's ``in_plane`` on a supported edge, ``fixed`` on a
+    hinge or a held line (they hold their line in translation), ``free`` elsewhere.
+
+    Raises ``ValueError`` for a coplanar joint on such a plate: its in-plane continuity is not
+    modelled yet.
+    """
+    conditions = {pid: dict.fromkeys(EDGES, "free") for pid in plates}
+    for jid, joint in case.joints.items():
+        for side in joint.sides:
+            if side.plate not in conditions:
+                continue
+            if joint.kind == "coplanar":
+                raise ValueError(
+                    f"joint {jid}: plate {side.plate} is a member of a moving junction line, "
+                    "and a coplanar joint does not carry in-plane continuity yet; join the two "
+                    "plates by a junction line instead (kind = \"junction\")")
+            moving = joint.kind == "junction" and not joint.held
+            conditions[side.plate][side.edge] = "free" if moving else "fixed"
+    for boundary in case.boundaries:
+        side = case.edge(boundary.edge)
+        if side.plate in conditions:
+            conditions[side.plate][side.edge] = boundary.in_plane_condition
+    return conditions
+
+
+def membrane_problems(case: Case, frequency: float) -> dict[str, MembraneProblem]:
+    """``{plate: MembraneProblem}`` of the in-plane plates (:func:`in_plane_plates`); their
+    moving-line edges carry no data here (their loads are interface unknowns)."""
+    plates = in_plane_plates(case)
+    problems = {}
+    for pid, conditions in _edge_conditions(case, plates).items():
+        plate = case.plates[pid]
+        material = case.materials[plate.material]
+        problems[pid] = MembraneProblem(
+            tuple(plate.size),
+            membrane_stiffness(material.young_modulus, plate.thickness,
+                               material.poisson_ratio, material.loss_factor),
+            material.poisson_ratio, material.density * plate.thickness,
+            2.0 * math.pi * frequency,
+            {edge: MembraneEdge(condition) for edge, condition in conditions.items()})
+    return problems
+
+
+def membrane_bases(case: Case, problems: Mapping[str, MembraneProblem],
+                   bending: Mapping[str, PlateProblem],
+                   resolution: float | Mapping[str, float] | None = None
+                   ) -> dict[str, MembraneBasis]:
+    r"""Each in-plane plate's basis (``docs/method.md`` section 10.3): edge waves up to
+    :math:`\beta_{max} = \tau\max(\kappa_0, k_S, 5/R_{max})`, with the plate's bending
+    wavenumber :math:`\kappa_0` (the bending waves of the members load the line) and the
+    description's ``edge_wavenumber_ratio`` :math:`\tau`, counts by the resolution rule."""
+    settings = case.discretisation
+    bases = {}
+    for pid, problem in problems.items():
+        k_long, k_shear = problem.wavenumbers
+        radius = 0.5 * math.hypot(*problem.size)
+        beta_max = settings.edge_wavenumber_ratio * max(bending[pid].kappa.real, k_shear.real,
+                                                         5.0 / radius)
+        counts = membrane_ray_counts(problem.size, k_shear.real, beta_max,
+                                     plate_resolution(case, pid, resolution))
+        bases[pid] = build_membrane_basis(problem.size, k_long, k_shear, counts, beta_max,
+                                          settings.quadrature_per_sector)
+    return bases

@@ -1,0 +1,147 @@
+"""Moving junction lines (``held = false``, ``docs/method.md`` section 10.4) against the exact
+prismatic folded plate of ``tests/exact_prismatic.py``, written independently of the solver.
+
+Folded plates of steel, shear diaphragms on y = 0 and y = Ly (``simply_supported`` with
+``in_plane = "diaphragm"``), the other outer edges simply supported and fixed in-plane (free
+for a stiffener's top), a 1 N normal force; the lines move as one body. The exact solution
+models bending and in-plane motion of every plate, so it differs from the held-line model by
+0.2 % (300 Hz) to 5 % (3 kHz) on an L fold: a VTCR that left the lines held, or coupled the
+in-plane waves wrongly, fails by that much.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from exact import complex_rigidity
+from exact_prismatic import FoldedPlate, PrismaticLine, membrane_stiffness, prismatic_levy
+
+from assembly import AssemblyError, parse_case
+from solver.substructure import solve_assembly
+
+E, NU, RHO, ETA = 210e9, 0.3, 7800.0, 0.01
+LY = 0.5
+UP, DOWN, ALONG_X, ALONG_Y = (0.0, 0.0, 1.0), (0.0, 0.0, -1.0), (1.0, 0.0, 0.0), (0.0, 1.0, 0.0)
+N_TERMS = 600  # the reference's harmonics: 1.5e-8 from 1000 at 1 kHz on these grids
+RESOLUTION = 1.5
+
+# plates: name -> (length, origin, x_axis, thickness, right edge); lines: joint -> {plate:
+# (edge, log10 k)}; the force: (plate, x0, y0)
+L_FOLD = ({"A": (0.4, (0.0, 0.0, 0.0), ALONG_X, 0.002, "simply_supported"),
+           "B": (0.3, (0.4, 0.0, 0.0), UP, 0.002, "simply_supported")},
+          {"F": {"A": ("right", math.inf), "B": ("left", math.inf)}}, ("A", 0.15, 0.2))
+U_CHANNEL = ({"A": (0.3, (0.0, 0.0, 0.0), UP, 0.002, "simply_supported"),
+              "B": (0.4, (0.0, 0.0, 0.3), ALONG_X, 0.002, "simply_supported"),
+              "C": (0.25, (0.4, 0.0, 0.3), DOWN, 0.002, "simply_supported")},
+             {"F1": {"A": ("right", math.inf), "B": ("left", math.inf)},
+              "F2": {"B": ("right", math.inf), "C": ("left", math.inf)}}, ("B", 0.17, 0.21))
+T_JUNCTION = ({"S1": (0.4, (0.0, 0.0, 0.0), ALONG_X, 0.001, "simply_supported"),
+               "S2": (0.35, (0.4, 0.0, 0.0), ALONG_X, 0.001, "simply_supported"),
+               "T1": (0.1, (0.4, 0.0, 0.0), UP, 0.002, "free")},
+              {"W": {"S1": ("right", math.inf), "S2": ("left", math.inf), "T1": ("left", 2.5)}},
+              ("S1", 0.17, 0.13))
+SHAPES = {"L": L_FOLD, "U": U_CHANNEL, "T": T_JUNCTION}
+
+
+def _description(plates, lines, load, frequency, held):
+    joined = {f"{p}.{edge}" for members in lines.values() for p, (edge, _) in members.items()}
+    boundaries = []
+    for name, (_, _, _, _, right) in plates.items():
+        for edge, condition, in_plane in (("bottom", "simply_supported", "diaphragm"),
+                                          ("top", "simply_supported", "diaphragm"),
+                                          ("left", "simply_supported", None),
+                                          ("right", right, None)):
+            if f"{name}.{edge}" not in joined:
+                boundaries.append({"edge": f"{name}.{edge}", "condition": condition}
+                                  | ({"in_plane": in_plane} if in_plane else {}))
+    return {
+        "name": "fold", "frequency": frequency,
+        "materials": {"steel": {"young_modulus": E, "poisson_ratio": NU, "density": RHO,
+                                "loss_factor": ETA}},
+        "plates": {name: {"material": "steel", "thickness": h, "size": [length, LY],
+                          "frame": {"origin": list(origin), "x_axis": list(x_axis),
+                                    "y_axis": list(ALONG_Y)}}
+                   for name, (length, origin, x_axis, h, _) in plates.items()},
+        "joints": {jid: {"kind": "junction",
+                         "between": [f"{p}.{edge}" for p, (edge, _) in members.items()],
+                         "log10_stiffness": {p: k for p, (_, k) in members.items()},
+                         "held": held}
+                   for jid, members in lines.items()},
+        "boundaries": boundaries,
+        "discretisation": {"resolution": RESOLUTION},
+        "loads": [{"kind": "point_force", "plate": load[0], "at": list(load[1:]),
+                   "amplitude": 1.0}],
+    }
+
+
+def _reference(plates, lines, load, frequency, held):
+    strips = {name: FoldedPlate(length, complex_rigidity(E, h, NU, ETA),
+                                membrane_stiffness(E, h, NU, ETA), NU, RHO * h, origin, x_axis,
+                                ALONG_Y, right=right)
+              for name, (length, origin, x_axis, h, right) in plates.items()}
+    prismatic = [PrismaticLine({p: (edge, math.inf if math.isinf(k) else 10.0**k)
+                                for p, (edge, k) in members.items()}, held=held)
+                 for members in lines.values()]
+    return prismatic_levy(strips, prismatic, LY, 2.0 * math.pi * frequency,
+                          forces=[(*load, 1.0)], n_terms=N_TERMS)
+
+
+def _errors(shape, frequency, held_model=False, held_reference=False) -> dict[str, float]:
+    """Per plate, the relative L2 difference of ``w`` on a 15 x 15 grid between the VTCR and
+    the exact solution."""
+    plates, lines, load = shape
+    case = parse_case(_description(plates, lines, load, frequency, held_model))
+    solution = solve_assembly(case, frequency, residuals=False)
+    reference = _reference(plates, lines, load, frequency, held_reference)
+    errors = {}
+    for name, (length, *_) in plates.items():
+        x, y = np.meshgrid(np.linspace(0.02, 0.98, 15) * length, np.linspace(0.02, 0.98, 15) * LY)
+        w = solution.plates[name].field(np.column_stack([x.ravel(), y.ravel()]))["w"]
+        exact = reference.w(name, x.ravel(), y.ravel())
+        errors[name] = float(np.linalg.norm(w - exact) / np.linalg.norm(exact))
+    return errors
+
+
+# every shape at every frequency is the slow study; the default run keeps one frequency of each
+# shape and the L fold across the band (the same property, a third of the time)
+CASES = [("L", 300.0), ("L", 1000.0), ("L", 3000.0), ("U", 1000.0), ("T", 3000.0)]
+SLOW = [(s, f) for s in sorted(SHAPES) for f in (300.0, 1000.0, 3000.0) if (s, f) not in CASES]
+
+
+@pytest.mark.parametrize("shape, frequency",
+                         CASES + [pytest.param(*c, marks=pytest.mark.slow) for c in SLOW])
+def test_moving_lines_match_the_exact_folded_plate(shape, frequency):
+    """The issue's target is 2e-3 on every plate. Measured at resolution 1.5: L 3e-8 / 1.4e-5 /
+    4e-5, U 1.1e-6 / 7.4e-6 / 6.2e-5, T 7.7e-7 / 1.1e-4 / 2.8e-4 (300 Hz / 1 kHz / 3 kHz,
+    worst plate); at resolution 1, 7e-4 to 7.7e-3."""
+    errors = _errors(SHAPES[shape], frequency)
+    assert max(errors.values()) < 2e-3, errors
+
+
+def test_the_moving_model_is_not_the_held_one():
+    """At 1 kHz the held-line model is 1 % from the moving truth on the L fold, 100 times the
+    moving model's error: the comparison above tells the two apart."""
+    moving = _errors(L_FOLD, 1000.0)
+    held = _errors(L_FOLD, 1000.0, held_model=True)
+    assert max(held.values()) > 5e-3 > 50 * max(moving.values()), (held, moving)
+
+
+def test_held_lines_keep_their_exact_solution():
+    """``held = true`` is the held-line model: against the reference with held lines (where
+    the in-plane waves play no part) it is as accurate as before (test_junction_accuracy)."""
+    errors = _errors(L_FOLD, 1000.0, held_model=True, held_reference=True)
+    assert max(errors.values()) < 2e-3, errors
+
+
+@pytest.mark.parametrize("change, message", [
+    (lambda d: d["plates"]["B"].pop("frame") and None, "frame"),
+    (lambda d: d["boundaries"].__setitem__(0, {"edge": "A.bottom", "condition": "free"}),
+     "not supported"),
+])
+def test_a_moving_line_needs_frames_and_supported_ends(change, message):
+    description = _description(*L_FOLD, 300.0, False)
+    change(description)
+    with pytest.raises(AssemblyError, match=message):
+        parse_case(description)
