@@ -164,7 +164,8 @@ def interface_layout(case: Case, problems: Mapping[str, PlateProblem],
         kappa0 = max(problems[plate].kappa.real for plate in joint.plates)
         joint_scale = max(plate_resolution(case, side.plate, resolution) for side in joint.sides)
         counts[jid] = (case.discretisation.interface_functions
-                       or interface_function_count(kappa0, length, joint_scale))
+                       or interface_function_count(kappa0, length, joint_scale,
+                                                   case.discretisation.edge_wavenumber_ratio))
     layout, n_s = _layout(case, counts)
     junctions = _junctions(case, problems)
     corner_columns = {}
