@@ -17,7 +17,7 @@ from pydantic import AfterValidator, Field, ValidationError, model_serializer, m
 from .checks import View, cross_check
 from .errors import AssemblyError, listing
 from .grid import grid_points
-from .joints import HingeJoint, Joint, JunctionJoint
+from .joints import CoplanarJoint, HingeJoint, Joint, JunctionJoint
 from .models import (
     Boundary,
     CrossReferenceError,
@@ -75,6 +75,46 @@ def _junction_with(joint: JunctionJoint, changes: Mapping[str, Any],
         problems = "; ".join(e["msg"].removeprefix("Value error, ") for e in exc.errors())
         raise AssemblyError(f"invalid member parameters of junction "
                             f"{' - '.join(joint.between)}: {problems}") from None
+
+
+def _two_edge_with(jid: str, joint: CoplanarJoint | HingeJoint,
+                   changes: Mapping[str, Any]) -> CoplanarJoint | HingeJoint:
+    """Joint ``jid``, a two-edge joint, with new values: ``changes`` ``{name: real number}``
+    of :data:`~assembly.types.JOINT_PARAMETERS`, each checked (a hinge has no line mass: only
+    ``mass = 0`` is accepted, and ignored)."""
+    data = joint.model_dump()
+    for name, value in changes.items():
+        if name not in JOINT_PARAMETERS:
+            raise AssemblyError(
+                f"{name!r} is not a joint parameter of joint {jid!r} (parameters: "
+                f"{', '.join(JOINT_PARAMETERS)})"
+            )
+        scalar_array = isinstance(value, np.ndarray) and (
+            value.shape == () and value.dtype.kind in "iuf"
+        )
+        if not (is_real(value) or scalar_array):
+            raise AssemblyError(
+                f"{name} of joint {jid!r} must be a real number, got {show_value(value)}"
+            )
+        value = float(value)
+        if name == "mass" and isinstance(joint, HingeJoint):
+            if value != 0.0:
+                raise AssemblyError(
+                    f"joint {jid!r} is a hinge, which has no line mass; got mass = "
+                    f"{value:g}"
+                )
+            continue
+        data[name] = value
+    try:
+        return type(joint).model_validate(data)
+    except ValidationError as exc:
+        problems = "; ".join(
+            f"{'.'.join(map(str, e['loc']))} {e['msg'].lower()}, "
+            f"got {show_value(e['input'])}"
+            for e in exc.errors()
+        )
+        raise AssemblyError(f"invalid parameters for joint {jid!r}: {problems}") from None
+
 
 class Case(FrozenModel):
     r"""An assembly description: plates, joints, boundary conditions, loads and settings.
@@ -380,40 +420,8 @@ class Case(FrozenModel):
                 )
             if isinstance(joints[jid], JunctionJoint):
                 joints[jid] = _junction_with(joints[jid], changes, member or None)
-                continue
-            joint = self.joints[jid]
-            data = joint.model_dump()
-            for name, value in changes.items():
-                if name not in JOINT_PARAMETERS:
-                    raise AssemblyError(
-                        f"{name!r} is not a joint parameter of joint {jid!r} (parameters: "
-                        f"{', '.join(JOINT_PARAMETERS)})"
-                    )
-                scalar_array = isinstance(value, np.ndarray) and (
-                    value.shape == () and value.dtype.kind in "iuf"
-                )
-                if not (is_real(value) or scalar_array):
-                    raise AssemblyError(
-                        f"{name} of joint {jid!r} must be a real number, got {show_value(value)}"
-                    )
-                value = float(value)
-                if name == "mass" and isinstance(joint, HingeJoint):
-                    if value != 0.0:
-                        raise AssemblyError(
-                            f"joint {jid!r} is a hinge, which has no line mass; got mass = "
-                            f"{value:g}"
-                        )
-                    continue
-                data[name] = value
-            try:
-                joints[jid] = type(joint).model_validate(data)
-            except ValidationError as exc:
-                problems = "; ".join(
-                    f"{'.'.join(map(str, e['loc']))} {e['msg'].lower()}, "
-                    f"got {show_value(e['input'])}"
-                    for e in exc.errors()
-                )
-                raise AssemblyError(f"invalid parameters for joint {jid!r}: {problems}") from None
+            else:
+                joints[jid] = _two_edge_with(jid, self.joints[jid], changes)
         return self.model_copy(update={"joints": FrozenDict(joints)})
 
     def updatable_joints(self) -> dict[str, tuple[str, str | None]]:

@@ -21,7 +21,8 @@ from assembly import load_case
 from updating.cli import main
 from updating.data.files import InputError
 from updating.data.measurements import simulate_measurements
-from updating.data.uff import _pick_line, read_uff, read_uff_map
+from updating.data.uff import _pick_line, read_uff
+from updating.data.uff_map import read_uff_map
 from updating.inverse.cost import ModifiedProblem
 from updating.inverse.strategy import update_joints
 

@@ -7,6 +7,7 @@ import csv
 import io
 import sys
 import time
+from collections.abc import Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -58,14 +59,15 @@ from updating.data.runfile import (
     refuse_other_measurements,
     refuse_replacing,
 )
-from updating.figures.figure_tools import require_matplotlib
 from updating.figures.curves import write_curve_figure
+from updating.figures.figure_tools import require_matplotlib
 from updating.figures.plots import write_update_figures
 from updating.figures.responses import write_plan_figure
 from updating.inverse.cost import ModifiedProblem, cost_curve, log_grid
 from updating.inverse.plan import identifiability_plan
 from updating.inverse.strategy import (
     Step,
+    UpdateResult,
     excess_ratios,
     finished_result,
     localise,
@@ -75,7 +77,10 @@ from updating.inverse.strategy import (
 )
 
 if TYPE_CHECKING:
+    from rich.console import Console
+
     from assembly import Case
+    from assembly.settings import Updating
 
 
 def cmd_localise(args: argparse.Namespace) -> int:
@@ -243,6 +248,34 @@ def cmd_update(args: argparse.Namespace) -> int:
     if args.plot:
         require_matplotlib()  # fail before the run, not after it
     t0 = time.perf_counter()
+    measurements, run = _open_run(case, args, console)
+    problem = modified_problem(case, args, measurements)
+    t1 = time.perf_counter()
+    settings = case.updating
+    if args.confidence is not None:
+        settings = settings.model_copy(update={"confidence": args.confidence})
+    result = _run_loop(case, args, console, problem, run, settings)
+    if result is None:  # interrupted: the run file holds the finished steps
+        return 130
+    if not run.finished:  # a finished run read back is reported as its file holds it
+        run.finish(result)
+    t2 = time.perf_counter()
+    _print_result(case, args, console, problem, result, settings)
+    timings = _print_sizes_and_timings(console, problem, result, run, t1 - t0, t2 - t1)
+    _write_outputs(case, args, console, problem, measurements, result, timings, settings.bounds)
+    if not result.status == 0:  # the outputs hold what was found; a script must see the rest
+        print(f"vtcr: the loop stopped without converging (status {result.status}): "
+              f"{result.message}; exit status {NOT_CONVERGED}", file=sys.stderr)
+        return NOT_CONVERGED
+    return 0
+
+
+def _open_run(case: Case, args: argparse.Namespace,
+              console: Console) -> tuple[Measurements, RunFile]:
+    """The measurements and the run file of ``vtcr update``: the run to resume (``--resume``:
+    read, then checked against the description and the measurements) or a new one, which does
+    not replace an existing run file without ``--force`` (a finished run of the same
+    description and measurements excepted); the file is locked for the command's life."""
     run_path = args.resume or run_path_for(args)
     replaceable = None
     if args.resume:
@@ -260,11 +293,14 @@ def cmd_update(args: argparse.Namespace) -> int:
         console.print(f"run file {run.path}: {len(run.steps)} finished steps; {state}")
     else:
         run = RunFile(run_path, case.name, digests)
-    problem = modified_problem(case, args, measurements)
-    t1 = time.perf_counter()
-    settings = case.updating
-    if args.confidence is not None:
-        settings = settings.model_copy(update={"confidence": args.confidence})
+    return measurements, run
+
+
+def _run_loop(case: Case, args: argparse.Namespace, console: Console, problem: ModifiedProblem,
+              run: RunFile, settings: Updating) -> UpdateResult | None:
+    """The localisation–correction loop from the run file's steps, each finished step saved
+    in it, with a progress bar (a finished run's result, without running the loop again).
+    None when interrupted (Ctrl-C), after saying how to continue."""
     with progress_bar(console, "localising", settings.max_steps + 1) as advance:
         def corrected(number: int, joint: str, again: bool) -> None:
             advance(f"step {number}: {'re-' if again else ''}correcting {joint}", amount=0)
@@ -275,19 +311,20 @@ def cmd_update(args: argparse.Namespace) -> int:
 
         try:
             if run.finished:
-                result = finished_result(problem, run.steps, run.finished[0], settings,
-                                         case.measurement.noise)
-            else:
-                result = update_joints(problem, settings, noise=case.measurement.noise,
-                                       start=run.steps, on_step=finished, on_correct=corrected)
+                return finished_result(problem, run.steps, run.finished[0], settings,
+                                       case.measurement.noise)
+            return update_joints(problem, settings, noise=case.measurement.noise,
+                                 start=run.steps, on_step=finished, on_correct=corrected)
         except KeyboardInterrupt:
             print(f"vtcr: interrupted; {_finished_steps(len(run.steps))} saved in {run.path}; "
                   f"continue with: {_resume_command(args, run.path)}", file=sys.stderr)
-            return 130
-    if not run.finished:  # a finished run read back is reported as its file holds it
-        run.finish(result)
-    t2 = time.perf_counter()
-    bounds = settings.bounds
+            return None
+
+
+def _print_result(case: Case, args: argparse.Namespace, console: Console,
+                  problem: ModifiedProblem, result: UpdateResult, settings: Updating) -> None:
+    """The steps' table (a large structure's notable joints only, unless ``--all``), the first
+    localisation's standing joints, the weights and the identified values."""
     rows = (None if args.all or len(result.parameters) <= SUMMARY_JOINTS
             else notable_joints(result, settings.stop_ratio))
     console.print(steps_table(result, f"{case.name}: localisation and correction", rows))
@@ -299,13 +336,19 @@ def cmd_update(args: argparse.Namespace) -> int:
         console.print(problem.weights.describe())
     for line in identified_lines(result, _truth(case, args), case.measurement.noise):
         console.print(line)
+
+
+def _print_sizes_and_timings(console: Console, problem: ModifiedProblem, result: UpdateResult,
+                             run: RunFile, setup: float, updating: float) -> dict[str, float]:
+    """Print the problem's size and the run's timings (``setup`` and ``updating`` in s), and
+    what one evaluation costs; return the timings for the JSON."""
     n_rays, n_s, n_g = problem.size
     console.print(f"{n_rays} ray unknowns, {n_s} interface unknowns, {n_g} constraints; "
-                  f"set-up {t1 - t0:.2f} s, updating {t2 - t1:.2f} s; run file {run.path}")
+                  f"set-up {setup:.2f} s, updating {updating:.2f} s; run file {run.path}")
     n_f = len(problem.frequencies)
     joint = next((s.selected for s in reversed(result.steps) if s.selected),
                  next(iter(problem.joints), None))
-    timings = {"setup": t1 - t0, "updating": t2 - t1,
+    timings = {"setup": setup, "updating": updating,
                # the fastest of the run's own evaluations, if it made any (not a resumed
                # finished run): timing it again would cost the run one more
                "global_solve": min(problem.evaluation_times, default=None)
@@ -316,6 +359,13 @@ def cmd_update(args: argparse.Namespace) -> int:
                   f"{1e3 * timings['global_solve']:.1f} ms, during a correction of {joint}: "
                   f"{1e3 * timings['correction_evaluation']:.2f} ms; plate blocks and transfer "
                   f"operators: {1e3 * timings['plates_per_frequency']:.1f} ms per frequency")
+    return timings
+
+
+def _write_outputs(case: Case, args: argparse.Namespace, console: Console,
+                   problem: ModifiedProblem, measurements: Measurements, result: UpdateResult,
+                   timings: Mapping[str, float], bounds: tuple[float, float]) -> None:
+    """The outputs ``vtcr update`` was asked for: ``--json``, ``--report`` and ``--plot``."""
     if args.json:
         sizes = dict(zip(("ray_unknowns", "interface_unknowns", "constraints"), problem.size))
         write_json_atomic(args.json, result_json(
@@ -334,11 +384,6 @@ def cmd_update(args: argparse.Namespace) -> int:
                                          executor=executor_for(args, case))
         console.print(f"{len(paths)} figures written to {args.plot} "
                       f"({time.perf_counter() - t3:.1f} s): {', '.join(p.name for p in paths)}")
-    if not result.status == 0:  # the outputs hold what was found; a script must see the rest
-        print(f"vtcr: the loop stopped without converging (status {result.status}): "
-              f"{result.message}; exit status {NOT_CONVERGED}", file=sys.stderr)
-        return NOT_CONVERGED
-    return 0
 
 
 def cmd_curve(args: argparse.Namespace) -> int:

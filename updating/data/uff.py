@@ -10,9 +10,10 @@ here, so the core runs without it.
 Placing the nodes
 -----------------
 A UFF file names response *nodes*, not points of vtcr's plates. A correspondence table, CSV
-``node,plate,x,y`` (plate-local metres), places each node: its ``node`` is the response node
-number of the dataset (record 6, field 6). Exporters that leave that field 0 or write a name
-in it are matched by the name (record 6 field 6 text, or the response entity name, field 5).
+``node,plate,x,y`` (plate-local metres, read by :mod:`updating.data.uff_map`), places each
+node: its ``node`` is the response node number of the dataset (record 6, field 6). Exporters
+that leave that field 0 or write a name in it are matched by the name (record 6 field 6 text,
+or the response entity name, field 5).
 Nodes of the file that the table does not list are ignored; every node of the table needs
 exactly one usable dataset (a complex response, see below) in the Z direction;
 coherences and other functions of the same node beside it are skipped.
@@ -60,8 +61,9 @@ from typing import TYPE_CHECKING, Any, TypeVar
 
 import numpy as np
 
-from updating.data.files import InputError, plate_point, point_key, read_csv_table
+from updating.data.files import InputError
 from updating.data.measurements import Measurements
+from updating.data.uff_map import MapEntry, map_rows, node_key
 
 if TYPE_CHECKING:
     from pyuff import UFF
@@ -70,7 +72,7 @@ if TYPE_CHECKING:
 
 _T = TypeVar("_T")
 
-__all__ = ["UFF_SUFFIXES", "is_uff", "read_uff", "read_uff_map"]
+__all__ = ["UFF_SUFFIXES", "is_uff", "read_uff"]
 
 UFF_SUFFIXES = (".uff", ".unv", ".58", ".58b", ".ufb", ".bunv")
 STANDARD_GRAVITY = 9.80665  # m/s^2, for ordinates labelled "g"
@@ -107,77 +109,11 @@ def _pyuff(path: str | Path) -> ModuleType:
     return pyuff
 
 
-def _node_key(text: str) -> str:
-    """A node as text: integers normalised (``"012"`` -> ``"12"``), names stripped."""
-    text = str(text).strip()
-    try:
-        return str(int(text))
-    except ValueError:
-        return text
-
-
 def _direction_label(direction: int) -> str:
     if direction == 0:
         return "scalar"
     name = DIRECTIONS.get(abs(direction), str(abs(direction)))
     return f"{'+' if direction > 0 else '-'}{name}"
-
-
-# --------------------------------------------------------------------------------------------
-# the correspondence table
-# --------------------------------------------------------------------------------------------
-
-@dataclass(frozen=True)
-class MapEntry:
-    """One row of the correspondence table."""
-
-    node: str
-    plate: str
-    x: float
-    y: float
-    row: int
-
-
-def _map_rows(path: str | Path, case: Case) -> tuple[dict[str, MapEntry], list[str]]:
-    """``({node: MapEntry}, problems)``: every problem of the table, none raised."""
-    columns = ("node", "plate", "x", "y")
-    try:  # the shared CSV checks: UTF-8 (BOM allowed), commas, header, misspelt columns
-        _, rows = read_csv_table(path, "UFF node map", columns)
-    except InputError as err:
-        return {}, err.lines
-    entries, problems, points = {}, [], {}
-    for number, row in rows:
-        if row is None:
-            problems.append(f"{path}: row {number}: more cells than the header's columns; "
-                            "one node per row node,plate,x,y")
-            continue
-        node = _node_key(row["node"])
-        if not node:
-            problems.append(f"{path}: row {number}, column 'node': empty; give the UFF "
-                            "response node number")
-            continue
-        try:
-            x, y = plate_point(path, number, case, row["plate"], row)
-        except InputError as err:
-            problems.extend(err.lines)
-            continue
-        if node in entries:
-            problems.append(f"{path}: row {number}, column 'node': node {node} is already "
-                            f"placed on row {entries[node].row}; give each node once")
-            continue
-        key = point_key(row["plate"], x, y)
-        if key in points:
-            other = entries[points[key]]
-            problems.append(f"{path}: row {number}: node {node} is placed at the point of node "
-                            f"{other.node} (row {other.row}: {row['plate']}, {x:g}, {y:g}); a "
-                            "point is measured once: remove one node, or average their "
-                            "measurements into one")
-            continue
-        points[key] = node
-        entries[node] = MapEntry(node, row["plate"], x, y, number)
-    if not entries and not problems:
-        problems.append(f"{path}: no rows; add lines node,plate,x,y")
-    return entries, problems
 
 
 def _first_line(path: Path, length: int = 60) -> str:
@@ -190,32 +126,6 @@ def _first_line(path: Path, length: int = 60) -> str:
     if "\ufffd" in line or any(ord(c) < 32 and c != "\t" for c in line):
         return "it starts with binary data"
     return f"its first line is {line[:length] + ('...' if len(line) > length else '')!r}"
-
-
-def read_uff_map(path: str | Path, case: Case) -> dict[str, MapEntry]:
-    """Read the UFF node correspondence table ``node,plate,x,y`` (plate-local metres).
-
-    Parameters
-    ----------
-    path : str or Path
-    case : assembly.Case
-        Plates and their sizes, to check every point.
-
-    Returns
-    -------
-    dict of str to MapEntry
-        Keyed by the node as text (integers normalised: ``"012"`` is ``"12"``).
-
-    Raises
-    ------
-    InputError
-        Every problem at once: missing file or columns, empty or duplicate node, non-numeric
-        coordinate, unknown plate, point outside its plate, no rows.
-    """
-    entries, problems = _map_rows(path, case)
-    if problems:
-        raise InputError(problems)
-    return entries
 
 
 # --------------------------------------------------------------------------------------------
@@ -294,10 +204,10 @@ def _node_and_direction(raw: str | None, header: Mapping[str, Any]) -> tuple[str
     if direction is None:
         node_text = str(header.get("rsp_node", 0))
         direction = int(header.get("rsp_dir", 0))
-    node: str | None = _node_key(node_text) if node_text is not None else ""
+    node: str | None = node_key(node_text) if node_text is not None else ""
     if node in ("", "0"):
         entity = entity.strip()
-        node = _node_key(entity) if entity and entity.upper() != "NONE" else None
+        node = node_key(entity) if entity and entity.upper() != "NONE" else None
     return node, direction
 
 
@@ -493,7 +403,7 @@ def _node_map(path: Path, case: Case,
     if uff_map is None:
         raise InputError(f"{path}: a UFF file needs --uff-map MAP.csv (header node,plate,x,y, "
                          "plate-local metres) to place its response nodes on the plates")
-    return _map_rows(uff_map, case)
+    return map_rows(uff_map, case)
 
 
 def _datasets_58(pyuff: ModuleType, path: Path, map_problems: Sequence[str]

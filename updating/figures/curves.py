@@ -7,8 +7,10 @@ Figs. 6-9 and 14): ``cost_<joint>.png`` of ``vtcr update --plot`` and ``vtcr cur
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -20,6 +22,11 @@ from updating.figures.figure_tools import (
     save_figure_atomic,
     true_log_k,
 )
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+    from assembly import Case
 
 __all__ = ["CostCurveData", "cost_curve_data", "draw_cost_curve", "write_curve_figure"]
 
@@ -51,14 +58,16 @@ class CostCurveData:
     identified: float | None = None
     true: float | None = None
     initial: float | None = None
-    interval: tuple | None = None
+    interval: tuple[float, float] | None = None
     note: str = ""
     identified_label: str = "identified"
     interval_label: str = "interval"
 
 
-def cost_curve_data(rows, joint, identified=None, true=None, initial=None, interval=None,
-                    note="", interval_label="interval"):
+def cost_curve_data(rows: Sequence[Sequence[float]], joint: str, identified: float | None = None,
+                    true: float | None = None, initial: float | None = None,
+                    interval: tuple[float, float] | None = None, note: str = "",
+                    interval_label: str = "interval") -> CostCurveData:
     """Arrays of a cost curve from :func:`updating.inverse.cost.cost_curve` rows.
 
     Parameters
@@ -84,7 +93,7 @@ def cost_curve_data(rows, joint, identified=None, true=None, initial=None, inter
                          identified_label=label, interval_label=interval_label)
 
 
-def draw_cost_curve(data, title=""):
+def draw_cost_curve(data: CostCurveData, title: str = "") -> Figure:
     """Figure of a :class:`CostCurveData` (log y axis, costs in %)."""
     figure = new_figure(figsize=(7.5, 5.0))
     ax = figure.add_subplot()
@@ -119,8 +128,9 @@ def draw_cost_curve(data, title=""):
     return figure
 
 
-def write_curve_figure(case, rows, joint, directory, parameters_note="other joints at their "
-                       "initial values"):
+def write_curve_figure(case: Case, rows: Sequence[Sequence[float]], joint: str,
+                       directory: str | Path,
+                       parameters_note: str = "other joints at their initial values") -> Path:
     """Write ``cost_<joint>.png`` for :func:`updating.inverse.cost.cost_curve` rows
     (``vtcr curve``)."""
     require_matplotlib()

@@ -46,7 +46,9 @@ frequencies).
 
 from __future__ import annotations
 
+from collections.abc import Callable, Mapping
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -65,25 +67,34 @@ from updating.figures.residual_map import MAP_JOINTS, draw_residual_map, residua
 from updating.figures.residuals import draw_residual_bars, residual_bars_data
 from updating.figures.responses import draw_frequency_response
 from updating.forward.sweep import frequency_band, frequency_response_data, spatial_rms
-from updating.inverse.cost import cost_curve, log_grid
+from updating.inverse.cost import ModifiedProblem, cost_curve, log_grid
+from updating.inverse.strategy import UpdateResult
+
+if TYPE_CHECKING:
+    from assembly import Case
+    from updating.data.measurements import Measurements
+    from updating.executor import Executor
 
 __all__ = ["write_update_figures"]
 
 
-def _frequency_name(frequency):
+def _frequency_name(frequency: float) -> str:
     return f"field_{frequency:g}Hz.png"
 
 
-def _corrected_joints(result):
+def _corrected_joints(result: UpdateResult) -> list[str]:
     joints = []
     for step in result.steps:
         joints += [joint for joint in step.corrected if joint not in joints]
     return joints
 
 
-def write_update_figures(case, problem, measurements, result, directory, curve_points=41,
-                         frf_points=40, frf_width=0.1, quantity="abs", field_source="direct",
-                         on_work=None, executor=None):
+def write_update_figures(case: Case, problem: ModifiedProblem, measurements: Measurements,
+                         result: UpdateResult, directory: str | Path, curve_points: int = 41,
+                         frf_points: int = 40, frf_width: float = 0.1, quantity: str = "abs",
+                         field_source: str = "direct",
+                         on_work: Callable[[str], object] | None = None,
+                         executor: Executor | None = None) -> list[Path]:
     """Write the figures of an updating run into ``directory`` (created if needed).
 
     Parameters
@@ -122,29 +133,53 @@ def write_update_figures(case, problem, measurements, result, directory, curve_p
     """
     require_matplotlib()
     directory = Path(directory)
-    written = []
-    name = case.name
-    stopped = f"stopped: {result.message}"
-    if len(result.parameters) > MAP_JOINTS:  # bars of tens of joints are unreadable: maps
-        corrected = _corrected_joints(result)
-        for label, step, path in (("first localisation", result.steps[0], "residuals_initial"),
-                                  ("end of the run", result.steps[-1], "residuals")):
-            data = residual_map_data(case, step, case.updating.stop_ratio,
-                                     corrected if step is result.steps[-1] else ())
-            written.append(save_figure_atomic(
-                draw_residual_map(data, new_figure(figsize=(9.0, 7.0)),
-                                  f"{name}: joint residuals, {label}\n{stopped}"),
-                directory / f"{path}.png"))
-    else:
-        bars = residual_bars_data(result, case.updating.stop_ratio)
-        written.append(save_figure_atomic(
-            draw_residual_bars(bars, f"{name}: joint residuals per step\n{stopped}"),
-            directory / "residuals.png"))
-
+    written = _residual_figures(case, result, directory)
     final = JointParameters.of(result.parameters)
     initial = problem.initial_parameters()
+    written += _cost_curve_figures(case, problem, result, initial, final, directory,
+                                   curve_points, on_work)
+    written += _field_figures(case, problem, measurements, initial, final, directory, quantity,
+                              field_source)
+    written.append(_frequency_response_figure(case, measurements, initial, final, directory,
+                                              frf_points, frf_width, on_work, executor))
+    return written
+
+
+def _residual_figures(case: Case, result: UpdateResult, directory: Path) -> list[Path]:
+    """``residuals.png``: the residual bars of every step, or above :data:`MAP_JOINTS` joints
+    the residual map at the end of the run, and ``residuals_initial.png`` that of the first
+    localisation."""
+    name = case.name
+    stopped = f"stopped: {result.message}"
+    if len(result.parameters) <= MAP_JOINTS:
+        bars = residual_bars_data(result, case.updating.stop_ratio)
+        return [save_figure_atomic(
+            draw_residual_bars(bars, f"{name}: joint residuals per step\n{stopped}"),
+            directory / "residuals.png")]
+    # bars of tens of joints are unreadable: maps
+    corrected = _corrected_joints(result)
+    written = []
+    for label, step, path in (("first localisation", result.steps[0], "residuals_initial"),
+                              ("end of the run", result.steps[-1], "residuals")):
+        data = residual_map_data(case, step, case.updating.stop_ratio,
+                                 corrected if step is result.steps[-1] else ())
+        written.append(save_figure_atomic(
+            draw_residual_map(data, new_figure(figsize=(9.0, 7.0)),
+                              f"{name}: joint residuals, {label}\n{stopped}"),
+            directory / f"{path}.png"))
+    return written
+
+
+def _cost_curve_figures(case: Case, problem: ModifiedProblem, result: UpdateResult,
+                        initial: Mapping[str, Mapping[str, float]],
+                        final: Mapping[str, Mapping[str, float]], directory: Path,
+                        curve_points: int, on_work: Callable[[str], object] | None
+                        ) -> list[Path]:
+    """``cost_<joint>.png`` of every joint corrected in the run, the other joints at their
+    ``final`` values; ``on_work`` is called before each curve."""
     base_grid = log_grid(case.updating.bounds, curve_points)
     frequencies = ", ".join(f"{f:g}" for f in problem.frequencies)
+    written = []
     for joint in _corrected_joints(result):
         marks = [final[joint]["log10_stiffness"], true_log_k(case, joint)]
         lo, hi = case.updating.bounds
@@ -159,16 +194,36 @@ def write_update_figures(case, problem, measurements, result, directory, curve_p
                                interval_label=result.intervals[joint].text,
                                note=f"other joints at their final values; {frequencies} Hz")
         written.append(save_figure_atomic(
-            draw_cost_curve(data, f"{name}: cost against $\\log_{{10}} k$ of {joint}"),
+            draw_cost_curve(data, f"{case.name}: cost against $\\log_{{10}} k$ of {joint}"),
             directory / f"cost_{joint}.png"))
+    return written
 
+
+def _field_figures(case: Case, problem: ModifiedProblem, measurements: Measurements,
+                   initial: Mapping[str, Mapping[str, float]],
+                   final: Mapping[str, Mapping[str, float]], directory: Path, quantity: str,
+                   field_source: str) -> list[Path]:
+    """``field_<f>Hz.png`` of every measured frequency: the measured, initial and updated
+    fields."""
+    shown = "|w|" if quantity == "abs" else "Re w"
+    written = []
     for frequency in measurements.frequencies:
         data = field_map_data(case, problem, measurements, frequency, initial, final,
                               quantity=quantity, source=field_source)
-        shown = "|w|" if quantity == "abs" else "Re w"
-        written.append(save_figure_atomic(draw_field_maps(data, f"{name}: {shown}"),
+        written.append(save_figure_atomic(draw_field_maps(data, f"{case.name}: {shown}"),
                                           directory / _frequency_name(frequency)))
+    return written
 
+
+def _frequency_response_figure(case: Case, measurements: Measurements,
+                               initial: Mapping[str, Mapping[str, float]],
+                               final: Mapping[str, Mapping[str, float]], directory: Path,
+                               frf_points: int, frf_width: float,
+                               on_work: Callable[[str], object] | None,
+                               executor: Executor | None) -> Path:
+    """``frf.png``: the spatial RMS of the initial, updated (and true) models over the
+    measurement points around the analysed band, the measured RMS marked; ``on_work`` is
+    called after each round of frequencies."""
     analysed = measurements.frequencies
     points = {pid: np.asarray(p, dtype=float)
               for pid, (p, _) in measurements.data[analysed[0]].items()}
@@ -181,9 +236,7 @@ def write_update_figures(case, problem, measurements, result, directory, curve_p
         case, sets, frequency_band(analysed, frf_width, frf_points), points, measured_rms,
         analysed, executor=executor,
         on_round=lambda n: on_work(f"response curve: {n} frequencies") if on_work else None)
-    written.append(save_figure_atomic(
-        draw_frequency_response(frf, f"{name}: spatial RMS of |w| over the measurement points"),
-        directory / "frf.png"))
-    return written
-
-
+    return save_figure_atomic(
+        draw_frequency_response(frf, f"{case.name}: spatial RMS of |w| over the measurement "
+                                     "points"),
+        directory / "frf.png")

@@ -11,11 +11,15 @@ from __future__ import annotations
 
 import textwrap
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from updating.figures.figure_tools import new_figure, positive
-from updating.inverse.strategy import thresholds
+from updating.inverse.strategy import UpdateResult, thresholds
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
 __all__ = ["ResidualBarsData", "residual_bars_data", "draw_residual_bars"]
 
@@ -41,16 +45,16 @@ class ResidualBarsData:
     log10_k : ndarray, shape (n_steps, n_joints)
     """
 
-    labels: tuple
-    joints: tuple
+    labels: tuple[str, ...]
+    joints: tuple[str, ...]
     residuals: np.ndarray
     thresholds: np.ndarray
-    selected: tuple
+    selected: tuple[int | None, ...]
     e_mod: np.ndarray
     log10_k: np.ndarray
 
 
-def residual_bars_data(result, stop_ratio=1.0):
+def residual_bars_data(result: UpdateResult, stop_ratio: float = 1.0) -> ResidualBarsData:
     """Arrays of :func:`draw_residual_bars` from an
     :class:`~updating.inverse.strategy.UpdateResult`."""
     joints = tuple(result.steps[0].parameters)
@@ -66,7 +70,7 @@ def residual_bars_data(result, stop_ratio=1.0):
     return ResidualBarsData(labels, joints, residuals, levels, selected, e_mod, log10_k)
 
 
-def draw_residual_bars(data, title=""):
+def draw_residual_bars(data: ResidualBarsData, title: str = "") -> Figure:
     r"""Draw grouped bars of :math:`E_{\Gamma_i}^2` per step and :math:`E_{mod}^2` (Table 4)."""
     from matplotlib.patches import Patch
 

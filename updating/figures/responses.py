@@ -6,7 +6,9 @@ identifiability per joint (``plan.png``).
 
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -18,11 +20,18 @@ from updating.figures.figure_tools import (
 )
 from updating.forward.sweep import FrequencyResponseData
 
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+    from assembly import Case
+    from updating.forward.sweep import Sweep
+    from updating.inverse.plan import JointPlan
+
 __all__ = ["draw_frequency_response", "draw_power_flow", "write_sweep_figures", "draw_plan",
            "write_plan_figure"]
 
 
-def draw_frequency_response(data, title=""):
+def draw_frequency_response(data: FrequencyResponseData, title: str = "") -> Figure:
     """RMS ``|w|`` against frequency; analysed frequencies and measured RMS marked."""
     figure = new_figure(figsize=(8.0, 5.0))
     ax = figure.add_subplot()
@@ -51,7 +60,7 @@ def draw_frequency_response(data, title=""):
     return figure
 
 
-def draw_power_flow(sweep, title="", joints_shown=8):
+def draw_power_flow(sweep: Sweep, title: str = "", joints_shown: int = 8) -> Figure:
     """Power against frequency of an :class:`updating.forward.sweep.Sweep`: injected, dissipated in
     the plates and in the joints (top), transmitted by the ``joints_shown`` joints that carry
     the most (bottom, absolute values)."""
@@ -88,7 +97,7 @@ def draw_power_flow(sweep, title="", joints_shown=8):
     return figure
 
 
-def write_sweep_figures(case, sweep, directory):
+def write_sweep_figures(case: Case, sweep: Sweep, directory: str | Path) -> list[Path]:
     """Write ``frf.png`` and ``power.png`` of a ``vtcr frf`` sweep into ``directory``."""
     require_matplotlib()
     directory = Path(directory)
@@ -102,7 +111,8 @@ def write_sweep_figures(case, sweep, directory):
                                directory / "power.png")]
 
 
-def draw_plan(plans, frequencies, title=""):
+def draw_plan(plans: Mapping[str, JointPlan], frequencies: Sequence[float],
+              title: str = "") -> Figure:
     """Grouped bars of each joint's field sensitivity (% per 0.1 decade of log10 k) per
     frequency, the joints labelled with their verdict (:mod:`updating.inverse.plan`)."""
     joints = list(plans)
@@ -124,7 +134,8 @@ def draw_plan(plans, frequencies, title=""):
     return figure
 
 
-def write_plan_figure(plans, frequencies, directory, name):
+def write_plan_figure(plans: Mapping[str, JointPlan], frequencies: Sequence[float],
+                      directory: str | Path, name: str) -> Path:
     """``DIR/plan.png`` (:func:`draw_plan`); the directory is created if needed."""
     directory = Path(directory)
     directory.mkdir(parents=True, exist_ok=True)

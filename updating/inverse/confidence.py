@@ -29,11 +29,11 @@ whatever the bias:
 * **Interval.** :math:`v` is accepted when the observed statistic lies between the
   :math:`(1-L)/2` and :math:`(1+L)/2` quantiles of the redrawn ones. The accepted run around
   the estimate is found by walking out from it in steps of :data:`STEPS` and locating each
-  end where the acceptance margin vanishes. A run that reaches a bound of ``[updating]
-  bounds`` is reported one-sided (``>= x`` near-rigid, ``<= x`` near-hinge), its other end
-  unchanged: the statement then holds at level :math:`L` or more (a one-sided test chosen
-  *because* the run reached the bound would not: the choice depends on the data); a run that
-  reaches both is "not identifiable within the bounds".
+  end where the acceptance margin vanishes (:mod:`updating.inverse.accepted_run`). A run that
+  reaches a bound of ``[updating] bounds`` is reported one-sided (``>= x`` near-rigid, ``<= x``
+  near-hinge), its other end unchanged: the statement then holds at level :math:`L` or more (a
+  one-sided test chosen *because* the run reached the bound would not: the choice depends on
+  the data); a run that reaches both is "not identifiable within the bounds".
 
 Every candidate's redraws use the same noise draws (common random numbers), so the accepted set
 changes smoothly with :math:`v`. The model's discretisation error biases the estimate
@@ -47,13 +47,22 @@ width). Coverage is measured in ``bench/bench_confidence.py``.
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from assembly.types import JointParameters
 from solver.interface import JointCondensation
+from updating.inverse.accepted_run import accepted_start, run_end
 from updating.inverse.cost import PARAMETER_BOUNDS, SMALLEST_MASS, channel_parameters
+
+if TYPE_CHECKING:
+    from solver.channels import Channel
+    from solver.interface import Block, InterfaceFactor
+    from updating.inverse.correction import JointCorrection
+    from updating.inverse.cost import ModifiedProblem
 
 __all__ = ["NoiseModel", "ConfidenceInterval", "ScoreTest", "confidence_interval",
            "confidence_intervals", "noise_model", "REDRAWS"]
@@ -67,12 +76,11 @@ STEPS = {"log10_stiffness": (0.1, 0.01), "loss_factor": (0.01, 0.001), "mass": (
 (the line mass's relative to its value: it spans decades). The accepted run must be connected
 at the step's resolution: far from the data, where the score has no power, the test accepts
 again, and that region is not joined to the run."""
-STRIDES = 4  # longest stride of a walk, in walk steps
 DERIVATIVE_STEP = 1e-6  # decade, central differences of the channel weights (exact to ~1e-11)
 HESSIAN_FRACTION = 0.1  # of the walk step: central differences of the observed scores
 
 
-def _steps(name, value):
+def _steps(name: str, value: float) -> tuple[float, float]:
     """The walk step and the end resolution of parameter ``name`` at ``value``."""
     walk, resolution = STEPS[name]
     if name == "mass":
@@ -95,7 +103,7 @@ class NoiseModel:
         """Relative standard deviation of one value."""
         return self.level / math.sqrt(3.0) if self.kind == "uniform" else self.level
 
-    def draws(self, rng, shape):
+    def draws(self, rng: np.random.Generator, shape: tuple[int, ...]) -> np.ndarray:
         if self.kind == "uniform":
             return rng.uniform(-self.level, self.level, shape)
         return rng.normal(0.0, self.level, shape)
@@ -107,7 +115,7 @@ class NoiseModel:
         return f"Gaussian {100 * self.level:.3g} % noise ({self.source})"
 
 
-def noise_model(stated, misfit):
+def noise_model(stated: float, misfit: float) -> NoiseModel:
     r"""The noise the intervals are calibrated against.
 
     ``stated`` is ``[measurement] noise`` (uniform half-width, relative), ``misfit`` the
@@ -141,18 +149,18 @@ class ConfidenceInterval:
     method: str
     parameter: str = "log10_stiffness"
 
-    def to_json(self):
+    def to_json(self) -> dict[str, Any]:
         return {"interval": [self.low, self.high], "confidence": self.level,
                 "method": self.method, "only": {"lower": "lower bound",
                                                 "upper": "upper bound"}.get(self.kind)}
 
-    def holds(self, value, tolerance=0.0):
+    def holds(self, value: float, tolerance: float = 0.0) -> bool:
         """Whether ``value`` lies in the interval widened by ``tolerance`` on each side (an
         unbounded side holds everything)."""
         return ((self.low is None or self.low - tolerance <= value)
                 and (self.high is None or value <= self.high + tolerance))
 
-    def span(self, bounds):
+    def span(self, bounds: tuple[float, float]) -> tuple[float, float]:
         """``(low, high)`` with an unbounded side at the bound (to shade a figure)."""
         return (bounds[0] if self.low is None else self.low,
                 bounds[1] if self.high is None else self.high)
@@ -182,7 +190,9 @@ class ConfidenceInterval:
         return f"not identifiable within the bounds at {pct} confidence"
 
 
-def _weight_derivatives(condensation, frequency, thetas, key):
+def _weight_derivatives(condensation: JointCondensation, frequency: _TestedFrequency,
+                        thetas: Mapping[tuple[str, str], float], key: tuple[str, str]
+                        ) -> list[np.ndarray | None]:
     r""":math:`\partial M/\partial\theta` for the parameter ``key`` = (joint, name): 2 x 2
     coefficients for each of the joint's channels, None for the others, by central
     differences of :math:`M(c(\theta))`."""
@@ -210,11 +220,14 @@ class ScoreTest:
         The identified parameters re-estimated with it (nuisances): those of the corrected
         joints of its neighbourhood, ``target`` included.
     corrections, direct : optional
-        The joints' :class:`updating.inverse.cost.JointCorrection` and the model response's factors
-        at ``parameters`` (default: asked of ``problem``).
+        The joints' :class:`updating.inverse.correction.JointCorrection` and the model
+        response's factors at ``parameters`` (default: asked of ``problem``).
     """
 
-    def __init__(self, problem, parameters, target, group, corrections=None, direct=None):
+    def __init__(self, problem: ModifiedProblem, parameters: Mapping[str, Mapping[str, float]],
+                 target: tuple[str, str], group: Sequence[tuple[str, str]],
+                 corrections: Mapping[str, JointCorrection] | None = None,
+                 direct: Mapping[float, InterfaceFactor] | None = None) -> None:
         self.target = target
         self.group = [target] + [k for k in group if k != target]
         self.values = {key: parameters[key[0]][key[1]] for key in self.group}
@@ -244,16 +257,18 @@ class ScoreTest:
         self._nuisance = np.linalg.solve(s[1:, 1:], s[1:, 0]) if len(self.group) > 1 else None
 
     @property
-    def frequencies(self):
+    def frequencies(self) -> list[_TestedFrequency]:
         """Per frequency of the problem, in its order: the condensations, the channels and the
         measured values the test uses."""
         return self._frequencies
 
     @property
-    def data_sizes(self):
+    def data_sizes(self) -> list[int]:
         return [len(f.observed) for f in self._frequencies]
 
-    def _scores(self, thetas, columns, redraws=None):
+    def _scores(self, thetas: Mapping[tuple[str, str], float], columns: Sequence[np.ndarray],
+                redraws: Sequence[tuple[np.ndarray, np.ndarray] | None] | None = None
+                ) -> np.ndarray:
         r"""Scores of every group parameter at ``thetas``: an array (group, data sets).
 
         ``columns[f]`` holds the samples :math:`y_0` of the data sets at frequency ``f``; with
@@ -262,7 +277,7 @@ class ScoreTest:
         they are fewer than the redraws, and then combining is cheaper than solving for every
         redraw.
         """
-        def at_frequency(i):
+        def at_frequency(i: int) -> np.ndarray:
             f, y0 = self._frequencies[i], columns[i]
             params = f.channel_values(thetas)
             if redraws is None or redraws[i] is None:
@@ -280,7 +295,7 @@ class ScoreTest:
 
         return sum(at_frequency(i) for i in range(len(self._frequencies)))
 
-    def _observed_hessian(self):
+    def _observed_hessian(self) -> np.ndarray:
         r""":math:`S_{kl} = \partial U_k/\partial\theta_l` of the observed data at the identified
         values (central differences of the scores)."""
         observed = [f.condensation.y0[:, None] for f in self._frequencies]
@@ -294,21 +309,22 @@ class ScoreTest:
                                - self._scores(minus, observed)[:, 0]) / (2 * step)
         return 0.5 * (hessian + hessian.T)
 
-    def _efficient(self, scores):
+    def _efficient(self, scores: np.ndarray) -> np.ndarray:
         """The target's score freed from the nuisances' to first order (rows: the group's
         scores)."""
         return scores[0] if self._nuisance is None else scores[0] - self._nuisance @ scores[1:]
 
-    def discretisation_shift(self):
+    def discretisation_shift(self) -> float:
         r"""How far the estimate moves when the model's own prediction :math:`p(\hat\theta)` is
         moved by minus its discretisation error at the measured points (:math:`\delta = w^+ -
-        w_h` of the enriched solve, :meth:`updating.inverse.cost.ModifiedProblem.synthetic_data`): one
-        Newton step on the efficient score, :math:`-(U(\hat\theta; p - \delta) -
-        U(\hat\theta; p))/S`. The error is systematic, not noise, so the noise's redraws do not
-        cover the bias it gives the estimate. Taken on the prediction, not on the data: the
-        score is quadratic in the data, and on noisy data the cross term of the noise with
-        :math:`\delta` counted noise as bias (the intervals then held the truth in 97-100 of
-        100 draws at level 0.9). 0 when the enriched solve was not made."""
+        w_h` of the enriched solve,
+        :meth:`updating.inverse.cost.ModifiedProblem.synthetic_data`): one Newton step on the
+        efficient score, :math:`-(U(\hat\theta; p - \delta) - U(\hat\theta; p))/S`. The
+        error is systematic, not noise, so the noise's redraws do not cover the bias it gives
+        the estimate. Taken on the prediction, not on the data: the score is quadratic in the
+        data, and on noisy data the cross term of the noise with :math:`\delta` counted noise
+        as bias (the intervals then held the truth in 97-100 of 100 draws at level 0.9). 0 when
+        the enriched solve was not made."""
         columns = []
         for f in self._frequencies:
             if f.discretisation is None:
@@ -320,7 +336,7 @@ class ScoreTest:
         curvature = s[0, 0] - (0.0 if self._nuisance is None else s[0, 1:] @ self._nuisance)
         return float((scores[0] - scores[1]) / curvature) if curvature != 0.0 else 0.0
 
-    def separation(self, a, b, deviation):
+    def separation(self, a: float, b: float, deviation: float) -> float:
         r"""How many noise standard deviations apart the model's predictions with the joint
         at ``a`` and at ``b`` are, all values together:
         :math:`\sqrt{\sum_n|p_n(b) - p_n(a)|^2/(\sigma|p_n(a)|)^2}`. Below one, no test on
@@ -333,7 +349,8 @@ class ScoreTest:
             total += float(np.sum(np.abs((pb - pa) / scale) ** 2))
         return math.sqrt(total)
 
-    def statistics(self, value, noise):
+    def statistics(self, value: float, noise: Sequence[np.ndarray]
+                   ) -> tuple[float, np.ndarray, float]:
         """Observed statistic, redrawn ones (array) and the noise-free prediction's with the
         joint at ``value``.
 
@@ -362,20 +379,21 @@ class ScoreTest:
 @dataclass
 class _TestedFrequency:
     """What the score test needs of one measured frequency (built from the problem's
-    :class:`updating.inverse.cost.FrequencyData`)."""
+    :class:`updating.inverse.problem_data.FrequencyData`)."""
 
     condensation: JointCondensation  # the group's channels, at the identified values, r > 0
-    channels: list
+    channels: list[Channel]
     data_map: np.ndarray  # D: samples per unit change of the measured values
     prediction: JointCondensation  # the target joint's channels in the model response (r = 0)
-    own: list  # those channels
+    own: list[Channel]  # those channels
     observed: np.ndarray
-    operators: list
-    parameters: dict
+    operators: list[Block]
+    parameters: Mapping[str, Mapping[str, float]]
     omega: float
     discretisation: np.ndarray | None  # the model's w+ - w_h at the measured values
 
-    def _values(self, thetas, channels):
+    def _values(self, thetas: Mapping[tuple[str, str], float],
+                channels: Sequence[Channel]) -> list[complex]:
         """``channels``' parameters with ``thetas`` ``{(joint, name): value}`` set."""
         trial = JointParameters.of(self.parameters)
         for (joint, name), theta in thetas.items():
@@ -383,28 +401,31 @@ class _TestedFrequency:
         params = channel_parameters(trial, self.omega)
         return [params[ch.name, ch.kind] for ch in channels]
 
-    def channel_values(self, thetas):
+    def channel_values(self, thetas: Mapping[tuple[str, str], float]) -> list[complex]:
         """The group's channel parameters with ``thetas`` set."""
         return self._values(thetas, self.channels)
 
-    def response(self, thetas):
+    def response(self, thetas: Mapping[tuple[str, str], float]) -> np.ndarray:
         """Interface unknowns of the model response with ``thetas`` set (the nuisances are at
         their identified values: only the target joint's channels change)."""
         return self.prediction.interface(self._values(thetas, self.own))
 
-    def samples(self, values):
+    def samples(self, values: np.ndarray) -> np.ndarray:
         r"""The samples :math:`y_0 + D\,(v - \tilde u)` of measured values ``v`` (linear in
         them: the condensation's response to the measurement rows' offsets)."""
         return self.condensation.y0 + self.data_map @ (values - self.observed)
 
-    def predicted(self, thetas):
+    def predicted(self, thetas: Mapping[tuple[str, str], float]) -> np.ndarray:
         """The model's values at the measured points with ``thetas`` set."""
         s = self.response(thetas)
         return np.concatenate([op.residual(s) for op in self.operators])
 
 
-def confidence_interval(problem, parameters, target, group, noise, level, stiffness_bounds,
-                        redraws=REDRAWS, seed=0, test=None, expected=False) -> ConfidenceInterval:
+def confidence_interval(problem: ModifiedProblem, parameters: Mapping[str, Mapping[str, float]],
+                        target: tuple[str, str], group: Sequence[tuple[str, str]],
+                        noise: NoiseModel, level: float, stiffness_bounds: tuple[float, float],
+                        redraws: int = REDRAWS, seed: int = 0, test: ScoreTest | None = None,
+                        expected: bool = False) -> ConfidenceInterval:
     r"""The ``level`` confidence interval of the parameter ``target`` = (joint, name) (see the
     module docstring) within its bounds (``stiffness_bounds`` for log10 k).
 
@@ -428,7 +449,7 @@ def confidence_interval(problem, parameters, target, group, noise, level, stiffn
     tail = (1.0 - level) / 2.0
     cache = {}
 
-    def margin(v):
+    def margin(v: float) -> tuple[float, int, float]:
         """How far inside the redraws' central range the observed statistic lies at ``v``, in
         units of that range: >= 0 accepted; negative below it (-) or above it (+) rejected
         (the sign, returned second, says which side)."""
@@ -445,16 +466,16 @@ def confidence_interval(problem, parameters, target, group, noise, level, stiffn
         return cache[key]
 
     start = min(max(parameters[target[0]][target[1]], bounds[0]), bounds[1])
-    inside = _accepted_start(start, margin, bounds, walk, resolution)
+    inside = accepted_start(start, margin, bounds, walk, resolution)
     method = f"score-test inversion, {redraws} redraws of {noise.description}"
     if inside is None:
         return ConfidenceInterval(None, None, level, "none", method, target[1])
 
-    def indistinguishable(a, b):
+    def indistinguishable(a: float, b: float) -> bool:
         return test.separation(a, b, noise.deviation) < 1.0
 
-    low, low_side = _edge(inside, -1, margin, bounds, indistinguishable, walk, resolution)
-    high, high_side = _edge(inside, +1, margin, bounds, indistinguishable, walk, resolution)
+    low, low_side = run_end(inside, -1, margin, bounds, indistinguishable, walk, resolution)
+    high, high_side = run_end(inside, +1, margin, bounds, indistinguishable, walk, resolution)
     # the discretisation's systematic shift, which the redraws do not cover, added to the
     # run's half-width in quadrature (random and systematic parts of one uncertainty)
     half = 0.5 * (high - low)
@@ -473,99 +494,12 @@ def confidence_interval(problem, parameters, target, group, noise, level, stiffn
     return ConfidenceInterval(low, high, level, "two-sided", method, target[1])
 
 
-def _clamp(v, bounds):
-    return min(max(v, bounds[0]), bounds[1])
-
-
-def _accepted_start(start, margin, bounds, walk, resolution):
-    """An accepted value near ``start``: ``start`` itself, else the value where the observed
-    statistic crosses the redraws' median (inside the accepted run by construction): walked to
-    in steps of ``walk`` in the direction that brings them together (from the slope
-    at ``start``), then found by regula falsi. None if there is no crossing within the bounds.
-    """
-    if margin(start)[1] == 0:
-        return start
-    centre = margin(start)[2]
-    probe = _clamp(start + resolution, bounds)
-    if probe == start:
-        probe = _clamp(start - resolution, bounds)
-    slope = (margin(probe)[2] - centre) / (probe - start)
-    direction = -np.sign(centre) * np.sign(slope) or 1.0
-    a = start
-    while True:
-        b = _clamp(a + direction * walk, bounds)
-        if margin(b)[1] == 0:
-            return b
-        if np.sign(margin(b)[2]) != np.sign(centre):
-            break
-        if b == a:
-            return None
-        a = b
-    for _ in range(40):
-        m = _between(a, b, margin(a)[2], margin(b)[2])
-        if margin(m)[1] == 0:
-            return m
-        if np.sign(margin(m)[2]) == np.sign(centre):
-            a = m
-        else:
-            b = m
-        if abs(b - a) < 1e-6:
-            break
-    return None
-
-
-def _between(a, b, fa, fb):
-    """The zero of the line through ``(a, fa)`` and ``(b, fb)`` (values of opposite signs),
-    kept a tenth of the bracket away from its ends so that every step shrinks it."""
-    t = fa / (fa - fb) if fa != fb else 0.5
-    return a + min(max(t, 0.1), 0.9) * (b - a)
-
-
-def _stride(a, previous, margin, walk):
-    """The next step of a walk through accepted values: ``walk``, or up to :data:`STRIDES`
-    times it while the margin, extrapolated along its last slope, stays above zero for twice
-    the stride (a longer stride could land past a rejected gap; the margin is smooth)."""
-    if previous is None:
-        return walk
-    slope = (margin(a)[0] - margin(previous)[0]) / abs(a - previous)
-    if slope >= 0.0:
-        return STRIDES * walk
-    room = margin(a)[0] / -slope  # distance to the extrapolated zero
-    return float(np.clip(0.5 * room, walk, STRIDES * walk))
-
-
-def _edge(inside, direction, margin, bounds, indistinguishable, walk, resolution):
-    """The end of the accepted run walking from ``inside`` in ``direction``, and the side of
-    the rejection beyond it (0 when the bound was reached). The end is the zero of the
-    acceptance margin, bracketed to ``resolution`` by regula falsi and then interpolated
-    (the margin is smooth in the value: rounding the end outwards to the bracket would widen a
-    0.05-decade interval by a fifth, and its coverage with it). Once the model's predictions
-    at the last accepted value and at the bound are ``indistinguishable`` (less than one noise
-    deviation apart, all values together: a near-rigid or near-hinge joint), the run reaches
-    the bound."""
-    a, previous = inside, None
-    bound = bounds[1] if direction > 0 else bounds[0]
-    while True:
-        if indistinguishable(a, bound):
-            return bound, 0
-        b = _clamp(a + direction * _stride(a, previous, margin, walk), bounds)
-        if margin(b)[1] != 0:
-            break
-        if b == bound:
-            return b, 0
-        a, previous = b, a
-    while abs(b - a) > resolution:
-        m = _between(a, b, margin(a)[0], margin(b)[0])
-        if margin(m)[1] == 0:
-            a = m
-        else:
-            b = m
-    end = a + (b - a) * margin(a)[0] / (margin(a)[0] - margin(b)[0])  # the margin's zero
-    return end, margin(b)[1]
-
-
-def confidence_intervals(problem, parameters, joints, stated_noise, misfit, level, bounds,
-                         identify=("stiffness",), redraws=REDRAWS, seed=0):
+def confidence_intervals(problem: ModifiedProblem, parameters: Mapping[str, Mapping[str, float]],
+                         joints: Sequence[str], stated_noise: float, misfit: float, level: float,
+                         bounds: tuple[float, float], identify: Sequence[str] = ("stiffness",),
+                         redraws: int = REDRAWS, seed: int = 0
+                         ) -> tuple[dict[str, ConfidenceInterval],
+                                    dict[tuple[str, str], ConfidenceInterval]]:
     """``({joint: log10 k interval}, {(joint, name): interval})`` of the corrected ``joints``
     at ``parameters``; the loss factors' and line masses' when ``identify`` holds
     ``"damping"`` and ``"mass"``.
@@ -585,7 +519,7 @@ def confidence_intervals(problem, parameters, joints, stated_noise, misfit, leve
     problem.release_factors()
     direct = problem.direct_factors(parameters)
     tests = {}
-    def identified(joint):  # a line mass only where the joint has one
+    def identified(joint: str) -> list[str]:  # a line mass only where the joint has one
         return [n for n in names if n != "mass" or problem.has_line_mass(joint)]
 
     for joint in joints:

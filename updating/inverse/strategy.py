@@ -46,9 +46,9 @@ The loop stops when no joint stands out and no re-correction lowers its neighbou
 (status 1), or after ``max_steps`` accepted corrections (status 2).
 
 Each corrected joint is reported with a calibrated confidence interval at ``[updating]
-confidence`` (:mod:`updating.inverse.confidence`): a two-sided range, or one bound only where the data
-bound the value on one side (a joint much stiffer than the plates around it moves nothing, so
-only ``>= x`` is identifiable; a joint much softer acts as a moment-free line: ``<= x``).
+confidence`` (:mod:`updating.inverse.confidence`): a two-sided range, or one bound only where the
+data bound the value on one side (a joint much stiffer than the plates around it moves nothing,
+so only ``>= x`` is identifiable; a joint much softer acts as a moment-free line: ``<= x``).
 """
 
 from __future__ import annotations
@@ -63,15 +63,15 @@ from scipy import optimize
 
 from assembly.types import JointParameters
 from updating.inverse.confidence import confidence_intervals
+from updating.inverse.correction import JointCorrection
 from updating.inverse.cost import (
     PARAMETER_BOUNDS,
     SMALLEST_MASS,
-    Evaluation,
-    JointCorrection,
     ModifiedProblem,
     log_grid,
     with_joint,
 )
+from updating.inverse.problem_data import Evaluation
 from updating.inverse.significance import FLOOR_DRAWS, standing_thresholds
 
 if TYPE_CHECKING:
@@ -278,7 +278,7 @@ def _optimise_more(local: JointCorrection, parameters: Mapping[str, Mapping[str,
                    joint: str, bounds: tuple[float, float],
                    extra: Sequence[str]) -> dict[str, dict[str, float]]:
     """Joint optimisation of log10 k with the loss factor and/or the log of the line mass
-    (``local``: the joint's :class:`updating.inverse.cost.JointCorrection`)."""
+    (``local``: the joint's :class:`updating.inverse.correction.JointCorrection`)."""
     variables = [("log10_stiffness", float, float, tuple(bounds))]
     variables += [_EXTRA_VARIABLES[e] for e in extra]
     start = np.array([to_x(parameters[joint][name]) for name, to_x, _, _ in variables])
@@ -486,7 +486,8 @@ def _message(status: int, last: Step, settings: Updating) -> str:
 def _neighbourhood_interval(local: JointCorrection, grid: np.ndarray,
                             value: float) -> tuple[float, float]:
     """The scanned log10 k whose *neighbourhood* cost is within :data:`FLAT` of its minimum
-    (:func:`flat_interval`; ``local`` is the joint's :class:`updating.inverse.cost.JointCorrection`).
+    (:func:`flat_interval`; ``local`` is the joint's
+    :class:`updating.inverse.correction.JointCorrection`).
 
     The joint's neighbourhood, not the global :math:`E_{mod}^2`: in a large structure one
     joint's change is a small fraction of the global cost, and a range judged against it

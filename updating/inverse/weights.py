@@ -32,7 +32,7 @@ the data around it.
 In the paper's form this is :math:`r` and :math:`\alpha_j` (the residual :math:`E_{\Gamma_j}^2`
 shown and ranked stays the paper's): with :math:`s_j = E_j/E_{ref}` the joint's share of the
 reference energy, :math:`M` the measured values per frequency and :math:`E_{mes}^2` the
-point-weighted per-plate misfit (:func:`updating.inverse.cost._norms`),
+point-weighted per-plate misfit (:func:`updating.inverse.problem_data._norms`),
 
 .. math::
     \alpha_j = \frac{a_j/s_j}{\sum_k a_k/s_k},\qquad
