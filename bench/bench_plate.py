@@ -33,6 +33,7 @@ sys.path[:0] = [str(ROOT), str(ROOT / "bench")]
 
 from fem_argyris import navier_reference, relative_error, solve_fem  # noqa: E402
 
+from solver.dense import solve_dense  # noqa: E402
 from solver.kirchhoff import complex_bending_stiffness  # noqa: E402
 from solver.plate import (  # noqa: E402
     EdgeCondition,
@@ -41,7 +42,6 @@ from solver.plate import (  # noqa: E402
     assemble_plate,
     boundary_traces,
     evaluate_field,
-    solve_dense,
 )
 from solver.rays import EDGES, automatic_ray_counts, build_ray_basis  # noqa: E402
 

@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from assembly import Case
+from solver.dense import factorise_dense
 from solver.interface import Block
 from solver.layout import InterfaceLayout, membrane_loads, plate_loads, plate_sides
 from solver.membrane import MembraneBasis, MembraneProblem, assemble_membrane
@@ -24,7 +25,6 @@ from solver.plate import (
     PlateProblem,
     assemble_plate,
     boundary_traces,
-    factorise_dense,
 )
 from solver.rays import RayBasis
 

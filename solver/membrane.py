@@ -41,7 +41,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import ArrayLike
 
-from solver.plate import factorise_dense
+from solver.dense import factorise_dense
 from solver.rays import EdgeGeometry, gauss_legendre, plate_edges
 
 __all__ = [

@@ -50,13 +50,13 @@ function is needed.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Iterable, Iterator, Sequence
+from collections.abc import Iterable, Iterator, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
-import scipy.linalg
 from numpy.typing import ArrayLike
 
+from solver.dense import solve_dense
 from solver.kirchhoff import point_force_derivatives, wave_edge_factors
 from solver.rays import (
     EDGES,
@@ -82,8 +82,6 @@ __all__ = [
     "edge_values",
     "edge_rule_size",
     "particular_traces",
-    "factorise_dense",
-    "solve_dense",
     "PlateSolution",
     "solve_plate",
 ]
@@ -489,72 +487,6 @@ def edge_projection(traces: EdgeTraces, component: str, values: np.ndarray) -> n
     if component == "moment":
         return -(traces.slope.conj().T @ (traces.weights[:, None] * values))
     raise ValueError(f"unknown component {component!r}")
-
-
-RANK_TOLERANCE = 1e-14
-r"""Pivots of a plate's column-equilibrated VTCR matrix below this fraction of the largest are
-discarded by :func:`factorise_dense`: the matrix's entries are quadrature sums whose rounding
-is about this size, so those directions are not determined by them."""
-
-
-def factorise_dense(matrix: np.ndarray) -> tuple[Callable[[np.ndarray], np.ndarray], float]:
-    r"""Truncated rank-revealing factorisation of a plate's VTCR matrix, and its reciprocal
-    condition estimate.
-
-    With :math:`E` the column equilibration (unit largest entry per column) and QR with column
-    pivoting (LAPACK ``geqp3``), :math:`KEP = QR`, :math:`|R_{11}|\ge|R_{22}|\ge\dots`; the
-    rank :math:`r` counts the pivots :math:`|R_{ii}| > \epsilon_r|R_{11}|`
-    (:data:`RANK_TOLERANCE`), and
-
-    .. math:: x = EP\begin{bmatrix}R_{[r]}^{-1}Q_{[r]}^Hb\\ 0\end{bmatrix}
-
-    with :math:`R_{[r]}`, :math:`Q_{[r]}` the leading :math:`r` rows and columns: the least-squares
-    solution on the :math:`r` rays the pivoting chose, the others at zero amplitude.
-
-    Why not LU: from resolution 1.5 on, a plate's rays are a redundant frame (0.4 x 0.5 m,
-    1 mm at 2500 Hz: rank 366 of 480 rays at 1.5, 382 of 712 at 2.25). LU still solves, but
-    adds to each solution a component along the near-null directions, as large as
-    :math:`\epsilon\,\mathrm{cond}\,|b|` in coefficients, whose field error is about
-    :math:`\epsilon|K||x|`. One load hides it (a single plate stays at 1e-10 to 10 kHz); the
-    transfer operator :math:`T = K^{-1}B` of an assembly is solved load function by load
-    function and summed by the interface unknowns, and there the coefficients of the sum were
-    5e5 times those of one solve with the summed load: 1.2e-3 against 3.6e-9 for the same
-    loads, and the stiffened panel's error grew with the rays (``docs/accuracy.md``, section
-    6). Truncated, the coefficients stay bounded by :math:`|b|/(\epsilon_r|R_{11}|)` and the
-    two routes agree. Normal equations are never formed.
-
-    Returns
-    -------
-    solve : callable
-        ``solve(rhs)`` for ``rhs`` of shape (n,) or (n, m).
-    rcond : float
-        Reciprocal condition estimate of the system solved, :math:`R_{[r]}` (LAPACK ``trcon``,
-        1-norm): 1e-16 to 1e-15 where the whole equilibrated matrix's is 1e-21 to 1e-19.
-    """
-    scale = 1.0 / np.maximum(np.abs(matrix).max(axis=0), np.finfo(float).tiny)
-    q, r, pivots = scipy.linalg.qr(matrix * scale, mode="economic", pivoting=True,
-                                   check_finite=False)
-    pivot_sizes = np.abs(np.diag(r))
-    rank = int(np.count_nonzero(pivot_sizes > RANK_TOLERANCE * pivot_sizes[0]))
-    kept, triangle, projection = pivots[:rank], r[:rank, :rank], q[:, :rank].conj().T
-    trcon = scipy.linalg.get_lapack_funcs("trcon", (triangle,))
-    rcond, _ = trcon(triangle, norm="1")
-
-    def solve(rhs: np.ndarray) -> np.ndarray:
-        amplitudes = scipy.linalg.solve_triangular(triangle, projection @ rhs,
-                                                   check_finite=False)
-        x = np.zeros((matrix.shape[1],) + amplitudes.shape[1:], dtype=complex)
-        x[kept] = amplitudes
-        return (x.T * scale).T
-
-    return solve, float(rcond)
-
-
-def solve_dense(matrix: np.ndarray, rhs: np.ndarray) -> tuple[np.ndarray, float]:
-    """Truncated rank-revealing solve with column equilibration; returns ``(x, rcond)`` (see
-    :func:`factorise_dense`)."""
-    solve, rcond = factorise_dense(matrix)
-    return solve(rhs), rcond
 
 
 @dataclass(frozen=True)

@@ -23,9 +23,10 @@ from collections.abc import Mapping
 import numpy as np
 
 from assembly.case import Case
+from solver.dense import solve_dense
 from solver.errors import check_finite, plate_condition_warnings
 from solver.guards import check_description
-from solver.plate import PlateSolution, assemble_plate, boundary_traces, solve_dense
+from solver.plate import PlateSolution, assemble_plate, boundary_traces
 from solver.problems import plate_basis, plate_problem
 from solver.solution import CaseSolution
 from solver.substructure import solve_assembly
