@@ -17,6 +17,7 @@ from typing import Any
 import numpy as np
 
 from assembly.errors import did_you_mean, listing
+from assembly.geometry import EDGE_NAMES
 from assembly.grid import on_grid
 from assembly.joints import CoplanarJoint, HingeJoint, JunctionJoint
 from assembly.models import (
@@ -40,10 +41,6 @@ from assembly.settings import (
 from assembly.types import EdgeId, parse_edge_ref
 
 __all__ = ["View", "cross_check"]
-
-LOCAL_EDGES = ("bottom", "right", "top", "left")
-"""A plate's edges counter-clockwise: edge ``i`` meets edges ``i - 1`` and ``i + 1``."""
-
 
 @dataclass
 class View:
@@ -395,8 +392,8 @@ class _CrossCheck:
                                         f"plate; add [plates.{side.plate}.frame], or set "
                                         "held = true"))
                     continue
-                index = LOCAL_EDGES.index(side.edge)
-                for neighbour in (LOCAL_EDGES[index - 1], LOCAL_EDGES[(index + 1) % 4]):
+                index = EDGE_NAMES.index(side.edge)
+                for neighbour in (EDGE_NAMES[index - 1], EDGE_NAMES[(index + 1) % 4]):
                     condition = self.conditions.get(EdgeId(side.plate, neighbour))
                     if condition is None or condition[0] == "free":
                         self.issues.append(

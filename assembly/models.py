@@ -50,6 +50,7 @@ from pydantic import (
 )
 
 from .errors import AssemblyError, did_you_mean, format_path
+from .geometry import edge_geometry
 from .types import (
     EDGE_NAMES,
     Complex,
@@ -335,18 +336,10 @@ class Plate(FrozenModel):
         >>> start.tolist(), t.tolist(), n.tolist(), length
         ([0.5, 0.0], [0.0, 1.0], [1.0, 0.0], 0.4)
         """
-        lx, ly = self.size
-        frames = {
-            "bottom": ((0.0, 0.0), (0.0, -1.0)),
-            "right": ((lx, 0.0), (1.0, 0.0)),
-            "top": ((lx, ly), (0.0, 1.0)),
-            "left": ((0.0, ly), (-1.0, 0.0)),
-        }
-        if edge not in frames:
+        if edge not in EDGE_NAMES:
             self.edge_length(edge)  # raises the AssemblyError
-        start, normal = frames[edge]
-        n = np.array(normal)
-        return np.array(start), np.array([-n[1], n[0]]) + 0.0, n, self.edge_length(edge)
+        geometry = edge_geometry(tuple(self.size), edge)
+        return geometry.start, geometry.tangent, geometry.normal, geometry.length
 
     def edge_in_space(self, edge: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """The 3D start and end of an edge (counter-clockwise) and its outward normal.

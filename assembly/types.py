@@ -23,6 +23,7 @@ from pydantic import (
 )
 
 from .errors import AssemblyError, did_you_mean
+from .geometry import EDGE_NAMES
 
 __all__ = [
     "EDGE_NAMES",
@@ -52,8 +53,6 @@ __all__ = [
     "FrozenModel",
 ]
 
-EDGE_NAMES: tuple[str, ...] = ("left", "right", "bottom", "top")
-"""Edge names of a rectangular plate, in the plate-local frame."""
 
 JOINT_PARAMETERS: tuple[str, ...] = ("log10_stiffness", "loss_factor", "mass")
 """Joint parameters that updating may change (``mass`` only for coplanar joints)."""

@@ -33,6 +33,7 @@ sys.path[:0] = [str(ROOT), str(ROOT / "bench")]
 
 from fem_argyris import navier_reference, relative_error, solve_fem  # noqa: E402
 
+from assembly.geometry import EDGE_NAMES  # noqa: E402
 from solver.dense import solve_dense  # noqa: E402
 from solver.kirchhoff import complex_bending_stiffness  # noqa: E402
 from solver.plate import (  # noqa: E402
@@ -43,7 +44,7 @@ from solver.plate import (  # noqa: E402
     boundary_traces,
     evaluate_field,
 )
-from solver.rays import EDGES, automatic_ray_counts, build_ray_basis  # noqa: E402
+from solver.rays import automatic_ray_counts, build_ray_basis  # noqa: E402
 
 E, NU, RHO, H, ETA = 210e9, 0.3, 7800.0, 1e-3, 0.01
 LX, LY = 0.5, 0.4
@@ -58,7 +59,7 @@ GRID = np.array([(x, y) for x in np.linspace(0, LX, 12)[1:-1] for y in np.linspa
 def plate_problem(frequency):
     return PlateProblem((LX, LY), complex_bending_stiffness(E, H, NU, ETA), NU, RHO * H,
                         2 * np.pi * frequency,
-                        {e: EdgeCondition("simply_supported") for e in EDGES},
+                        {e: EdgeCondition("simply_supported") for e in EDGE_NAMES},
                         (PointForce(FORCE_AT, 1.0),))
 
 

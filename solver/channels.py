@@ -22,13 +22,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from assembly import Case, EdgeId
+from assembly.geometry import edge_geometry
 from solver.admissibility import CornerDeflections, PlateAdmissibility
 from solver.interface import Block, residual_weight, squared_norm
 from solver.joint_rules import joint_gauss, legendre_values, load_function_projection
 from solver.layout import InterfaceLayout, rigid_members
 from solver.membrane import membrane_edge_traces
 from solver.plate import edge_values
-from solver.rays import EDGES, plate_edges
 
 __all__ = ["Channel", "JointBuild", "RIGID_CROSSOVER", "two_plate_joint", "junction_line",
            "junction_corner_rows", "channel_blocks", "joint_residuals"]
@@ -266,7 +266,7 @@ def member_axes(case: Case, side: EdgeId) -> tuple[np.ndarray, np.ndarray, np.nd
     :math:`\mathbf t_i` and its plate's normal :math:`\mathbf e_{z,i}` (the frame of
     :math:`(u_n, u_t, w)` and of :math:`(N_{nn}, N_{nt}, K_n)`)."""
     plate = case.plates[side.plate]
-    edge = plate_edges(tuple(plate.size))[EDGES.index(side.edge)]
+    edge = edge_geometry(tuple(plate.size), side.edge)
     x_axis, y_axis = (np.asarray(a, float) for a in (plate.frame.x_axis, plate.frame.y_axis))
     x_axis, y_axis = x_axis / np.linalg.norm(x_axis), y_axis / np.linalg.norm(y_axis)
     return (edge.normal[0] * x_axis + edge.normal[1] * y_axis,
@@ -294,7 +294,7 @@ def _moving_line_rows(build: JointBuild, jid: str, group: int, sigma: np.ndarray
                                  side.edge, arc, build.traces_cache)
         w = plates.affine_plate_operator(side.plate, rays["w"], part["w"])
         membrane = plates.membranes[side.plate]
-        edge = plate_edges(membrane.problem.size)[EDGES.index(side.edge)]
+        edge = edge_geometry(membrane.problem.size, side.edge)
         traces = membrane_edge_traces(membrane.basis, edge, arc, membrane.problem.stiffness,
                                       membrane.problem.poisson_ratio)
         u_n = plates.affine_membrane_operator(side.plate, traces["u_n"])

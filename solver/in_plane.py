@@ -12,6 +12,7 @@ import math
 from collections.abc import Mapping
 
 from assembly.case import Case
+from assembly.geometry import EDGE_NAMES
 from solver.membrane import (
     MembraneBasis,
     MembraneEdge,
@@ -22,7 +23,6 @@ from solver.membrane import (
 )
 from solver.plate import PlateProblem
 from solver.problems import plate_resolution
-from solver.rays import EDGES
 
 __all__ = ["moving_lines", "in_plane_plates", "membrane_problems", "membrane_bases"]
 
@@ -47,7 +47,7 @@ def _edge_conditions(case: Case, plates: list[str]) -> dict[str, dict[str, str]]
     Raises ``ValueError`` for a coplanar joint on such a plate: its in-plane continuity is not
     modelled yet.
     """
-    conditions = {pid: dict.fromkeys(EDGES, "free") for pid in plates}
+    conditions = {pid: dict.fromkeys(EDGE_NAMES, "free") for pid in plates}
     for jid, joint in case.joints.items():
         for side in joint.sides:
             if side.plate not in conditions:

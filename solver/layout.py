@@ -17,6 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from assembly import Case, EdgeId
+from assembly.geometry import EDGE_NAMES, edge_geometry
 from assembly.joints import Joint
 from solver.joint_rules import interface_function_count, legendre_values
 from solver.membrane import (
@@ -27,13 +28,12 @@ from solver.membrane import (
 )
 from solver.plate import PlateBoundary, PlateProblem, edge_projection
 from solver.problems import plate_resolution
-from solver.rays import EDGES, plate_edges
 
 __all__ = ["InterfaceLayout", "interface_layout", "plate_loads", "membrane_loads", "plate_sides",
            "rigid_members", "KINEMATIC_DEFLECTION", "MOVING_MEMBER_LOADS"]
 
 Corner = tuple[str, int]
-"""A plate corner: the plate and the corner's index (:data:`solver.rays.EDGES` order)."""
+"""A plate corner: the plate and the corner's index (:data:`solver.rays.EDGE_NAMES` order)."""
 
 KINEMATIC_DEFLECTION = frozenset({"clamped", "simply_supported"})
 
@@ -74,7 +74,7 @@ def rigid_members(joint: Joint) -> list[str]:
 
 def _corner_of(edge_name: str, end: int) -> int:
     """Plate corner index at the start (end=0) or end (end=1) of an edge."""
-    return (EDGES.index(edge_name) + end) % 4
+    return (EDGE_NAMES.index(edge_name) + end) % 4
 
 
 def _junctions(case: Case, problems: Mapping[str, PlateProblem]) -> list[list[tuple[Corner, bool]]]:
@@ -102,8 +102,8 @@ def _junctions(case: Case, problems: Mapping[str, PlateProblem]) -> list[list[tu
     for members in groups.values():
         flags = []
         for pid, c in sorted(members):
-            kinds = [problems[pid].condition(EDGES[c]).kind,
-                     problems[pid].condition(EDGES[c - 1]).kind]
+            kinds = [problems[pid].condition(EDGE_NAMES[c]).kind,
+                     problems[pid].condition(EDGE_NAMES[c - 1]).kind]
             flags.append(((pid, c), any(k in KINEMATIC_DEFLECTION for k in kinds)))
         if any(not kinematic for _, kinematic in flags):
             junctions.append(flags)
@@ -251,7 +251,7 @@ def membrane_loads(case: Case, problem: MembraneProblem, basis: MembraneBasis,
         slots = layout[jid]
         if f"Nn.{side.plate}" not in slots:
             continue
-        edge = plate_edges(problem.size)[EDGES.index(side.edge)]
+        edge = edge_geometry(problem.size, side.edge)
         s, weights = membrane_edge_rule(edge, basis)
         traces = membrane_edge_traces(basis, edge, s, problem.stiffness, problem.poisson_ratio)
         direction = case.member_directions(jid)[side_index]

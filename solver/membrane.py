@@ -41,8 +41,9 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import ArrayLike
 
+from assembly.geometry import EdgeGeometry, plate_edges
 from solver.dense import factorise_dense
-from solver.rays import EdgeGeometry, gauss_legendre, plate_edges
+from solver.rays import gauss_legendre
 
 __all__ = [
     "IN_PLANE_CONDITIONS",

@@ -56,18 +56,10 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import ArrayLike
 
+from assembly.geometry import EDGE_NAMES, EdgeGeometry, edge_geometry, plate_edges
 from solver.dense import solve_dense
 from solver.kirchhoff import point_force_derivatives, wave_edge_factors
-from solver.rays import (
-    EDGES,
-    EdgeGeometry,
-    RayBasis,
-    gauss_legendre,
-    line_exponentials,
-    node_exponentials,
-    plate_edges,
-    ray_field,
-)
+from solver.rays import RayBasis, gauss_legendre, line_exponentials, node_exponentials, ray_field
 
 __all__ = [
     "EdgeLoad",
@@ -140,7 +132,7 @@ class PlateProblem:
     omega : float
         Circular frequency, rad/s.
     edges : dict of str to EdgeCondition
-        One entry per edge name of :data:`solver.rays.EDGES`; missing edges are free.
+        One entry per edge name of :data:`solver.rays.EDGE_NAMES`; missing edges are free.
     point_forces : tuple of PointForce
     """
 
@@ -365,7 +357,7 @@ def edge_values(
     particular : dict of str to ndarray of complex, shape (len(s),)
         The same quantities of the particular solution.
     """
-    edge = plate_edges(problem.size)[EDGES.index(edge_name)]
+    edge = edge_geometry(problem.size, edge_name)
     s = np.asarray(s, dtype=float)
     points = edge.start + s[:, None] * edge.tangent
     key = (id(basis), problem.bending_stiffness, problem.poisson_ratio, edge_name, s.tobytes())
@@ -416,7 +408,7 @@ def _boundary_terms(
     :func:`_twist_remainder`): the edges' Gauss points, then the corners.
     """
     kinematic_edge = []
-    for name in EDGES:
+    for name in EDGE_NAMES:
         traces = boundary.edges[name]
         condition = problem.condition(name)
         kinematic_edge.append(condition.kind in KINEMATIC_DEFLECTION)
@@ -463,7 +455,7 @@ def assemble_plate(problem: PlateProblem,
         trials[block, n] = sigma * weights * d
     product = tests.T @ trials
     K, F = product[:, :n], product[:, n]
-    for i, name in enumerate(EDGES):
+    for i, name in enumerate(EDGE_NAMES):
         for sigma, _, trial_key, _ in _edge_terms(problem.condition(name)):
             if trial_key == "shear" and problem.point_forces:
                 F -= sigma * _twist_remainder(boundary.edges[name], boundary.edge_end_w[i])

@@ -51,6 +51,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from assembly.case import Case
+from assembly.geometry import EdgeGeometry, plate_edges
 from solver.joint_rules import joint_gauss, joint_parameters, legendre_values
 from solver.kirchhoff import wave_edge_factors
 from solver.plate import (
@@ -61,14 +62,7 @@ from solver.plate import (
     particular_field,
     particular_traces,
 )
-from solver.rays import (
-    EdgeGeometry,
-    RayBasis,
-    gauss_legendre,
-    node_exponentials,
-    plate_edges,
-    tensor_grid_field,
-)
+from solver.rays import RayBasis, gauss_legendre, node_exponentials, tensor_grid_field
 from solver.solution import CaseSolution
 
 __all__ = ["PowerFlow", "power_flow", "plate_powers", "kinetic_energies", "plate_gauss_axes",

@@ -10,9 +10,10 @@ import math
 from collections.abc import Iterable, Mapping
 
 from assembly.case import Case
+from assembly.geometry import EDGE_NAMES
 from solver.kirchhoff import complex_bending_stiffness
 from solver.plate import EdgeCondition, EdgeLoad, PlateProblem, PointForce
-from solver.rays import EDGES, RayBasis, RayCounts, automatic_ray_counts, build_ray_basis
+from solver.rays import RayBasis, RayCounts, automatic_ray_counts, build_ray_basis
 
 __all__ = ["plate_problem", "plate_problems", "plate_ray_counts", "plate_basis", "plate_bases",
            "joint_edge_kinds"]
@@ -50,7 +51,7 @@ def plate_problems(case: Case, frequency: float,
     from one pass over the joints, boundaries and loads: plate by plate, the passes would cost
     plates x joints."""
     plate_ids = list(case.plates) if plate_ids is None else list(plate_ids)
-    conditions = {pid: dict.fromkeys(EDGES, "free") for pid in plate_ids}
+    conditions = {pid: dict.fromkeys(EDGE_NAMES, "free") for pid in plate_ids}
     for (pid, edge), kind in joint_edge_kinds(case).items():
         if pid in conditions:
             conditions[pid][edge] = kind
@@ -78,7 +79,7 @@ def plate_problems(case: Case, frequency: float,
         plate = case.plates[pid]
         material = case.materials[plate.material]
         edges = {name: EdgeCondition(conditions[pid][name], shear[pid].get(name),
-                                     moment[pid].get(name)) for name in EDGES}
+                                     moment[pid].get(name)) for name in EDGE_NAMES}
         problems[pid] = PlateProblem(
             size=tuple(plate.size),
             bending_stiffness=complex_bending_stiffness(

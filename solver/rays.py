@@ -55,13 +55,13 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
+from assembly.geometry import plate_edges
+
 __all__ = [
-    "EDGES",
     "RayCounts",
     "RayBasis",
     "automatic_ray_counts",
     "tensor_grid_field",
-    "plate_edges",
     "build_ray_basis",
     "ray_field",
     "node_exponentials",
@@ -69,40 +69,12 @@ __all__ = [
     "gauss_legendre",
 ]
 
-EDGES = ("bottom", "right", "top", "left")
-"""Edge names in counter-clockwise order; edge ``i`` starts at corner ``i``."""
-
-
-@dataclass(frozen=True)
-class EdgeGeometry:
-    """A straight edge of the rectangle, traversed counter-clockwise."""
-
-    name: str
-    start: np.ndarray  # (2,)
-    tangent: np.ndarray  # (2,), unit
-    normal: np.ndarray  # (2,), outward unit
-    length: float
-
-
-def plate_edges(size: tuple[float, float]) -> tuple[EdgeGeometry, ...]:
-    """The four edges of ``[0, Lx] x [0, Ly]`` in counter-clockwise order (see :data:`EDGES`)."""
-    lx, ly = size
-    corners = np.array([[0.0, 0.0], [lx, 0.0], [lx, ly], [0.0, ly]])
-    edges = []
-    for i, name in enumerate(EDGES):
-        start, end = corners[i], corners[(i + 1) % 4]
-        length = float(np.linalg.norm(end - start))
-        tangent = (end - start) / length
-        normal = np.array([tangent[1], -tangent[0]])  # t = e_z x n  <=>  n = t x e_z
-        edges.append(EdgeGeometry(name, start, tangent, normal, length))
-    return tuple(edges)
-
 
 @dataclass(frozen=True)
 class RayCounts:
     """Number of sectors per ray family of one plate.
 
-    ``edge_propagating`` and ``edge_evanescent`` hold one count per edge, in :data:`EDGES`
+    ``edge_propagating`` and ``edge_evanescent`` hold one count per edge, in :data:`EDGE_NAMES`
     order; ``edge_propagating`` counts both signs of :math:`\\beta` (it is even).
     """
 

@@ -311,12 +311,12 @@ def test_bad_input(bad: Bad, tmp_path: Path, capsys) -> None:
     assert set(tmp_path.iterdir()) == before, "a file was created"
 
 
-def test_readme_example_is_the_real_message(tmp_path: Path, capsys, monkeypatch) -> None:
-    """The bad-input example of the README is what vtcr prints."""
-    readme = (CASES.parent / "README.md").read_text()
+def test_documented_example_is_the_real_message(tmp_path: Path, capsys, monkeypatch) -> None:
+    """The bad-input example of ``docs/cli.md`` is what vtcr prints."""
+    documented = (CASES.parent / "docs" / "cli.md").read_text()
     command = "$ vtcr update cases/two_plates.toml --measurements meas.csv\n"
-    assert command in readme
-    shown = readme.split(command, 1)[1].split("```", 1)[0].strip().splitlines()
+    assert command in documented
+    shown = documented.split(command, 1)[1].split("```", 1)[0].strip().splitlines()
     (tmp_path / "cases").mkdir()
     (tmp_path / "cases" / "two_plates.toml").write_text((CASES / "two_plates.toml").read_text())
     (tmp_path / "meas.csv").write_text("plate,x,y,re,im\nP1,0.05,0.05,1.2e-6,-3.1e-7\n"

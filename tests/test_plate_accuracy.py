@@ -13,9 +13,10 @@ from exact import EdgeLoad as ExactEdgeLoad
 from exact import complex_rigidity, levy_plate, navier_point_force
 
 from assembly import load_case_text
+from assembly.geometry import EDGE_NAMES
 from solver import solve_case
 from solver.plate import EdgeCondition, EdgeLoad, PlateProblem, PointForce, solve_plate
-from solver.rays import EDGES, automatic_ray_counts, build_ray_basis
+from solver.rays import automatic_ray_counts, build_ray_basis
 
 E, NU, RHO, H, ETA = 210e9, 0.3, 7800.0, 1e-3, 0.01
 LX, LY = 0.5, 0.4
@@ -60,7 +61,7 @@ def test_simply_supported_point_force_against_navier(frequency):
     """SS on four edges, 1 N at (0.12, 0.31): Navier double sine series (1000 x 1000 terms)."""
     reference = navier_point_force(LX, LY, D, RHO * H, 2 * np.pi * frequency, *FORCE_AT, 1.0,
                                    GRID[:, 0], GRID[:, 1])
-    edges = {e: EdgeCondition("simply_supported") for e in EDGES}
+    edges = {e: EdgeCondition("simply_supported") for e in EDGE_NAMES}
     assert_converges(convergence(frequency, edges, [(FORCE_AT, 1.0)], reference))
 
 
@@ -107,7 +108,7 @@ def test_reciprocity_of_point_transfer():
     slowly (about 1e-3 at 200 unknowns, see the README's limitations).
     """
     a, b = (0.12, 0.31), (0.37, 0.08)
-    edges = dict(zip(EDGES, [EdgeCondition("clamped"), EdgeCondition("simply_supported"),
+    edges = dict(zip(EDGE_NAMES, [EdgeCondition("clamped"), EdgeCondition("simply_supported"),
                              EdgeCondition("free"), EdgeCondition("simply_supported")]))
     sa, _ = solve_with(400.0, edges, [(a, 1.0)], 1.25)
     sb, _ = solve_with(400.0, edges, [(b, 1.0)], 1.25)
@@ -161,7 +162,7 @@ def test_power_balance_point_force():
     """
     frequency = 155.0
     omega = 2 * np.pi * frequency
-    edges = {e: EdgeCondition("simply_supported") for e in EDGES}
+    edges = {e: EdgeCondition("simply_supported") for e in EDGE_NAMES}
     solution, _ = solve_with(frequency, edges, [(FORCE_AT, 1.0)], 1.25)
     injected = 0.5 * np.real(1j * omega * solution.field(np.array([FORCE_AT]))["w"][0])
     g, wg = np.polynomial.legendre.leggauss(40)

@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 from scipy import integrate, special
 
+from assembly.geometry import EDGE_NAMES, plate_edges
 from solver.kirchhoff import (
     complex_bending_stiffness,
     point_force_derivatives,
@@ -16,12 +17,10 @@ from solver.kirchhoff import (
 )
 from solver.plate import EdgeCondition, PlateProblem, assemble_plate, boundary_traces
 from solver.rays import (
-    EDGES,
     automatic_ray_counts,
     build_ray_basis,
     line_exponentials,
     node_exponentials,
-    plate_edges,
     ray_field,
 )
 
@@ -32,7 +31,7 @@ THICKNESS = 1e-3
 
 def plate(frequency=400.0, eta=0.01, edges=None):
     d = complex_bending_stiffness(STEEL["young_modulus"], THICKNESS, STEEL["poisson_ratio"], eta)
-    conditions = edges or {e: EdgeCondition("simply_supported") for e in EDGES}
+    conditions = edges or {e: EdgeCondition("simply_supported") for e in EDGE_NAMES}
     return PlateProblem(SIZE, d, STEEL["poisson_ratio"], STEEL["density"] * THICKNESS,
                         2 * np.pi * frequency, conditions)
 
@@ -280,10 +279,10 @@ def test_dissipation_identity_for_every_boundary_condition():
     """
     rng = np.random.default_rng(3)
     mixes = [
-        {e: EdgeCondition("simply_supported") for e in EDGES},
-        {e: EdgeCondition("clamped") for e in EDGES},
-        {e: EdgeCondition("free") for e in EDGES},
-        dict(zip(EDGES, [EdgeCondition("clamped"), EdgeCondition("free"),
+        {e: EdgeCondition("simply_supported") for e in EDGE_NAMES},
+        {e: EdgeCondition("clamped") for e in EDGE_NAMES},
+        {e: EdgeCondition("free") for e in EDGE_NAMES},
+        dict(zip(EDGE_NAMES, [EdgeCondition("clamped"), EdgeCondition("free"),
                          EdgeCondition("simply_supported"), EdgeCondition("free")])),
     ]
     problem = plate(frequency=400.0, edges=mixes[0])
