@@ -15,16 +15,10 @@ import numpy as np
 from pydantic import AfterValidator, Field, ValidationError, model_serializer, model_validator
 
 from .checks import View, cross_check
-from .errors import AssemblyError, listing
+from .errors import AssemblyError, CrossReferenceError, listing
 from .grid import grid_points
 from .joints import CoplanarJoint, HingeJoint, Joint, JunctionJoint
-from .models import (
-    Boundary,
-    CrossReferenceError,
-    Load,
-    Material,
-    Plate,
-)
+from .models import Boundary, Load, Material, Plate
 from .settings import Compute, Discretisation, Measurement, Truth, Updating, default_spacing
 from .types import (
     EDGE_NAMES,

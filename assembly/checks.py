@@ -1,7 +1,7 @@
 """Cross-reference checks of a description: what a single table cannot check alone.
 
 :class:`assembly.case.Case` validation calls :func:`cross_check` on a view of its tables and
-raises :class:`assembly.models.CrossReferenceError` with every problem found, each as
+raises :class:`assembly.errors.CrossReferenceError` with every problem found, each as
 ``(loc, message)``: the joints' edges and members, the frames of plates placed in 3D, the
 boundaries and loads, the measurement points and the truth tables, each message naming the
 fix.
@@ -16,7 +16,7 @@ from typing import Any
 
 import numpy as np
 
-from assembly.errors import did_you_mean, listing
+from assembly.errors import Loc, did_you_mean, listing
 from assembly.geometry import EDGE_NAMES
 from assembly.grid import on_grid
 from assembly.joints import CoplanarJoint, HingeJoint, JunctionJoint
@@ -25,7 +25,6 @@ from assembly.models import (
     Boundary,
     EdgeMoment,
     EdgeShear,
-    Loc,
     Material,
     Plate,
     PointForce,

@@ -13,10 +13,11 @@ from __future__ import annotations
 
 import difflib
 import json
-from collections.abc import Iterable
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
+from typing import Union
 
-__all__ = ["AssemblyError", "DescriptionError", "Issue", "format_path", "listing",
+__all__ = ["CrossReferenceError", "Loc", "AssemblyError", "DescriptionError", "Issue", "format_path", "listing",
            "did_you_mean"]
 
 _PLAIN_KEY = frozenset("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_-")
@@ -133,3 +134,19 @@ def did_you_mean(word: str, choices: Iterable[str]) -> str:
     """`` (did you mean 'X'?)`` for the choice closest to a misspelt ``word``, or nothing."""
     close = difflib.get_close_matches(word, list(choices), n=1)
     return f" (did you mean {close[0]!r}?)" if close else ""
+
+
+Loc = tuple[Union[str, int], ...]
+
+class CrossReferenceError(ValueError):
+    """Raised by :class:`~assembly.case.Case` validation with every cross-reference problem.
+
+    Attributes
+    ----------
+    issues : list of (loc, message)
+        ``loc`` is a tuple path such as ``("joints", "G2", "between", 1)``.
+    """
+
+    def __init__(self, issues: Sequence[tuple[Loc, str]]) -> None:
+        self.issues = list(issues)
+        super().__init__("\n".join(f"{format_path(loc)}: {msg}" for loc, msg in self.issues))

@@ -32,19 +32,9 @@ except ModuleNotFoundError:  # Python 3.10: the same parser, as the tomli packag
 
 from .case import Case
 from .checks import View, cross_check
-from .errors import DescriptionError, Issue, did_you_mean, format_path
+from .errors import CrossReferenceError, DescriptionError, Issue, did_you_mean, format_path
 from .joints import CoplanarJoint, HingeJoint, Joint, JunctionJoint
-from .models import (
-    Boundary,
-    CrossReferenceError,
-    EdgeMoment,
-    EdgeShear,
-    Load,
-    Material,
-    Plate,
-    PlateFrame,
-    PointForce,
-)
+from .models import Boundary, EdgeMoment, EdgeShear, Load, Material, Plate, PlateFrame, PointForce
 from .settings import (
     Compute,
     Discretisation,

@@ -38,7 +38,6 @@ problem at once.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
 from typing import Annotated, Any, Literal, Union
 
 import numpy as np
@@ -49,7 +48,7 @@ from pydantic import (
     model_validator,
 )
 
-from .errors import AssemblyError, did_you_mean, format_path
+from .errors import AssemblyError, did_you_mean
 from .geometry import edge_geometry
 from .types import (
     EDGE_NAMES,
@@ -523,18 +522,5 @@ Load = Annotated[Union[EdgeShear, EdgeMoment, PointForce], Field(discriminator="
 # --------------------------------------------------------------------------------------
 # Cross-reference checks
 # --------------------------------------------------------------------------------------
-Loc = tuple[Union[str, int], ...]
 
 
-class CrossReferenceError(ValueError):
-    """Raised by :class:`~assembly.case.Case` validation with every cross-reference problem.
-
-    Attributes
-    ----------
-    issues : list of (loc, message)
-        ``loc`` is a tuple path such as ``("joints", "G2", "between", 1)``.
-    """
-
-    def __init__(self, issues: Sequence[tuple[Loc, str]]) -> None:
-        self.issues = list(issues)
-        super().__init__("\n".join(f"{format_path(loc)}: {msg}" for loc, msg in self.issues))

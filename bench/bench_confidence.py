@@ -40,9 +40,9 @@ from support import (  # noqa: E402
 )
 
 from assembly import load_case, parse_case  # noqa: E402
-from updating.inverse.cost import ModifiedProblem, direct_interface  # noqa: E402
-from updating.executor import Executor  # noqa: E402
 from updating.data.measurements import add_noise, simulate_measurements  # noqa: E402
+from updating.executor import Executor  # noqa: E402
+from updating.inverse.cost import ModifiedProblem, direct_interface  # noqa: E402
 from updating.inverse.strategy import update_joints  # noqa: E402
 
 NOISE = 0.1

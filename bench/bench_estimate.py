@@ -22,8 +22,8 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path[:0] = [str(ROOT), str(ROOT / "tests")]
 
-from support import LENGTHS, LY, NU, OMEGA, RHO, D, H, chain_description, exact_joint  # noqa: E402
 from exact import Section, complex_rigidity, levy_chain, navier_point_force  # noqa: E402
+from support import LENGTHS, LY, NU, OMEGA, RHO, D, H, chain_description, exact_joint  # noqa: E402
 
 from assembly import parse_case  # noqa: E402
 from solver import solve_case  # noqa: E402

@@ -36,8 +36,8 @@ import scipy.sparse.linalg
 from assembly import parse_case
 from assembly.generate import plate_grid
 from solver import interface
-from solver.joint_rules import joint_parameters
 from solver.channels import channel_blocks
+from solver.joint_rules import joint_parameters
 from solver.substructure import build_assembly_system
 
 DENSE_LIMIT = 4000  # unknowns of the dense LU yardstick (2 GB of complex entries at most)

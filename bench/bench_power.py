@@ -46,9 +46,9 @@ sys.path.insert(0, str(ROOT))
 
 from assembly import parse_case  # noqa: E402
 from assembly.generate import grid_joint_ids, plate_grid  # noqa: E402
-from updating.inverse.cost import ModifiedProblem  # noqa: E402
-from updating.executor import Executor  # noqa: E402
 from updating.data.measurements import simulate_measurements  # noqa: E402
+from updating.executor import Executor  # noqa: E402
+from updating.inverse.cost import ModifiedProblem  # noqa: E402
 from updating.inverse.plan import identifiability_plan  # noqa: E402
 from updating.inverse.strategy import excess_ratios, update_joints  # noqa: E402
 

@@ -336,8 +336,8 @@ def evaluation_mode(case_path, joint, count):
     during the update, so that the correction's set-up is its condensation alone.
     """
     from assembly import load_case
-    from updating.inverse import cost
     from updating.data.measurements import simulate_measurements
+    from updating.inverse import cost
 
     case = load_case(case_path)
     t0 = time.perf_counter()

@@ -27,7 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.sparse.linalg import splu
 from skfem import Basis, BilinearForm, ElementTriArgyris, MeshTri, asm
-from skfem.helpers import ddot, dd, trace
+from skfem.helpers import dd, ddot, trace
 
 #: Argyris nodal dofs that vanish at a vertex of an edge ``y = const`` when
 #: ``w = 0`` along that edge (value and tangential derivatives up to order 2).

@@ -19,8 +19,8 @@ sys.path[:0] = [str(ROOT), str(ROOT / "tests")]
 from support import chain_description  # noqa: E402
 
 from assembly import parse_case  # noqa: E402
-from updating.inverse.cost import ModifiedProblem  # noqa: E402
 from updating.data.measurements import simulate_measurements  # noqa: E402
+from updating.inverse.cost import ModifiedProblem  # noqa: E402
 
 
 def optimum(zeta_true, zeta_assumed, noise=0.2, seed=1):

@@ -13,7 +13,7 @@ if TYPE_CHECKING:  # for annotations only: at run time this module stays a leaf
     from solver.plate import PlateSolution
     from solver.solution import CaseSolution
 
-__all__ = ["CONDITION_WARNING", "NumericalError", "condition_warnings",
+__all__ = ["ToleranceError", "GroupPivotError", "CONDITION_WARNING", "NumericalError", "condition_warnings",
            "plate_condition_warnings", "check_finite"]
 
 
@@ -93,3 +93,11 @@ def check_finite(solution: _Solution) -> _Solution:
                 f"the residual of joint {jid} at {f:g} Hz is not finite ({value}); check the "
                 "joint's parameters and the loads (a zero response has no residual)")
     return solution
+
+
+class ToleranceError(ValueError):
+    """The requested tolerance cannot be reached; the message names the plate and the cause."""
+
+
+class GroupPivotError(np.linalg.LinAlgError):
+    """A group's pivot block is singular: restricted pivoting cannot factorise the matrix."""

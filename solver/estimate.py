@@ -61,6 +61,7 @@ from typing import Any
 import numpy as np
 
 from assembly.case import Case
+from solver.errors import ToleranceError
 from solver.plate import PlateProblem, PlateSolution
 from solver.power import grid_deflections, plate_gauss_axes
 from solver.problems import plate_resolution
@@ -235,10 +236,6 @@ def _enriched_solve_unaffordable(case: Case, frequency: float,
         return (f"the enriched solve it needs would take about {size.solve_bytes / 1e9:.2g} GB, "
                 f"more than half the {memory / 1e9:.2g} GB available")
     return ""
-
-
-class ToleranceError(ValueError):
-    """The requested tolerance cannot be reached; the message names the plate and the cause."""
 
 
 def solve_to_tolerance(

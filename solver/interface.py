@@ -73,7 +73,8 @@ import scipy.sparse
 import scipy.sparse.linalg
 from numpy.typing import ArrayLike
 
-from solver.multifrontal import GroupedLDL, GroupPivotError
+from solver.errors import GroupPivotError
+from solver.multifrontal import GroupedLDL
 
 __all__ = ["BACKWARD_ERROR", "GROUPED_MIN_SIZE", "Block", "InterfaceFactor", "factorise_interface",
            "JointCondensation", "backward_error", "hermitian_full", "residual_weight",

@@ -59,7 +59,9 @@ from numpy.typing import ArrayLike
 from scipy.linalg.blas import ztrsm
 from scipy.linalg.lapack import zhetrf, zsyconv, ztfsm, ztrttf
 
-__all__ = ["GroupPivotError", "GroupedLDL", "group_graph", "minimum_degree_order"]
+from solver.errors import GroupPivotError
+
+__all__ = ["GroupedLDL", "group_graph", "minimum_degree_order"]
 
 # Row panels of a Schur complement's lower triangle: eight of at least 64 rows keep every
 # product large enough for the BLAS's speed and cost 56 % of the full product.
@@ -68,10 +70,6 @@ PANEL_ROWS = 64
 # Workspace of zhetrf per row: with less than its block size (64) times the rows it falls back
 # to the unblocked algorithm, seven times slower on a front of 1400 rows.
 HETRF_WORK = 64
-
-
-class GroupPivotError(np.linalg.LinAlgError):
-    """A group's pivot block is singular: restricted pivoting cannot factorise the matrix."""
 
 
 def group_graph(row_groups: np.ndarray, col_groups: np.ndarray,

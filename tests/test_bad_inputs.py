@@ -356,7 +356,8 @@ def test_toml_with_a_byte_order_mark_is_read(tmp_path: Path) -> None:
 
 def test_row_numbers_are_line_numbers(tmp_path: Path) -> None:
     """Blank lines are skipped but counted, so 'row N' is the line a spreadsheet shows."""
-    from updating.data.files import InputError, read_probes
+    from updating.data.files import read_probes
+    from updating.errors import InputError
 
     path = tmp_path / "p.csv"
     path.write_text("plate,x,y\n\n\nP1,x,0.1\n")
@@ -394,8 +395,8 @@ def test_joint_visibility_rule() -> None:
 
 def test_description_layout_is_checked(tmp_path: Path) -> None:
     """Without a measurement file the description's own grid is checked (before simulating)."""
-    from updating.data.files import InputError
     from updating.data.measurements import check_joints_seen
+    from updating.errors import InputError
 
     case = load_case_text(PAIRS.replace("spacing = 0.1", 'spacing = 0.1\nplates = ["P1"]'))
     with pytest.raises(InputError) as err:

@@ -18,13 +18,8 @@ from support import CASES, LENGTHS, LY, NU, OMEGA, RHO, D, H, chain_description,
 
 from assembly import parse_case
 from solver import solve_case
-from solver.estimate import (
-    ToleranceError,
-    estimate_error,
-    plate_l2_rule,
-    relative_l2_errors,
-    solve_to_tolerance,
-)
+from solver.errors import ToleranceError
+from solver.estimate import estimate_error, plate_l2_rule, relative_l2_errors, solve_to_tolerance
 from solver.problems import plate_problem, plate_ray_counts
 from updating.cli import main
 

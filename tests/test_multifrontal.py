@@ -17,8 +17,9 @@ from assembly import load_case, parse_case
 from assembly.generate import plate_grid
 from solver import interface
 from solver.channels import channel_blocks, joint_residuals
+from solver.errors import GroupPivotError
 from solver.joint_rules import joint_parameters
-from solver.multifrontal import GroupedLDL, GroupPivotError, minimum_degree_order
+from solver.multifrontal import GroupedLDL, minimum_degree_order
 from solver.substructure import build_assembly_system, solve_interface
 from updating.data.measurements import simulate_measurements
 from updating.inverse.cost import ModifiedProblem, with_joint

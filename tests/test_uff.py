@@ -19,10 +19,10 @@ from support import CASES
 
 from assembly import load_case
 from updating.cli import main
-from updating.data.files import InputError
 from updating.data.measurements import simulate_measurements
 from updating.data.uff import _pick_line, read_uff
 from updating.data.uff_map import read_uff_map
+from updating.errors import InputError
 from updating.inverse.cost import ModifiedProblem
 from updating.inverse.strategy import update_joints
 

@@ -17,8 +17,8 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
-from updating.inverse.cost import ModifiedProblem
 from updating.data.measurements import Measurements, simulate_measurements
+from updating.inverse.cost import ModifiedProblem
 from updating.inverse.strategy import Step, UpdateResult, localise, update_joints
 
 if TYPE_CHECKING:

@@ -26,7 +26,7 @@ from collections.abc import Callable, Iterable, Sequence
 from concurrent.futures import ProcessPoolExecutor, ThreadPoolExecutor
 from typing import TYPE_CHECKING, Literal, Self, TypeVar
 
-from updating.data.files import InputError
+from updating.errors import InputError
 
 if TYPE_CHECKING:
     from distributed import Client

@@ -15,8 +15,7 @@ import math
 import sys
 
 from assembly import DescriptionError
-from solver.errors import NumericalError
-from solver.estimate import ToleranceError
+from solver.errors import NumericalError, ToleranceError
 from solver.guards import check_description
 from solver.sizing import estimate_size
 from updating.cli.common import (
@@ -30,12 +29,8 @@ from updating.cli.common import (
 )
 from updating.cli.identification import cmd_curve, cmd_localise, cmd_plan, cmd_update
 from updating.cli.model import cmd_check, cmd_frf, cmd_schema, cmd_simulate, cmd_solve
-from updating.data.files import (
-    InputError,
-    output_collisions,
-    output_path_problem,
-    plot_directory_problem,
-)
+from updating.data.files import output_collisions, output_path_problem, plot_directory_problem
+from updating.errors import InputError
 
 __all__ = ["execute", "COMMANDS"]
 

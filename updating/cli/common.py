@@ -25,9 +25,6 @@ from solver.estimate import (
 )
 from solver.sizing import available_memory, estimate_size
 from updating.cli.parser import version_text
-from updating.data.files import (
-    InputError,
-)
 from updating.data.measurements import (
     Measurements,
     check_joints_seen,
@@ -39,6 +36,7 @@ from updating.data.runfile import (
     measurement_digest,
 )
 from updating.data.uff import UFF_SUFFIXES, is_uff, read_uff
+from updating.errors import InputError
 from updating.executor import Executor, frequency_threads
 from updating.inverse.cost import ModifiedProblem
 

@@ -40,11 +40,7 @@ from updating.cli.report import (
     result_markdown,
     steps_table,
 )
-from updating.data.files import (
-    InputError,
-    write_json_atomic,
-    write_text_atomic,
-)
+from updating.data.files import write_json_atomic, write_text_atomic
 from updating.data.measurements import (
     Measurements,
     measurement_layout,
@@ -59,6 +55,7 @@ from updating.data.runfile import (
     refuse_other_measurements,
     refuse_replacing,
 )
+from updating.errors import InputError
 from updating.figures.curves import write_curve_figure
 from updating.figures.figure_tools import require_matplotlib
 from updating.figures.plots import write_update_figures

@@ -100,7 +100,7 @@ def steps_table(result: UpdateResult, title: str,
     table.add_row("floor %", *[c for s in result.steps
                                for c in ("", f"{100 * s.e_mod_floor:.2f}")])
     hidden = len(every) - len(rows)
-    table.caption = (f">, bold: corrected joint(s); *: re-correction. "
+    table.caption = (">, bold: corrected joint(s); *: re-correction. "
                      + (f"{hidden} joints neither corrected nor standing out in any step are "
                         "not shown (every joint: --all, or the JSON). " if hidden else "")
                      + f"Stopped: {result.message}")

@@ -31,23 +31,17 @@ from typing import IO, TYPE_CHECKING, Any
 
 import numpy as np
 
+from updating.errors import InputError
+
 if TYPE_CHECKING:
     import _csv
 
     from assembly import Case
 
-__all__ = ["InputError", "Probes", "atomic_output", "output_collisions", "output_path_problem",
+__all__ = ["Probes", "atomic_output", "output_collisions", "output_path_problem",
            "parse_finite", "plate_point", "plot_directory_problem", "point_key", "point_problem",
            "read_csv_table", "read_probes", "too_many_cells", "write_json_atomic",
            "write_text_atomic"]
-
-
-class InputError(ValueError):
-    """Bad user input (file, option): one line per problem, shown without a traceback."""
-
-    def __init__(self, lines: str | Iterable[str]) -> None:
-        self.lines = [lines] if isinstance(lines, str) else list(lines)
-        super().__init__("\n".join(self.lines))
 
 
 STDOUT = "-"

@@ -20,9 +20,9 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from solver import solve_case
-from solver.estimate import ToleranceError, solve_to_tolerance
+from solver.errors import ToleranceError
+from solver.estimate import solve_to_tolerance
 from updating.data.files import (
-    InputError,
     parse_finite,
     point_key,
     point_problem,
@@ -30,6 +30,7 @@ from updating.data.files import (
     too_many_cells,
     write_text_atomic,
 )
+from updating.errors import InputError
 
 if TYPE_CHECKING:
     from assembly import Case

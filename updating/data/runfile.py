@@ -31,7 +31,8 @@ from typing import IO, TYPE_CHECKING, Annotated, Any, Literal, Self
 import numpy as np
 import pydantic
 
-from updating.data.files import InputError, write_json_atomic
+from updating.data.files import write_json_atomic
+from updating.errors import InputError
 
 if TYPE_CHECKING:
     from assembly import Case

@@ -61,9 +61,9 @@ from typing import TYPE_CHECKING, Any, TypeVar
 
 import numpy as np
 
-from updating.data.files import InputError
 from updating.data.measurements import Measurements
 from updating.data.uff_map import MapEntry, map_rows, node_key
+from updating.errors import InputError
 
 if TYPE_CHECKING:
     from pyuff import UFF

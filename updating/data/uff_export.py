@@ -37,7 +37,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from assembly.models import Plate, PointForce
-from updating.data.files import InputError, atomic_output
+from updating.data.files import atomic_output
+from updating.errors import InputError
 
 if TYPE_CHECKING:
     from assembly import Case

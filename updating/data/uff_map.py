@@ -10,7 +10,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from updating.data.files import InputError, plate_point, point_key, read_csv_table
+from updating.data.files import plate_point, point_key, read_csv_table
+from updating.errors import InputError
 
 if TYPE_CHECKING:
     from assembly import Case

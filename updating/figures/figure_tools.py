@@ -15,7 +15,8 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from assembly import Case
-from updating.data.files import InputError, atomic_output
+from updating.data.files import atomic_output
+from updating.errors import InputError
 
 if TYPE_CHECKING:
     from matplotlib.colorbar import Colorbar
@@ -43,7 +44,7 @@ def require_matplotlib() -> ModuleType:
 
 def new_figure(**kwargs: Any) -> Figure:
     """An empty matplotlib figure (constrained layout) on the Agg canvas, or
-    :class:`~updating.data.files.InputError` without matplotlib."""
+    :class:`~updating.errors.InputError` without matplotlib."""
     require_matplotlib()
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure

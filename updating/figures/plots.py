@@ -28,7 +28,7 @@ two layers: ``*_data`` functions compute what is drawn (numpy arrays, no matplot
 their own), ``draw_*`` functions turn those into a :class:`matplotlib.figure.Figure`.
 matplotlib is imported only inside the drawing layer, so ``import updating.figures.plots``
 works without it; :func:`require_matplotlib` turns its absence into a
-one-line :class:`~updating.data.files.InputError`. Figures are written atomically (a temporary file
+one-line :class:`~updating.errors.InputError`. Figures are written atomically (a temporary file
 in the same directory, then :func:`os.replace`): an interrupted run never leaves a half-written
 PNG.
 

@@ -16,14 +16,14 @@ from typing import TYPE_CHECKING, Any, TypeVar
 import numpy as np
 
 from solver import solve_case
-from solver.plate import evaluate_field
 from solver.estimate import solve_to_tolerance
 from solver.guards import check_description
+from solver.plate import evaluate_field
 from solver.power import PowerFlow, power_flow
 from solver.substructure import AssemblySystem, build_assembly_system
 from solver.sweep import initial_frequencies, refine_frequencies
-from updating.inverse.cost import direct_amplitudes
 from updating.data.measurements import Measurements
+from updating.inverse.cost import direct_amplitudes
 
 if TYPE_CHECKING:
     from assembly import Case
@@ -103,7 +103,7 @@ def band_resolutions(case: Case, band: tuple[float, float], tolerance: float,
     :func:`solver.estimate.solve_to_tolerance` needs at its top (the ray counts grow with the
     frequency) and at the resonance ``peaks`` it holds (where the relative error is largest),
     starting from the sub-band below (never coarser). Raises
-    :class:`solver.estimate.ToleranceError` where the tolerance cannot be reached."""
+    :class:`solver.errors.ToleranceError` where the tolerance cannot be reached."""
     low, high = band
     tops = tuple(low + (high - low) * (k + 1) / bands for k in range(bands))
     resolutions, start, bottom = [], None, low
