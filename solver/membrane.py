@@ -43,7 +43,7 @@ from numpy.typing import ArrayLike
 
 from assembly.geometry import EdgeGeometry, plate_edges
 from solver.dense import factorise_dense
-from solver.rays import gauss_legendre
+from solver.rays import RayBasis, gauss_legendre
 
 __all__ = [
     "IN_PLANE_CONDITIONS",
@@ -122,43 +122,21 @@ def membrane_ray_counts(size: tuple[float, float], k_shear: float, edge_wavenumb
 
 
 @dataclass(frozen=True)
-class MembraneBasis:
-    """Sector-averaged in-plane waves of one plate, stored node by node.
+class MembraneBasis(RayBasis):
+    """Sector-averaged in-plane waves of one plate, stored node by node: a
+    :class:`solver.rays.RayBasis` (wave vectors, reference points, sector weights; families
+    ``"interior:L"``, ``"edge:S:<edge>"``, ...) whose nodes also carry their displacement
+    direction.
 
     Attributes
     ----------
-    k : ndarray of complex, shape (n_nodes, 2)
-        Wave vector of each node.
     polarisation : ndarray of complex, shape (n_nodes, 2)
         Displacement direction :math:`\\mathbf d` of each node: :math:`\\mathbf k/|\\mathbf k|`
         (longitudinal) or :math:`\\mathbf e_z\\times\\mathbf k/|\\mathbf k|` (shear), of unit
         Euclidean norm, so that every node is of order 1 on the plate.
-    origin : ndarray of float, shape (n_nodes, 2)
-        Reference point of each node's exponential.
-    weight : ndarray of float, shape (n_nodes,)
-        Normalised sector weight (sums to 1 over each sector).
-    n_q : int
-        Nodes per sector; the nodes of dof ``i`` are ``i*n_q:(i+1)*n_q``.
-    family : tuple of str
-        Family of each dof (``"interior:L"``, ``"edge:S:<edge>"``, ...).
     """
 
-    k: np.ndarray
     polarisation: np.ndarray
-    origin: np.ndarray
-    weight: np.ndarray
-    n_q: int
-    family: tuple[str, ...]
-
-    @property
-    def n_dof(self) -> int:
-        return len(self.family)
-
-    def sector_means(self, nodal: np.ndarray) -> np.ndarray:
-        r"""Shape-function values :math:`T[c, p, i] = \sum_{q\in i}\omega_q\,V[c, p, q]` from
-        node values ``nodal`` of shape (n_components, n_points, n_nodes)."""
-        n_c, n_p, _ = nodal.shape
-        return (nodal * self.weight).reshape(n_c, n_p, self.n_dof, self.n_q).sum(axis=-1)
 
 
 def _sector_nodes(lower: float, upper: float, n_sectors: int,
@@ -206,8 +184,8 @@ def build_membrane_basis(size: tuple[float, float], k_long: complex, k_shear: co
             ks.append(k), pols.append(_polarisation(k, wave)), weights.append(w)
             origins.append(np.broadcast_to(edge.start, (len(beta), 2)))
             families += [f"edge:{wave}:{edge.name}"] * n_sectors
-    return MembraneBasis(np.concatenate(ks), np.concatenate(pols), np.concatenate(origins),
-                         np.concatenate(weights), n_q, tuple(families))
+    return MembraneBasis(np.concatenate(ks), np.concatenate(origins), np.concatenate(weights),
+                         n_q, tuple(families), np.concatenate(pols))
 
 
 def _node_values(basis: MembraneBasis, points: np.ndarray) -> np.ndarray:
@@ -222,16 +200,15 @@ def membrane_field(basis: MembraneBasis, amplitudes: np.ndarray, points: ArrayLi
     r"""``u`` (points, 2) at ``points`` (n, 2) for the dof ``amplitudes`` and, given the
     ``stiffness`` :math:`A^*`, the resultants ``N`` (points, 2, 2)."""
     points = np.atleast_2d(np.asarray(points, float))
-    nodal = _node_values(basis, points)
     d, k = basis.polarisation, basis.k
-    values = [d[:, 0] * nodal, d[:, 1] * nodal]
+    factors = [d[:, 0], d[:, 1]]
     if stiffness is not None:
         div = np.sum(d * k, axis=1)
         for i in range(2):
             for j in range(2):
                 shear = 0.5 * (1.0 - poisson_ratio) * (d[:, i] * k[:, j] + d[:, j] * k[:, i])
-                values.append(stiffness * (shear + poisson_ratio * div * (i == j)) * nodal)
-    means = basis.sector_means(np.stack(values)) @ amplitudes
+                factors.append(stiffness * (shear + poisson_ratio * div * (i == j)))
+    means = basis.sector_means(_node_values(basis, points), np.stack(factors)) @ amplitudes
     out = {"u": np.stack(means[:2], axis=-1)}
     if stiffness is not None:
         out["N"] = np.stack(means[2:], axis=-1).reshape(-1, 2, 2)
@@ -309,7 +286,7 @@ def membrane_edge_traces(basis: MembraneBasis, edge: EdgeGeometry, s: np.ndarray
     factors = np.stack([d_n, d_t,
                         stiffness * ((1.0 - nu) * d_n * k_n + nu * np.sum(d * k, axis=1)),
                         0.5 * stiffness * (1.0 - nu) * (d_t * k_n + d_n * k_t)])
-    traces = basis.sector_means(factors[:, None, :] * nodal[None])
+    traces = basis.sector_means(nodal, factors)
     return dict(zip(("u_n", "u_t", "N_nn", "N_nt"), traces))
 
 

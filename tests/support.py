@@ -18,7 +18,7 @@ from exact import Section, complex_rigidity, coplanar, hinge, levy_chain
 from assembly import parse_case
 from updating.data.measurements import Measurements, add_noise
 
-__all__ = ["ROOT", "CASES", "TWO_PLATES", "E", "NU", "RHO", "H", "ETA", "D", "LY", "LENGTHS", "FREQUENCY",
+__all__ = ["ROOT", "CASES", "STEEL", "TWO_PLATES", "E", "NU", "RHO", "H", "ETA", "D", "LY", "LENGTHS", "FREQUENCY",
            "OMEGA", "MATERIAL",
            "grid", "chain_description", "levy_chain_experiment", "exact_measurements",
            "exact_joint", "dense_interface", "field_difference", "mixed_chain"]
@@ -29,18 +29,22 @@ CASES = ROOT / "cases"
 """The example descriptions (``cases/*.toml``)."""
 
 
-# Two plates side by side, one coplanar joint, a point force, a measurement grid: the
-# description the input checks and the library-call tests vary one field of
-TWO_PLATES = """\
-name = "two"
-frequency = 155.0
-
+STEEL = """\
 [materials.steel]
 young_modulus = 210e9
 poisson_ratio = 0.3
 density = 7800.0
 loss_factor = 0.01
+"""
+"""The steel of the test descriptions: ``[materials.steel]``, 1 % loss factor."""
 
+# Two plates side by side, one coplanar joint, a point force, a measurement grid: the
+# description the input checks and the library-call tests vary one field of
+TWO_PLATES = ('''\
+name = "two"
+frequency = 155.0
+
+''' + STEEL + '''
 [plates.P1]
 material = "steel"
 thickness = 0.001
@@ -68,24 +72,14 @@ amplitude = 1.0
 
 [measurement]
 spacing = 0.1
-"""
+''')
 
 E, NU, RHO, H, ETA = 210e9, 0.3, 7800.0, 1e-3, 0.01
 D = complex_rigidity(E, H, NU, ETA)
-
-
 LY = 0.5
-
-
 LENGTHS = (0.5, 0.45, 0.55)
-
-
 FREQUENCY = 450.0
-
-
 OMEGA = 2 * np.pi * FREQUENCY
-
-
 MATERIAL = {"young_modulus": E, "poisson_ratio": NU, "density": RHO, "loss_factor": ETA}
 
 

@@ -4,20 +4,16 @@ from __future__ import annotations
 
 import networkx as nx
 import pytest
+from support import STEEL
 
 from assembly import CoplanarJoint, build_graph, joint_ids, load_case_text
 from assembly.graph import components, is_connected, joint_attribute, joints_of_plate, plate_degrees
 
-HEADER = """\
+HEADER = '''\
 name = "{name}"
 frequency = 155.0
 
-[materials.steel]
-young_modulus = 210e9
-poisson_ratio = 0.3
-density = 7800.0
-loss_factor = 0.01
-"""
+''' + STEEL
 
 
 def plate(pid: str, origin: tuple[float, float], size: tuple[float, float] = (0.5, 0.4)) -> str:

@@ -10,7 +10,7 @@ import pickle
 import numpy as np
 import pytest
 from pydantic import ValidationError
-from support import ROOT
+from support import ROOT, STEEL
 
 from assembly import (
     AssemblyError,
@@ -30,32 +30,22 @@ from assembly.models import EdgeShear, Material, Plate
 from assembly.summary import summary_text
 from assembly.types import FrozenDict, JointParameters
 
-MINIMAL = """\
+MINIMAL = ('''\
 name = "minimal"
 frequency = 155.0
 
-[materials.steel]
-young_modulus = 210e9
-poisson_ratio = 0.3
-density = 7800.0
-loss_factor = 0.01
-
+''' + STEEL + '''
 [plates.P1]
 material = "steel"
 thickness = 0.001
 size = [0.5, 0.4]
-"""
+''')
 
-TWO_PLATES = """\
+TWO_PLATES = ('''\
 name = "two-plates"
 frequencies = [150.0, 155.0]
 
-[materials.steel]
-young_modulus = 210e9
-poisson_ratio = 0.3
-density = 7800.0
-loss_factor = 0.01
-
+''' + STEEL + '''
 [plates.P1]
 material = "steel"
 thickness = 0.001
@@ -137,7 +127,7 @@ mass = 0.0
 
 [truth.joints.G2]
 loss_factor = 0.2
-"""
+''')
 
 
 @pytest.fixture(scope="module")

@@ -14,21 +14,17 @@ from collections.abc import Callable
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+from support import STEEL
 
 from assembly import Case, DescriptionError, load_case, load_case_text, parse_case
 
 SOURCE = "cases/bad.toml"
 
-BASE = """\
+BASE = ('''\
 name = "two-plates"
 frequency = 155.0
 
-[materials.steel]
-young_modulus = 210e9
-poisson_ratio = 0.3
-density = 7800.0
-loss_factor = 0.01
-
+''' + STEEL + '''
 [plates.P1]
 material = "steel"
 thickness = 0.001
@@ -83,7 +79,7 @@ bounds = [-3.0, 7.0]
 
 [truth.joints.G1]
 log10_stiffness = 1.5
-"""
+''')
 
 
 def replace(old: str, new: str, count: int = 1) -> Callable[[str], str]:

@@ -11,7 +11,7 @@ import textwrap
 
 import numpy as np
 import pytest
-from support import ROOT
+from support import ROOT, STEEL
 
 from assembly import load_case_text
 from solver import solve_case
@@ -29,16 +29,11 @@ PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 
 # Two small plates (108 ray unknowns), a point force, the joint modelled 2 decades too stiff:
 # one correction step, about 0.1 s of updating.
-SMALL = """
+SMALL = ('''
 name = "small-pair"
 frequency = 120.0
 
-[materials.steel]
-young_modulus = 210e9
-poisson_ratio = 0.3
-density = 7800.0
-loss_factor = 0.01
-
+''' + STEEL + '''
 [plates.P1]
 material = "steel"
 thickness = 0.001
@@ -79,7 +74,7 @@ bounds = [-1.0, 5.0]
 
 [truth.joints.G1]
 log10_stiffness = 0.5
-"""
+''')
 
 
 @pytest.fixture(scope="module")
