@@ -142,6 +142,7 @@ import numpy as np
 from exact import EDGES, LevyPlateField, Section, _graded_breakpoints
 from exact_junction import (
     JunctionLine,
+    JunctionSolution,
     StripPlate,
     _harmonic_signs,
     _line_orientations,
@@ -511,13 +512,15 @@ class MembraneField:
 # --------------------------------------------------------------------------------------
 
 
-class PrismaticSolution:
-    r"""Levy solution returned by ``prismatic_levy``.
+class PrismaticSolution(JunctionSolution):
+    r"""Levy solution returned by ``prismatic_levy``: a ``JunctionSolution`` (whose bending
+    fields, line rotation, member rotations and spring dissipation it shares) with the in-plane
+    fields and the lines' translations.
 
     Attributes
     ----------
     bending : dict of str -> exact.LevyPlateField
-        Per-plate bending fields (``.derivative(x, y, nx, ny)``, ``.harmonic_derivative``).
+        Per-plate bending fields (``fields`` of ``JunctionSolution``).
     membranes : dict of str -> MembraneField
         Per-plate in-plane fields.
     plates : dict of str -> FoldedPlate
@@ -529,30 +532,21 @@ class PrismaticSolution:
     translation_coefficients : numpy.ndarray
         ``(n_lines, n_terms, 3)``: ``T1_m, T2_m, E_m`` of ``U_J(s)``.
     rotation_coefficients : numpy.ndarray
-        ``(n_lines, n_terms)``: ``T_m`` of ``Theta_J(s)``.
+        ``(n_lines, n_terms)``: ``T_m`` of ``Theta_J(s)`` (``line_coefficients``).
     forces, inplane_forces : list of (str, float, float, complex)
     n_terms : int
     """
 
     def __init__(self, bending, membranes, plates, lines, line_frames, sigmas,
                  translation_coefficients, rotation_coefficients, forces, inplane_forces):
+        super().__init__(bending, plates, lines, line_frames, sigmas, rotation_coefficients,
+                         None)
         self.bending = bending
         self.membranes = membranes
-        self.plates = plates
-        self.lines = lines
-        self.line_frames = line_frames
-        self.sigmas = sigmas
         self.translation_coefficients = translation_coefficients
         self.rotation_coefficients = rotation_coefficients
         self.forces = forces
         self.inplane_forces = inplane_forces
-        field = next(iter(bending.values()))
-        self.alpha, self.omega, self.Ly = field.alpha, field.omega, field.Ly
-        self.n_terms = self.alpha.size
-
-    def w(self, plate, x, y):
-        """Deflection (along ``e_z``) of ``plate`` at its local points ``(x, y)``."""
-        return self.bending[plate].w(x, y)
 
     def u(self, plate, x, y):
         """In-plane displacement along ``x_axis`` of ``plate`` at ``(x, y)``."""
@@ -577,28 +571,6 @@ class PrismaticSolution:
         return ((sines @ T1)[..., None] * t1 + (sines @ T2)[..., None] * t2
                 + (cosines @ E)[..., None] * e)
 
-    def line_rotation(self, line, s):
-        """Rotation of ``line`` about ``e``, ``Theta_J(s) = sum_m T_m sin(alpha_m s)``."""
-        s = np.asarray(s, float)
-        return np.sin(s[..., None] * self.alpha) @ self.rotation_coefficients[line]
-
-    def member_rotation_harmonics(self, line, plate):
-        """Local sine coefficients of ``Theta_i = -sigma_i w_x`` on ``plate``'s edge."""
-        end = self.lines[line].members[plate][0]
-        x_edge = 0.0 if end == "left" else self.plates[plate].length
-        slope = self.bending[plate].harmonic_derivative([x_edge], 1)[0]
-        return -self.sigmas[line][plate] * slope
-
-    def spring_dissipated_power(self, line, plate):
-        """``0.5 omega Im(k) Ly/2 sum_m |c_m T_m - Theta_{i,m}|^2``; 0 for a rigid tie."""
-        k = self.lines[line].members[plate][1]
-        if np.isinf(k):
-            return 0.0
-        signs = _harmonic_signs(self.sigmas[line][plate], np.arange(1, self.n_terms + 1))
-        jump = (signs * self.rotation_coefficients[line]
-                - self.member_rotation_harmonics(line, plate))
-        return 0.25 * self.omega * np.imag(k) * self.Ly * np.sum(np.abs(jump) ** 2)
-
     def bending_dissipated_power(self, plate):
         """``0.5 omega Im(D*) a(w, w*) / D*`` of ``plate``."""
         return self.bending[plate].dissipated_power()
@@ -610,13 +582,6 @@ class PrismaticSolution:
     def plate_dissipated_power(self, plate):
         """Bending plus membrane dissipation of ``plate``."""
         return self.bending_dissipated_power(plate) + self.membrane_dissipated_power(plate)
-
-    def dissipated_power(self):
-        """Total time-averaged power dissipated by the plates and the springs."""
-        plates = sum(self.plate_dissipated_power(name) for name in self.plates)
-        springs = sum(self.spring_dissipated_power(j, name)
-                      for j, line in enumerate(self.lines) for name in line.members)
-        return plates + springs
 
     def input_power(self):
         """``0.5 Re(conj(F) j omega w(x0, y0))`` per normal force, ``u`` per in-plane one.
