@@ -18,6 +18,7 @@ from .checks import View, cross_check
 from .errors import AssemblyError, CrossReferenceError, listing
 from .grid import grid_points
 from .joints import CoplanarJoint, HingeJoint, Joint, JunctionJoint
+from .lines import moving_lines
 from .models import Boundary, Load, Material, Plate
 from .settings import Compute, Discretisation, Measurement, Truth, Updating, default_spacing
 from .types import (
@@ -264,7 +265,7 @@ class Case(FrozenModel):
         Returns
         -------
         dict of EdgeId to str
-            For each plate (description order) and edge (left, right, bottom, top):
+            For each plate (description order) and edge (:data:`~assembly.geometry.EDGE_NAMES`):
             ``"joined"``, ``"clamped"``, ``"simply_supported"`` or ``"free"``.
         """
         joined = self.edge_joints()
@@ -276,6 +277,12 @@ class Case(FrozenModel):
             for pid in self.plates
             for e in EDGE_NAMES
         }
+
+    def moving_lines(self) -> tuple[str, ...]:
+        """The junction lines that move (:func:`assembly.lines.moving_lines`: ``held = false``,
+        or by default non-coplanar members whose ends are held)."""
+        conditions = {parse_edge_ref(bc.edge): bc.condition for bc in self.boundaries}
+        return moving_lines(self.joints, self.plates, conditions)
 
     def edge_joints(self) -> dict[EdgeId, str]:
         """Return ``{edge: joint id}`` for every joined edge."""

@@ -17,7 +17,7 @@ from typing import Any
 import numpy as np
 
 from assembly.errors import Loc, did_you_mean, listing
-from assembly.geometry import EDGE_NAMES
+from assembly.lines import moving_lines, unheld_ends
 from assembly.grid import on_grid
 from assembly.joints import CoplanarJoint, HingeJoint, JunctionJoint
 from assembly.models import (
@@ -358,47 +358,40 @@ class _CrossCheck:
                     self.conditions[edge] = (bc.condition, i)
 
     def moving_lines(self) -> None:
-        """A moving junction line (``held = false``) has framed members, its ends on supported
-        edges (their corners then hold the line's ends, as the shear diaphragm of
-        folded-plate theory does), and no coplanar joint on a member plate (it would need
-        in-plane continuity, not modelled yet)."""
-        if self.view.joints is None or self.plates is None:
+        """A line that must move (``held = false``) has framed members, held ends and no
+        coplanar joint on a member plate (:mod:`assembly.lines`). Checked once the joints,
+        plates and boundaries are valid: the rule reads their edges."""
+        joints, plates = self.view.joints, self.plates
+        if (self.issues or joints is None or plates is None or None in joints.values()
+                or None in plates.values()):
             return
-        members = {}
+        conditions = {edge: condition for edge, (condition, _) in self.conditions.items()}
+        moving = set(moving_lines(joints, plates, conditions))
+        on_coplanar = {side.plate: jid for jid, joint in self.view.joints.items()
+                       if isinstance(joint, CoplanarJoint) for side in joint.sides}
+        holding = {side: jid not in moving and not isinstance(joint, CoplanarJoint)
+                   for jid, joint in self.view.joints.items() for side in joint.sides}
         for jid, joint in self.view.joints.items():
-            if isinstance(joint, JunctionJoint) and not joint.held:
-                members.update({side.plate: jid for side in joint.sides})
-        for jid, joint in self.view.joints.items():
-            if not isinstance(joint, JunctionJoint) or joint.held:
-                if isinstance(joint, CoplanarJoint):
-                    for side in joint.sides:
-                        if side.plate in members:
-                            self.issues.append(
-                                (("joints", jid, "kind"),
-                                 f"plate {side.plate!r} is a member of the moving line "
-                                 f"{members[side.plate]!r} (held = false), and a coplanar "
-                                 "joint does not carry in-plane continuity yet; describe "
-                                 f'{jid} as kind = "junction", or hold the line'))
-                            break
+            if not isinstance(joint, JunctionJoint) or joint.held is not False:
                 continue
             loc = ("joints", jid, "held")
-            for side in joint.sides:
-                plate = self.plates.get(side.plate)
-                if plate is None:
-                    continue
-                if plate.frame is None:
-                    self.issues.append((loc, f"a moving line needs a frame on every member "
-                                        f"plate; add [plates.{side.plate}.frame], or set "
-                                        "held = true"))
-                    continue
-                index = EDGE_NAMES.index(side.edge)
-                for neighbour in (EDGE_NAMES[index - 1], EDGE_NAMES[(index + 1) % 4]):
-                    condition = self.conditions.get(EdgeId(side.plate, neighbour))
-                    if condition is None or condition[0] == "free":
-                        self.issues.append(
-                            (loc, f"the line's end on {side.plate}.{neighbour} is not "
-                             "supported; a moving line needs its ends on simply supported "
-                             "or clamped edges (their corners hold its ends), or held = true"))
+            unframed = [p for p in joint.plates if p in self.plates
+                        and self.plates[p].frame is None]
+            if unframed:
+                self.issues.append((loc, f"a moving line needs a frame on every member plate; "
+                                    f"add [plates.{unframed[0]}.frame], or set held = true"))
+                continue
+            for plate in joint.plates:
+                if plate in on_coplanar:
+                    self.issues.append(
+                        (loc, f"member {plate!r} also has the coplanar joint "
+                         f"{on_coplanar[plate]!r}, which carries no in-plane continuity yet; "
+                         f'describe it as kind = "junction", or set held = true'))
+            for edge in unheld_ends(joint, conditions, holding):
+                self.issues.append(
+                    (loc, f"the line's end on {edge.ref} is not held; a moving line needs its "
+                     "ends on simply supported or clamped edges, hinges or held lines (their "
+                     "corners hold its ends), or held = true"))
 
     def loads(self) -> None:
         """Each load's plate or edge exists, and an edge load acts where the edge lets it."""

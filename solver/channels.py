@@ -233,7 +233,7 @@ def junction_line(build: JointBuild, jid: str, group: int) -> tuple[list[Block],
         gap = Block.union(rotation[plate], line.scaled(-1.0)).projected(weighted)
         rows.append(gap.constraint(group))
     rows.append(_balance(slots, {(f"C.{p}"): 1.0 for p in joint.plates}, group))
-    if not joint.held:
+    if f"K.{joint.plates[0]}" in slots:  # a moving line (solver.layout)
         rows += _moving_line_rows(build, jid, group, sigma, weighted)
     stiffness, kappa0 = _plate_stiffness(plates, joint.plates)
     channels = []

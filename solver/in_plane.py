@@ -1,9 +1,9 @@
 """The in-plane problems of an assembly: which plates carry in-plane waves, their membrane
 problems and bases (``docs/method.md`` section 10).
 
-A plate carries in-plane waves when it is a member of a moving junction line (``held =
-false``); a flat assembly under normal loads, and every held line, leave them out, so that
-its fields are today's to the bit.
+A plate carries in-plane waves when it is a member of a moving junction line
+(:meth:`assembly.Case.moving_lines`); a flat assembly under normal loads, and every held line,
+leave them out, so that their fields are those of the held-line model to the bit.
 """
 
 from __future__ import annotations
@@ -28,9 +28,8 @@ __all__ = ["moving_lines", "in_plane_plates", "membrane_problems", "membrane_bas
 
 
 def moving_lines(case: Case) -> list[str]:
-    """The junction lines that move (``held = false``), in the description's order."""
-    return [jid for jid, joint in case.joints.items()
-            if joint.kind == "junction" and not joint.held]
+    """The junction lines that move (:meth:`assembly.Case.moving_lines`)."""
+    return list(case.moving_lines())
 
 
 def in_plane_plates(case: Case) -> list[str]:
@@ -48,6 +47,7 @@ def _edge_conditions(case: Case, plates: list[str]) -> dict[str, dict[str, str]]
     modelled yet.
     """
     conditions = {pid: dict.fromkeys(EDGE_NAMES, "free") for pid in plates}
+    moving = set(case.moving_lines())
     for jid, joint in case.joints.items():
         for side in joint.sides:
             if side.plate not in conditions:
@@ -57,8 +57,7 @@ def _edge_conditions(case: Case, plates: list[str]) -> dict[str, dict[str, str]]
                     f"joint {jid}: plate {side.plate} is a member of a moving junction line, "
                     "and a coplanar joint does not carry in-plane continuity yet; join the two "
                     "plates by a junction line instead (kind = \"junction\")")
-            moving = joint.kind == "junction" and not joint.held
-            conditions[side.plate][side.edge] = "free" if moving else "fixed"
+            conditions[side.plate][side.edge] = "free" if jid in moving else "fixed"
     for boundary in case.boundaries:
         side = case.edge(boundary.edge)
         if side.plate in conditions:

@@ -49,13 +49,14 @@ def _layout(case: Case, counts: Mapping[str, int]) -> tuple[dict[str, dict[str, 
     ``T`` (the line's rotation, on the joint's Legendre functions); then the corner forces."""
     layout, start = {}, 0
     identify = case.updating.identify
+    moving = set(case.moving_lines())
     for jid, joint in case.joints.items():
         sizes = {"C": counts[jid]}
         if joint.kind == "coplanar":
             sizes.update(dict.fromkeys(["FA", "FB"] if _has_mass_channel(joint, identify)
                                        else ["F"], counts[jid]))
         elif joint.kind == "junction":
-            names = ("C",) if joint.held else MOVING_MEMBER_LOADS
+            names = MOVING_MEMBER_LOADS if jid in moving else ("C",)
             sizes = {f"{name}.{plate}": counts[jid] for plate in joint.plates for name in names}
             if not rigid_members(joint):
                 sizes["T"] = counts[jid]

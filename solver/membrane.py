@@ -59,6 +59,7 @@ __all__ = [
     "membrane_edge_traces",
     "membrane_edge_rule",
     "membrane_field",
+    "membrane_dissipated_power",
     "assemble_membrane",
     "solve_membrane",
 ]
@@ -358,3 +359,17 @@ def solve_membrane(problem: MembraneProblem, basis: MembraneBasis) -> MembraneSo
     solve, rcond = factorise_dense(matrix)
     return MembraneSolution(problem, basis, solve(force), rcond)
 
+
+def membrane_dissipated_power(problem: MembraneProblem, basis: MembraneBasis,
+                              amplitudes: np.ndarray) -> float:
+    r"""Time-averaged power dissipated in a plate's in-plane field (W):
+    :math:`\tfrac12\omega\,\mathrm{Im}\oint(\mathbf N\mathbf n)\cdot\bar{\mathbf u}\,ds
+    = \tfrac12\omega\,\mathrm{Im}(A^*)\,a(\mathbf u)` (``docs/method.md`` section 10.2), on
+    the edge rules that integrate the traces' products to round-off."""
+    total = 0.0
+    for edge in plate_edges(problem.size):
+        s, weights = membrane_edge_rule(edge, basis)
+        traces = membrane_edge_traces(basis, edge, s, problem.stiffness, problem.poisson_ratio)
+        u_n, u_t, n_nn, n_nt = (traces[k] @ amplitudes for k in ("u_n", "u_t", "N_nn", "N_nt"))
+        total += weights @ (n_nn * np.conj(u_n) + n_nt * np.conj(u_t))
+    return 0.5 * problem.omega * float(np.imag(total))

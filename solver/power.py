@@ -51,9 +51,10 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from assembly.case import Case
-from assembly.geometry import EdgeGeometry, plate_edges
+from assembly.geometry import EdgeGeometry, edge_geometry, plate_edges
 from solver.joint_rules import joint_gauss, joint_parameters, legendre_values
 from solver.kirchhoff import wave_edge_factors
+from solver.membrane import membrane_dissipated_power, membrane_edge_traces
 from solver.plate import (
     PlateProblem,
     edge_rule_size,
@@ -219,7 +220,7 @@ def kinetic_energies(
 # system is the solution's solver.substructure.AssemblySystem, typed Any: substructure imports
 # this module, and importing it here, even for annotations only, would close an import circle
 def _side_powers(case: Case, system: Any, jid: str, amplitudes: Mapping[str, np.ndarray],
-                 s: np.ndarray) -> list[float]:
+                 membrane_amplitudes: Mapping[str, np.ndarray], s: np.ndarray) -> list[float]:
     """Power the joint ``jid`` delivers to each of its plates (W), from its loads (interface
     unknowns ``s``) and the plates' traces on the joint line."""
     joint = case.joints[jid]
@@ -230,13 +231,15 @@ def _side_powers(case: Case, system: Any, jid: str, amplitudes: Mapping[str, np.
     directions = case.member_directions(jid)
     count = next(iter(slots.values())).stop - next(iter(slots.values())).start
     psi = legendre_values(sigma, length, count)
-    if joint.kind == "junction":  # M_n = s_i C_i on member i, which is held in translation
+    if joint.kind == "junction":  # M_n = s_i C_i on member i
         moments = [d * (psi @ s[slots[f"C.{side.plate}"]])
                    for side, d in zip(joint.sides, directions)]
     else:
         moments = [psi @ s[slots["C"]]] * 2
     shears = ((psi @ s[slots["F"]], -(psi @ s[slots["F"]])) if "F" in slots
               else (psi @ s[slots["FA"]], psi @ s[slots["FB"]]) if "FA" in slots
+              else [psi @ s[slots[f"K.{side.plate}"]] for side in joint.sides]
+              if f"K.{joint.plates[0]}" in slots  # a moving line's K_n on each member
               else (None,) * len(joint.sides))
     powers = []
     for side, d, moment, shear in zip(joint.sides, directions, moments, shears):
@@ -248,6 +251,14 @@ def _side_powers(case: Case, system: Any, jid: str, amplitudes: Mapping[str, np.
         pairing = -(wq @ (moment * np.conj(slope)))
         if shear is not None:
             pairing += wq @ (shear * np.conj(w))
+        if f"Nn.{side.plate}" in slots:  # and its in-plane tractions N_nn, N_nt
+            membrane = system.membranes[side.plate]
+            traces = membrane_edge_traces(
+                membrane.basis, edge_geometry(membrane.problem.size, side.edge), arc,
+                membrane.problem.stiffness, membrane.problem.poisson_ratio)
+            u = membrane_amplitudes[side.plate]
+            pairing += wq @ ((psi @ s[slots[f"Nn.{side.plate}"]]) * np.conj(traces["u_n"] @ u)
+                             + (psi @ s[slots[f"Nt.{side.plate}"]]) * np.conj(traces["u_t"] @ u))
         powers.append(0.5 * system.omega * float(pairing.imag))
     return powers
 
@@ -271,12 +282,17 @@ def power_flow(case: Case, solution: CaseSolution) -> PowerFlow:
         s = solution.interface
         params = joint_parameters(case, omega)
         amplitudes = {pid: p.amplitudes for pid, p in solution.plates.items()}
+        membrane_amplitudes = system.membrane_amplitudes(s)
+        for pid, block in system.membranes.items():  # the in-plane fields dissipate too
+            dissipated[pid] += membrane_dissipated_power(block.problem, block.basis,
+                                                         membrane_amplitudes[pid])
         joint_dissipated = dict.fromkeys(case.joints, 0.0)
         for channel in system.channels:
             joint_dissipated[channel.joint] += channel.dissipated_power(
                 s, params[channel.name, channel.kind], omega)
         for jid, joint in case.joints.items():
-            to_first, *to_others = powers = _side_powers(case, system, jid, amplitudes, s)
+            to_first, *to_others = powers = _side_powers(case, system, jid, amplitudes,
+                                                         membrane_amplitudes, s)
             transmitted[jid] = 0.5 * (sum(to_others) - to_first)
             delivered[jid] = {side.plate: p for side, p in zip(joint.sides, powers)}
     return PowerFlow(solution.frequency, injected, kinetic, dissipated, joint_dissipated,

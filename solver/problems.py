@@ -28,8 +28,9 @@ def joint_edge_kinds(case: Case) -> dict[tuple[str, str], str]:
     moment an interface unknown).
     """
     kinds = {}
-    for joint in case.joints.values():
-        moving = joint.kind == "coplanar" or (joint.kind == "junction" and not joint.held)
+    moving_lines = set(case.moving_lines())
+    for jid, joint in case.joints.items():
+        moving = joint.kind == "coplanar" or jid in moving_lines
         kind = "free" if moving else "simply_supported"
         for side in joint.sides:
             kinds[(side.plate, side.edge)] = kind

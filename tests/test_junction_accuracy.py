@@ -67,7 +67,8 @@ def _description(plates, lines, load, frequency=FREQUENCY):
         "joints": {jid: {"kind": "junction",
                          "between": [f"{p}.{edge}" for p, (edge, _, _) in members.items()],
                          "log10_stiffness": {p: k for p, (_, k, _) in members.items()},
-                         "loss_factor": {p: zeta for p, (_, _, zeta) in members.items()}}
+                         "loss_factor": {p: zeta for p, (_, _, zeta) in members.items()},
+                         "held": True}  # the reference's lines are held
                    for jid, members in lines.items()},
         "boundaries": boundaries,
         "loads": [{"kind": "point_force", "plate": load[0], "at": list(load[1:]),

@@ -138,7 +138,7 @@ def test_held_lines_keep_their_exact_solution():
 @pytest.mark.parametrize("change, message", [
     (lambda d: d["plates"]["B"].pop("frame") and None, "frame"),
     (lambda d: d["boundaries"].__setitem__(0, {"edge": "A.bottom", "condition": "free"}),
-     "not supported"),
+     "is not held"),
 ])
 def test_a_moving_line_needs_frames_and_supported_ends(change, message):
     description = _description(*L_FOLD, 300.0, False)

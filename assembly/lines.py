@@ -1,0 +1,93 @@
+"""Which junction lines move (``docs/method.md`` section 10.4): the rule shared by the
+description's checks, its summary and the solver.
+
+A junction line moves when ``held = false``, or by default (``held`` not given) when its member
+plates are not coplanar and its ends are held. An end is held where each member edge meets a
+simply supported or clamped edge, a hinge or a held line: its corners then hold the line's
+ends, as the shear diaphragm of folded-plate theory does. Lines that meet other moving lines at
+their ends (the corners of a box), end on free edges, or share a plate with a coplanar joint
+(which carries no in-plane continuity) are not modelled yet: by default they stay held, and
+``held = false`` there is refused.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator, Mapping
+from typing import Any
+
+import numpy as np
+
+from .geometry import EDGE_NAMES
+from .joints import JunctionJoint
+from .types import EdgeId
+
+__all__ = ["members_coplanar", "unheld_ends", "moving_lines", "COPLANAR_TOLERANCE"]
+
+COPLANAR_TOLERANCE = 1e-6
+"""Largest :math:`|\\mathbf e_{z,i}\\times\\mathbf e_{z,1}|` of members called coplanar."""
+
+
+def members_coplanar(joint: JunctionJoint, plates: Mapping[str, Any]) -> bool:
+    """Whether a junction's member plates lie in one plane (or have no frames: a flat layout)."""
+    frames = [getattr(plates.get(p), "frame", None) for p in joint.plates]
+    if any(frame is None for frame in frames):
+        return True
+    first = frames[0].normal
+    return all(np.linalg.norm(np.cross(first, f.normal)) < COPLANAR_TOLERANCE
+               for f in frames[1:])
+
+
+def _end_edges(joint: JunctionJoint) -> Iterator[EdgeId]:
+    """The edges that meet the line's ends: each member edge's two neighbours."""
+    for side in joint.sides:
+        index = EDGE_NAMES.index(side.edge)
+        for neighbour in (EDGE_NAMES[index - 1], EDGE_NAMES[(index + 1) % 4]):
+            yield EdgeId(side.plate, neighbour)
+
+
+def unheld_ends(joint: JunctionJoint, conditions: Mapping[EdgeId, str],
+                holding: Mapping[EdgeId, bool]) -> list[EdgeId]:
+    """The edges at the line's ends that do not hold it: neither simply supported nor clamped
+    (``conditions``, the boundaries' conditions by edge) nor on a joint that holds its line
+    (``holding``: by joined edge, whether its joint is a hinge or a held junction)."""
+    return [edge for edge in _end_edges(joint)
+            if conditions.get(edge) not in ("simply_supported", "clamped")
+            and not holding.get(edge, False)]
+
+
+def moving_lines(joints: Mapping[str, Any], plates: Mapping[str, Any],
+                 conditions: Mapping[EdgeId, str]) -> tuple[str, ...]:
+    """The junction lines that move, in the description's order: ``held = false``, or by
+    default non-coplanar members and held ends (module notes).
+
+    The default is found by elimination: a line with an end that nothing can hold (a free
+    edge) is held, which may hold the ends of others; what remains moves, except lines whose
+    ends meet other moving lines (their corners would need the lines' 3D translations tied
+    together), which are held too."""
+    joints = {jid: j for jid, j in joints.items() if j is not None}  # the valid ones
+    junctions = {jid: j for jid, j in joints.items() if isinstance(j, JunctionJoint)}
+    moving = {jid for jid, j in junctions.items() if j.held is False}
+    line_of = {side: jid for jid, joint in joints.items() for side in joint.sides}
+    # a coplanar joint carries no in-plane continuity: its plates keep their lines held
+    on_coplanar = {side.plate for joint in joints.values()
+                   if getattr(joint, "kind", "") == "coplanar" for side in joint.sides}
+    undecided = {jid for jid, j in junctions.items()
+                 if j.held is None and not members_coplanar(j, plates)
+                 and not on_coplanar.intersection(j.plates)}
+
+    def holding(lines: set[str]) -> dict[EdgeId, bool]:
+        return {side: jid not in lines and getattr(joints[jid], "kind", "") != "coplanar"
+                for side, jid in line_of.items()}
+
+    while True:
+        free_ends = {jid for jid in undecided
+                     if any(line_of.get(edge) not in undecided
+                            for edge in unheld_ends(junctions[jid], conditions,
+                                                    holding(undecided | moving)))}
+        if not free_ends:
+            break
+        undecided -= free_ends
+    meeting = {jid for jid in undecided
+               if unheld_ends(junctions[jid], conditions, holding(undecided | moving))}
+    moving |= undecided - meeting
+    return tuple(jid for jid in joints if jid in moving)
