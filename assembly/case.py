@@ -279,10 +279,8 @@ class Case(FrozenModel):
         }
 
     def moving_lines(self) -> tuple[str, ...]:
-        """The junction lines that move (:func:`assembly.lines.moving_lines`: ``held = false``,
-        or by default non-coplanar members whose ends are held)."""
-        conditions = {parse_edge_ref(bc.edge): bc.condition for bc in self.boundaries}
-        return moving_lines(self.joints, self.plates, conditions)
+        """The junction lines that move (``held = false``, :mod:`assembly.lines`)."""
+        return moving_lines(self.joints)
 
     def edge_joints(self) -> dict[EdgeId, str]:
         """Return ``{edge: joint id}`` for every joined edge."""

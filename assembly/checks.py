@@ -366,13 +366,13 @@ class _CrossCheck:
                 or None in plates.values()):
             return
         conditions = {edge: condition for edge, (condition, _) in self.conditions.items()}
-        moving = set(moving_lines(joints, plates, conditions))
+        moving = set(moving_lines(joints))
         on_coplanar = {side.plate: jid for jid, joint in self.view.joints.items()
                        if isinstance(joint, CoplanarJoint) for side in joint.sides}
         holding = {side: jid not in moving and not isinstance(joint, CoplanarJoint)
                    for jid, joint in self.view.joints.items() for side in joint.sides}
         for jid, joint in self.view.joints.items():
-            if not isinstance(joint, JunctionJoint) or joint.held is not False:
+            if not isinstance(joint, JunctionJoint) or joint.held:
                 continue
             loc = ("joints", jid, "held")
             unframed = [p for p in joint.plates if p in self.plates

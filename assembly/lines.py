@@ -1,13 +1,19 @@
 """Which junction lines move (``docs/method.md`` section 10.4): the rule shared by the
-description's checks, its summary and the solver.
+description's checks and the solver.
 
-A junction line moves when ``held = false``, or by default (``held`` not given) when its member
-plates are not coplanar and its ends are held. An end is held where each member edge meets a
-simply supported or clamped edge, a hinge or a held line: its corners then hold the line's
-ends, as the shear diaphragm of folded-plate theory does. Lines that meet other moving lines at
-their ends (the corners of a box), end on free edges, or share a plate with a coplanar joint
-(which carries no in-plane continuity) are not modelled yet: by default they stay held, and
-``held = false`` there is refused.
+A junction line moves when its description says ``held = false``; by default it is held. A
+moving line needs its ends held: each member edge must meet a simply supported or clamped
+edge, a hinge or a held line, whose corners then hold the line's ends, as the shear diaphragm of
+folded-plate theory does. Lines that meet other moving lines at their ends (the corners of a
+box), end on free edges, or share a plate with a coplanar joint (which carries no in-plane
+continuity) are not modelled yet.
+
+Why not moving by default between non-coplanar plates (the aim): with in-plane ``fixed`` ends
+and two or more moving lines, refinement stops converging above about 1.5 kHz (a three-bay
+panel: 5e-3 between resolutions 1.5 and 2.25 at 1.6 kHz, order 1 at 2.5 kHz), while the same
+panel with ``diaphragm`` ends, or one line with ``fixed`` ends, converges (1e-5 to 3e-4). Until
+that is understood a held line stays the default; ``vtcr solve --tolerance`` reports the
+non-convergence of a moving one.
 """
 
 from __future__ import annotations
@@ -15,26 +21,11 @@ from __future__ import annotations
 from collections.abc import Iterator, Mapping
 from typing import Any
 
-import numpy as np
-
 from .geometry import EDGE_NAMES
 from .joints import JunctionJoint
 from .types import EdgeId
 
-__all__ = ["members_coplanar", "unheld_ends", "moving_lines", "COPLANAR_TOLERANCE"]
-
-COPLANAR_TOLERANCE = 1e-6
-"""Largest :math:`|\\mathbf e_{z,i}\\times\\mathbf e_{z,1}|` of members called coplanar."""
-
-
-def members_coplanar(joint: JunctionJoint, plates: Mapping[str, Any]) -> bool:
-    """Whether a junction's member plates lie in one plane (or have no frames: a flat layout)."""
-    frames = [getattr(plates.get(p), "frame", None) for p in joint.plates]
-    if any(frame is None for frame in frames):
-        return True
-    first = frames[0].normal
-    return all(np.linalg.norm(np.cross(first, f.normal)) < COPLANAR_TOLERANCE
-               for f in frames[1:])
+__all__ = ["unheld_ends", "moving_lines"]
 
 
 def _end_edges(joint: JunctionJoint) -> Iterator[EdgeId]:
@@ -55,39 +46,7 @@ def unheld_ends(joint: JunctionJoint, conditions: Mapping[EdgeId, str],
             and not holding.get(edge, False)]
 
 
-def moving_lines(joints: Mapping[str, Any], plates: Mapping[str, Any],
-                 conditions: Mapping[EdgeId, str]) -> tuple[str, ...]:
-    """The junction lines that move, in the description's order: ``held = false``, or by
-    default non-coplanar members and held ends (module notes).
-
-    The default is found by elimination: a line with an end that nothing can hold (a free
-    edge) is held, which may hold the ends of others; what remains moves, except lines whose
-    ends meet other moving lines (their corners would need the lines' 3D translations tied
-    together), which are held too."""
-    joints = {jid: j for jid, j in joints.items() if j is not None}  # the valid ones
-    junctions = {jid: j for jid, j in joints.items() if isinstance(j, JunctionJoint)}
-    moving = {jid for jid, j in junctions.items() if j.held is False}
-    line_of = {side: jid for jid, joint in joints.items() for side in joint.sides}
-    # a coplanar joint carries no in-plane continuity: its plates keep their lines held
-    on_coplanar = {side.plate for joint in joints.values()
-                   if getattr(joint, "kind", "") == "coplanar" for side in joint.sides}
-    undecided = {jid for jid, j in junctions.items()
-                 if j.held is None and not members_coplanar(j, plates)
-                 and not on_coplanar.intersection(j.plates)}
-
-    def holding(lines: set[str]) -> dict[EdgeId, bool]:
-        return {side: jid not in lines and getattr(joints[jid], "kind", "") != "coplanar"
-                for side, jid in line_of.items()}
-
-    while True:
-        free_ends = {jid for jid in undecided
-                     if any(line_of.get(edge) not in undecided
-                            for edge in unheld_ends(junctions[jid], conditions,
-                                                    holding(undecided | moving)))}
-        if not free_ends:
-            break
-        undecided -= free_ends
-    meeting = {jid for jid in undecided
-               if unheld_ends(junctions[jid], conditions, holding(undecided | moving))}
-    moving |= undecided - meeting
-    return tuple(jid for jid in joints if jid in moving)
+def moving_lines(joints: Mapping[str, Any]) -> tuple[str, ...]:
+    """The junction lines that move (``held = false``), in the description's order."""
+    return tuple(jid for jid, joint in joints.items()
+                 if isinstance(joint, JunctionJoint) and joint.held is False)
