@@ -45,3 +45,8 @@ class CaseSolution:
     def w(self, plate_id: str, points: ArrayLike) -> np.ndarray:
         """Complex displacement (m) at plate-local points of one plate, shape (n,)."""
         return self.plates[plate_id].field(points)["w"]
+
+    def in_plane(self, plate_id: str, points: ArrayLike) -> np.ndarray:
+        """Complex in-plane displacement ``(u, v)`` (m) along the plate's local x and y at its
+        points, shape (n, 2): zero for a plate without in-plane waves (every plate here)."""
+        return np.zeros((len(np.atleast_2d(points)), 2), dtype=complex)

@@ -75,6 +75,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 import numpy as np
+from numpy.typing import ArrayLike
 import scipy.sparse
 
 from assembly import Case
@@ -93,6 +94,7 @@ from solver.in_plane import membrane_bases, membrane_problems
 from solver.interface import Block, InterfaceFactor, factorise_interface
 from solver.joint_rules import joint_parameters
 from solver.layout import interface_layout
+from solver.membrane import membrane_field
 from solver.plate import PlateSolution
 from solver.power import kinetic_energies
 from solver.problems import plate_bases, plate_problems
@@ -242,6 +244,16 @@ class AssemblySolution(CaseSolution):
     interface: np.ndarray | None = None
     system: AssemblySystem | None = None
     reference: ReferenceEnergy | None = None
+
+    def in_plane(self, plate_id: str, points: ArrayLike) -> np.ndarray:
+        """Complex in-plane displacement ``(u, v)`` (m) along the plate's local x and y at its
+        points, shape (n, 2): the membrane field of a member of a moving line
+        (``docs/method.md`` section 10.4), zero for any other plate."""
+        block = self.system.membranes.get(plate_id)
+        if block is None:
+            return super().in_plane(plate_id, points)
+        amplitudes = block.transfer @ self.interface[self.system.unknowns[plate_id]]
+        return membrane_field(block.basis, amplitudes, points)["u"]
 
     @property
     def n_unknowns(self) -> int:

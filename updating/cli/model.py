@@ -100,9 +100,15 @@ def _solve_frequency(args: argparse.Namespace, case: Case, frequency: float, pro
     else:
         points, order = probes.by_plate, probes.order
     values = {pid: solution.w(pid, pts) for pid, pts in points.items()}
+    in_plane = {pid: solution.in_plane(pid, pts) for pid, pts in points.items()}
+
+    def pair(value: complex) -> list[float]:
+        return [float(value.real), float(value.imag)]
+
     rows = [
         {"plate": pid, "x": float(points[pid][i, 0]), "y": float(points[pid][i, 1]),
-         "w": [float(values[pid][i].real), float(values[pid][i].imag)]}
+         "w": pair(values[pid][i]), "u": pair(in_plane[pid][i, 0]),
+         "v": pair(in_plane[pid][i, 1])}
         for pid, i in order
     ]
     residuals = getattr(solution, "residuals", {})
