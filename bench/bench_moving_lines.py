@@ -1,0 +1,164 @@
+"""Moving against held lines on a stiffened panel: what the model costs, and what it changes
+for an identification.
+
+The panel (issue 33): a 1 mm steel skin of three bays 0.4 x 0.5 m, two stiffeners 8 cm / 1.5 mm
+(T1) and 10 cm / 2 mm (T2) welded on the inner bay lines, shear diaphragms on the ends y = 0 and
+y = 0.5 m (``simply_supported`` with ``in_plane = "diaphragm"``), the skin's outer edges simply
+supported and fixed in-plane, the stiffeners' tops free, 1 N on bay B1.
+
+* **Cost**: one solve with moving lines and one with held lines, at the same resolution, and
+  the time each takes to meet ``--tolerance 1e-3`` (``solve_to_tolerance``), at 600 and
+  2500 Hz; where the time goes in the moving one.
+* **Identification**: the "measured" field is the exact prismatic folded plate of
+  ``tests/exact_prismatic.py`` (bending and in-plane motion, lines free in translation) with
+  the weld W2.T2 at log10 k = 2.0 (the model says 3.5), sampled on the skin only (0.1 m cell
+  centres, a vibrometer's face), +-5 % uniform noise; ``vtcr update`` corrects W2.T2 with
+  moving lines, then with ``held = true``.
+
+Run: ``OPENBLAS_NUM_THREADS=1 python bench/bench_moving_lines.py`` (about two minutes).
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path[:0] = [str(ROOT), str(ROOT / "tests")]
+
+from exact import complex_rigidity  # noqa: E402
+from exact_prismatic import (  # noqa: E402
+    FoldedPlate,
+    PrismaticLine,
+    membrane_stiffness,
+    prismatic_levy,
+)
+
+from assembly import parse_case  # noqa: E402
+from solver.estimate import solve_to_tolerance  # noqa: E402
+from solver.substructure import solve_assembly  # noqa: E402
+from updating.api import update_case  # noqa: E402
+from updating.data.measurements import Measurements, add_noise  # noqa: E402
+
+E, NU, RHO, ETA = 210e9, 0.3, 7800.0, 0.01
+LY, BAY = 0.5, 0.4
+ALONG_X, UP, ALONG_Y = (1.0, 0.0, 0.0), (0.0, 0.0, 1.0), (0.0, 1.0, 0.0)
+# name: (length, origin, x_axis, thickness, right edge)
+PLATES = {"B1": (BAY, (0.0, 0.0, 0.0), ALONG_X, 0.001, "simply_supported"),
+          "B2": (BAY, (BAY, 0.0, 0.0), ALONG_X, 0.001, "simply_supported"),
+          "B3": (BAY, (2 * BAY, 0.0, 0.0), ALONG_X, 0.001, "simply_supported"),
+          "T1": (0.08, (BAY, 0.0, 0.0), UP, 0.0015, "free"),
+          "T2": (0.10, (2 * BAY, 0.0, 0.0), UP, 0.002, "free")}
+MODEL_LOG_K, TRUE_LOG_K = 3.5, 2.0
+LOAD = ("B1", 0.17, 0.13)
+
+
+def lines(weak: float) -> dict[str, dict[str, tuple[str, float]]]:
+    return {"W1": {"B1": ("right", math.inf), "B2": ("left", math.inf),
+                   "T1": ("left", MODEL_LOG_K)},
+            "W2": {"B2": ("right", math.inf), "B3": ("left", math.inf), "T2": ("left", weak)}}
+
+
+def description(frequencies: list[float], held: bool, resolution: float = 1.5,
+                noise: float = 0.05) -> dict:
+    joined = {f"{p}.{edge}" for members in lines(0).values() for p, (edge, _) in members.items()}
+    boundaries = []
+    for name, (_, _, _, _, right) in PLATES.items():
+        for edge, condition, in_plane in (("bottom", "simply_supported", "diaphragm"),
+                                          ("top", "simply_supported", "diaphragm"),
+                                          ("left", "simply_supported", None),
+                                          ("right", right, None)):
+            if f"{name}.{edge}" not in joined:
+                boundaries.append({"edge": f"{name}.{edge}", "condition": condition}
+                                  | ({"in_plane": in_plane} if in_plane else {}))
+    return {
+        "name": "panel-moving" if not held else "panel-held", "frequencies": frequencies,
+        "materials": {"steel": {"young_modulus": E, "poisson_ratio": NU, "density": RHO,
+                                "loss_factor": ETA}},
+        "plates": {name: {"material": "steel", "thickness": h, "size": [length, LY],
+                          "frame": {"origin": list(o), "x_axis": list(x), "y_axis": list(ALONG_Y)}}
+                   for name, (length, o, x, h, _) in PLATES.items()},
+        "joints": {jid: {"kind": "junction",
+                         "between": [f"{p}.{e}" for p, (e, _) in members.items()],
+                         "log10_stiffness": {p: k for p, (_, k) in members.items()},
+                         "held": held}
+                   for jid, members in lines(MODEL_LOG_K).items()},
+        "boundaries": boundaries,
+        "loads": [{"kind": "point_force", "plate": LOAD[0], "at": list(LOAD[1:]),
+                   "amplitude": 1.0}],
+        "discretisation": {"resolution": resolution},
+        "measurement": {"plates": ["B1", "B2", "B3"], "spacing": 0.1, "noise": noise},
+    }
+
+
+def exact_field(frequency: float):
+    strips = {name: FoldedPlate(length, complex_rigidity(E, h, NU, ETA),
+                                membrane_stiffness(E, h, NU, ETA), NU, RHO * h, o, x, ALONG_Y,
+                                right=right)
+              for name, (length, o, x, h, right) in PLATES.items()}
+    prismatic = [PrismaticLine({p: (e, math.inf if math.isinf(k) else 10.0**k)
+                                for p, (e, k) in members.items()})
+                 for members in lines(TRUE_LOG_K).values()]
+    return prismatic_levy(strips, prismatic, LY, 2.0 * math.pi * frequency,
+                          forces=[(*LOAD, 1.0)], n_terms=800)
+
+
+def cost(frequencies: list[float]) -> None:
+    print("cost: one solve at resolution 1.5, and to --tolerance 1e-3 (moving / held)")
+    for frequency in frequencies:
+        row = []
+        for held in (False, True):
+            case = parse_case(description([frequency], held))
+            start = time.perf_counter()
+            solution = solve_assembly(case, frequency, residuals=False)
+            once = time.perf_counter() - start
+            start = time.perf_counter()
+            _, estimate = solve_to_tolerance(case, frequency, 1e-3)
+            row.append((once, time.perf_counter() - start, solution.n_unknowns, estimate.total))
+        (m1, m2, mn, me), (h1, h2, hn, he) = row
+        print(f"  {frequency:6.0f} Hz: solve {m1:.2f} / {h1:.2f} s ({m1 / h1:.1f}x; "
+              f"{mn} / {hn} unknowns); to 1e-3 {m2:.2f} / {h2:.2f} s ({m2 / h2:.1f}x; "
+              f"estimates {me:.1e} / {he:.1e})")
+
+
+def identification(frequencies: list[float], seed: int) -> None:
+    print(f"identification of W2.T2 (true {TRUE_LOG_K}, model {MODEL_LOG_K}) from the exact "
+          "moving-line field on the skin, +-5 % noise")
+    moving = parse_case(description(frequencies, False))
+    rng = np.random.default_rng(seed)
+    data = {}
+    for frequency in frequencies:
+        field = exact_field(frequency)
+        data[frequency] = {}
+        for plate in ("B1", "B2", "B3"):
+            points = np.array([[x, y] for p, x, y in moving.measurement_points() if p == plate])
+            data[frequency][plate] = (points, add_noise(field.w(plate, *points.T), 0.05, rng))
+    measured = Measurements(data)
+    for held in (False, True):
+        case = parse_case(description(frequencies, held))
+        start = time.perf_counter()
+        result = update_case(case, measured)
+        identified = result.parameters["W2.T2"]["log10_stiffness"]
+        interval = result.intervals.get("W2.T2")
+        shown = f"[{interval.low:.2f}, {interval.high:.2f}]" if interval else "none"
+        print(f"  {'held' if held else 'moving'}: W2.T2 log10 k = {identified:.2f}, 90 % "
+              f"interval {shown} ({interval.method if interval else ''}), W1.T1 "
+              f"{result.parameters['W1.T1']['log10_stiffness']:.2f}, status {result.status} "
+              f"({time.perf_counter() - start:.0f} s)")
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--seed", type=int, default=1)
+    args = parser.parse_args()
+    cost([600.0, 2500.0])
+    identification([600.0, 800.0, 1000.0], args.seed)
+
+
+if __name__ == "__main__":
+    main()
