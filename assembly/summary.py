@@ -93,12 +93,17 @@ def _sections(case: Case) -> list[_Section]:
 
     conditions = case.edge_conditions()
     joined = case.edge_joints()
-    edges = _Section("Edges (joint id or condition)", ("plate", *EDGE_NAMES))
+    moving = set(case.moving_lines())
+    in_plane = {key: bc.in_plane_condition for bc in case.boundaries
+                for key in [case.edge(bc.edge)]}
+    members = {p for jid in moving for p in case.joints[jid].plates}
+    title = "Edges (joint id or condition" + ("; in-plane condition of the plates with "
+                                              "in-plane waves)" if members else ")")
+    edges = _Section(title, ("plate", *EDGE_NAMES))
     for pid in case.plates:
         keys = [EdgeId(pid, name) for name in EDGE_NAMES]
-        edges.rows.append(
-            (pid, *(joined.get(key, conditions[key].replace("_", " ")) for key in keys))
-        )
+        edges.rows.append((pid, *(_edge_cell(key, joined, conditions, in_plane, pid in members)
+                                  for key in keys)))
 
     joints = _Section(
         "Joints", ("joint", "kind", "between", "log10 k", "zeta", "mu (kg/m)", "length (m)")
@@ -107,7 +112,8 @@ def _sections(case: Case) -> list[_Section]:
         joints.rows.append(
             (
                 jid,
-                joint.kind,
+                f"{joint.kind} ({'moving' if jid in moving else 'held'})"
+                if joint.kind == "junction" else joint.kind,
                 " - ".join(joint.between),
                 _per_member(joint.log10_stiffness),
                 _per_member(joint.loss_factor),
@@ -128,6 +134,19 @@ def _sections(case: Case) -> list[_Section]:
                  load.distribution)
             )
     return [s for s in (plates, edges, joints, loads) if s.rows]
+
+
+def _edge_cell(key: EdgeId, joined: dict[EdgeId, str], conditions: dict[EdgeId, str],
+               in_plane: dict[EdgeId, str], with_in_plane: bool) -> str:
+    """An edge's joint, or its condition, with its in-plane condition on a plate that carries
+    in-plane waves (a member of a moving line)."""
+    if key in joined:
+        return joined[key]
+    cell = conditions[key].replace("_", " ")
+    if with_in_plane:
+        default = "free" if conditions[key] == "free" else "fixed"
+        cell += f", in-plane {in_plane.get(key, default)}"
+    return cell
 
 
 def _notes(case: Case) -> list[str]:

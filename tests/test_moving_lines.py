@@ -185,3 +185,13 @@ def test_the_in_plane_displacements_are_the_exact_ones(frequency):
         exact = np.column_stack([reference.u(name, x.ravel(), y.ravel()),
                                  reference.v(name, x.ravel(), y.ravel())])
         assert np.linalg.norm(in_plane - exact) < 1e-3 * np.linalg.norm(exact), name
+
+
+def test_check_shows_the_moving_lines_and_the_in_plane_conditions():
+    from assembly.summary import summary_text
+
+    text = summary_text(parse_case(_description(*L_FOLD, 300.0, False)))
+    assert "junction (moving)" in text and "in-plane diaphragm" in text
+    assert "in-plane fixed" in text  # the default of a simply supported edge
+    held = summary_text(parse_case(_description(*L_FOLD, 300.0, True)))
+    assert "junction (held)" in held and "in-plane" not in held
