@@ -19,6 +19,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from assembly.graph import build_graph, components
 from solver import solve_case
 from solver.errors import ToleranceError
 from solver.estimate import solve_to_tolerance
@@ -280,8 +281,6 @@ def joint_visibility(case: Case, counts: Mapping[str, int], joints: Iterable[str
     -------
     errors, warnings : list of str
     """
-    from assembly.graph import build_graph, components
-
     units = case.updatable_joints()
     joints = list(units if joints is None else joints)
     plates_of = {name: case.joints[units[name][0]].plates for name in joints}

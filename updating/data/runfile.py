@@ -33,11 +33,12 @@ import pydantic
 
 from updating.data.files import write_json_atomic
 from updating.errors import InputError
+from updating.inverse.strategy import Step
 
 if TYPE_CHECKING:
     from assembly import Case
     from updating.data.measurements import Measurements
-    from updating.inverse.strategy import Step, UpdateResult
+    from updating.inverse.strategy import UpdateResult
 
 try:  # advisory locks where the system has them (POSIX); elsewhere runs are not locked
     import fcntl
@@ -261,8 +262,6 @@ def load_run(path: str | Path, case: Case, digests: tuple[str, str]) -> RunFile:
     problem = _step_problems(record.steps, case)
     if problem:
         raise InputError(f"--resume {path}: damaged run file, {problem}; {_FIX}")
-    from updating.inverse.strategy import Step  # the loop's modules: not for a solve's provenance
-
     steps = [Step.from_record(step.model_dump()) for step in record.steps]
     return RunFile(path, case.name, digests, steps,
                    (record.status, record.message) if record.finished else None)
