@@ -195,3 +195,30 @@ def test_check_shows_the_moving_lines_and_the_in_plane_conditions():
     assert "in-plane fixed" in text  # the default of a simply supported edge
     held = summary_text(parse_case(_description(*L_FOLD, 300.0, True)))
     assert "junction (held)" in held and "in-plane" not in held
+
+
+@pytest.mark.parametrize("shape, frequency", [("L", 1000.0), ("U", 3000.0)])
+def test_the_error_estimate_stays_honest(shape, frequency):
+    """The estimate (an enriched solve, which refines the in-plane waves with the rays) against
+    the true error over the plates at resolution 1: measured ratios 1.00 on the L, U and T
+    shapes at 300 Hz to 3 kHz (true errors 8e-5 to 2.4e-3); the issue asks [0.5, 3]."""
+    from solver.estimate import estimate_error
+    from solver.power import plate_gauss_axes
+
+    plates, lines, load = SHAPES[shape]
+    description = _description(plates, lines, load, frequency, False)
+    description["discretisation"]["resolution"] = 1.0
+    case = parse_case(description)
+    solution = solve_assembly(case, frequency)
+    estimate = estimate_error(case, solution)
+    reference = _reference(plates, lines, load, frequency, False)
+    error = norm = 0.0
+    for name in plates:
+        (x, wx), (y, wy) = plate_gauss_axes(solution.plates[name].problem)
+        X, Y = np.meshgrid(x, y, indexing="ij")
+        weights = np.outer(wx, wy).ravel()
+        w = solution.plates[name].field(np.column_stack([X.ravel(), Y.ravel()]))["w"]
+        exact = reference.w(name, X.ravel(), Y.ravel())
+        error += weights @ np.abs(w - exact) ** 2
+        norm += weights @ np.abs(exact) ** 2
+    assert 0.5 <= estimate.total / math.sqrt(error / norm) <= 3.0
