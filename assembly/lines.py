@@ -8,12 +8,15 @@ folded-plate theory does. Lines that meet other moving lines at their ends (the 
 box), end on free edges, or share a plate with a coplanar joint (which carries no in-plane
 continuity) are not modelled yet.
 
-Why not moving by default between non-coplanar plates (the aim): with in-plane ``fixed`` ends
-and two or more moving lines, refinement stops converging above about 1.5 kHz (a three-bay
-panel: 5e-3 between resolutions 1.5 and 2.25 at 1.6 kHz, order 1 at 2.5 kHz), while the same
-panel with ``diaphragm`` ends, or one line with ``fixed`` ends, converges (1e-5 to 3e-4). Until
-that is understood a held line stays the default; ``vtcr solve --tolerance`` reports the
-non-convergence of a moving one.
+Why not moving by default between non-coplanar plates (the aim): with in-plane ``roller``
+ends (:math:`u_n = 0`, :math:`N_{nt} = 0`) refinement does not converge (2e-2 to 3e-1 between
+resolutions 1.5 and 2.25 on a three-bay panel, one line or two), for a reason not found yet.
+``fixed`` ends, the default of a supported edge, once failed too with two or more lines (order
+1 at 2.5 kHz): the lines' functions went beyond what the stiffeners' rays answer, a near-null
+direction of the interface problem per function; they now stop there
+(:func:`solver.joint_rules.interface_function_count`, ``docs/method.md`` section 10.4) and
+converge (2e-6 to 8e-5 from 1 to 2.5 kHz). Until ``roller`` is understood a held line stays the
+default; ``vtcr solve --tolerance`` reports the non-convergence of a moving one.
 """
 
 from __future__ import annotations

@@ -157,16 +157,19 @@ def interface_layout(case: Case, problems: Mapping[str, PlateProblem],
     """The interface unknowns of an assembly, counted from its description.
 
     ``resolution`` is None (the description's), one factor, or a mapping by plate; a joint's
-    interface functions follow the finest of its plates.
+    interface functions follow the finest of its plates, and stop, on a moving line, at the
+    largest wavenumber every member's rays answer (:func:`interface_function_count`).
     """
     counts = {}
+    moving = set(case.moving_lines())
     for jid, joint in case.joints.items():
         length = case.edge_length(joint.sides[0])
-        kappa0 = max(problems[plate].kappa.real for plate in joint.plates)
+        kappas = [problems[plate].kappa.real for plate in joint.plates]
         joint_scale = max(plate_resolution(case, side.plate, resolution) for side in joint.sides)
         counts[jid] = (case.discretisation.interface_functions
-                       or interface_function_count(kappa0, length, joint_scale,
-                                                   case.discretisation.edge_wavenumber_ratio))
+                       or interface_function_count(max(kappas), length, joint_scale,
+                                                   case.discretisation.edge_wavenumber_ratio,
+                                                   min(kappas) if jid in moving else None))
     layout, n_s = _layout(case, counts)
     junctions = _junctions(case, problems)
     corner_columns = {}
