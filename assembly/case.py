@@ -279,8 +279,11 @@ class Case(FrozenModel):
         }
 
     def moving_lines(self) -> tuple[str, ...]:
-        """The junction lines that move (``held = false``, :mod:`assembly.lines`)."""
-        return moving_lines(self.joints)
+        """The junction lines that move (:func:`assembly.lines.moving_lines`: ``held = false``,
+        or by default non-coplanar members whose ends are held)."""
+        edges = [(parse_edge_ref(bc.edge), bc) for bc in self.boundaries]
+        return moving_lines(self.joints, self.plates, {e: bc.condition for e, bc in edges},
+                            {e: bc.in_plane for e, bc in edges if bc.in_plane is not None})
 
     def edge_joints(self) -> dict[EdgeId, str]:
         """Return ``{edge: joint id}`` for every joined edge."""

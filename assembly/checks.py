@@ -366,13 +366,15 @@ class _CrossCheck:
                 or None in plates.values()):
             return
         conditions = {edge: condition for edge, (condition, _) in self.conditions.items()}
-        moving = set(moving_lines(joints))
+        in_plane = {parse_edge_ref(bc.edge): bc.in_plane for bc in self.view.boundaries or ()
+                     if bc is not None and bc.in_plane is not None}
+        moving = set(moving_lines(joints, plates, conditions, in_plane))
         on_coplanar = {side.plate: jid for jid, joint in self.view.joints.items()
                        if isinstance(joint, CoplanarJoint) for side in joint.sides}
         holding = {side: jid not in moving and not isinstance(joint, CoplanarJoint)
                    for jid, joint in self.view.joints.items() for side in joint.sides}
         for jid, joint in self.view.joints.items():
-            if not isinstance(joint, JunctionJoint) or joint.held:
+            if not isinstance(joint, JunctionJoint) or joint.held is not False:
                 continue
             loc = ("joints", jid, "held")
             unframed = [p for p in joint.plates if p in self.plates

@@ -175,8 +175,9 @@ MemberLossFactor = Annotated[
 class JunctionJoint(FrozenModel):
     r"""A junction line: two or more plate edges on one line, held in translation or moving.
 
-    Held (``held = true``, the default): :math:`w_i = 0` on every member. Moving (``held =
-    false``, ``docs/method.md`` section 10.4): the line translates as one body, every
+    Held (``held = true``): :math:`w_i = 0` on every member. Moving (``held = false``, the
+    default between non-coplanar plates where the model can; ``docs/method.md`` section
+    10.4): the line translates as one body, every
     member's edge displacement :math:`(u_n, u_t, w)` mapped through its frame equal to the
     line's, and the forces the members exert on it balance; each member carries in-plane
     (membrane) waves besides its bending. Either way the line has its own rotation
@@ -200,15 +201,16 @@ class JunctionJoint(FrozenModel):
     loss_factor : float or mapping of str to float, optional
         :math:`\zeta` >= 0, one for every member or a table by member plate.  Default 0.
     held : bool, optional
-        ``true`` (default): the line is held in translation. ``false``: it moves; every member
-        plate needs a ``frame``, and the line's ends must be held (:mod:`assembly.lines`).
+        ``true``: the line is held in translation. ``false``: it moves; every member plate
+        needs a ``frame``, and the line's ends must be held (:mod:`assembly.lines`). Default:
+        it moves when its members are not coplanar and the model can move it, else it is held.
     """
 
     kind: Literal["junction"] = "junction"
     between: Annotated[tuple[EdgeRef, ...], Field(min_length=2)]
     log10_stiffness: MemberStiffness
     loss_factor: MemberLossFactor = 0.0
-    held: bool = True
+    held: bool | None = None
 
     @property
     def sides(self) -> tuple[EdgeId, ...]:

@@ -1,22 +1,22 @@
 """Which junction lines move (``docs/method.md`` section 10.4): the rule shared by the
-description's checks and the solver.
+description's checks, its summary and the solver.
 
-A junction line moves when its description says ``held = false``; by default it is held. A
-moving line needs its ends held: each member edge must meet a simply supported or clamped
-edge, a hinge or a held line, whose corners then hold the line's ends, as the shear diaphragm of
-folded-plate theory does. Lines that meet other moving lines at their ends (the corners of a
-box), end on free edges, or share a plate with a coplanar joint (which carries no in-plane
-continuity) are not modelled yet.
+A junction line moves when ``held = false``, or by default (``held`` not given) when its member
+plates are not coplanar and its ends are held. An end is held where each member edge meets a
+simply supported or clamped edge, a hinge or a held line: its corners then hold the line's
+ends, as the shear diaphragm of folded-plate theory does. By default a line also stays held
+where the model cannot move it yet, and ``held = false`` is refused there:
 
-Why not moving by default between non-coplanar plates (the aim): with in-plane ``roller``
-ends (:math:`u_n = 0`, :math:`N_{nt} = 0`) refinement does not converge (2e-2 to 3e-1 between
-resolutions 1.5 and 2.25 on a three-bay panel, one line or two), for a reason not found yet.
-``fixed`` ends, the default of a supported edge, once failed too with two or more lines (order
-1 at 2.5 kHz): the lines' functions went beyond what the stiffeners' rays answer, a near-null
-direction of the interface problem per function; they now stop there
-(:func:`solver.joint_rules.interface_function_count`, ``docs/method.md`` section 10.4) and
-converge (2e-6 to 8e-5 from 1 to 2.5 kHz). Until ``roller`` is understood a held line stays the
-default; ``vtcr solve --tolerance`` reports the non-convergence of a moving one.
+* its ends meet other moving lines (the corners of a box: the lines' 3D translations would
+  have to be tied at the junction point) or a free edge;
+* a member plate has a coplanar joint (which carries no in-plane continuity);
+* an end edge is in-plane ``roller`` (:math:`u_n = 0`, :math:`N_{nt} = 0`): there refinement
+  does not converge (2e-2 to 3e-1 between resolutions 1.5 and 2.25 on a three-bay panel), for a
+  reason not found yet; by default such a line stays held, and ``held = false`` is allowed,
+  ``vtcr solve --tolerance`` reporting the non-convergence.
+
+``fixed`` ends, the default of a supported edge, converge since a moving line's functions stop
+at what every member's rays answer (:func:`solver.joint_rules.interface_function_count`).
 """
 
 from __future__ import annotations
@@ -24,11 +24,26 @@ from __future__ import annotations
 from collections.abc import Iterator, Mapping
 from typing import Any
 
+import numpy as np
+
 from .geometry import EDGE_NAMES
 from .joints import JunctionJoint
 from .types import EdgeId
 
-__all__ = ["unheld_ends", "moving_lines"]
+__all__ = ["members_coplanar", "unheld_ends", "moving_lines", "COPLANAR_TOLERANCE"]
+
+COPLANAR_TOLERANCE = 1e-6
+"""Largest :math:`|\\mathbf e_{z,i}\\times\\mathbf e_{z,1}|` of members called coplanar."""
+
+
+def members_coplanar(joint: JunctionJoint, plates: Mapping[str, Any]) -> bool:
+    """Whether a junction's member plates lie in one plane (or have no frames: a flat layout)."""
+    frames = [getattr(plates.get(p), "frame", None) for p in joint.plates]
+    if any(frame is None for frame in frames):
+        return True
+    first = frames[0].normal
+    return all(np.linalg.norm(np.cross(first, f.normal)) < COPLANAR_TOLERANCE
+               for f in frames[1:])
 
 
 def _end_edges(joint: JunctionJoint) -> Iterator[EdgeId]:
@@ -49,7 +64,40 @@ def unheld_ends(joint: JunctionJoint, conditions: Mapping[EdgeId, str],
             and not holding.get(edge, False)]
 
 
-def moving_lines(joints: Mapping[str, Any]) -> tuple[str, ...]:
-    """The junction lines that move (``held = false``), in the description's order."""
-    return tuple(jid for jid, joint in joints.items()
-                 if isinstance(joint, JunctionJoint) and joint.held is False)
+def moving_lines(joints: Mapping[str, Any], plates: Mapping[str, Any],
+                 conditions: Mapping[EdgeId, str],
+                 in_plane: Mapping[EdgeId, str]) -> tuple[str, ...]:
+    """The junction lines that move, in the description's order: ``held = false``, or by
+    default non-coplanar members and held ends (module notes); ``conditions`` and ``in_plane``
+    are the boundaries' bending and given in-plane conditions by edge.
+
+    The default is found by elimination: a line with an end that nothing can hold (a free
+    edge) is held, which may hold the ends of others; what remains moves, except lines whose
+    ends meet other moving lines, which are held too."""
+    joints = {jid: j for jid, j in joints.items() if j is not None}  # the valid ones
+    junctions = {jid: j for jid, j in joints.items() if isinstance(j, JunctionJoint)}
+    moving = {jid for jid, j in junctions.items() if j.held is False}
+    line_of = {side: jid for jid, joint in joints.items() for side in joint.sides}
+    on_coplanar = {side.plate for joint in joints.values()
+                   if getattr(joint, "kind", "") == "coplanar" for side in joint.sides}
+    undecided = {jid for jid, j in junctions.items()
+                 if j.held is None and not members_coplanar(j, plates)
+                 and not on_coplanar.intersection(j.plates)
+                 and not any(in_plane.get(edge) == "roller" for edge in _end_edges(j))}
+
+    def holding(lines: set[str]) -> dict[EdgeId, bool]:
+        return {side: jid not in lines and getattr(joints[jid], "kind", "") != "coplanar"
+                for side, jid in line_of.items()}
+
+    while True:
+        free_ends = {jid for jid in undecided
+                     if any(line_of.get(edge) not in undecided
+                            for edge in unheld_ends(junctions[jid], conditions,
+                                                    holding(undecided | moving)))}
+        if not free_ends:
+            break
+        undecided -= free_ends
+    meeting = {jid for jid in undecided
+               if unheld_ends(junctions[jid], conditions, holding(undecided | moving))}
+    moving |= undecided - meeting
+    return tuple(jid for jid in joints if jid in moving)

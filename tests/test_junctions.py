@@ -152,8 +152,11 @@ def test_power_balances_member_by_member():
     """Per junction member, the power the line delivers into the plate (``delivered``): each
     plate's injected plus delivered power equals what it dissipates, and the members'
     deliveries sum to minus the weld's dissipation (a lossy stiffener spring, 4 % of the
-    injected power). Exact for the exact field; the discretisation leaves 2e-7 (plates) and
-    3e-8 (junction) of the injected power at resolution 1, so 1e-5."""
+    injected power). The T's line moves (the default between non-coplanar plates), so each
+    plate's balance holds its in-plane power too. Exact for the exact field; the
+    discretisation leaves, of the injected power at resolution 1, 1.3e-5 on the driven skin
+    S1 and 1e-8 on the others (2e-7 everywhere at resolution 1.25; held lines: 2e-7), and 6e-14
+    on the junction, whose deliveries balance its law exactly; so 3e-5 and 1e-10."""
     from solver.power import power_flow
 
     description = tee_description(stiffener=2.3)
@@ -164,10 +167,10 @@ def test_power_balances_member_by_member():
     assert power.joint_dissipated["W1"] > 0.01 * injected
     delivered = power.delivered["W1"]
     assert set(delivered) == {"S1", "S2", "T1"}
-    assert abs(sum(delivered.values()) + power.joint_dissipated["W1"]) < 1e-5 * injected
+    assert abs(sum(delivered.values()) + power.joint_dissipated["W1"]) < 1e-10 * injected
     for plate in case.plates:
         balance = power.injected[plate] + delivered[plate] - power.dissipated[plate]
-        assert abs(balance) < 1e-5 * injected, plate
+        assert abs(balance) < 3e-5 * injected, plate
 
 
 def _problems(description):
