@@ -31,13 +31,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path[:0] = [str(ROOT), str(ROOT / "tests")]
 
-from exact import complex_rigidity  # noqa: E402
-from exact_prismatic import (  # noqa: E402
-    FoldedPlate,
-    PrismaticLine,
-    membrane_stiffness,
-    prismatic_levy,
-)
+from support import folded_description, folded_reference  # noqa: E402
 
 from assembly import parse_case  # noqa: E402
 from solver.estimate import solve_to_tolerance  # noqa: E402
@@ -45,9 +39,8 @@ from solver.substructure import solve_assembly  # noqa: E402
 from updating.api import update_case  # noqa: E402
 from updating.data.measurements import Measurements, add_noise  # noqa: E402
 
-E, NU, RHO, ETA = 210e9, 0.3, 7800.0, 0.01
 LY, BAY = 0.5, 0.4
-ALONG_X, UP, ALONG_Y = (1.0, 0.0, 0.0), (0.0, 0.0, 1.0), (0.0, 1.0, 0.0)
+ALONG_X, UP = (1.0, 0.0, 0.0), (0.0, 0.0, 1.0)
 # name: (length, origin, x_axis, thickness, right edge)
 PLATES = {"B1": (BAY, (0.0, 0.0, 0.0), ALONG_X, 0.001, "simply_supported"),
           "B2": (BAY, (BAY, 0.0, 0.0), ALONG_X, 0.001, "simply_supported"),
@@ -66,46 +59,15 @@ def lines(weak: float) -> dict[str, dict[str, tuple[str, float]]]:
 
 def description(frequencies: list[float], held: bool, resolution: float = 1.5,
                 noise: float = 0.05) -> dict:
-    joined = {f"{p}.{edge}" for members in lines(0).values() for p, (edge, _) in members.items()}
-    boundaries = []
-    for name, (_, _, _, _, right) in PLATES.items():
-        for edge, condition, in_plane in (("bottom", "simply_supported", "diaphragm"),
-                                          ("top", "simply_supported", "diaphragm"),
-                                          ("left", "simply_supported", None),
-                                          ("right", right, None)):
-            if f"{name}.{edge}" not in joined:
-                boundaries.append({"edge": f"{name}.{edge}", "condition": condition}
-                                  | ({"in_plane": in_plane} if in_plane else {}))
-    return {
-        "name": "panel-moving" if not held else "panel-held", "frequencies": frequencies,
-        "materials": {"steel": {"young_modulus": E, "poisson_ratio": NU, "density": RHO,
-                                "loss_factor": ETA}},
-        "plates": {name: {"material": "steel", "thickness": h, "size": [length, LY],
-                          "frame": {"origin": list(o), "x_axis": list(x), "y_axis": list(ALONG_Y)}}
-                   for name, (length, o, x, h, _) in PLATES.items()},
-        "joints": {jid: {"kind": "junction",
-                         "between": [f"{p}.{e}" for p, (e, _) in members.items()],
-                         "log10_stiffness": {p: k for p, (_, k) in members.items()},
-                         "held": held}
-                   for jid, members in lines(MODEL_LOG_K).items()},
-        "boundaries": boundaries,
-        "loads": [{"kind": "point_force", "plate": LOAD[0], "at": list(LOAD[1:]),
-                   "amplitude": 1.0}],
-        "discretisation": {"resolution": resolution},
-        "measurement": {"plates": ["B1", "B2", "B3"], "spacing": 0.1, "noise": noise},
-    }
+    """The panel's description, the skin measured (0.1 m grid, ``noise``)."""
+    return folded_description(PLATES, lines(MODEL_LOG_K), LOAD, frequencies, held, LY,
+                              resolution) | {
+        "measurement": {"plates": ["B1", "B2", "B3"], "spacing": 0.1, "noise": noise}}
 
 
 def exact_field(frequency: float):
-    strips = {name: FoldedPlate(length, complex_rigidity(E, h, NU, ETA),
-                                membrane_stiffness(E, h, NU, ETA), NU, RHO * h, o, x, ALONG_Y,
-                                right=right)
-              for name, (length, o, x, h, right) in PLATES.items()}
-    prismatic = [PrismaticLine({p: (e, math.inf if math.isinf(k) else 10.0**k)
-                                for p, (e, k) in members.items()})
-                 for members in lines(TRUE_LOG_K).values()]
-    return prismatic_levy(strips, prismatic, LY, 2.0 * math.pi * frequency,
-                          forces=[(*LOAD, 1.0)], n_terms=800)
+    """The exact panel, lines moving, weld W2.T2 at its true stiffness."""
+    return folded_reference(PLATES, lines(TRUE_LOG_K), LOAD, frequency, False, LY, 800)
 
 
 def cost(frequencies: list[float]) -> None:

@@ -9,11 +9,14 @@ built on it are in ``tests/conftest.py``.
 
 from __future__ import annotations
 
+import math
+from collections.abc import Mapping
 from pathlib import Path
 
 import numpy as np
 import scipy.linalg
 from exact import Section, complex_rigidity, coplanar, hinge, levy_chain
+from exact_prismatic import FoldedPlate, PrismaticLine, membrane_stiffness, prismatic_levy
 
 from assembly import parse_case
 from updating.data.measurements import Measurements, add_noise
@@ -21,7 +24,8 @@ from updating.data.measurements import Measurements, add_noise
 __all__ = ["ROOT", "CASES", "STEEL", "TWO_PLATES", "E", "NU", "RHO", "H", "ETA", "D", "LY", "LENGTHS", "FREQUENCY",
            "OMEGA", "MATERIAL",
            "grid", "chain_description", "levy_chain_experiment", "exact_measurements",
-           "exact_joint", "dense_interface", "field_difference", "mixed_chain"]
+           "exact_joint", "dense_interface", "field_difference", "mixed_chain",
+           "folded_description", "folded_reference"]
 
 ROOT = Path(__file__).resolve().parents[1]
 """The repository."""
@@ -194,3 +198,67 @@ def mixed_chain():
     joints = [{"kind": "coplanar", "log10_stiffness": 1.5, "loss_factor": 0.1, "mass": 0.05},
               {"kind": "hinge", "log10_stiffness": 3.5}]
     return parse_case(chain_description(joints, left="free", force=(1, 0.2, 0.17)))
+
+
+# ---------------------------------------------------------------------------------------------
+# Folded plates with shear-diaphragm ends: descriptions and their exact prismatic solution
+# ---------------------------------------------------------------------------------------------
+FoldedPlates = Mapping[str, tuple[float, tuple[float, float, float], tuple[float, float, float],
+                                  float, str]]
+"""``{plate: (length, origin, x_axis, thickness, right edge's condition)}``: steel plates of
+width ``ly`` along +y, placed in 3D; the left edge is on a line or simply supported."""
+FoldLines = Mapping[str, Mapping[str, tuple[str, float]]]
+"""``{joint: {plate: (edge, log10 k)}}``: junction lines, ``inf`` a rigid member."""
+
+
+def folded_description(plates: FoldedPlates, lines: FoldLines, load: tuple[str, float, float],
+                       frequencies: float | list[float], held: bool | None, ly: float,
+                       resolution: float = 1.5) -> dict:
+    """The vtcr description of a prismatic folded plate: every plate simply supported on its
+    ends y = 0 and y = ``ly`` with ``in_plane = "diaphragm"`` (the exact reference's shear
+    diaphragms), its other outer edges simply supported (fixed in-plane) or as ``plates`` says,
+    1 N at ``load``."""
+    joined = {f"{p}.{edge}" for members in lines.values() for p, (edge, _) in members.items()}
+    boundaries = []
+    for name, (_, _, _, _, right) in plates.items():
+        for edge, condition, in_plane in (("bottom", "simply_supported", "diaphragm"),
+                                          ("top", "simply_supported", "diaphragm"),
+                                          ("left", "simply_supported", None),
+                                          ("right", right, None)):
+            if f"{name}.{edge}" not in joined:
+                boundaries.append({"edge": f"{name}.{edge}", "condition": condition}
+                                  | ({"in_plane": in_plane} if in_plane else {}))
+    return {
+        "name": "fold",
+        **({"frequencies": frequencies} if isinstance(frequencies, list)
+           else {"frequency": frequencies}),
+        "materials": {"steel": MATERIAL},
+        "plates": {name: {"material": "steel", "thickness": h, "size": [length, ly],
+                          "frame": {"origin": list(origin), "x_axis": list(x_axis),
+                                    "y_axis": [0.0, 1.0, 0.0]}}
+                   for name, (length, origin, x_axis, h, _) in plates.items()},
+        "joints": {jid: {"kind": "junction",
+                         "between": [f"{p}.{edge}" for p, (edge, _) in members.items()],
+                         "log10_stiffness": {p: k for p, (_, k) in members.items()}}
+                        | ({"held": held} if held is not None else {})
+                   for jid, members in lines.items()},
+        "boundaries": boundaries,
+        "discretisation": {"resolution": resolution},
+        "loads": [{"kind": "point_force", "plate": load[0], "at": list(load[1:]),
+                   "amplitude": 1.0}],
+    }
+
+
+def folded_reference(plates: FoldedPlates, lines: FoldLines, load: tuple[str, float, float],
+                     frequency: float, held: bool, ly: float, n_terms: int = 600):
+    """The exact prismatic solution (``tests/exact_prismatic.py``) of
+    :func:`folded_description`'s structure, lines moving or ``held``."""
+    strips = {name: FoldedPlate(length, complex_rigidity(E, h, NU, ETA),
+                                membrane_stiffness(E, h, NU, ETA), NU, RHO * h, origin, x_axis,
+                                (0.0, 1.0, 0.0), right=right)
+              for name, (length, origin, x_axis, h, right) in plates.items()}
+    prismatic = [PrismaticLine({p: (edge, math.inf if math.isinf(k) else 10.0**k)
+                                for p, (edge, k) in members.items()}, held=held)
+                 for members in lines.values()]
+    return prismatic_levy(strips, prismatic, ly, 2.0 * math.pi * frequency,
+                          forces=[(*load, 1.0)], n_terms=n_terms)
