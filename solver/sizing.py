@@ -46,6 +46,7 @@ import numpy as np
 
 from assembly.case import Case
 from solver.interface import GROUPED_MIN_SIZE
+from solver.in_plane import membrane_bases, membrane_problems
 from solver.layout import interface_layout
 from solver.problems import plate_bases, plate_problems
 
@@ -184,12 +185,19 @@ def estimate_size(case: Case, frequency: float | None = None,
     corners, unknowns = arrangement.corner_columns, arrangement.unknowns
 
     entries = samples = constraints = 0
+    moving = set(case.moving_lines())
+    in_plane = membrane_problems(case, frequency)
+    n_rays = sum(b.n_dof for b in bases.values()) + sum(
+        b.n_dof for b in membrane_bases(case, in_plane, problems, resolution).values())
     for jid, joint in case.joints.items():
         seen = len(np.unique(np.concatenate([unknowns[p] for p in joint.plates])))
         n_f = counts[jid]  # a channel's samples: its residual on the load functions
         if joint.kind == "junction":  # a channel per finite member, balance and rigid rows
             channels = len(joint.finite_members())
             constraints += counts[jid] * max(1, len(joint.plates) - channels)
+            if jid in moving:  # translation as one body and force balance, 3 rows each
+                constraints += 3 * counts[jid] * len(joint.plates)
+                entries += 3 * counts[jid] * len(joint.plates) * seen
         else:
             channels = 2 if "FA" in layout[jid] else 1
         samples += channels * n_f
@@ -202,8 +210,8 @@ def estimate_size(case: Case, frequency: float | None = None,
         entries += points * len(unknowns[pid])
     constraints += len(corners)
     matrix_entries = 2 * entries + samples
-    return SizeEstimate(frequency, len(case.plates), len(case.joints),
-                        sum(b.n_dof for b in bases.values()), n_s, constraints, samples,
+    return SizeEstimate(frequency, len(case.plates), len(case.joints), n_rays, n_s, constraints,
+                        samples,
                         matrix_entries, len(case.frequencies), case.updating.max_steps,
                         len(case.updatable_joints()))
 
