@@ -17,9 +17,9 @@ from typing import Any
 import numpy as np
 
 from assembly.errors import Loc, did_you_mean, listing
-from assembly.lines import moving_lines, unheld_ends
 from assembly.grid import on_grid
 from assembly.joints import CoplanarJoint, HingeJoint, JunctionJoint
+from assembly.lines import moving_lines, unheld_ends
 from assembly.models import (
     FRAME_TOLERANCE,
     Boundary,
@@ -358,8 +358,8 @@ class _CrossCheck:
                     self.conditions[edge] = (bc.condition, i)
 
     def moving_lines(self) -> None:
-        """A line that must move (``held = false``) has framed members, held ends and no
-        coplanar joint on a member plate (:mod:`assembly.lines`). Checked once the joints,
+        """A line that must move (``held = false``) has framed members and held ends
+        (:mod:`assembly.lines`). Checked once the joints,
         plates and boundaries are valid: the rule reads their edges."""
         joints, plates = self.view.joints, self.plates
         if (self.issues or joints is None or plates is None or None in joints.values()
@@ -369,8 +369,6 @@ class _CrossCheck:
         in_plane = {parse_edge_ref(bc.edge): bc.in_plane for bc in self.view.boundaries or ()
                      if bc is not None and bc.in_plane is not None}
         moving = set(moving_lines(joints, plates, conditions, in_plane))
-        on_coplanar = {side.plate: jid for jid, joint in self.view.joints.items()
-                       if isinstance(joint, CoplanarJoint) for side in joint.sides}
         holding = {side: jid not in moving and not isinstance(joint, CoplanarJoint)
                    for jid, joint in self.view.joints.items() for side in joint.sides}
         for jid, joint in self.view.joints.items():
@@ -383,12 +381,6 @@ class _CrossCheck:
                 self.issues.append((loc, f"a moving line needs a frame on every member plate; "
                                     f"add [plates.{unframed[0]}.frame], or set held = true"))
                 continue
-            for plate in joint.plates:
-                if plate in on_coplanar:
-                    self.issues.append(
-                        (loc, f"member {plate!r} also has the coplanar joint "
-                         f"{on_coplanar[plate]!r}, which carries no in-plane continuity yet; "
-                         f'describe it as kind = "junction", or set held = true'))
             for edge in unheld_ends(joint, conditions, holding):
                 self.issues.append(
                     (loc, f"the line's end on {edge.ref} is not held; a moving line needs its "

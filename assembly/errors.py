@@ -17,8 +17,8 @@ from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from typing import Union
 
-__all__ = ["CrossReferenceError", "Loc", "AssemblyError", "DescriptionError", "Issue", "format_path", "listing",
-           "did_you_mean"]
+__all__ = ["CrossReferenceError", "Loc", "AssemblyError", "DescriptionError", "Issue",
+           "format_path", "listing", "did_you_mean"]
 
 _PLAIN_KEY = frozenset("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_-")
 

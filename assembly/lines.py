@@ -9,7 +9,6 @@ where the model cannot move it yet, and ``held = false`` is refused there:
 
 * its ends meet other moving lines (the corners of a box: the lines' 3D translations would
   have to be tied at the junction point) or a free edge;
-* a member plate has a coplanar joint (which carries no in-plane continuity);
 * an end edge is in-plane ``roller`` (:math:`u_n = 0`, :math:`N_{nt} = 0`): there refinement
   does not converge (2e-2 to 3e-1 between resolutions 1.5 and 2.25 on a three-bay panel), for a
   reason not found yet; by default such a line stays held, and ``held = false`` is allowed,
@@ -78,11 +77,8 @@ def moving_lines(joints: Mapping[str, Any], plates: Mapping[str, Any],
     junctions = {jid: j for jid, j in joints.items() if isinstance(j, JunctionJoint)}
     moving = {jid for jid, j in junctions.items() if j.held is False}
     line_of = {side: jid for jid, joint in joints.items() for side in joint.sides}
-    on_coplanar = {side.plate for joint in joints.values()
-                   if getattr(joint, "kind", "") == "coplanar" for side in joint.sides}
     undecided = {jid for jid, j in junctions.items()
                  if j.held is None and not members_coplanar(j, plates)
-                 and not on_coplanar.intersection(j.plates)
                  and not any(in_plane.get(edge) == "roller" for edge in _end_edges(j))}
 
     def holding(lines: set[str]) -> dict[EdgeId, bool]:

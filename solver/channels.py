@@ -187,7 +187,30 @@ def two_plate_joint(build: JointBuild, jid: str, group: int
     rows = []
     if joint.kind == "coplanar":
         rows.append(Block.union(ta["w moments"], tb["w moments"].scaled(-1.0)).constraint(group))
+    if "Nn" in slots:
+        rows += _in_plane_continuity(build, (a, sigma), (b, length - sigma),
+                                     weighted=psi.T * wq, group=group)
     return rows, channels
+
+
+def _in_plane_continuity(build: JointBuild, *sides_at: tuple[EdgeId, np.ndarray],
+                         weighted: np.ndarray, group: int) -> list[Block]:
+    r"""The in-plane continuity of a coplanar joint between plates with in-plane waves
+    (``docs/method.md`` section 10.4): its edges' normals and tangents are opposite, so the
+    same displacement reads :math:`u_n^A = -u_n^B`, :math:`u_t^A = -u_t^B`;
+    :math:`\int(u_\alpha^A + u_\alpha^B)\psi_m = 0` for :math:`\alpha\in\{n, t\}`, the
+    traction unknowns ``Nn``, ``Nt`` acting on both edges."""
+    plates = build.plates
+    traces = []
+    for side, arc in sides_at:
+        membrane = plates.membranes[side.plate]
+        edge = edge_geometry(membrane.problem.size, side.edge)
+        traces.append(membrane_edge_traces(membrane.basis, edge, arc, membrane.problem.stiffness,
+                                           membrane.problem.poisson_ratio))
+    (side_a, _), (side_b, _) = sides_at
+    return [Block.union(plates.affine_membrane_operator(side_a.plate, traces[0][key]),
+                        plates.affine_membrane_operator(side_b.plate, traces[1][key]))
+            .projected(weighted).constraint(group) for key in ("u_n", "u_t")]
 
 
 def junction_line(build: JointBuild, jid: str, group: int) -> tuple[list[Block], list[Channel]]:

@@ -13,8 +13,8 @@ if TYPE_CHECKING:  # for annotations only: at run time this module stays a leaf
     from solver.plate import PlateSolution
     from solver.solution import CaseSolution
 
-__all__ = ["ToleranceError", "GroupPivotError", "CONDITION_WARNING", "NumericalError", "condition_warnings",
-           "plate_condition_warnings", "check_finite"]
+__all__ = ["ToleranceError", "GroupPivotError", "CONDITION_WARNING", "NumericalError",
+           "condition_warnings", "plate_condition_warnings", "check_finite"]
 
 
 CONDITION_WARNING = 1e20

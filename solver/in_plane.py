@@ -33,31 +33,31 @@ def moving_lines(case: Case) -> list[str]:
 
 
 def in_plane_plates(case: Case) -> list[str]:
-    """The plates that carry in-plane waves: the members of the moving lines."""
+    """The plates that carry in-plane waves: the members of the moving lines and, through
+    their coplanar joints (which carry in-plane continuity), every plate joined to one by a
+    coplanar joint, and so on."""
     members = {plate for jid in moving_lines(case) for plate in case.joints[jid].plates}
-    return [pid for pid in case.plates if pid in members]
+    coplanar = [joint.plates for joint in case.joints.values() if joint.kind == "coplanar"]
+    while True:
+        joined = {p for plates in coplanar if members.intersection(plates) for p in plates}
+        if joined <= members:
+            return [pid for pid in case.plates if pid in members]
+        members |= joined
 
 
 def _edge_conditions(case: Case, plates: list[str]) -> dict[str, dict[str, str]]:
     """Per in-plane plate, each edge's in-plane condition: ``free`` (with the interface loads
-    as data) on a moving line, the boundary's ``in_plane`` on a supported edge, ``fixed`` on a
-    hinge or a held line (they hold their line in translation), ``free`` elsewhere.
-
-    Raises ``ValueError`` for a coplanar joint on such a plate: its in-plane continuity is not
-    modelled yet.
-    """
+    as data) on a moving line or a coplanar joint, the boundary's ``in_plane`` on a supported
+    edge, ``fixed`` on a hinge or a held line (they hold their line in translation), ``free``
+    elsewhere."""
     conditions = {pid: dict.fromkeys(EDGE_NAMES, "free") for pid in plates}
     moving = set(case.moving_lines())
     for jid, joint in case.joints.items():
         for side in joint.sides:
             if side.plate not in conditions:
                 continue
-            if joint.kind == "coplanar":
-                raise ValueError(
-                    f"joint {jid}: plate {side.plate} is a member of a moving junction line, "
-                    "and a coplanar joint does not carry in-plane continuity yet; join the two "
-                    "plates by a junction line instead (kind = \"junction\")")
-            conditions[side.plate][side.edge] = "free" if jid in moving else "fixed"
+            free = jid in moving or joint.kind == "coplanar"
+            conditions[side.plate][side.edge] = "free" if free else "fixed"
     for boundary in case.boundaries:
         side = case.edge(boundary.edge)
         if side.plate in conditions:

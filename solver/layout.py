@@ -19,6 +19,7 @@ import numpy as np
 from assembly import Case, EdgeId
 from assembly.geometry import EDGE_NAMES, edge_geometry
 from assembly.joints import Joint
+from solver.in_plane import in_plane_plates
 from solver.joint_rules import interface_function_count, legendre_values
 from solver.membrane import (
     MembraneBasis,
@@ -46,15 +47,20 @@ def _layout(case: Case, counts: Mapping[str, int]) -> tuple[dict[str, dict[str, 
     """Slices of S: per joint ``C`` and ``F`` (or ``FA``, ``FB``), per junction ``C.PLATE``
     for each member (and, on a moving line, its edge forces ``K.PLATE``, ``Nn.PLATE``,
     ``Nt.PLATE``: :math:`K_n`, :math:`N_{nn}`, :math:`N_{nt}`) and, without a rigid member,
-    ``T`` (the line's rotation, on the joint's Legendre functions); then the corner forces."""
+    ``T`` (the line's rotation, on the joint's Legendre functions); a coplanar joint between
+    plates with in-plane waves also ``Nn``, ``Nt``, the in-plane tractions on both its edges;
+    then the corner forces."""
     layout, start = {}, 0
     identify = case.updating.identify
     moving = set(case.moving_lines())
+    in_plane = set(in_plane_plates(case))
     for jid, joint in case.joints.items():
         sizes = {"C": counts[jid]}
         if joint.kind == "coplanar":
             sizes.update(dict.fromkeys(["FA", "FB"] if _has_mass_channel(joint, identify)
                                        else ["F"], counts[jid]))
+            if in_plane.issuperset(joint.plates):
+                sizes.update(dict.fromkeys(["Nn", "Nt"], counts[jid]))
         elif joint.kind == "junction":
             names = MOVING_MEMBER_LOADS if jid in moving else ("C",)
             sizes = {f"{name}.{plate}": counts[jid] for plate in joint.plates for name in names}
@@ -253,7 +259,11 @@ def membrane_loads(case: Case, problem: MembraneProblem, basis: MembraneBasis,
     loads = np.zeros((basis.n_dof, len(unknowns)), dtype=complex)
     for jid, side_index, side in sides:
         slots = layout[jid]
-        if f"Nn.{side.plate}" not in slots:
+        # a moving line's member tractions, or a coplanar joint's, the same on both its edges
+        # (their normals and tangents are opposite: N n_A = -N n_B)
+        names = {name: f"{name}.{side.plate}" if f"{name}.{side.plate}" in slots else name
+                 for name in ("Nn", "Nt")}
+        if names["Nn"] not in slots:
             continue
         edge = edge_geometry(problem.size, side.edge)
         s, weights = membrane_edge_rule(edge, basis)
@@ -262,7 +272,7 @@ def membrane_loads(case: Case, problem: MembraneProblem, basis: MembraneBasis,
         sigma = s if direction > 0 else edge.length - s
         psi = legendre_values(sigma, edge.length, counts[jid])
         for name, displacement in (("Nn", "u_n"), ("Nt", "u_t")):
-            part = slots[f"{name}.{side.plate}"]
+            part = slots[names[name]]
             columns = np.searchsorted(unknowns, np.arange(part.start, part.stop))
             loads[:, columns] += traces[displacement].conj().T @ (weights[:, None] * psi)
     return loads

@@ -251,14 +251,16 @@ def _side_powers(case: Case, system: Any, jid: str, amplitudes: Mapping[str, np.
         pairing = -(wq @ (moment * np.conj(slope)))
         if shear is not None:
             pairing += wq @ (shear * np.conj(w))
-        if f"Nn.{side.plate}" in slots:  # and its in-plane tractions N_nn, N_nt
-            membrane = system.membranes[side.plate]
+        names = [f"{name}.{side.plate}" if f"{name}.{side.plate}" in slots else name
+                 for name in ("Nn", "Nt")]
+        if names[0] in slots:  # and its in-plane tractions N_nn, N_nt (both edges' for a
+            membrane = system.membranes[side.plate]  # coplanar joint)
             traces = membrane_edge_traces(
                 membrane.basis, edge_geometry(membrane.problem.size, side.edge), arc,
                 membrane.problem.stiffness, membrane.problem.poisson_ratio)
             u = membrane_amplitudes[side.plate]
-            pairing += wq @ ((psi @ s[slots[f"Nn.{side.plate}"]]) * np.conj(traces["u_n"] @ u)
-                             + (psi @ s[slots[f"Nt.{side.plate}"]]) * np.conj(traces["u_t"] @ u))
+            pairing += wq @ ((psi @ s[slots[names[0]]]) * np.conj(traces["u_n"] @ u)
+                             + (psi @ s[slots[names[1]]]) * np.conj(traces["u_t"] @ u))
         powers.append(0.5 * system.omega * float(pairing.imag))
     return powers
 

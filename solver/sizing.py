@@ -45,8 +45,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from assembly.case import Case
-from solver.interface import GROUPED_MIN_SIZE
 from solver.in_plane import membrane_bases, membrane_problems
+from solver.interface import GROUPED_MIN_SIZE
 from solver.layout import interface_layout
 from solver.problems import plate_bases, plate_problems
 

@@ -75,8 +75,8 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 import numpy as np
-from numpy.typing import ArrayLike
 import scipy.sparse
+from numpy.typing import ArrayLike
 
 from assembly import Case
 from solver.admissibility import PlateAdmissibility, membrane_blocks, plate_admissibility

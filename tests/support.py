@@ -16,16 +16,20 @@ from pathlib import Path
 import numpy as np
 import scipy.linalg
 from exact import Section, complex_rigidity, coplanar, hinge, levy_chain
-from exact_prismatic import FoldedPlate, PrismaticLine, membrane_stiffness, prismatic_levy
+from exact_prismatic import (
+    FoldedPlate,
+    PrismaticLine,
+    membrane_stiffness,
+    prismatic_levy,
+)
 
 from assembly import parse_case
 from updating.data.measurements import Measurements, add_noise
 
-__all__ = ["ROOT", "CASES", "STEEL", "TWO_PLATES", "E", "NU", "RHO", "H", "ETA", "D", "LY", "LENGTHS", "FREQUENCY",
-           "OMEGA", "MATERIAL",
-           "grid", "chain_description", "levy_chain_experiment", "exact_measurements",
-           "exact_joint", "dense_interface", "field_difference", "mixed_chain",
-           "folded_description", "folded_reference"]
+__all__ = ["ROOT", "CASES", "STEEL", "TWO_PLATES", "E", "NU", "RHO", "H", "ETA", "D", "LY",
+           "LENGTHS", "FREQUENCY", "OMEGA", "MATERIAL", "grid", "chain_description",
+           "levy_chain_experiment", "exact_measurements", "exact_joint", "dense_interface",
+           "field_difference", "mixed_chain", "folded_description", "folded_reference"]
 
 ROOT = Path(__file__).resolve().parents[1]
 """The repository."""
@@ -207,8 +211,9 @@ FoldedPlates = Mapping[str, tuple[float, tuple[float, float, float], tuple[float
                                   float, str]]
 """``{plate: (length, origin, x_axis, thickness, right edge's condition)}``: steel plates of
 width ``ly`` along +y, placed in 3D; the left edge is on a line or simply supported."""
-FoldLines = Mapping[str, Mapping[str, tuple[str, float]]]
-"""``{joint: {plate: (edge, log10 k)}}``: junction lines, ``inf`` a rigid member."""
+FoldLines = Mapping[str, Mapping[str, tuple[str, complex]]]
+"""``{joint: {plate: (edge, log10 k)}}``: junction lines, ``inf`` a rigid member (for the
+reference, a complex log10 gives a lossy spring: ``log10(k (1 + j zeta))``)."""
 
 
 def folded_description(plates: FoldedPlates, lines: FoldLines, load: tuple[str, float, float],
@@ -257,7 +262,7 @@ def folded_reference(plates: FoldedPlates, lines: FoldLines, load: tuple[str, fl
                                 membrane_stiffness(E, h, NU, ETA), NU, RHO * h, origin, x_axis,
                                 (0.0, 1.0, 0.0), right=right)
               for name, (length, origin, x_axis, h, right) in plates.items()}
-    prismatic = [PrismaticLine({p: (edge, math.inf if math.isinf(k) else 10.0**k)
+    prismatic = [PrismaticLine({p: (edge, math.inf if k == math.inf else 10.0**k)
                                 for p, (edge, k) in members.items()}, held=held)
                  for members in lines.values()]
     return prismatic_levy(strips, prismatic, ly, 2.0 * math.pi * frequency,
