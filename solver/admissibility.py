@@ -178,11 +178,11 @@ def membrane_blocks(case: Case, problems: Mapping[str, MembraneProblem],
     r"""Every in-plane plate's :math:`T_i^m = K_i^{m\,-1}B_i^m`
     (:func:`solver.layout.membrane_loads`)."""
     sides, _ = plate_sides(case, arrangement.corner_columns)
-    blocks = {}
+    blocks, cache = {}, {}  # the traces, shared by identical plates and by both uses
     for pid, problem in problems.items():
-        matrix, _ = assemble_membrane(problem, bases[pid])
+        matrix, _ = assemble_membrane(problem, bases[pid], cache)
         solve, rcond = factorise_dense(matrix)
         loads = membrane_loads(case, problem, bases[pid], sides[pid], arrangement.counts,
-                               arrangement.slots, arrangement.unknowns[pid])
+                               arrangement.slots, arrangement.unknowns[pid], cache)
         blocks[pid] = MembraneBlock(problem, bases[pid], solve(loads), rcond)
     return blocks

@@ -206,7 +206,7 @@ def _in_plane_continuity(build: JointBuild, *sides_at: tuple[EdgeId, np.ndarray]
         membrane = plates.membranes[side.plate]
         edge = edge_geometry(membrane.problem.size, side.edge)
         traces.append(membrane_edge_traces(membrane.basis, edge, arc, membrane.problem.stiffness,
-                                           membrane.problem.poisson_ratio))
+                                           membrane.problem.poisson_ratio, build.traces_cache))
     (side_a, _), (side_b, _) = sides_at
     return [Block.union(plates.affine_membrane_operator(side_a.plate, traces[0][key]),
                         plates.affine_membrane_operator(side_b.plate, traces[1][key]))
@@ -319,7 +319,7 @@ def _moving_line_rows(build: JointBuild, jid: str, group: int, sigma: np.ndarray
         membrane = plates.membranes[side.plate]
         edge = edge_geometry(membrane.problem.size, side.edge)
         traces = membrane_edge_traces(membrane.basis, edge, arc, membrane.problem.stiffness,
-                                      membrane.problem.poisson_ratio)
+                                      membrane.problem.poisson_ratio, build.traces_cache)
         u_n = plates.affine_membrane_operator(side.plate, traces["u_n"])
         u_t = plates.affine_membrane_operator(side.plate, traces["u_t"])
         displacements.append([Block.union(u_n.scaled(normal[c]), u_t.scaled(tangent[c]),

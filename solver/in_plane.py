@@ -92,7 +92,7 @@ def membrane_bases(case: Case, problems: Mapping[str, MembraneProblem],
     wavenumber :math:`\kappa_0` (the bending waves of the members load the line) and the
     description's ``edge_wavenumber_ratio`` :math:`\tau`, counts by the resolution rule."""
     settings = case.discretisation
-    bases = {}
+    bases, shared = {}, {}  # identical plates share one basis, and through it their traces
     for pid, problem in problems.items():
         k_long, k_shear = problem.wavenumbers
         radius = 0.5 * math.hypot(*problem.size)
@@ -100,6 +100,9 @@ def membrane_bases(case: Case, problems: Mapping[str, MembraneProblem],
                                                          5.0 / radius)
         counts = membrane_ray_counts(problem.size, k_shear.real, beta_max,
                                      plate_resolution(case, pid, resolution))
-        bases[pid] = build_membrane_basis(problem.size, k_long, k_shear, counts, beta_max,
-                                          settings.quadrature_per_sector)
+        key = (problem.size, k_long, k_shear, counts, beta_max)
+        if key not in shared:
+            shared[key] = build_membrane_basis(problem.size, k_long, k_shear, counts, beta_max,
+                                               settings.quadrature_per_sector)
+        bases[pid] = shared[key]
     return bases

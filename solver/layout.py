@@ -249,8 +249,8 @@ def plate_loads(case: Case, boundary: PlateBoundary, sides: Sequence[JointSide],
 
 def membrane_loads(case: Case, problem: MembraneProblem, basis: MembraneBasis,
                    sides: Sequence[JointSide], counts: Mapping[str, int],
-                   layout: Mapping[str, Mapping[str, slice]], unknowns: np.ndarray
-                   ) -> np.ndarray:
+                   layout: Mapping[str, Mapping[str, slice]], unknowns: np.ndarray,
+                   cache: dict | None = None) -> np.ndarray:
     r""":math:`B_i^m`: the membrane VTCR right-hand sides of an in-plane plate per unit
     interface unknown, over the interface unknowns ``unknowns`` it sees: on each of its
     moving-line edges the static data :math:`N_{nn} = \sum_m(N_n)_m\psi_m` and
@@ -267,7 +267,8 @@ def membrane_loads(case: Case, problem: MembraneProblem, basis: MembraneBasis,
             continue
         edge = edge_geometry(problem.size, side.edge)
         s, weights = membrane_edge_rule(edge, basis)
-        traces = membrane_edge_traces(basis, edge, s, problem.stiffness, problem.poisson_ratio)
+        traces = membrane_edge_traces(basis, edge, s, problem.stiffness, problem.poisson_ratio,
+                                      cache)
         direction = case.member_directions(jid)[side_index]
         sigma = s if direction > 0 else edge.length - s
         psi = legendre_values(sigma, edge.length, counts[jid])

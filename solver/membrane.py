@@ -267,9 +267,11 @@ class MembraneProblem:
 
 
 def membrane_edge_traces(basis: MembraneBasis, edge: EdgeGeometry, s: np.ndarray,
-                         stiffness: complex, poisson_ratio: float) -> dict[str, np.ndarray]:
+                         stiffness: complex, poisson_ratio: float,
+                         cache: dict | None = None) -> dict[str, np.ndarray]:
     r"""Traces of the shape functions at the arc lengths ``s`` of ``edge``: ``u_n``, ``u_t``,
-    ``N_nn``, ``N_nt``, each (len(s), n_dof).
+    ``N_nn``, ``N_nt``, each (len(s), n_dof). ``cache`` (a dict, optional) keeps them by basis
+    object, material, edge and points: identical plates sharing one basis compute them once.
 
     For a node :math:`\mathbf d\,e^{\mathbf k\cdot\mathbf x}`, with :math:`d_n, d_t, k_n, k_t`
     the components on :math:`\mathbf n, \mathbf t`:
@@ -279,6 +281,9 @@ def membrane_edge_traces(basis: MembraneBasis, edge: EdgeGeometry, s: np.ndarray
         N_{nn} = A^*\big[(1-\nu)d_nk_n + \nu\,\mathbf d\cdot\mathbf k\big],\quad
         N_{nt} = A^*\tfrac{1-\nu}{2}(d_tk_n + d_nk_t).
     """
+    key = ("membrane", id(basis), stiffness, poisson_ratio, edge.name, np.asarray(s).tobytes())
+    if cache is not None and key in cache:
+        return cache[key]
     points = edge.start + s[:, None] * edge.tangent
     nodal = _node_values(basis, points)
     d, k = basis.polarisation, basis.k
@@ -287,8 +292,10 @@ def membrane_edge_traces(basis: MembraneBasis, edge: EdgeGeometry, s: np.ndarray
     factors = np.stack([d_n, d_t,
                         stiffness * ((1.0 - nu) * d_n * k_n + nu * np.sum(d * k, axis=1)),
                         0.5 * stiffness * (1.0 - nu) * (d_t * k_n + d_n * k_t)])
-    traces = basis.sector_means(nodal, factors)
-    return dict(zip(("u_n", "u_t", "N_nn", "N_nt"), traces))
+    traces = dict(zip(("u_n", "u_t", "N_nn", "N_nt"), basis.sector_means(nodal, factors)))
+    if cache is not None:
+        cache[key] = traces
+    return traces
 
 
 def membrane_edge_rule(edge: EdgeGeometry, basis: MembraneBasis) -> tuple[np.ndarray, np.ndarray]:
@@ -300,8 +307,8 @@ def membrane_edge_rule(edge: EdgeGeometry, basis: MembraneBasis) -> tuple[np.nda
     return 0.5 * edge.length * (x + 1.0), 0.5 * edge.length * w
 
 
-def assemble_membrane(problem: MembraneProblem,
-                      basis: MembraneBasis) -> tuple[np.ndarray, np.ndarray]:
+def assemble_membrane(problem: MembraneProblem, basis: MembraneBasis,
+                      cache: dict | None = None) -> tuple[np.ndarray, np.ndarray]:
     r""":math:`K` and :math:`F` of the membrane VTCR form (``docs/method.md`` section 10.2):
 
     .. math::
@@ -310,12 +317,13 @@ def assemble_membrane(problem: MembraneProblem,
         - \sum_{\alpha\ \mathrm{kin.}}\int\overline{N_\alpha(\delta\mathbf u)}
             (u_\alpha(\mathbf u) - u_{\alpha,d})\,ds = 0,
 
-    :math:`\alpha\in\{n, t\}` on each edge.
+    :math:`\alpha\in\{n, t\}` on each edge (``cache``: :func:`membrane_edge_traces`').
     """
     rows_test, rows_trial, rows_data = [], [], []
     for edge in plate_edges(problem.size):
         s, w = membrane_edge_rule(edge, basis)
-        traces = membrane_edge_traces(basis, edge, s, problem.stiffness, problem.poisson_ratio)
+        traces = membrane_edge_traces(basis, edge, s, problem.stiffness, problem.poisson_ratio,
+                                      cache)
         condition = problem.condition(edge.name)
         for component, kind in zip(COMPONENTS, IN_PLANE_CONDITIONS[condition.condition]):
             displacement, resultant = f"u_{component}", f"N_n{component}"
