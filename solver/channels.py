@@ -208,9 +208,9 @@ def _in_plane_continuity(build: JointBuild, *sides_at: tuple[EdgeId, np.ndarray]
         traces.append(membrane_edge_traces(membrane.basis, edge, arc, membrane.problem.stiffness,
                                            membrane.problem.poisson_ratio, build.traces_cache))
     (side_a, _), (side_b, _) = sides_at
-    return [Block.union(plates.affine_membrane_operator(side_a.plate, traces[0][key]),
-                        plates.affine_membrane_operator(side_b.plate, traces[1][key]))
-            .projected(weighted).constraint(group) for key in ("u_n", "u_t")]
+    return [Block.union(plates.affine_membrane_operator(side_a.plate, weighted @ traces[0][key]),
+                        plates.affine_membrane_operator(side_b.plate, weighted @ traces[1][key]))
+            .constraint(group) for key in ("u_n", "u_t")]
 
 
 def junction_line(build: JointBuild, jid: str, group: int) -> tuple[list[Block], list[Channel]]:
@@ -304,7 +304,9 @@ def _moving_line_rows(build: JointBuild, jid: str, group: int, sigma: np.ndarray
     + w\,\mathbf e_{z,i}` the member edge's displacement (:func:`member_axes`); and the forces
     the line exerts on its members balance,
     :math:`\sum_i(N_{nn}\mathbf n_i + N_{nt}\mathbf t_i + K_n\mathbf e_{z,i}) = 0` per
-    Legendre coefficient (a massless line). Three rows per function and equation."""
+    Legendre coefficient (a massless line). Three rows per function and equation. The traces
+    are taken on the moments :math:`\psi^TW` before the transfer operators multiply them, as
+    in :func:`two_plate_joint`."""
     case, plates = build.case, build.plates
     joint = case.joints[jid]
     length = case.edge_length(joint.sides[0])
@@ -315,20 +317,20 @@ def _moving_line_rows(build: JointBuild, jid: str, group: int, sigma: np.ndarray
         normal, tangent, plate_normal = member_axes(case, side)
         rays, part = edge_values(plates.problems[side.plate], plates.bases[side.plate],
                                  side.edge, arc, build.traces_cache)
-        w = plates.affine_plate_operator(side.plate, rays["w"], part["w"])
+        w = plates.affine_plate_operator(side.plate, weighted @ rays["w"], weighted @ part["w"])
         membrane = plates.membranes[side.plate]
         edge = edge_geometry(membrane.problem.size, side.edge)
         traces = membrane_edge_traces(membrane.basis, edge, arc, membrane.problem.stiffness,
                                       membrane.problem.poisson_ratio, build.traces_cache)
-        u_n = plates.affine_membrane_operator(side.plate, traces["u_n"])
-        u_t = plates.affine_membrane_operator(side.plate, traces["u_t"])
+        u_n = plates.affine_membrane_operator(side.plate, weighted @ traces["u_n"])
+        u_t = plates.affine_membrane_operator(side.plate, weighted @ traces["u_t"])
         displacements.append([Block.union(u_n.scaled(normal[c]), u_t.scaled(tangent[c]),
                                           w.scaled(plate_normal[c])) for c in range(3)])
         for c in range(3):
             forces[c].update({f"Nn.{side.plate}": normal[c], f"Nt.{side.plate}": tangent[c],
                               f"K.{side.plate}": plate_normal[c]})
-    rows = [Block.union(member[c], displacements[0][c].scaled(-1.0)).projected(weighted)
-            .constraint(group) for member in displacements[1:] for c in range(3)]
+    rows = [Block.union(member[c], displacements[0][c].scaled(-1.0)).constraint(group)
+            for member in displacements[1:] for c in range(3)]
     return rows + [_balance(slots, forces[c], group) for c in range(3)]
 
 
