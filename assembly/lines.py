@@ -27,21 +27,20 @@ import numpy as np
 
 from .geometry import EDGE_NAMES
 from .joints import JunctionJoint
+from .models import FRAME_TOLERANCE
 from .types import EdgeId
 
-__all__ = ["members_coplanar", "unheld_ends", "moving_lines", "COPLANAR_TOLERANCE"]
-
-COPLANAR_TOLERANCE = 1e-6
-"""Largest :math:`|\\mathbf e_{z,i}\\times\\mathbf e_{z,1}|` of members called coplanar."""
+__all__ = ["members_coplanar", "unheld_ends", "moving_lines"]
 
 
 def members_coplanar(joint: JunctionJoint, plates: Mapping[str, Any]) -> bool:
-    """Whether a junction's member plates lie in one plane (or have no frames: a flat layout)."""
+    """Whether a junction's member plates lie in one plane (or have no frames: a flat layout):
+    their normals parallel to the frames' own tolerance, :data:`assembly.models.FRAME_TOLERANCE`."""
     frames = [getattr(plates.get(p), "frame", None) for p in joint.plates]
     if any(frame is None for frame in frames):
         return True
     first = frames[0].normal
-    return all(np.linalg.norm(np.cross(first, f.normal)) < COPLANAR_TOLERANCE
+    return all(np.linalg.norm(np.cross(first, f.normal)) < FRAME_TOLERANCE
                for f in frames[1:])
 
 
@@ -86,14 +85,14 @@ def moving_lines(joints: Mapping[str, Any], plates: Mapping[str, Any],
                 for side, jid in line_of.items()}
 
     while True:
+        held_by = holding(undecided | moving)
         free_ends = {jid for jid in undecided
                      if any(line_of.get(edge) not in undecided
-                            for edge in unheld_ends(junctions[jid], conditions,
-                                                    holding(undecided | moving)))}
+                            for edge in unheld_ends(junctions[jid], conditions, held_by))}
         if not free_ends:
             break
         undecided -= free_ends
-    meeting = {jid for jid in undecided
-               if unheld_ends(junctions[jid], conditions, holding(undecided | moving))}
+    held_by = holding(undecided | moving)
+    meeting = {jid for jid in undecided if unheld_ends(junctions[jid], conditions, held_by)}
     moving |= undecided - meeting
     return tuple(jid for jid in joints if jid in moving)

@@ -143,9 +143,8 @@ def _edge_cell(key: EdgeId, joined: dict[EdgeId, str], conditions: dict[EdgeId, 
     if key in joined:
         return joined[key]
     cell = conditions[key].replace("_", " ")
-    if with_in_plane:
-        default = "free" if conditions[key] == "free" else "fixed"
-        cell += f", in-plane {in_plane.get(key, default)}"
+    if with_in_plane:  # an edge without a boundary is free, in-plane too
+        cell += f", in-plane {in_plane.get(key, 'free')}"
     return cell
 
 

@@ -24,19 +24,14 @@ from solver.membrane import (
 from solver.plate import PlateProblem
 from solver.problems import plate_resolution
 
-__all__ = ["moving_lines", "in_plane_plates", "membrane_problems", "membrane_bases"]
-
-
-def moving_lines(case: Case) -> list[str]:
-    """The junction lines that move (:meth:`assembly.Case.moving_lines`)."""
-    return list(case.moving_lines())
+__all__ = ["in_plane_plates", "membrane_problems", "membrane_bases"]
 
 
 def in_plane_plates(case: Case) -> list[str]:
     """The plates that carry in-plane waves: the members of the moving lines and, through
     their coplanar joints (which carry in-plane continuity), every plate joined to one by a
     coplanar joint, and so on."""
-    members = {plate for jid in moving_lines(case) for plate in case.joints[jid].plates}
+    members = {plate for jid in case.moving_lines() for plate in case.joints[jid].plates}
     coplanar = [joint.plates for joint in case.joints.values() if joint.kind == "coplanar"]
     while True:
         joined = {p for plates in coplanar if members.intersection(plates) for p in plates}

@@ -31,7 +31,7 @@ from solver.plate import PlateBoundary, PlateProblem, edge_projection
 from solver.problems import plate_resolution
 
 __all__ = ["InterfaceLayout", "interface_layout", "plate_loads", "membrane_loads", "plate_sides",
-           "rigid_members", "KINEMATIC_DEFLECTION", "MOVING_MEMBER_LOADS"]
+           "rigid_members", "traction_slots", "KINEMATIC_DEFLECTION", "MOVING_MEMBER_LOADS"]
 
 Corner = tuple[str, int]
 """A plate corner: the plate and the corner's index (:data:`solver.rays.EDGE_NAMES` order)."""
@@ -43,7 +43,8 @@ def _has_mass_channel(joint: Joint, identify: Collection[str]) -> bool:
     return joint.kind == "coplanar" and (joint.mass > 0.0 or "mass" in identify)
 
 
-def _layout(case: Case, counts: Mapping[str, int]) -> tuple[dict[str, dict[str, slice]], int]:
+def _layout(case: Case, counts: Mapping[str, int],
+            moving: Collection[str]) -> tuple[dict[str, dict[str, slice]], int]:
     """Slices of S: per joint ``C`` and ``F`` (or ``FA``, ``FB``), per junction ``C.PLATE``
     for each member (and, on a moving line, its edge forces ``K.PLATE``, ``Nn.PLATE``,
     ``Nt.PLATE``: :math:`K_n`, :math:`N_{nn}`, :math:`N_{nt}`) and, without a rigid member,
@@ -52,7 +53,6 @@ def _layout(case: Case, counts: Mapping[str, int]) -> tuple[dict[str, dict[str, 
     then the corner forces."""
     layout, start = {}, 0
     identify = case.updating.identify
-    moving = set(case.moving_lines())
     in_plane = set(in_plane_plates(case))
     for jid, joint in case.joints.items():
         sizes = {"C": counts[jid]}
@@ -176,7 +176,7 @@ def interface_layout(case: Case, problems: Mapping[str, PlateProblem],
                        or interface_function_count(max(kappas), length, joint_scale,
                                                    case.discretisation.edge_wavenumber_ratio,
                                                    min(kappas) if jid in moving else None))
-    layout, n_s = _layout(case, counts)
+    layout, n_s = _layout(case, counts, moving)
     junctions = _junctions(case, problems)
     corner_columns = {}
     for flags in junctions:
@@ -192,6 +192,18 @@ MOVING_MEMBER_LOADS = ("C", "K", "Nn", "Nt")
 """The load functions of a member of a moving line: the moment :math:`C_i` (``M_n = s_iC_i``),
 the Kirchhoff shear :math:`K_n`, and the in-plane tractions :math:`N_{nn}`, :math:`N_{nt}` that
 the line exerts on the member (``docs/method.md`` section 10.4)."""
+
+def traction_slots(slots: Mapping[str, slice], plate: str) -> tuple[str, str] | None:
+    r"""The slots of the in-plane tractions :math:`N_{nn}`, :math:`N_{nt}` on ``plate``'s edge of
+    a joint (``slots``: the joint's): its own on a moving line (``Nn.PLATE``, ``Nt.PLATE``), the
+    joint's on a coplanar joint, the same on both its edges (their normals and tangents are
+    opposite: :math:`\mathbf N\mathbf n_A = -\mathbf N\mathbf n_B`); None without in-plane
+    tractions."""
+    for names in ((f"Nn.{plate}", f"Nt.{plate}"), ("Nn", "Nt")):
+        if names[0] in slots:
+            return names
+    return None
+
 
 JointSide = tuple[str, int, EdgeId]
 """A plate's edge on a joint: the joint, the side's index in it and the edge."""
@@ -259,11 +271,8 @@ def membrane_loads(case: Case, problem: MembraneProblem, basis: MembraneBasis,
     loads = np.zeros((basis.n_dof, len(unknowns)), dtype=complex)
     for jid, side_index, side in sides:
         slots = layout[jid]
-        # a moving line's member tractions, or a coplanar joint's, the same on both its edges
-        # (their normals and tangents are opposite: N n_A = -N n_B)
-        names = {name: f"{name}.{side.plate}" if f"{name}.{side.plate}" in slots else name
-                 for name in ("Nn", "Nt")}
-        if names["Nn"] not in slots:
+        names = traction_slots(slots, side.plate)
+        if names is None:
             continue
         edge = edge_geometry(problem.size, side.edge)
         s, weights = membrane_edge_rule(edge, basis)
@@ -272,8 +281,8 @@ def membrane_loads(case: Case, problem: MembraneProblem, basis: MembraneBasis,
         direction = case.member_directions(jid)[side_index]
         sigma = s if direction > 0 else edge.length - s
         psi = legendre_values(sigma, edge.length, counts[jid])
-        for name, displacement in (("Nn", "u_n"), ("Nt", "u_t")):
-            part = slots[names[name]]
+        for name, displacement in zip(names, ("u_n", "u_t")):
+            part = slots[name]
             columns = np.searchsorted(unknowns, np.arange(part.start, part.stop))
             loads[:, columns] += traces[displacement].conj().T @ (weights[:, None] * psi)
     return loads

@@ -54,6 +54,7 @@ from assembly.case import Case
 from assembly.geometry import EdgeGeometry, edge_geometry, plate_edges
 from solver.joint_rules import joint_gauss, joint_parameters, legendre_values
 from solver.kirchhoff import wave_edge_factors
+from solver.layout import traction_slots
 from solver.membrane import membrane_dissipated_power, membrane_edge_traces
 from solver.plate import (
     PlateProblem,
@@ -251,10 +252,9 @@ def _side_powers(case: Case, system: Any, jid: str, amplitudes: Mapping[str, np.
         pairing = -(wq @ (moment * np.conj(slope)))
         if shear is not None:
             pairing += wq @ (shear * np.conj(w))
-        names = [f"{name}.{side.plate}" if f"{name}.{side.plate}" in slots else name
-                 for name in ("Nn", "Nt")]
-        if names[0] in slots:  # and its in-plane tractions N_nn, N_nt (both edges' for a
-            membrane = system.membranes[side.plate]  # coplanar joint)
+        names = traction_slots(slots, side.plate)
+        if names is not None:  # and its in-plane tractions N_nn, N_nt
+            membrane = system.membranes[side.plate]
             traces = membrane_edge_traces(
                 membrane.basis, edge_geometry(membrane.problem.size, side.edge), arc,
                 membrane.problem.stiffness, membrane.problem.poisson_ratio)
