@@ -39,13 +39,14 @@ solution's (4,)."""
 @dataclass(frozen=True)
 class MembraneBlock:
     """One plate's in-plane field: its problem, basis, transfer operator :math:`T_i^m` (membrane
-    amplitudes per unit interface unknown of the plate) and the reciprocal condition estimate
-    of its VTCR matrix."""
+    amplitudes per unit interface unknown of ``unknowns``, those that load it) and the
+    reciprocal condition estimate of its VTCR matrix."""
 
     problem: MembraneProblem
     basis: MembraneBasis
     transfer: np.ndarray
     rcond: float
+    unknowns: np.ndarray
 
 
 @dataclass
@@ -59,7 +60,7 @@ class PlateAdmissibility:
         Hz.
     problems, bases : dict of str to PlateProblem / RayBasis
     unknowns : dict of str to ndarray of int
-        Per plate, the (sorted) interface unknowns it sees.
+        Per plate, the (sorted) interface unknowns that load its bending field.
     u0 : dict of str to ndarray, shape (n_i,)
         Plate amplitudes for ``S = 0``.
     transfer : dict of str to ndarray, shape (n_i, len(unknowns[plate]))
@@ -97,13 +98,14 @@ class PlateAdmissibility:
 
     def membrane_amplitudes(self, s: np.ndarray) -> dict[str, np.ndarray]:
         """Membrane amplitudes of every in-plane plate for interface unknowns ``s``."""
-        return {pid: block.transfer @ s[self.unknowns[pid]]
-                for pid, block in self.membranes.items()}
+        return {pid: block.transfer @ s[block.unknowns] for pid, block in self.membranes.items()}
 
     def affine_membrane_operator(self, plate_id: str, values: np.ndarray) -> Block:
-        r"""A membrane quantity :math:`XU_i^m` as a :class:`Block` over the plate's unknowns
-        (no in-plane load acts inside a plate, so :math:`U_i^m = T_i^mS`)."""
-        return Block(self.unknowns[plate_id], values @ self.membranes[plate_id].transfer,
+        r"""A membrane quantity :math:`XU_i^m` as a :class:`Block` over the unknowns that load
+        the plate's in-plane field (no in-plane load acts inside a plate, so
+        :math:`U_i^m = T_i^mS`)."""
+        block = self.membranes[plate_id]
+        return Block(block.unknowns, values @ block.transfer,
                      np.zeros(len(values), dtype=complex))
 
     def affine_plate_operator(self, plate_id: str, values: np.ndarray,
@@ -182,7 +184,8 @@ def membrane_blocks(case: Case, problems: Mapping[str, MembraneProblem],
     for pid, problem in problems.items():
         matrix, _ = assemble_membrane(problem, bases[pid], cache)
         solve, rcond = factorise_dense(matrix)
+        unknowns = arrangement.membrane_unknowns[pid]
         loads = membrane_loads(case, problem, bases[pid], sides[pid], arrangement.counts,
-                               arrangement.slots, arrangement.unknowns[pid], cache)
-        blocks[pid] = MembraneBlock(problem, bases[pid], solve(loads), rcond)
+                               arrangement.slots, unknowns, cache)
+        blocks[pid] = MembraneBlock(problem, bases[pid], solve(loads), rcond, unknowns)
     return blocks

@@ -26,7 +26,7 @@ from assembly.geometry import edge_geometry
 from solver.admissibility import CornerDeflections, PlateAdmissibility
 from solver.interface import Block, residual_weight, squared_norm
 from solver.joint_rules import joint_gauss, legendre_values, load_function_projection
-from solver.layout import InterfaceLayout, rigid_members
+from solver.layout import InterfaceLayout, LoadTerms, member_axes, member_load, rigid_members
 from solver.membrane import membrane_edge_traces
 from solver.plate import edge_values
 
@@ -121,6 +121,8 @@ class JointBuild:
     traces_cache : dict
         The rays' joint traces, shared by plates with one basis
         (:func:`solver.plate.edge_values`).
+    moving : frozenset of str
+        The moving lines (:meth:`assembly.Case.moving_lines`).
     """
 
     case: Case
@@ -128,6 +130,7 @@ class JointBuild:
     counts: Mapping[str, int]
     k_max: Mapping[str, float]
     traces_cache: dict
+    moving: frozenset[str]
 
 
 def _plate_stiffness(plates: PlateAdmissibility, members: Sequence[str]) -> tuple[float, float]:
@@ -255,21 +258,30 @@ def junction_line(build: JointBuild, jid: str, group: int) -> tuple[list[Block],
     for plate in rigid[1:]:
         gap = Block.union(rotation[plate], line.scaled(-1.0)).projected(weighted)
         rows.append(gap.constraint(group))
-    rows.append(_balance(slots, {(f"C.{p}"): 1.0 for p in joint.plates}, group))
-    if f"K.{joint.plates[0]}" in slots:  # a moving line (solver.layout)
+    if jid in build.moving:  # its balances hold by construction (solver.layout.member_load)
         rows += _moving_line_rows(build, jid, group, sigma, weighted)
+    else:
+        rows.append(_balance(slots, {(f"C.{p}"): 1.0 for p in joint.plates}, group))
     stiffness, kappa0 = _plate_stiffness(plates, joint.plates)
     channels = []
     on_functions = load_function_projection(root_w, psi)
     for plate in joint.finite_members():
-        moment = slots[f"C.{plate}"]
-        load = Block(np.arange(moment.start, moment.stop), on_functions @ psi,
-                     np.zeros(len(on_functions), dtype=complex))
+        load = _load_block(member_load(case, jid, slots, plate, "C"), on_functions @ psi)
         kinematic = Block.union(line, rotation[plate].scaled(-1.0)).projected(on_functions)
         channels.append(Channel(jid, "rotation", load, kinematic,
                                 2.0 * RIGID_CROSSOVER * stiffness * kappa0, member=plate,
                                 group=group))
     return rows, channels
+
+
+def _load_block(terms: LoadTerms, samples: np.ndarray) -> Block:
+    r"""A load function :math:`\sum c\,S_{slot}` (``terms``, :func:`solver.layout.member_load`)
+    sampled by ``samples`` (the samples of each Legendre function, by columns), as a Block."""
+    columns = np.concatenate([np.arange(part.start, part.stop) for part, _ in terms])
+    matrix = np.hstack([coefficient * samples for _, coefficient in terms])
+    order = np.argsort(columns)
+    return Block(columns[order], matrix[:, order].astype(complex),
+                 np.zeros(len(samples), dtype=complex))
 
 
 def _balance(slots: Mapping[str, slice], coefficients: Mapping[str, float],
@@ -284,34 +296,23 @@ def _balance(slots: Mapping[str, slice], coefficients: Mapping[str, float],
     return Block(columns[order], matrix[:, order], np.zeros(n_f, dtype=complex), group)
 
 
-def member_axes(case: Case, side: EdgeId) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    r"""In 3D, a member edge's outward in-plane normal :math:`\mathbf n_i`, its tangent
-    :math:`\mathbf t_i` and its plate's normal :math:`\mathbf e_{z,i}` (the frame of
-    :math:`(u_n, u_t, w)` and of :math:`(N_{nn}, N_{nt}, K_n)`)."""
-    plate = case.plates[side.plate]
-    edge = edge_geometry(tuple(plate.size), side.edge)
-    x_axis, y_axis = (np.asarray(a, float) for a in (plate.frame.x_axis, plate.frame.y_axis))
-    x_axis, y_axis = x_axis / np.linalg.norm(x_axis), y_axis / np.linalg.norm(y_axis)
-    return (edge.normal[0] * x_axis + edge.normal[1] * y_axis,
-            edge.tangent[0] * x_axis + edge.tangent[1] * y_axis, np.cross(x_axis, y_axis))
-
-
 def _moving_line_rows(build: JointBuild, jid: str, group: int, sigma: np.ndarray,
                       weighted: np.ndarray) -> list[Block]:
     r"""The reliable equations of a moving line (``docs/method.md`` section 10.4): its
     translation is one body's, :math:`\int(\mathbf X_i - \mathbf X_1)\psi_m\,d\sigma = 0`
     for every member :math:`i > 1`, with :math:`\mathbf X_i = u_n\mathbf n_i + u_t\mathbf t_i
-    + w\,\mathbf e_{z,i}` the member edge's displacement (:func:`member_axes`); and the forces
-    the line exerts on its members balance,
+    + w\,\mathbf e_{z,i}` the member edge's displacement
+    (:func:`solver.layout.member_axes`), three rows per function and member. The balances of
+    the massless line, :math:`\sum_iC_i = 0` and
     :math:`\sum_i(N_{nn}\mathbf n_i + N_{nt}\mathbf t_i + K_n\mathbf e_{z,i}) = 0` per
-    Legendre coefficient (a massless line). Three rows per function and equation. The traces
-    are taken on the moments :math:`\psi^TW` before the transfer operators multiply them, as
-    in :func:`two_plate_joint`."""
+    Legendre coefficient, need no rows: the balancing member's loads are the others'
+    (:func:`solver.layout.member_load`). The traces are taken on the moments
+    :math:`\psi^TW` before the transfer operators multiply them, as in
+    :func:`two_plate_joint`."""
     case, plates = build.case, build.plates
     joint = case.joints[jid]
     length = case.edge_length(joint.sides[0])
-    slots = plates.layout[jid]
-    displacements, forces = [], {c: {} for c in range(3)}
+    displacements = []
     for side, direction in zip(joint.sides, case.member_directions(jid)):
         arc = sigma if direction > 0 else length - sigma
         normal, tangent, plate_normal = member_axes(case, side)
@@ -326,12 +327,8 @@ def _moving_line_rows(build: JointBuild, jid: str, group: int, sigma: np.ndarray
         u_t = plates.affine_membrane_operator(side.plate, weighted @ traces["u_t"])
         displacements.append([Block.union(u_n.scaled(normal[c]), u_t.scaled(tangent[c]),
                                           w.scaled(plate_normal[c])) for c in range(3)])
-        for c in range(3):
-            forces[c].update({f"Nn.{side.plate}": normal[c], f"Nt.{side.plate}": tangent[c],
-                              f"K.{side.plate}": plate_normal[c]})
-    rows = [Block.union(member[c], displacements[0][c].scaled(-1.0)).constraint(group)
+    return [Block.union(member[c], displacements[0][c].scaled(-1.0)).constraint(group)
             for member in displacements[1:] for c in range(3)]
-    return rows + [_balance(slots, forces[c], group) for c in range(3)]
 
 
 def junction_corner_rows(plates: PlateAdmissibility,

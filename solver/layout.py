@@ -31,7 +31,9 @@ from solver.plate import PlateBoundary, PlateProblem, edge_projection
 from solver.problems import plate_resolution
 
 __all__ = ["InterfaceLayout", "interface_layout", "plate_loads", "membrane_loads", "plate_sides",
-           "rigid_members", "traction_slots", "KINEMATIC_DEFLECTION", "MOVING_MEMBER_LOADS"]
+           "rigid_members", "balancing_member", "member_axes", "member_load", "traction_loads",
+           "load_values", "LoadTerms", "FORCE_COMPONENTS", "KINEMATIC_DEFLECTION",
+           "MOVING_MEMBER_LOADS"]
 
 Corner = tuple[str, int]
 """A plate corner: the plate and the corner's index (:data:`solver.rays.EDGE_NAMES` order)."""
@@ -47,7 +49,8 @@ def _layout(case: Case, counts: Mapping[str, int],
             moving: Collection[str]) -> tuple[dict[str, dict[str, slice]], int]:
     """Slices of S: per joint ``C`` and ``F`` (or ``FA``, ``FB``), per junction ``C.PLATE``
     for each member (and, on a moving line, its edge forces ``K.PLATE``, ``Nn.PLATE``,
-    ``Nt.PLATE``: :math:`K_n`, :math:`N_{nn}`, :math:`N_{nt}`) and, without a rigid member,
+    ``Nt.PLATE``: :math:`K_n`, :math:`N_{nn}`, :math:`N_{nt}`; not for its balancing member,
+    whose loads its balances give: :func:`member_load`) and, without a rigid member,
     ``T`` (the line's rotation, on the joint's Legendre functions); a coplanar joint between
     plates with in-plane waves also ``Nn``, ``Nt``, the in-plane tractions on both its edges;
     then the corner forces."""
@@ -63,7 +66,9 @@ def _layout(case: Case, counts: Mapping[str, int],
                 sizes.update(dict.fromkeys(["Nn", "Nt"], counts[jid]))
         elif joint.kind == "junction":
             names = MOVING_MEMBER_LOADS if jid in moving else ("C",)
-            sizes = {f"{name}.{plate}": counts[jid] for plate in joint.plates for name in names}
+            # a moving line's balances fix one member's loads (member_load)
+            kept = [p for p in joint.plates if jid not in moving or p != balancing_member(joint)]
+            sizes = {f"{name}.{plate}": counts[jid] for plate in kept for name in names}
             if not rigid_members(joint):
                 sizes["T"] = counts[jid]
         layout[jid] = {}
@@ -117,18 +122,45 @@ def _junctions(case: Case, problems: Mapping[str, PlateProblem]) -> list[list[tu
     return junctions
 
 
+def _loading_slots(case: Case, jid: str, slots: Mapping[str, slice],
+                   plate: str) -> tuple[list[slice], list[slice]]:
+    """The slots of a joint that load ``plate``'s edge: those of its bending field (a junction
+    member's moment and Kirchhoff shear, :func:`member_load`; every load of a two-plate joint
+    but its in-plane tractions) and those of its in-plane field (:func:`traction_loads`)."""
+    tractions = [part for terms in traction_loads(case, jid, slots, plate) or ()
+                 for part, _ in terms]
+    if case.joints[jid].kind == "junction":
+        bending = [part for name in ("C", "K")
+                   for part, _ in member_load(case, jid, slots, plate, name)]
+    else:
+        bending = [part for part in slots.values() if part not in tractions]
+    return bending, tractions
+
+
 def _plate_unknowns(case: Case, layout: Mapping[str, Mapping[str, slice]],
-                    corner_columns: Mapping[Corner, int]) -> dict[str, np.ndarray]:
-    """Per plate, the sorted interface unknowns of its joints and of its junction corners."""
-    seen = {pid: [] for pid in case.plates}
+                    corner_columns: Mapping[Corner, int]
+                    ) -> tuple[dict[str, np.ndarray], dict[str, np.ndarray]]:
+    """Per plate, the sorted interface unknowns that load its bending field (its joints' loads
+    on its edges and its junction corners' forces), and those that load its in-plane field.
+
+    A plate's transfer operators have one column per unknown it sees, and every product
+    with them (each channel's and constraint's rows) as many: a member of a three-plate
+    moving line sees 4 of the line's 12 load functions, two in bending and two in plane."""
+    bending = {pid: [] for pid in case.plates}
+    in_plane = {pid: [] for pid in case.plates}
     for jid, joint in case.joints.items():
-        columns = np.concatenate([np.arange(sl.start, sl.stop) for sl in layout[jid].values()])
         for side in joint.sides:
-            seen[side.plate].append(columns)
+            for seen, parts in zip((bending, in_plane),
+                                   _loading_slots(case, jid, layout[jid], side.plate)):
+                seen[side.plate] += [np.arange(part.start, part.stop) for part in parts]
     for (pid, _), column in corner_columns.items():
-        seen[pid].append(np.array([column]))
-    return {pid: np.unique(np.concatenate(cols)) if cols else np.zeros(0, dtype=int)
-            for pid, cols in seen.items()}
+        bending[pid].append(np.array([column]))
+
+    def sorted_unique(columns: list[np.ndarray]) -> np.ndarray:
+        return np.unique(np.concatenate(columns)) if columns else np.zeros(0, dtype=int)
+
+    return ({pid: sorted_unique(cols) for pid, cols in bending.items()},
+            {pid: sorted_unique(cols) for pid, cols in in_plane.items() if cols})
 
 
 @dataclass(frozen=True)
@@ -147,7 +179,10 @@ class InterfaceLayout:
         Position in S of the unknown corner force of each static junction corner.
     n_s : int
     unknowns : dict of str to ndarray of int
-        Per plate, the interface unknowns it sees.
+        Per plate, the interface unknowns that load its bending field.
+    membrane_unknowns : dict of str to ndarray of int
+        Per plate with in-plane tractions on its edges, the unknowns that load its in-plane
+        field.
     """
 
     counts: dict
@@ -156,6 +191,7 @@ class InterfaceLayout:
     corner_columns: dict
     n_s: int
     unknowns: dict
+    membrane_unknowns: dict
 
 
 def interface_layout(case: Case, problems: Mapping[str, PlateProblem],
@@ -185,7 +221,7 @@ def interface_layout(case: Case, problems: Mapping[str, PlateProblem],
                 corner_columns[corner] = n_s
                 n_s += 1
     return InterfaceLayout(counts, layout, junctions, corner_columns, n_s,
-                           _plate_unknowns(case, layout, corner_columns))
+                           *_plate_unknowns(case, layout, corner_columns))
 
 
 MOVING_MEMBER_LOADS = ("C", "K", "Nn", "Nt")
@@ -193,16 +229,84 @@ MOVING_MEMBER_LOADS = ("C", "K", "Nn", "Nt")
 the Kirchhoff shear :math:`K_n`, and the in-plane tractions :math:`N_{nn}`, :math:`N_{nt}` that
 the line exerts on the member (``docs/method.md`` section 10.4)."""
 
-def traction_slots(slots: Mapping[str, slice], plate: str) -> tuple[str, str] | None:
-    r"""The slots of the in-plane tractions :math:`N_{nn}`, :math:`N_{nt}` on ``plate``'s edge of
-    a joint (``slots``: the joint's): its own on a moving line (``Nn.PLATE``, ``Nt.PLATE``), the
-    joint's on a coplanar joint, the same on both its edges (their normals and tangents are
-    opposite: :math:`\mathbf N\mathbf n_A = -\mathbf N\mathbf n_B`); None without in-plane
+LoadTerms = list[tuple[slice, float]]
+r"""A load function on a plate's edge as a combination of interface unknown functions:
+``[(slot, coefficient), ...]``, the load :math:`\sum c\,S_{slot}` per Legendre coefficient."""
+
+FORCE_COMPONENTS = ("Nn", "Nt", "K")
+r"""The load functions of a moving line's force on a member, along the member's axes
+:math:`(\mathbf n_i, \mathbf t_i, \mathbf e_{z,i})` (:func:`member_axes`)."""
+
+
+def balancing_member(joint: Joint) -> str:
+    """The member of a moving line whose loads the line's balances give (:func:`member_load`):
+    its last rigid member, whose moment enters no spring channel, else its last member."""
+    rigid = rigid_members(joint)
+    return rigid[-1] if rigid else joint.plates[-1]
+
+
+def member_axes(case: Case, side: EdgeId) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    r"""In 3D, a member edge's outward in-plane normal :math:`\mathbf n_i`, its tangent
+    :math:`\mathbf t_i` and its plate's normal :math:`\mathbf e_{z,i}` (the frame of
+    :math:`(u_n, u_t, w)` and of :math:`(N_{nn}, N_{nt}, K_n)`)."""
+    plate = case.plates[side.plate]
+    edge = edge_geometry(tuple(plate.size), side.edge)
+    x_axis, y_axis = (np.asarray(a, float) for a in (plate.frame.x_axis, plate.frame.y_axis))
+    x_axis, y_axis = x_axis / np.linalg.norm(x_axis), y_axis / np.linalg.norm(y_axis)
+    return (edge.normal[0] * x_axis + edge.normal[1] * y_axis,
+            edge.tangent[0] * x_axis + edge.tangent[1] * y_axis, np.cross(x_axis, y_axis))
+
+
+def member_load(case: Case, jid: str, slots: Mapping[str, slice], plate: str,
+                name: str) -> LoadTerms:
+    r"""The load function ``name`` (``C``, ``K``, ``Nn``, ``Nt``) of junction ``jid`` on its
+    member ``plate``: its own slot ``NAME.PLATE``, or, for a moving line's balancing member
+    :math:`b` (:func:`balancing_member`), the loads its balances give (``docs/method.md``
+    section 10.4): :math:`C_b = -\sum_{i\ne b}C_i` and, component by component on the
+    member's axes :math:`\mathbf a_b` (:data:`FORCE_COMPONENTS`),
+    :math:`\mathbf f_b\cdot\mathbf a_b = -\sum_{i\ne b}\mathbf f_i\cdot\mathbf a_b`, with
+    :math:`\mathbf f_i = N_{nn}\mathbf n_i + N_{nt}\mathbf t_i + K_n\mathbf e_{z,i}`.
+    Empty for a load the joint does not have (``K`` on a held line)."""
+    own = f"{name}.{plate}"
+    if own in slots:
+        return [(slots[own], 1.0)]
+    joint = case.joints[jid]
+    others = [side for side in joint.sides if side.plate != plate]
+    if not any(f"K.{side.plate}" in slots for side in others):  # not a moving line
+        return []
+    if name == "C":
+        return [(slots[f"C.{side.plate}"], -1.0) for side in others]
+    side = next(side for side in joint.sides if side.plate == plate)
+    axis = member_axes(case, side)[FORCE_COMPONENTS.index(name)]
+    terms = []
+    for other in others:
+        for component, direction in zip(FORCE_COMPONENTS, member_axes(case, other)):
+            coefficient = -float(direction @ axis)
+            if abs(coefficient) > 1e-12:  # perpendicular frames, to their rounding
+                terms.append((slots[f"{component}.{other.plate}"], coefficient))
+    return terms
+
+
+def traction_loads(case: Case, jid: str, slots: Mapping[str, slice],
+                   plate: str) -> tuple[LoadTerms, LoadTerms] | None:
+    r"""The in-plane tractions :math:`N_{nn}`, :math:`N_{nt}` on ``plate``'s edge of joint
+    ``jid`` (``slots``: the joint's): a moving line's on its member (:func:`member_load`), or a
+    coplanar joint's, the same on both its edges (their normals and tangents are opposite:
+    :math:`\mathbf N\mathbf n_A = -\mathbf N\mathbf n_B`); None without in-plane
     tractions."""
-    for names in ((f"Nn.{plate}", f"Nt.{plate}"), ("Nn", "Nt")):
-        if names[0] in slots:
-            return names
-    return None
+    if "Nn" in slots:
+        return [(slots["Nn"], 1.0)], [(slots["Nt"], 1.0)]
+    if case.joints[jid].kind != "junction":
+        return None
+    normal, tangent = (member_load(case, jid, slots, plate, name) for name in ("Nn", "Nt"))
+    return (normal, tangent) if normal or tangent else None
+
+
+def load_values(terms: LoadTerms, s: np.ndarray) -> np.ndarray:
+    """The Legendre coefficients of a load function (``terms``, :func:`member_load`) at the
+    interface unknowns ``s``."""
+    values = [coefficient * s[part] for part, coefficient in terms]
+    return sum(values[1:], values[0])
 
 
 JointSide = tuple[str, int, EdgeId]
@@ -235,6 +339,10 @@ def plate_loads(case: Case, boundary: PlateBoundary, sides: Sequence[JointSide],
     def add(columns: Sequence[int] | np.ndarray, values: np.ndarray) -> None:
         loads[:, np.searchsorted(unknowns, columns)] += values
 
+    def add_terms(terms: LoadTerms, values: np.ndarray) -> None:
+        for part, coefficient in terms:
+            add(np.arange(part.start, part.stop), coefficient * values)
+
     for jid, side_index, side in sides:
         length = case.edge_length(side)
         slots = {name: np.arange(sl.start, sl.stop) for name, sl in layout[jid].items()}
@@ -242,10 +350,11 @@ def plate_loads(case: Case, boundary: PlateBoundary, sides: Sequence[JointSide],
         direction = case.member_directions(jid)[side_index]
         sigma = traces.s if direction > 0 else length - traces.s
         psi = legendre_values(sigma, length, counts[jid])
-        if f"C.{side.plate}" in slots:  # a junction member: M_n = s_i C_i
-            add(slots[f"C.{side.plate}"], direction * edge_projection(traces, "moment", psi))
-            if f"K.{side.plate}" in slots:  # on a moving line, K_n = K_i too
-                add(slots[f"K.{side.plate}"], edge_projection(traces, "shear", psi))
+        if case.joints[jid].kind == "junction":  # M_n = s_i C_i and, moving, K_n = K_i
+            add_terms(member_load(case, jid, layout[jid], side.plate, "C"),
+                      direction * edge_projection(traces, "moment", psi))
+            add_terms(member_load(case, jid, layout[jid], side.plate, "K"),
+                      edge_projection(traces, "shear", psi))
             continue
         add(slots["C"], edge_projection(traces, "moment", psi))
         if "F" in slots:
@@ -270,9 +379,8 @@ def membrane_loads(case: Case, problem: MembraneProblem, basis: MembraneBasis,
     :math:`\int\overline{u_\alpha(\Phi_k)}\,\psi_m\,ds` (``docs/method.md`` section 10.2)."""
     loads = np.zeros((basis.n_dof, len(unknowns)), dtype=complex)
     for jid, side_index, side in sides:
-        slots = layout[jid]
-        names = traction_slots(slots, side.plate)
-        if names is None:
+        tractions = traction_loads(case, jid, layout[jid], side.plate)
+        if tractions is None:
             continue
         edge = edge_geometry(problem.size, side.edge)
         s, weights = membrane_edge_rule(edge, basis)
@@ -281,8 +389,9 @@ def membrane_loads(case: Case, problem: MembraneProblem, basis: MembraneBasis,
         direction = case.member_directions(jid)[side_index]
         sigma = s if direction > 0 else edge.length - s
         psi = legendre_values(sigma, edge.length, counts[jid])
-        for name, displacement in zip(names, ("u_n", "u_t")):
-            part = slots[name]
-            columns = np.searchsorted(unknowns, np.arange(part.start, part.stop))
-            loads[:, columns] += traces[displacement].conj().T @ (weights[:, None] * psi)
+        for terms, displacement in zip(tractions, ("u_n", "u_t")):
+            work = traces[displacement].conj().T @ (weights[:, None] * psi)
+            for part, coefficient in terms:
+                columns = np.searchsorted(unknowns, np.arange(part.start, part.stop))
+                loads[:, columns] += coefficient * work
     return loads

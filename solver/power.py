@@ -54,7 +54,7 @@ from assembly.case import Case
 from assembly.geometry import EdgeGeometry, edge_geometry, plate_edges
 from solver.joint_rules import joint_gauss, joint_parameters, legendre_values
 from solver.kirchhoff import wave_edge_factors
-from solver.layout import traction_slots
+from solver.layout import LoadTerms, load_values, member_load, traction_loads
 from solver.membrane import membrane_dissipated_power, membrane_edge_traces
 from solver.plate import (
     PlateProblem,
@@ -232,16 +232,20 @@ def _side_powers(case: Case, system: Any, jid: str, amplitudes: Mapping[str, np.
     directions = case.member_directions(jid)
     count = next(iter(slots.values())).stop - next(iter(slots.values())).start
     psi = legendre_values(sigma, length, count)
-    if joint.kind == "junction":  # M_n = s_i C_i on member i
-        moments = [d * (psi @ s[slots[f"C.{side.plate}"]])
+
+    def load(terms: LoadTerms) -> np.ndarray:
+        return psi @ load_values(terms, s)
+
+    if joint.kind == "junction":  # M_n = s_i C_i on member i, K_n = K_i on a moving line
+        moments = [d * load(member_load(case, jid, slots, side.plate, "C"))
                    for side, d in zip(joint.sides, directions)]
+        shears = [load(terms) if (terms := member_load(case, jid, slots, side.plate, "K"))
+                  else None for side in joint.sides]
     else:
         moments = [psi @ s[slots["C"]]] * 2
-    shears = ((psi @ s[slots["F"]], -(psi @ s[slots["F"]])) if "F" in slots
-              else (psi @ s[slots["FA"]], psi @ s[slots["FB"]]) if "FA" in slots
-              else [psi @ s[slots[f"K.{side.plate}"]] for side in joint.sides]
-              if f"K.{joint.plates[0]}" in slots  # a moving line's K_n on each member
-              else (None,) * len(joint.sides))
+        shears = ((psi @ s[slots["F"]], -(psi @ s[slots["F"]])) if "F" in slots
+                  else (psi @ s[slots["FA"]], psi @ s[slots["FB"]]) if "FA" in slots
+                  else (None, None))  # a hinge
     powers = []
     for side, d, moment, shear in zip(joint.sides, directions, moments, shears):
         arc = sigma if d > 0 else length - sigma
@@ -252,15 +256,15 @@ def _side_powers(case: Case, system: Any, jid: str, amplitudes: Mapping[str, np.
         pairing = -(wq @ (moment * np.conj(slope)))
         if shear is not None:
             pairing += wq @ (shear * np.conj(w))
-        names = traction_slots(slots, side.plate)
-        if names is not None:  # and its in-plane tractions N_nn, N_nt
+        tractions = traction_loads(case, jid, slots, side.plate)
+        if tractions is not None:  # and its in-plane tractions N_nn, N_nt
             membrane = system.membranes[side.plate]
             traces = membrane_edge_traces(
                 membrane.basis, edge_geometry(membrane.problem.size, side.edge), arc,
                 membrane.problem.stiffness, membrane.problem.poisson_ratio)
             u = membrane_amplitudes[side.plate]
-            pairing += wq @ ((psi @ s[slots[names[0]]]) * np.conj(traces["u_n"] @ u)
-                             + (psi @ s[slots[names[1]]]) * np.conj(traces["u_t"] @ u))
+            pairing += wq @ (load(tractions[0]) * np.conj(traces["u_n"] @ u)
+                             + load(tractions[1]) * np.conj(traces["u_t"] @ u))
         powers.append(0.5 * system.omega * float(pairing.imag))
     return powers
 

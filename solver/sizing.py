@@ -194,10 +194,12 @@ def estimate_size(case: Case, frequency: float | None = None,
         n_f = counts[jid]  # a channel's samples: its residual on the load functions
         if joint.kind == "junction":  # a channel per finite member, balance and rigid rows
             channels = len(joint.finite_members())
-            constraints += counts[jid] * max(1, len(joint.plates) - channels)
-            if jid in moving:  # translation as one body and force balance, 3 rows each
-                constraints += 3 * counts[jid] * len(joint.plates)
-                entries += 3 * counts[jid] * len(joint.plates) * seen
+            rigid_ties = max(1, len(joint.plates) - channels) - 1
+            if jid in moving:  # translation as one body, 3 rows per member but the first
+                constraints += counts[jid] * (rigid_ties + 3 * (len(joint.plates) - 1))
+                entries += 3 * counts[jid] * (len(joint.plates) - 1) * seen
+            else:  # and the moment balance
+                constraints += counts[jid] * (rigid_ties + 1)
         else:
             channels = 2 if "FA" in layout[jid] else 1
         samples += channels * n_f

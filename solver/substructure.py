@@ -184,7 +184,8 @@ def build_assembly_system(case: Case, frequency: float,
     t1 = time.perf_counter()
 
     build = JointBuild(case, plates, arrangement.counts,
-                       {pid: float(np.max(np.abs(b.k))) for pid, b in bases.items()}, {})
+                       {pid: float(np.max(np.abs(b.k))) for pid, b in bases.items()}, {},
+                       frozenset(case.moving_lines()))
     rows, channels = [], []  # constraint rows as Blocks of one or more rows
     unknown_groups = np.empty(arrangement.n_s, dtype=int)
     for group, (jid, joint) in enumerate(case.joints.items()):
@@ -252,7 +253,7 @@ class AssemblySolution(CaseSolution):
         block = self.system.membranes.get(plate_id)
         if block is None:
             return super().in_plane(plate_id, points)
-        amplitudes = block.transfer @ self.interface[self.system.unknowns[plate_id]]
+        amplitudes = block.transfer @ self.interface[block.unknowns]
         return membrane_field(block.basis, amplitudes, points)["u"]
 
     @property

@@ -19,6 +19,8 @@ import pytest
 from support import folded_description, folded_reference
 
 from assembly import AssemblyError, parse_case
+from solver.layout import interface_layout, load_values, member_axes, member_load
+from solver.problems import plate_problems
 from solver.substructure import solve_assembly
 
 LY = 0.5
@@ -264,3 +266,26 @@ def test_a_coplanar_joint_carries_the_in_plane_field(frequency):
         delivered = sum(p.get(plate, 0.0) for p in power.delivered.values())
         balance = power.injected[plate] + delivered - power.dissipated[plate]
         assert abs(balance) < 1e-8 * power.total_injected, plate
+
+
+def test_the_balancing_member_takes_the_loads_the_others_leave():
+    r"""A moving line's balances hold by construction (``docs/method.md`` section 10.4): for
+    any interface unknowns, the moments on the T's members sum to zero and so do the 3D forces
+    :math:`N_{nn}\mathbf n_i + N_{nt}\mathbf t_i + K_n\mathbf e_{z,i}`, to round-off; the
+    balancing member (the last rigid one) has no unknowns of its own."""
+    case = parse_case(_description(*T_JUNCTION, 1000.0, False))
+    arrangement = interface_layout(case, plate_problems(case, 1000.0))
+    slots = arrangement.slots["W"]
+    assert not any(name.endswith(".S2") for name in slots)  # the last rigid member balances
+    s = np.random.default_rng(3).standard_normal(arrangement.n_s) * (1.0 + 0.5j)
+    n_f = arrangement.counts["W"]
+    moments, forces = np.zeros(n_f, complex), np.zeros((3, n_f), complex)
+    for side in case.joints["W"].sides:
+        def load(name):
+            return load_values(member_load(case, "W", slots, side.plate, name), s)
+        moments += load("C")
+        for name, axis in zip(("Nn", "Nt", "K"), member_axes(case, side)):
+            forces += np.outer(axis, load(name))
+    scale = np.linalg.norm(s)
+    assert np.linalg.norm(moments) < 1e-14 * scale
+    assert np.linalg.norm(forces) < 1e-14 * scale
