@@ -162,13 +162,36 @@ def test_check_shows_the_moving_lines_and_the_in_plane_conditions():
     assert "junction (held)" in held and "in-plane" not in held
 
 
-@pytest.mark.parametrize("shape, frequency", [("L", 1000.0), ("U", 3000.0)])
+def _true_errors(solution, reference, plates) -> tuple[dict, dict, float]:
+    """Per plate, the relative L2 error of ``w`` and of ``(u, v)`` on the estimate's Gauss rule
+    against the exact folded plate, and that of ``w`` over the assembly."""
+    from solver.estimate import plate_l2_rule
+
+    w_errors, in_plane_errors, error, norm = {}, {}, 0.0, 0.0
+    for name in plates:
+        points, weights = plate_l2_rule(solution.plates[name].problem)
+        x, y = points[:, 0], points[:, 1]
+        exact = reference.w(name, x, y)
+        w_error, w_norm = (weights @ abs(solution.w(name, points) - exact) ** 2,
+                           weights @ abs(exact) ** 2)
+        w_errors[name] = math.sqrt(w_error / w_norm)
+        error, norm = error + w_error, norm + w_norm
+        exact_uv = np.column_stack([reference.u(name, x, y), reference.v(name, x, y)])
+        in_plane_errors[name] = math.sqrt(
+            (weights @ np.sum(abs(solution.in_plane(name, points) - exact_uv) ** 2, axis=1))
+            / (weights @ np.sum(abs(exact_uv) ** 2, axis=1)))
+    return w_errors, in_plane_errors, math.sqrt(error / norm)
+
+
+@pytest.mark.parametrize("shape, frequency", [("L", 1000.0), ("U", 300.0), ("U", 3000.0)])
 def test_the_error_estimate_stays_honest(shape, frequency):
     """The estimate (an enriched solve, which refines the in-plane waves with the rays) against
-    the true error over the plates at resolution 1: measured ratios 1.00 on the L, U and T
-    shapes at 300 Hz to 3 kHz (true errors 8e-5 to 2.4e-3); the issue asks [0.5, 3]."""
+    the true error at resolution 1, of ``w`` over the assembly and per plate, and of the
+    in-plane displacement ``(u, v)`` per plate: measured ratios 0.99-1.01 for both on the L, U
+    and T shapes at 300 Hz, 1 kHz and 3 kHz (true errors of ``w`` 5e-5 to 7e-3, of ``(u, v)``
+    3e-5 to 2.6e-2; ``bench/bench_estimate_moving.py``); the issue asks [0.5, 3] wherever the
+    true error is above 1e-5."""
     from solver.estimate import estimate_error
-    from solver.power import plate_gauss_axes
 
     plates, lines, load = SHAPES[shape]
     description = _description(plates, lines, load, frequency, False)
@@ -176,17 +199,39 @@ def test_the_error_estimate_stays_honest(shape, frequency):
     case = parse_case(description)
     solution = solve_assembly(case, frequency)
     estimate = estimate_error(case, solution)
-    reference = _reference(plates, lines, load, frequency, False)
-    error = norm = 0.0
+    w_errors, in_plane_errors, total = _true_errors(
+        solution, _reference(plates, lines, load, frequency, False), plates)
+    assert 0.5 <= estimate.total / total <= 3.0
+    assert set(estimate.in_plane) == set(plates) == set(estimate.displacement)
     for name in plates:
-        (x, wx), (y, wy) = plate_gauss_axes(solution.plates[name].problem)
-        X, Y = np.meshgrid(x, y, indexing="ij")
-        weights = np.outer(wx, wy).ravel()
-        w = solution.plates[name].field(np.column_stack([X.ravel(), Y.ravel()]))["w"]
-        exact = reference.w(name, X.ravel(), Y.ravel())
-        error += weights @ np.abs(w - exact) ** 2
-        norm += weights @ np.abs(exact) ** 2
-    assert 0.5 <= estimate.total / math.sqrt(error / norm) <= 3.0
+        for estimated, true in ((estimate.plates[name], w_errors[name]),
+                                (estimate.in_plane[name], in_plane_errors[name])):
+            assert true > 1e-5 and 0.5 <= estimated / true <= 3.0, (name, estimated, true)
+        # the displacement (u, v, w) lies between its parts
+        low, high = sorted((estimate.plates[name], estimate.in_plane[name]))
+        assert low <= estimate.displacement[name] <= high
+    assert estimate.to_json()["in_plane"]["plates"] == estimate.in_plane
+
+
+def test_the_tolerance_holds_on_every_plate():
+    """``--tolerance`` asks every plate, not the assembly's total: the L fold at 1 kHz and
+    resolution 1 has a total estimate of 8.4e-4 but 2.0e-3 on its leg B (true errors the same),
+    which a total criterion accepted. Per plate, the solve is refined to resolution 1.5 and
+    every plate's estimate and true error fall below 1e-3 (measured 1.3e-7 / 6.8e-7 estimated,
+    5.2e-8 / 2.9e-7 true)."""
+    from solver.estimate import estimate_error, solve_to_tolerance
+
+    plates, lines, load = L_FOLD
+    description = _description(plates, lines, load, 1000.0, False)
+    description["discretisation"]["resolution"] = 1.0
+    case = parse_case(description)
+    coarse = estimate_error(case, solve_assembly(case, 1000.0))
+    assert coarse.total < 1e-3 < coarse.plates["B"]  # what the total criterion accepted
+    solution, estimate = solve_to_tolerance(case, 1000.0, 1e-3)
+    assert max(estimate.plate_errors().values()) <= 1e-3
+    w_errors, _, _ = _true_errors(solution, _reference(plates, lines, load, 1000.0, False),
+                                  plates)
+    assert max(w_errors.values()) <= 1e-3, w_errors
 
 
 # a three-bay skin with two stiffeners (1 mm and 2 mm: the stiffeners' rays answer shorter
