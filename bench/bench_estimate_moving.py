@@ -77,7 +77,10 @@ def main() -> None:
                 print(f"{shape} {frequency:6g} {name:3s} | {w_est:8.2e} {w_true[name]:8.2e} "
                       f"{w_est / w_true[name]:5.2f} | {uv_est:8.2e} {uv_true[name]:8.2e} "
                       f"{uv_est / uv_true[name]:5.2f}  res {estimate.resolution_of(name):.3g}")
-            print(f"{shape} {frequency:6g} total w {estimate.total:.2e}, in-plane "
+            worst = max(estimate.plate_errors().values())
+            print(f"{shape} {frequency:6g} worst plate (w or (u, v, w)) {worst:.2e}, "
+                  f"true w {max(w_true.values()):.2e};", end=" ")
+            print(f"total w {estimate.total:.2e}, in-plane "
                   f"{estimate.in_plane_total:.2e}, {estimate.seconds:.2f} s", flush=True)
 
 

@@ -183,7 +183,8 @@ def _true_errors(solution, reference, plates) -> tuple[dict, dict, float]:
     return w_errors, in_plane_errors, math.sqrt(error / norm)
 
 
-@pytest.mark.parametrize("shape, frequency", [("L", 1000.0), ("U", 300.0), ("U", 3000.0)])
+@pytest.mark.parametrize("shape, frequency", [("L", 1000.0), ("U", 300.0),
+                                              pytest.param("U", 3000.0, marks=pytest.mark.slow)])
 def test_the_error_estimate_stays_honest(shape, frequency):
     """The estimate (an enriched solve, which refines the in-plane waves with the rays) against
     the true error at resolution 1, of ``w`` over the assembly and per plate, and of the
@@ -309,3 +310,37 @@ def test_a_coplanar_joint_carries_the_in_plane_field(frequency):
         delivered = sum(p.get(plate, 0.0) for p in power.delivered.values())
         balance = power.injected[plate] + delivered - power.dissipated[plate]
         assert abs(balance) < 1e-8 * power.total_injected, plate
+
+
+def test_the_members_of_moving_lines_are_refined_together():
+    """A moving line's members (and, through both lines, the whole three-bay panel) share their
+    refinements; plates of held lines and of flat joints keep their own."""
+    from solver.estimate import refined_together
+
+    panel = parse_case(_description(*PANEL, 1000.0, False))
+    assert set(refined_together(panel)["S3"]) == set(PANEL[0])
+    held = parse_case(_description(*T_JUNCTION, 1000.0, True))
+    assert all(group == {pid} for pid, group in refined_together(held).items())
+
+
+def test_the_in_plane_estimate_is_reported_only_where_there_is_one():
+    """``error_estimate.in_plane`` in the JSON of a moving assembly, absent from a held one
+    (whose keys stay those of before)."""
+    from solver.estimate import estimate_error
+    from updating.cli.common import estimates_json
+
+    keys = {"total", "plates", "resolution", "enriched_resolution", "method", "enrichment",
+            "reason"}
+    for held in (False, True):
+        description = _description(*L_FOLD, 300.0, held)
+        description["discretisation"]["resolution"] = 1.0
+        case = parse_case(description)
+        estimate = estimate_error(case, solve_assembly(case, 300.0))
+        both = estimates_json({300.0: estimate})
+        if held:
+            assert set(estimate.to_json()) == keys and "in_plane" not in both
+            assert estimate.plate_errors() == estimate.plates
+        else:
+            assert set(estimate.to_json()) == keys | {"in_plane"}
+            assert both["in_plane"] == {"total": estimate.in_plane_total,
+                                        "plates": estimate.in_plane}
