@@ -15,23 +15,27 @@ from __future__ import annotations
 import argparse
 import math
 import sys
+from collections.abc import Iterable
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path[:0] = [str(ROOT), str(ROOT / "tests")]
 
-from test_moving_lines import LY, N_TERMS, SHAPES  # noqa: E402
 from support import folded_description, folded_reference  # noqa: E402
+from test_moving_lines import LY, N_TERMS, SHAPES  # noqa: E402
 
 from assembly import parse_case  # noqa: E402
 from solver.errors import ToleranceError  # noqa: E402
 from solver.estimate import estimate_error, plate_l2_rule, solve_to_tolerance  # noqa: E402
+from solver.solution import CaseSolution  # noqa: E402
 from solver.vtcr import solve_case  # noqa: E402
 
 
-def true_errors(solution, reference, plates) -> tuple[dict[str, float], dict[str, float]]:
+def true_errors(solution: CaseSolution, reference: Any, plates: Iterable[str]
+                ) -> tuple[dict[str, float], dict[str, float]]:
     """Per plate, the relative L2 error of ``w`` and of ``(u, v)`` against the reference."""
     w_errors, in_plane_errors = {}, {}
     for name in plates:

@@ -158,8 +158,9 @@ class ErrorEstimate:
         return self.resolution
 
     def to_json(self) -> dict[str, Any]:
-        """The JSON of ``error_estimate``; ``in_plane`` (``total`` and ``plates``) only where
-        some plate carries an in-plane field, so a flat assembly's is as before."""
+        """The JSON of ``error_estimate``; ``in_plane`` (``total``, ``plates`` and
+        ``displacement``) only where some plate carries an in-plane field, so a flat
+        assembly's is as before."""
         out = {"total": self.total, "plates": dict(self.plates),
                "resolution": self.resolution, "enriched_resolution": self.enriched_resolution,
                "method": self.method, "enrichment": ENRICHMENT, "reason": self.reason}
@@ -403,7 +404,7 @@ def refined_together(case: Case) -> dict[str, frozenset[str]]:
     member's rays do not answer; refining one member alone made the field worse (the U
     channel at 3 kHz, resolution 1 with its leg C at 1.5: the error of ``w`` on C 1.4e-3 ->
     2.0e-3, of ``(u, v)`` 9.8e-4 -> 8.2e-3, true and estimated alike), where refining the
-    three together gives 2e-6."""
+    three together gives estimates of 2e-6 to 4e-6 on ``w`` (true errors 5e-7 to 8e-7)."""
     in_plane = set(in_plane_plates(case))
     together = {pid: {pid} for pid in case.plates}
     links = [set(case.joints[jid].plates) for jid in case.moving_lines()]
