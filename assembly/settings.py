@@ -63,10 +63,10 @@ class Discretisation(FrozenModel):
     interface_functions : int, optional
         Number of functions per interface unknown (>= 1); None (default) = automatic.
     tolerance : float, optional
-        Largest accepted estimated relative L2 error of ``w`` (0 < tolerance < 1): ``solve``,
-        the updating commands and the simulated experiment (to 0.3 of it) raise the resolution
-        until the a-posteriori estimate is below it, or stop naming the plate that cannot
-        reach it.  None (default): solve at ``resolution`` and report the estimate.
+        Largest accepted estimated relative L2 error on any plate, of ``w`` or of the
+        displacement ``(u, v, w)`` where larger (0 < tolerance < 1): ``solve``, the updating
+        commands and the simulated experiment (to 0.3 of it) raise the resolution until the
+        a-posteriori estimate is below it, or stop naming the plate that cannot reach it.  None (default): solve at ``resolution`` and report the estimate.
     plates : mapping of str to PlateDiscretisation, optional
         Per-plate overrides, ``[discretisation.plates.P1]``.
     """

@@ -6,9 +6,13 @@ plate's field (:class:`CaseSolution`); a jointed assembly's adds its joint resid
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike
+
+if TYPE_CHECKING:
+    from solver.membrane import MembraneSolution
 
 __all__ = ["CaseSolution"]
 
@@ -50,3 +54,9 @@ class CaseSolution:
         """Complex in-plane displacement ``(u, v)`` (m) along the plate's local x and y at its
         points, shape (n, 2): zero for a plate without in-plane waves (every plate here)."""
         return np.zeros((len(np.atleast_2d(points)), 2), dtype=complex)
+
+    @property
+    def membranes(self) -> dict[str, MembraneSolution]:
+        """The in-plane field of every plate that carries one (none here): see
+        :attr:`solver.substructure.AssemblySolution.membranes`."""
+        return {}

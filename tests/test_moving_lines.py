@@ -19,9 +19,19 @@ import pytest
 from support import folded_description, folded_reference
 
 from assembly import AssemblyError, parse_case
+from assembly.summary import summary_text
+from solver.estimate import (
+    estimate_error,
+    membrane_grid_displacement,
+    plate_l2_rule,
+    refined_together,
+    solve_to_tolerance,
+)
 from solver.layout import interface_layout, load_values, member_axes, member_load
+from solver.power import plate_gauss_axes, power_flow
 from solver.problems import plate_problems
 from solver.substructure import solve_assembly
+from updating.cli.common import estimates_json
 
 LY = 0.5
 UP, DOWN, ALONG_X = (0.0, 0.0, 1.0), (0.0, 0.0, -1.0), (1.0, 0.0, 0.0)
@@ -121,7 +131,6 @@ def test_the_power_balances_with_the_in_plane_waves():
     field; measured at resolution 1.5, 7e-11 of the injected power on the plates and 1e-11 on
     the junction, so 1e-8 and 1e-9: the in-plane waves dissipate 7e-5 (skin) to 5e-4
     (stiffener) of it, which a balance without them would miss by four decades."""
-    from solver.power import power_flow
 
     plates, lines, load = T_JUNCTION
     description = _description(plates, lines, load, 1000.0, False)
@@ -155,7 +164,6 @@ def test_the_in_plane_displacements_are_the_exact_ones(frequency):
 
 
 def test_check_shows_the_moving_lines_and_the_in_plane_conditions():
-    from assembly.summary import summary_text
 
     text = summary_text(parse_case(_description(*L_FOLD, 300.0, False)))
     assert "junction (moving)" in text and "in-plane diaphragm" in text
@@ -164,13 +172,35 @@ def test_check_shows_the_moving_lines_and_the_in_plane_conditions():
     assert "junction (held)" in held and "in-plane" not in held
 
 
-@pytest.mark.parametrize("shape, frequency", [("L", 1000.0), ("U", 3000.0)])
+def _true_errors(solution, reference, plates) -> tuple[dict, dict, float]:
+    """Per plate, the relative L2 error of ``w`` and of ``(u, v)`` on the estimate's Gauss rule
+    against the exact folded plate, and that of ``w`` over the assembly."""
+
+    w_errors, in_plane_errors, error, norm = {}, {}, 0.0, 0.0
+    for name in plates:
+        points, weights = plate_l2_rule(solution.plates[name].problem)
+        x, y = points[:, 0], points[:, 1]
+        exact = reference.w(name, x, y)
+        w_error, w_norm = (weights @ abs(solution.w(name, points) - exact) ** 2,
+                           weights @ abs(exact) ** 2)
+        w_errors[name] = math.sqrt(w_error / w_norm)
+        error, norm = error + w_error, norm + w_norm
+        exact_uv = np.column_stack([reference.u(name, x, y), reference.v(name, x, y)])
+        in_plane_errors[name] = math.sqrt(
+            (weights @ np.sum(abs(solution.in_plane(name, points) - exact_uv) ** 2, axis=1))
+            / (weights @ np.sum(abs(exact_uv) ** 2, axis=1)))
+    return w_errors, in_plane_errors, math.sqrt(error / norm)
+
+
+@pytest.mark.parametrize("shape, frequency", [("L", 1000.0), ("U", 300.0),
+                                              pytest.param("U", 3000.0, marks=pytest.mark.slow)])
 def test_the_error_estimate_stays_honest(shape, frequency):
     """The estimate (an enriched solve, which refines the in-plane waves with the rays) against
-    the true error over the plates at resolution 1: measured ratios 1.00 on the L, U and T
-    shapes at 300 Hz to 3 kHz (true errors 8e-5 to 2.4e-3); the issue asks [0.5, 3]."""
-    from solver.estimate import estimate_error
-    from solver.power import plate_gauss_axes
+    the true error at resolution 1, of ``w`` over the assembly and per plate, and of the
+    in-plane displacement ``(u, v)`` per plate: measured ratios 0.99-1.01 for both on the L, U
+    and T shapes at 300 Hz, 1 kHz and 3 kHz (true errors of ``w`` 5e-5 to 7e-3, of ``(u, v)``
+    3e-5 to 2.6e-2; ``bench/bench_estimate_moving.py``); the issue asks [0.5, 3] wherever the
+    true error is above 1e-5."""
 
     plates, lines, load = SHAPES[shape]
     description = _description(plates, lines, load, frequency, False)
@@ -178,17 +208,38 @@ def test_the_error_estimate_stays_honest(shape, frequency):
     case = parse_case(description)
     solution = solve_assembly(case, frequency)
     estimate = estimate_error(case, solution)
-    reference = _reference(plates, lines, load, frequency, False)
-    error = norm = 0.0
+    w_errors, in_plane_errors, total = _true_errors(
+        solution, _reference(plates, lines, load, frequency, False), plates)
+    assert 0.5 <= estimate.total / total <= 3.0
+    assert set(estimate.in_plane) == set(plates) == set(estimate.displacement)
     for name in plates:
-        (x, wx), (y, wy) = plate_gauss_axes(solution.plates[name].problem)
-        X, Y = np.meshgrid(x, y, indexing="ij")
-        weights = np.outer(wx, wy).ravel()
-        w = solution.plates[name].field(np.column_stack([X.ravel(), Y.ravel()]))["w"]
-        exact = reference.w(name, X.ravel(), Y.ravel())
-        error += weights @ np.abs(w - exact) ** 2
-        norm += weights @ np.abs(exact) ** 2
-    assert 0.5 <= estimate.total / math.sqrt(error / norm) <= 3.0
+        for estimated, true in ((estimate.plates[name], w_errors[name]),
+                                (estimate.in_plane[name], in_plane_errors[name])):
+            assert true > 1e-5 and 0.5 <= estimated / true <= 3.0, (name, estimated, true)
+        # the displacement (u, v, w) lies between its parts
+        low, high = sorted((estimate.plates[name], estimate.in_plane[name]))
+        assert low <= estimate.displacement[name] <= high
+    assert estimate.to_json()["in_plane"]["plates"] == estimate.in_plane
+
+
+def test_the_tolerance_holds_on_every_plate():
+    """``--tolerance`` asks every plate, not the assembly's total: the L fold at 1 kHz and
+    resolution 1 has a total estimate of 8.4e-4 but 2.0e-3 on its leg B (true errors the same),
+    which a total criterion accepted. Per plate, the solve is refined to resolution 1.5 and
+    every plate's estimate and true error fall below 1e-3 (measured 1.3e-7 / 6.8e-7 estimated,
+    5.2e-8 / 2.9e-7 true)."""
+
+    plates, lines, load = L_FOLD
+    description = _description(plates, lines, load, 1000.0, False)
+    description["discretisation"]["resolution"] = 1.0
+    case = parse_case(description)
+    coarse = estimate_error(case, solve_assembly(case, 1000.0))
+    assert coarse.total < 1e-3 < coarse.plates["B"]  # what the total criterion accepted
+    solution, estimate = solve_to_tolerance(case, 1000.0, 1e-3)
+    assert max(estimate.plate_errors().values()) <= 1e-3
+    w_errors, _, _ = _true_errors(solution, _reference(plates, lines, load, 1000.0, False),
+                                  plates)
+    assert max(w_errors.values()) <= 1e-3, w_errors
 
 
 # a three-bay skin with two stiffeners (1 mm and 2 mm: the stiffeners' rays answer shorter
@@ -259,7 +310,6 @@ def test_a_coplanar_joint_carries_the_in_plane_field(frequency):
         w = solution.plates[name].field(np.column_stack([x.ravel(), y.ravel()]))["w"]
         exact = reference.w(name, x.ravel(), y.ravel())
         assert np.linalg.norm(w - exact) < 1e-4 * np.linalg.norm(exact), name
-    from solver.power import power_flow
 
     power = power_flow(case, solution)
     for plate in case.plates:
@@ -289,3 +339,51 @@ def test_the_balancing_member_takes_the_loads_the_others_leave():
     scale = np.linalg.norm(s)
     assert np.linalg.norm(moments) < 1e-14 * scale
     assert np.linalg.norm(forces) < 1e-14 * scale
+
+
+def test_the_members_of_moving_lines_are_refined_together():
+    """A moving line's members (and, through both lines, the whole three-bay panel) share their
+    refinements; plates of held lines and of flat joints keep their own."""
+
+    panel = parse_case(_description(*PANEL, 1000.0, False))
+    assert set(refined_together(panel)["S3"]) == set(PANEL[0])
+    held = parse_case(_description(*T_JUNCTION, 1000.0, True))
+    assert all(group == {pid} for pid, group in refined_together(held).items())
+
+
+def test_the_in_plane_estimate_is_reported_only_where_there_is_one():
+    """``error_estimate.in_plane`` in the JSON of a moving assembly, absent from a held one
+    (whose keys stay those of before)."""
+
+    keys = {"total", "plates", "resolution", "enriched_resolution", "method", "enrichment",
+            "reason"}
+    for held in (False, True):
+        description = _description(*L_FOLD, 300.0, held)
+        description["discretisation"]["resolution"] = 1.0
+        case = parse_case(description)
+        estimate = estimate_error(case, solve_assembly(case, 300.0))
+        both = estimates_json({300.0: estimate})
+        if held:
+            assert set(estimate.to_json()) == keys and "in_plane" not in both
+            assert estimate.plate_errors() == estimate.plates
+        else:
+            assert set(estimate.to_json()) == keys | {"in_plane"}
+            assert both["in_plane"] == {"total": estimate.in_plane_total,
+                                        "plates": estimate.in_plane}
+
+
+def test_the_estimate_evaluates_the_in_plane_field_on_its_grid_exactly():
+    """The estimate's tensor-grid evaluation of ``(u, v)`` (the exponentials separated in x
+    and y, 50 times faster on ``cases/stiffened_panel.toml``) against the field at the same
+    points: equal to round-off (measured 1.3e-12 of the largest value on the T at 3 kHz, the
+    amplitudes' cancellation; asked 1e-10: a wrong factor or polarisation is of order 1)."""
+
+    case = parse_case(_description(*T_JUNCTION, 3000.0, False))
+    solution = solve_assembly(case, 3000.0, residuals=False)
+    for name, membrane in solution.membranes.items():
+        (x, _), (y, _) = plate_gauss_axes(solution.plates[name].problem)
+        grid = membrane_grid_displacement(membrane.basis, membrane.amplitudes, x, y)
+        X, Y = np.meshgrid(x, y, indexing="ij")
+        direct = membrane.u(np.column_stack([X.ravel(), Y.ravel()]))
+        expected = np.moveaxis(direct.reshape(len(x), len(y), 2), -1, 0)
+        assert np.max(abs(grid - expected)) < 1e-10 * np.max(abs(expected)), name

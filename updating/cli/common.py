@@ -215,8 +215,9 @@ def resolution_for_tolerance(case: Case, console: Console) -> dict[str, float] |
 def print_estimates(console: Console, estimates: Mapping[float, ErrorEstimate],
                     what: str = "") -> None:
     """One line: the estimated error of w at each frequency of ``estimates`` (``{frequency:
-    ErrorEstimate}``), its resolution and the worst plate; a warning above
-    :data:`ESTIMATE_WARNING` or when the estimate was skipped."""
+    ErrorEstimate}``), its resolution and the worst plate (and one for the in-plane field
+    where there is one); a warning above :data:`ESTIMATE_WARNING` or when the estimate was
+    skipped."""
     if not estimates:
         return
     skipped = [e for e in estimates.values() if e.total is None]
@@ -225,12 +226,20 @@ def print_estimates(console: Console, estimates: Mapping[float, ErrorEstimate],
                        "--no-estimate to skip it knowingly")
         return
     worst = max(estimates.values(), key=lambda e: e.total)
-    plate = worst.worst_plate()
+    plate = max(worst.plates, key=worst.plates.get)  # of w
     console.print(f"estimated error of w{what} (relative L2, against an enriched solve): "
                   + ", ".join(f"{e.total:.1e} at {f:g} Hz" for f, e in estimates.items())
                   + f" (resolution {resolution_text(worst.resolution)})"
                   + (f"; largest on plate {plate} ({worst.plates[plate]:.1e})"
                      if len(worst.plates) > 1 else ""))
+    in_plane = {f: e for f, e in estimates.items() if e.in_plane}
+    if in_plane:  # the members of moving lines: their (u, v), relative to its own norm
+        worst_in_plane = max(in_plane.values(), key=lambda e: e.in_plane_total)
+        plate = max(worst_in_plane.in_plane, key=worst_in_plane.in_plane.get)
+        console.print("estimated error of the in-plane displacement (u, v)"
+                      f"{what}: " + ", ".join(f"{e.in_plane_total:.1e} at {f:g} Hz"
+                                               for f, e in in_plane.items())
+                      + f"; largest on plate {plate} ({worst_in_plane.in_plane[plate]:.1e})")
     if worst.total > ESTIMATE_WARNING:
         warn(console, f"the estimated error {worst.total:.1e} exceeds {ESTIMATE_WARNING:g}: "
                        "raise [discretisation] resolution or give a tolerance")
@@ -259,8 +268,16 @@ def estimates_json(estimates: Mapping[float, ErrorEstimate]) -> dict[str, Any] |
     for e in values:
         for pid, v in e.plates.items():
             plates[pid] = max(plates.get(pid, 0.0), v)
-    return {"total": max(e.total for e in values) if known else None, "plates": plates,
-            "frequencies": {f"{f:g}": e.to_json() for f, e in estimates.items()}}
+    out = {"total": max(e.total for e in values) if known else None, "plates": plates,
+           "frequencies": {f"{f:g}": e.to_json() for f, e in estimates.items()}}
+    in_plane = [e for e in values if e.in_plane]
+    if in_plane:  # only where some plate carries an in-plane field: flat JSON as before
+        worst: dict[str, float] = {}
+        for e in in_plane:
+            for pid, v in e.in_plane.items():
+                worst[pid] = max(worst.get(pid, 0.0), v)
+        out["in_plane"] = {"total": max(e.in_plane_total for e in in_plane), "plates": worst}
+    return out
 
 
 def run_path_for(args: argparse.Namespace) -> Path:

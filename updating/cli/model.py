@@ -16,8 +16,8 @@ from assembly.schema import case_json_schema
 from solver import CaseSolution, field_grid, solve_case
 from solver.estimate import (
     ErrorEstimate,
-    enriched_plates,
     enriched_size,
+    enriched_solve,
     estimate_error,
     solve_to_tolerance,
 )
@@ -152,7 +152,7 @@ def _solve_with_estimate(case: Case, frequency: float, tolerance: float | None,
         return solve_case(case, frequency, check=False), None
     # the enriched solve first: the solution keeps its system (36 MB on the 10 x 10 grid),
     # which would otherwise stay in memory through the enriched solve's peak
-    enriched = enriched_plates(case, frequency)
+    enriched = enriched_solve(case, frequency)
     solution = solve_case(case, frequency, check=False)
     return solution, estimate_error(case, solution, enriched=enriched)
 

@@ -107,9 +107,9 @@ def _add_solve(sub: argparse._SubParsersAction[_Parser]) -> _Parser:
                        help="rows shown in the terminal (all of them in the JSON)")
     solve.add_argument("--tolerance", type=float, metavar="TOL",
                        help="raise the resolution until the estimated relative L2 error of w "
-                            "is below TOL, or exit 2 naming the plate that cannot reach it "
-                            "(default [discretisation] tolerance; none: solve at the "
-                            "description's resolution)")
+                            "(or of (u, v, w)) is below TOL on every plate, or exit 2 naming "
+                            "the plate that cannot reach it (default [discretisation] "
+                            "tolerance; none: solve at the description's resolution)")
     _estimate_option(solve)
     solve.set_defaults(run="solve")
     return solve

@@ -49,7 +49,7 @@ from numpy.typing import ArrayLike
 from assembly.types import JointParameters
 from solver.channels import channel_blocks, joint_residuals
 from solver.errors import NumericalError, condition_warnings
-from solver.estimate import enriched_plates, estimate_error
+from solver.estimate import enriched_solve, estimate_error
 from solver.guards import check_description
 from solver.joint_rules import channel_parameters
 from solver.plate import particular_field
@@ -135,10 +135,10 @@ def _frequency_data(case: Case, resolution: float | Mapping[str, float] | None, 
     frequency, measured_plates = task
     system = build_assembly_system(case, frequency, resolution)
     initial = solve_assembly(case, frequency, resolution, system=system)  # E_ref at p0
-    enriched = (enriched_plates(case, frequency, resolution) if estimate or discretisation
+    enriched = (enriched_solve(case, frequency, resolution) if estimate or discretisation
                 else None)
     error = estimate_error(case, initial, resolution, enriched) if estimate else None
-    finer, reason, _ = enriched if discretisation else (None, "", 0.0)
+    finer, reason = (enriched.plates, enriched.reason) if discretisation else (None, "")
     plates, operators, data, offsets = [], [], [], []
     for pid, (points, measured) in measured_plates.items():
         problem, basis = system.problems[pid], system.bases[pid]
@@ -377,7 +377,7 @@ class ModifiedProblem:
         measurements would be if the model were right and only the stated noise were at work.
         With ``discretisation``, the prediction is first moved by the model's discretisation
         error at the measured points, estimated at p0 by the enriched solve
-        (:math:`w^+ - w_h`, :func:`solver.estimate.enriched_plates`): what they would be if the
+        (:math:`w^+ - w_h`, :func:`solver.estimate.enriched_solve`): what they would be if the
         model's joints were right and its discretisation and the noise were at work (the
         error changes little with the joint parameters). Returns ``realisations`` dicts
         ``{frequency: [values per measured plate]}``.
