@@ -4,12 +4,16 @@ description's checks, its summary and the solver.
 A junction line moves when ``held = false``, or by default (``held`` not given) when its member
 plates are not coplanar and its ends are held. An end is held where each member edge meets a
 simply supported or clamped edge, a hinge or a held line: its corners then hold the line's
-ends, as the shear diaphragm of folded-plate theory does. By default a line also stays held
-where the model cannot move it yet, and ``held = false`` is refused there:
+ends, as the shear diaphragm of folded-plate theory does. By default a line also stays held:
 
-* its ends meet other moving lines (the corners of a box: the lines' 3D translations would
-  have to be tied at the junction point) or a free edge;
-* an end edge is in-plane ``roller`` (:math:`u_n = 0`, :math:`N_{nt} = 0`): there refinement
+* where its ends meet other moving lines (the wall's corners in ``cases/box_with_wall.toml``,
+  a box's corners). ``held = false`` is accepted there: the junction point's rows tie the
+  lines' translations (:func:`solver.layout.junction_point_axes`, ``docs/method.md`` section
+  6.4), but refinement converges slowly at such points (box_with_wall with its four welds
+  moving: 3e-4 to 1.2e-3 between resolutions 1.5 and 2.25 at 189 to 282 Hz, 1e-2 at 600 Hz,
+  where the held box agrees to 2e-5), so they are not the default yet;
+* where an end meets a free edge or a coplanar joint: refused with ``held = false``;
+* where an end edge is in-plane ``roller`` (:math:`u_n = 0`, :math:`N_{nt} = 0`): there refinement
   does not converge (2e-2 to 3e-1 between resolutions 1.5 and 2.25 on a three-bay panel), for a
   reason not found yet; by default such a line stays held, and ``held = false`` is allowed,
   ``vtcr solve --tolerance`` reporting the non-convergence.
@@ -71,7 +75,8 @@ def moving_lines(joints: Mapping[str, Any], plates: Mapping[str, Any],
 
     The default is found by elimination: a line with an end that nothing can hold (a free
     edge) is held, which may hold the ends of others; what remains moves, except lines whose
-    ends meet other moving lines, which are held too."""
+    ends meet other moving lines, which are held too (module notes: ``held = false`` moves
+    them)."""
     joints = {jid: j for jid, j in joints.items() if j is not None}  # the valid ones
     junctions = {jid: j for jid, j in joints.items() if isinstance(j, JunctionJoint)}
     moving = {jid for jid, j in junctions.items() if j.held is False}

@@ -26,7 +26,14 @@ from assembly.geometry import edge_geometry
 from solver.admissibility import CornerDeflections, PlateAdmissibility
 from solver.interface import Block, residual_weight, squared_norm
 from solver.joint_rules import joint_gauss, legendre_values, load_function_projection
-from solver.layout import InterfaceLayout, LoadTerms, member_axes, member_load, rigid_members
+from solver.layout import (
+    PARALLEL_TOLERANCE,
+    InterfaceLayout,
+    LoadTerms,
+    member_axes,
+    member_load,
+    rigid_members,
+)
 from solver.membrane import membrane_edge_traces
 from solver.plate import edge_values
 
@@ -338,28 +345,59 @@ def junction_corner_rows(plates: PlateAdmissibility,
     r"""Constraint rows of the junction points (``docs/method.md`` section 6.4), one group
     each from ``first_group`` on, and the corner-force columns of each group.
 
-    With a kinematic corner among them, every static corner's deflection vanishes; without
-    one, the static corners share one deflection and their forces balance,
-    :math:`\sum_cP_c = 0`.
+    Coplanar plates (:attr:`InterfaceLayout.junction_axes` None): with a kinematic corner
+    among them, every static corner's deflection vanishes; without one, the static corners
+    share one deflection and their forces balance, :math:`\sum_cP_c = 0`. Plates that are not
+    coplanar: :func:`_point_rows`.
     """
     rows, columns_of = [], {}
-    for group, flags in enumerate(arrangement.junctions, start=first_group):
+    axes_of = arrangement.junction_axes or [None] * len(arrangement.junctions)
+    for group, (flags, axes) in enumerate(zip(arrangement.junctions, axes_of),
+                                          start=first_group):
         values = {(pid, c): plates.affine_plate_operator(
                       pid, corner_deflections[pid][0][c][None, :],
                       corner_deflections[pid][1][c:c + 1])
                   for (pid, c), _ in flags}
         static = [corner for corner, kinematic in flags if not kinematic]
-        if any(kinematic for _, kinematic in flags):
+        forces = [arrangement.corner_columns[corner] for corner in static]
+        if axes is not None:
+            rows += _point_rows([values[corner] for corner in static], forces, axes, group)
+        elif any(kinematic for _, kinematic in flags):
             rows += [values[corner].constraint(group) for corner in static]
         else:
             reference = values[static[0]]
             rows += [Block.union(values[corner], reference.scaled(-1.0)).constraint(group)
                      for corner in static[1:]]
-            columns = np.array(sorted(arrangement.corner_columns[corner] for corner in static))
+            columns = np.array(sorted(forces))
             rows.append(Block(columns, np.ones((1, len(columns)), dtype=complex),
                               np.zeros(1, dtype=complex), group))
-        columns_of[group] = [arrangement.corner_columns[corner] for corner in static]
+        columns_of[group] = forces
     return rows, columns_of
+
+
+def _point_rows(deflections: Sequence[Block], forces: Sequence[int], axes: np.ndarray,
+                group: int) -> list[Block]:
+    r"""The rows of a junction point between plates that are not coplanar
+    (``docs/method.md`` section 6.4): its static corners' deflections :math:`w_s` (one-row
+    Blocks) are those of one translation :math:`\mathbf X_P = V\xi` of the point,
+    :math:`w_s = A\xi`, and their forces :math:`P` (columns ``forces``) balance along the
+    directions it is free to move in, :math:`A^TP = 0` (``axes``: :math:`A`,
+    :func:`solver.layout.junction_point_axes`). With :math:`A = U\Sigma W^T` of rank
+    :math:`\rho`, eliminating :math:`\xi` leaves :math:`U_0^Tw_s = 0` (the columns of
+    :math:`U` beyond :math:`\rho`) and :math:`U_1^TP = 0` (the first :math:`\rho`): as many
+    rows as static corners."""
+    u, singular, _ = np.linalg.svd(axes, full_matrices=True)
+    rank = int(np.sum(singular > PARALLEL_TOLERANCE))
+    rows = []
+    if rank < len(deflections):
+        kinematic = u[:, rank:]
+        rows.append(Block.union(*(w.projected(kinematic[j:j + 1].T.astype(complex))
+                                  for j, w in enumerate(deflections))).constraint(group))
+    if rank:
+        order = np.argsort(forces)
+        rows.append(Block(np.asarray(forces)[order], u[order, :rank].T.astype(complex),
+                          np.zeros(rank, dtype=complex), group))
+    return rows
 
 
 def channel_blocks(channels: Sequence[Channel], params: Mapping[tuple[str, str], complex],

@@ -24,7 +24,7 @@ from solver.membrane import (
 from solver.plate import PlateProblem
 from solver.problems import plate_resolution
 
-__all__ = ["in_plane_plates", "membrane_problems", "membrane_bases"]
+__all__ = ["in_plane_plates", "in_plane_edge_conditions", "membrane_problems", "membrane_bases"]
 
 
 def in_plane_plates(case: Case) -> list[str]:
@@ -58,6 +58,12 @@ def _edge_conditions(case: Case, plates: list[str]) -> dict[str, dict[str, str]]
         if side.plate in conditions:
             conditions[side.plate][side.edge] = boundary.in_plane_condition
     return conditions
+
+
+def in_plane_edge_conditions(case: Case) -> dict[str, dict[str, str]]:
+    """Per in-plane plate (:func:`in_plane_plates`), each edge's in-plane condition
+    (``fixed``, ``free``, ``diaphragm`` or ``roller``; :func:`_edge_conditions`)."""
+    return _edge_conditions(case, in_plane_plates(case))
 
 
 def membrane_problems(case: Case, frequency: float) -> dict[str, MembraneProblem]:

@@ -12,14 +12,14 @@ unknown.
 from __future__ import annotations
 
 from collections.abc import Collection, Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from assembly import Case, EdgeId
 from assembly.geometry import EDGE_NAMES, edge_geometry
 from assembly.joints import Joint
-from solver.in_plane import in_plane_plates
+from solver.in_plane import in_plane_edge_conditions, in_plane_plates
 from solver.joint_rules import interface_function_count, legendre_values
 from solver.membrane import (
     MembraneBasis,
@@ -32,8 +32,8 @@ from solver.problems import plate_resolution
 
 __all__ = ["InterfaceLayout", "interface_layout", "plate_loads", "membrane_loads", "plate_sides",
            "rigid_members", "balancing_member", "member_axes", "member_load", "traction_loads",
-           "load_values", "LoadTerms", "FORCE_COMPONENTS", "KINEMATIC_DEFLECTION",
-           "MOVING_MEMBER_LOADS"]
+           "load_values", "LoadTerms", "FORCE_COMPONENTS", "junction_point_axes",
+           "KINEMATIC_DEFLECTION", "MOVING_MEMBER_LOADS"]
 
 Corner = tuple[str, int]
 """A plate corner: the plate and the corner's index (:data:`solver.rays.EDGE_NAMES` order)."""
@@ -137,6 +137,66 @@ def _loading_slots(case: Case, jid: str, slots: Mapping[str, slice],
     return bending, tractions
 
 
+HELD_IN_PLANE = {"fixed": ("normal", "tangent"), "diaphragm": ("tangent",),
+                 "roller": ("normal",), "free": ()}
+"""The in-plane displacement components an edge's in-plane condition gives (section 10.1):
+``fixed`` holds :math:`u_n` and :math:`u_t`, ``diaphragm`` :math:`u_t`, ``roller`` :math:`u_n`."""
+
+PARALLEL_TOLERANCE = 1e-9
+"""Below this, a cross product of unit normals is parallel and a singular value of the
+junction point's geometry (unit vectors' dot products, of order 1) is zero."""
+
+
+def _held_directions(case: Case, corner: Corner, kinematic: bool,
+                     in_plane: Mapping[str, Mapping[str, str]]) -> list[np.ndarray]:
+    r"""The 3D directions in which a plate corner holds its junction point: the plate's normal
+    :math:`\mathbf e_z` if its deflection is held there (``kinematic``), and the in-plane
+    components its two edges at the corner hold (:data:`HELD_IN_PLANE`; ``in_plane``: the
+    in-plane plates' edge conditions). A plate without in-plane waves is rigid in its plane
+    (the held-line model of section 6.2b), so it holds both in-plane directions."""
+    pid, c = corner
+    plate = case.plates[pid]
+    held = [plate.frame.normal] if kinematic else []
+    for edge in (EDGE_NAMES[c], EDGE_NAMES[c - 1]):  # the edges that start and end at c
+        _, tangent, normal, _ = plate.edge_frame(edge)
+        axes = {"normal": normal, "tangent": tangent}
+        condition = in_plane[pid][edge] if pid in in_plane else "fixed"
+        held += [plate.frame.to_space_vector(axes[name]) for name in HELD_IN_PLANE[condition]]
+    return held
+
+
+def junction_point_axes(case: Case, flags: Sequence[tuple[Corner, bool]],
+                        in_plane: Mapping[str, Mapping[str, str]]) -> np.ndarray | None:
+    r"""The geometry of a junction point whose plates are not coplanar
+    (``docs/method.md`` section 6.4): :math:`A = E_s^TV`, shape (static corners, r), with
+    :math:`E_s` the static corners' plate normals :math:`\mathbf e_{z,c}` (columns, in the
+    order of ``flags``) and :math:`V` an orthonormal basis of the directions in which the point
+    may move (orthogonal to every held direction, :func:`_held_directions`).
+
+    The point translates by :math:`\mathbf X_P = V\xi`; a static corner's deflection is
+    :math:`w_c = \mathbf e_{z,c}\cdot\mathbf X_P`, so :math:`w_s = A\xi`; the corner forces
+    :math:`P_c` balance along every free direction, :math:`A^TP = 0` (the held directions'
+    reactions take the rest). None where section 6.4's coplanar rule applies: frameless or
+    parallel normals, or a point held in every direction by a kinematic corner (then every
+    static corner has :math:`w_c = 0`, the same rows)."""
+    frames = [case.plates[pid].frame for (pid, _), _ in flags]
+    if any(frame is None for frame in frames):
+        return None
+    normals = [frame.normal for frame in frames]
+    if all(np.linalg.norm(np.cross(normals[0], n)) < PARALLEL_TOLERANCE for n in normals[1:]):
+        return None
+    held = [d for corner, kinematic in flags
+            for d in _held_directions(case, corner, kinematic, in_plane)]
+    free = np.eye(3)
+    if held:
+        _, singular, vh = np.linalg.svd(np.array(held))
+        free = vh[int(np.sum(singular > PARALLEL_TOLERANCE)):].T
+    if free.shape[1] == 0 and any(kinematic for _, kinematic in flags):
+        return None
+    static = [n for n, (_, kinematic) in zip(normals, flags) if not kinematic]
+    return np.array(static) @ free
+
+
 def _plate_unknowns(case: Case, layout: Mapping[str, Mapping[str, slice]],
                     corner_columns: Mapping[Corner, int]
                     ) -> tuple[dict[str, np.ndarray], dict[str, np.ndarray]]:
@@ -183,6 +243,8 @@ class InterfaceLayout:
     membrane_unknowns : dict of str to ndarray of int
         Per plate with in-plane tractions on its edges, the unknowns that load its in-plane
         field.
+    junction_axes : list
+        Per junction, :func:`junction_point_axes` (None: the coplanar rule of section 6.4).
     """
 
     counts: dict
@@ -192,6 +254,7 @@ class InterfaceLayout:
     n_s: int
     unknowns: dict
     membrane_unknowns: dict
+    junction_axes: list = field(default_factory=list)
 
 
 def interface_layout(case: Case, problems: Mapping[str, PlateProblem],
@@ -220,8 +283,10 @@ def interface_layout(case: Case, problems: Mapping[str, PlateProblem],
             if not kinematic:
                 corner_columns[corner] = n_s
                 n_s += 1
+    in_plane = in_plane_edge_conditions(case)
+    axes = [junction_point_axes(case, flags, in_plane) for flags in junctions]
     return InterfaceLayout(counts, layout, junctions, corner_columns, n_s,
-                           *_plate_unknowns(case, layout, corner_columns))
+                           *_plate_unknowns(case, layout, corner_columns), axes)
 
 
 MOVING_MEMBER_LOADS = ("C", "K", "Nn", "Nt")

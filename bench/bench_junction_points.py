@@ -1,0 +1,71 @@
+"""Moving lines that meet at junction points: the refinement study of ``cases/box_with_wall.toml``
+with its four welds moving (``held = false``), whose ends meet at the wall's corners
+(``docs/method.md`` sections 6.4 and 10.4).
+
+Per plate, the relative L2 difference of ``w`` on a 15 x 15 grid between resolutions 1, 1.5
+and the finest (2.25, or 3.375 with ``--finest 3.375``), and how far the moving welds move the
+field from the held ones (at the finest resolution).
+
+Run: ``OPENBLAS_NUM_THREADS=1 python bench/bench_junction_points.py [frequencies]`` (default
+189.2 266.0 281.5 600.0; about a minute per frequency at 2.25).
+"""
+
+from __future__ import annotations
+
+import argparse
+
+import numpy as np
+
+from assembly import Case, parse_case
+from assembly.generate import box_with_wall
+from solver.substructure import solve_assembly
+
+WELDS = ("W_top", "W_bottom", "W_front", "W_back")
+
+
+def box(held: bool) -> Case:
+    """box_with_wall as its case file describes it, the welds ``held`` or moving."""
+    description = box_with_wall(truth={"W_top": 1.0}, resolution=1.5,
+                                frequency=[189.2, 266.0, 281.5])
+    for weld in WELDS:
+        description["joints"][weld]["held"] = held
+    return parse_case(description)
+
+
+def fields(case: Case, frequency: float, resolution: float) -> dict[str, np.ndarray]:
+    """Per plate, ``w`` on a 15 x 15 grid of its interior."""
+    solution = solve_assembly(case, frequency, resolution, residuals=False)
+    out = {}
+    for pid, plate in case.plates.items():
+        lx, ly = plate.size
+        x, y = np.meshgrid(np.linspace(0.02, 0.98, 15) * lx, np.linspace(0.02, 0.98, 15) * ly)
+        out[pid] = solution.plates[pid].field(np.column_stack([x.ravel(), y.ravel()]))["w"]
+    return out
+
+
+def differences(a: dict[str, np.ndarray], b: dict[str, np.ndarray]) -> dict[str, float]:
+    """Per plate, :math:`\\|a - b\\| / \\|b\\|`."""
+    return {p: float(np.linalg.norm(a[p] - b[p]) / np.linalg.norm(b[p])) for p in a}
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("frequencies", nargs="*", type=float,
+                        default=[189.2, 266.0, 281.5, 600.0])
+    parser.add_argument("--finest", type=float, default=2.25)
+    args = parser.parse_args()
+    moving, held = box(False), box(True)
+    for frequency in args.frequencies:
+        finest = fields(moving, frequency, args.finest)
+        coarse = {r: differences(fields(moving, frequency, r), finest) for r in (1.0, 1.5)}
+        moved = differences(fields(held, frequency, args.finest), finest)
+        print(f"{frequency} Hz: plate, |r=1 - r={args.finest}|, |r=1.5 - r={args.finest}|, "
+              "|held - moving|")
+        for pid in moving.plates:
+            print(f"  {pid:8s} {coarse[1.0][pid]:.2e} {coarse[1.5][pid]:.2e} {moved[pid]:.2e}")
+        print(f"  worst    {max(coarse[1.0].values()):.2e} {max(coarse[1.5].values()):.2e} "
+              f"{max(moved.values()):.2e}")
+
+
+if __name__ == "__main__":
+    main()
