@@ -170,6 +170,12 @@ class MembraneBasis(RayBasis):
     layer_rate: np.ndarray
 
     @functools.cached_property
+    def edge_factors(self) -> dict:
+        """The trace factors of :func:`_edge_factors` by material and edge, computed once per
+        basis (identical plates share their basis)."""
+        return {}
+
+    @functools.cached_property
     def layer_nodes(self) -> np.ndarray:
         r"""Indices of the boundary-layer nodes (those with :math:`\mathbf b_q \ne 0`)."""
         return np.flatnonzero(np.any(self.layer != 0, axis=1))
@@ -488,6 +494,52 @@ class MembraneProblem:
         return self.edges.get(edge, MembraneEdge())
 
 
+EdgeFactors = tuple[np.ndarray, np.ndarray,
+                    list[tuple[slice, np.ndarray, np.ndarray, float, float]]]
+"""What :func:`_edge_factors` returns."""
+
+
+def _edge_factors(basis: MembraneBasis, edge: EdgeGeometry, stiffness: complex,
+                  poisson_ratio: float) -> EdgeFactors:
+    r"""The factors of the traces ``u_n, u_t, N_nn, N_nt`` of every node over its exponential on
+    ``edge``, (4, nodes) without and with :math:`g` (:func:`membrane_edge_traces`), and the
+    boundary-layer groups whose :math:`g` varies along the edge,
+    ``(nodes, rates, index, start, slope)`` with :math:`\nu = \mathrm{start} +
+    \mathrm{slope}\,s`; on the node's own edge and the opposite one :math:`g` is constant and
+    already in the first factors. Kept on the basis by material and edge: they do not depend
+    on the points."""
+    key = (stiffness, poisson_ratio, tuple(edge.start), tuple(edge.normal))
+    if key in basis.edge_factors:
+        return basis.edge_factors[key]
+    n, t = edge.normal, edge.tangent
+    layer = basis.layer_nodes
+    d, k, b = basis.polarisation, basis.k, basis.layer[layer]
+    normal, rate = basis.layer_normal[layer], basis.layer_rate[layer]
+
+    def on_edge(vectors: np.ndarray, tractions: np.ndarray) -> np.ndarray:
+        return np.stack([vectors @ n, vectors @ t, tractions @ n, tractions @ t])
+
+    factors = on_edge(d, _traction_factors(d, k, n, stiffness, poisson_ratio))
+    # the b (x) n_q term of a boundary-layer node's gradient: a traction without displacement
+    traction = _traction_factors(b, normal, n, stiffness, poisson_ratio)
+    factors[2:, layer] += np.stack([traction @ n, traction @ t])
+    layer_factors = np.zeros((4, len(k)), complex)
+    layer_factors[:, layer] = on_edge(b, _traction_factors(
+        b, k[layer] + rate[:, None] * normal, n, stiffness, poisson_ratio))
+    along = []  # the groups whose distance to their edge varies along this one
+    for nodes, rates, index in basis.layer_groups:
+        group_normal = basis.layer_normal[nodes.start]
+        start = float((edge.start - basis.origin[nodes.start]) @ group_normal)
+        slope = float(group_normal @ edge.tangent)
+        if slope == 0:  # the node's own edge or the opposite one: g is a constant factor
+            factors[:, nodes] += (layer_growth(basis.layer_rate[nodes], start)
+                                  * layer_factors[:, nodes])
+        else:
+            along.append((nodes, rates, index, start, slope))
+    basis.edge_factors[key] = factors, layer_factors, along
+    return factors, layer_factors, along
+
+
 def membrane_edge_traces(basis: MembraneBasis, edge: EdgeGeometry, s: np.ndarray,
                          stiffness: complex, poisson_ratio: float,
                          cache: dict | None = None) -> dict[str, np.ndarray]:
@@ -517,34 +569,11 @@ def membrane_edge_traces(basis: MembraneBasis, edge: EdgeGeometry, s: np.ndarray
     if cache is not None and key in cache:
         return cache[key]
     s = np.asarray(s, dtype=float)
+    factors, layer_factors, along = _edge_factors(basis, edge, stiffness, poisson_ratio)
     nodal = _edge_node_values(basis, edge, s)
-    n, t = edge.normal, edge.tangent
-    layer = basis.layer_nodes
-    d, k, b = basis.polarisation, basis.k, basis.layer[layer]
-    normal, rate = basis.layer_normal[layer], basis.layer_rate[layer]
-
-    def on_edge(vectors: np.ndarray, tractions: np.ndarray) -> np.ndarray:
-        return np.stack([vectors @ n, vectors @ t, tractions @ n, tractions @ t])
-
-    factors = on_edge(d, _traction_factors(d, k, n, stiffness, poisson_ratio))
-    # the b (x) n_q term of a boundary-layer node's gradient: a traction without displacement
-    traction = _traction_factors(b, normal, n, stiffness, poisson_ratio)
-    factors[2:, layer] += np.stack([traction @ n, traction @ t])
-    layer_factors = np.zeros((4, len(k)), complex)
-    layer_factors[:, layer] = on_edge(b, _traction_factors(
-        b, k[layer] + rate[:, None] * normal, n, stiffness, poisson_ratio))
-    along = []  # the groups whose distance to their edge varies along this one
-    for nodes, rates, index in basis.layer_groups:
-        group_normal = basis.layer_normal[nodes.start]
-        start = (edge.start - basis.origin[nodes.start]) @ group_normal
-        slope = group_normal @ edge.tangent
-        if slope == 0:  # the node's own edge or the opposite one: g is a constant factor
-            factors[:, nodes] += (layer_growth(basis.layer_rate[nodes], start)
-                                  * layer_factors[:, nodes])
-        else:
-            along.append((nodes, layer_growth(rates, start + slope * s[:, None])[:, index]))
     traces = basis.sector_means(nodal, factors)
-    for nodes, growth in along:
+    for nodes, rates, index, start, slope in along:
+        growth = layer_growth(rates, start + slope * s[:, None])[:, index]
         dofs = slice(nodes.start // basis.n_q, nodes.stop // basis.n_q)
         traces[:, :, dofs] += _layer_sector_means(basis, nodes, nodal[:, nodes] * growth,
                                                   layer_factors[:, nodes])
