@@ -76,6 +76,7 @@ from assembly.case import Case
 from solver.errors import ToleranceError
 from solver.in_plane import in_plane_plates
 from solver.membrane import MembraneBasis, MembraneSolution
+from solver.membrane import membrane_grid_displacement as _grid_displacement
 from solver.plate import PlateProblem, PlateSolution
 from solver.power import grid_deflections, plate_gauss_axes
 from solver.problems import plate_resolution
@@ -211,16 +212,9 @@ def relative_l2_errors(solution: CaseSolution,
 def membrane_grid_displacement(basis: MembraneBasis, amplitudes: np.ndarray, xs: np.ndarray,
                                ys: np.ndarray) -> np.ndarray:
     r"""In-plane displacement :math:`(u, v)` on the tensor grid ``xs`` x ``ys``, shape
-    (2, len(xs), len(ys)): :math:`u_c = \sum_q\omega_qd_{q,c}U_{i(q)}
-    e^{k_{q,x}(x - x_{r,q})}e^{k_{q,y}(y - y_{r,q})}` (:func:`solver.membrane.membrane_field`
-    separated as :func:`solver.rays.tensor_grid_field` separates the rays: two matrix products
-    over :math:`n_q(n_x + n_y)` exponentials instead of :math:`n_qn_xn_y`; each factor is
-    bounded on the plate, the edge waves decaying away from their edge in each coordinate)."""
-    nodes = basis.weight * np.repeat(np.asarray(amplitudes), basis.n_q)
-    ex = np.exp(basis.k[:, 0, None] * (xs[None, :] - basis.origin[:, 0, None]))
-    ey = np.exp(basis.k[:, 1, None] * (ys[None, :] - basis.origin[:, 1, None]))
-    return np.stack([ex.T @ ((nodes * basis.polarisation[:, c])[:, None] * ey)
-                     for c in range(2)])
+    (2, len(xs), len(ys)): :func:`solver.membrane.membrane_grid_displacement`, which knows the
+    basis' boundary-layer nodes."""
+    return _grid_displacement(basis, amplitudes, xs, ys)
 
 
 def in_plane_l2_errors(solution: CaseSolution, enriched: Mapping[str, MembraneSolution]
