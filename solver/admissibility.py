@@ -19,7 +19,8 @@ from assembly import Case
 from solver.dense import factorise_dense
 from solver.interface import Block
 from solver.layout import InterfaceLayout, membrane_loads, plate_loads, plate_sides
-from solver.membrane import MembraneBasis, MembraneProblem, assemble_membrane
+from solver.membrane import MembraneProblem, assemble_membrane
+from solver.membrane_basis import MembraneBasis
 from solver.plate import (
     PlateBoundary,
     PlateProblem,

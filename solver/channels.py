@@ -34,7 +34,7 @@ from solver.layout import (
     member_load,
     rigid_members,
 )
-from solver.membrane import membrane_edge_traces
+from solver.membrane_basis import membrane_edge_traces
 from solver.plate import edge_values
 
 __all__ = ["Channel", "JointBuild", "RIGID_CROSSOVER", "two_plate_joint", "junction_line",

@@ -13,14 +13,8 @@ from collections.abc import Mapping
 
 from assembly.case import Case
 from assembly.geometry import EDGE_NAMES
-from solver.membrane import (
-    MembraneBasis,
-    MembraneEdge,
-    MembraneProblem,
-    build_membrane_basis,
-    membrane_ray_counts,
-    membrane_stiffness,
-)
+from solver.membrane import MembraneEdge, MembraneProblem, membrane_stiffness
+from solver.membrane_basis import MembraneBasis, build_membrane_basis, membrane_ray_counts
 from solver.plate import PlateProblem
 from solver.problems import plate_resolution
 

@@ -21,12 +21,8 @@ from assembly.geometry import EDGE_NAMES, edge_geometry
 from assembly.joints import Joint
 from solver.in_plane import in_plane_edge_conditions, in_plane_plates
 from solver.joint_rules import interface_function_count, legendre_values
-from solver.membrane import (
-    MembraneBasis,
-    MembraneProblem,
-    membrane_edge_rule,
-    membrane_edge_traces,
-)
+from solver.membrane import MembraneProblem, membrane_edge_rule
+from solver.membrane_basis import MembraneBasis, membrane_edge_traces
 from solver.plate import PlateBoundary, PlateProblem, edge_projection
 from solver.problems import plate_resolution
 

@@ -55,7 +55,8 @@ from assembly.geometry import EdgeGeometry, edge_geometry, plate_edges
 from solver.joint_rules import joint_gauss, joint_parameters, legendre_values
 from solver.kirchhoff import wave_edge_factors
 from solver.layout import LoadTerms, load_values, member_load, traction_loads
-from solver.membrane import membrane_dissipated_power, membrane_edge_traces
+from solver.membrane import membrane_dissipated_power
+from solver.membrane_basis import membrane_edge_traces
 from solver.plate import (
     PlateProblem,
     edge_rule_size,

@@ -94,7 +94,8 @@ from solver.in_plane import membrane_bases, membrane_problems
 from solver.interface import Block, InterfaceFactor, factorise_interface
 from solver.joint_rules import joint_parameters
 from solver.layout import interface_layout
-from solver.membrane import MembraneSolution, membrane_field
+from solver.membrane import MembraneSolution
+from solver.membrane_basis import membrane_field
 from solver.plate import PlateSolution
 from solver.power import kinetic_energies
 from solver.problems import plate_bases, plate_problems
