@@ -76,8 +76,7 @@ from assembly.case import Case
 from solver.errors import ToleranceError
 from solver.in_plane import in_plane_plates
 from solver.membrane import MembraneSolution
-from solver.membrane_basis import MembraneBasis
-from solver.membrane_basis import membrane_grid_displacement as _grid_displacement
+from solver.membrane_basis import membrane_grid_displacement
 from solver.plate import PlateProblem, PlateSolution
 from solver.power import grid_deflections, plate_gauss_axes
 from solver.problems import plate_resolution
@@ -208,14 +207,6 @@ def relative_l2_errors(solution: CaseSolution,
         out[pid] = (float(np.sum(weights * np.abs(w_plus[pid] - w_h[pid]) ** 2)),
                     float(np.sum(weights * np.abs(w_plus[pid]) ** 2)))
     return out
-
-
-def membrane_grid_displacement(basis: MembraneBasis, amplitudes: np.ndarray, xs: np.ndarray,
-                               ys: np.ndarray) -> np.ndarray:
-    r"""In-plane displacement :math:`(u, v)` on the tensor grid ``xs`` x ``ys``, shape
-    (2, len(xs), len(ys)): :func:`solver.membrane_basis.membrane_grid_displacement`, which knows the
-    basis' boundary-layer nodes."""
-    return _grid_displacement(basis, amplitudes, xs, ys)
 
 
 def in_plane_l2_errors(solution: CaseSolution, enriched: Mapping[str, MembraneSolution]

@@ -22,12 +22,12 @@ from assembly import AssemblyError, parse_case
 from assembly.summary import summary_text
 from solver.estimate import (
     estimate_error,
-    membrane_grid_displacement,
     plate_l2_rule,
     refined_together,
     solve_to_tolerance,
 )
 from solver.layout import interface_layout, load_values, member_axes, member_load
+from solver.membrane_basis import membrane_grid_displacement
 from solver.power import plate_gauss_axes, power_flow
 from solver.problems import plate_problems
 from solver.substructure import solve_assembly
