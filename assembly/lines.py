@@ -5,14 +5,17 @@ A junction line moves when ``held = false``, or by default (``held`` not given) 
 plates are not coplanar and its ends are held. An end is held where each member edge meets a
 simply supported or clamped edge, a hinge or a held line: its corners then hold the line's
 ends, as the shear diaphragm of folded-plate theory does. By default a line also stays held
-where the model cannot move it yet, and ``held = false`` is refused there:
 
-* its ends meet other moving lines (the corners of a box: the lines' 3D translations would
-  have to be tied at the junction point) or a free edge;
-* an end edge is in-plane ``roller`` (:math:`u_n = 0`, :math:`N_{nt} = 0`): there refinement
-  does not converge (2e-2 to 3e-1 between resolutions 1.5 and 2.25 on a three-bay panel), for a
-  reason not found yet; by default such a line stays held, and ``held = false`` is allowed,
-  ``vtcr solve --tolerance`` reporting the non-convergence.
+* where the model cannot move it yet, and ``held = false`` is refused there: its ends meet
+  other moving lines (the corners of a box: the lines' 3D translations would have to be tied
+  at the junction point) or a free edge;
+* where moving costs much more: an end edge is in-plane ``roller`` (:math:`u_n = 0`, :math:`N_{nt} = 0`). There only the
+  members' bending supports hold the line's ends, under line loads that are log-singular at
+  them (``docs/method.md`` section 10.4); with the usual rays refinement did not converge (2e-2
+  to 3e-1 between resolutions 1.5 and 2.25 on a three-bay panel), and the members' edge waves
+  now reach :data:`solver.problems.ROLLER_END_REACH` times further, which converges at 10 to 100
+  times the cost. By default such a line therefore stays held; ``held = false`` moves it, and
+  ``vtcr check`` warns (:func:`solver.guards.description_issues`).
 
 ``fixed`` ends, the default of a supported edge, converge since a moving line's functions stop
 at what every member's rays answer (:func:`solver.joint_rules.interface_function_count`).
@@ -30,7 +33,7 @@ from .joints import JunctionJoint
 from .models import FRAME_TOLERANCE
 from .types import EdgeId
 
-__all__ = ["members_coplanar", "unheld_ends", "moving_lines"]
+__all__ = ["members_coplanar", "unheld_ends", "roller_ends", "moving_lines"]
 
 
 def members_coplanar(joint: JunctionJoint, plates: Mapping[str, Any]) -> bool:
@@ -62,6 +65,13 @@ def unheld_ends(joint: JunctionJoint, conditions: Mapping[EdgeId, str],
             and not holding.get(edge, False)]
 
 
+def roller_ends(joint: JunctionJoint, in_plane: Mapping[EdgeId, str]) -> list[EdgeId]:
+    """The edges at the line's ends whose given in-plane condition (``in_plane``, by edge) is
+    ``roller``: where the members' bending supports alone hold the line's ends (module
+    notes)."""
+    return [edge for edge in _end_edges(joint) if in_plane.get(edge) == "roller"]
+
+
 def moving_lines(joints: Mapping[str, Any], plates: Mapping[str, Any],
                  conditions: Mapping[EdgeId, str],
                  in_plane: Mapping[EdgeId, str]) -> tuple[str, ...]:
@@ -78,7 +88,7 @@ def moving_lines(joints: Mapping[str, Any], plates: Mapping[str, Any],
     line_of = {side: jid for jid, joint in joints.items() for side in joint.sides}
     undecided = {jid for jid, j in junctions.items()
                  if j.held is None and not members_coplanar(j, plates)
-                 and not any(in_plane.get(edge) == "roller" for edge in _end_edges(j))}
+                 and not roller_ends(j, in_plane)}
 
     def holding(lines: set[str]) -> dict[EdgeId, bool]:
         return {side: jid not in lines and getattr(joints[jid], "kind", "") != "coplanar"
