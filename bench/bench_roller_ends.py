@@ -4,15 +4,17 @@ section 10.4): the measurements behind the diagnosis, on the L fold of
 members rigid, simply supported ends, 1 N on A), the in-plane condition of the end edges
 ``roller`` or ``diaphragm``, ``held = false``.
 
-* **refinement**: the relative L2 differences of ``w`` and ``(u, v)`` on each plate between
+* **refinement with the usual reach** (``solver.problems.ROLLER_END_REACH`` set to 1, as
+  before the rule): the relative L2 differences of ``w`` and ``(u, v)`` on each plate between
   resolutions 1 -> 1.5 -> 2.25 -> 3.4;
-* **reach of the rays**: at resolution 1.5 with the line's functions fixed at 30
-  (``interface_functions``), ``edge_wavenumber_ratio`` (the edge rays' reach, in bending
-  wavenumbers) raised from 2.5 to 20, with ``w`` of plate B at the line's end (a simply
-  supported corner: 0 exactly) relative to B's largest ``w``; ``--quick`` stops at 10.
+* **reach of the rays** (the same): at resolution 1.5 with the line's functions fixed at 30
+  (``interface_functions``), ``edge_wavenumber_ratio`` (the edge waves' reach, in bending
+  wavenumbers) raised from 2.5 to 20, with ``w`` of plate B at the line's ends (a simply
+  supported corner: 0 exactly) relative to B's largest ``w``; ``--quick`` stops at 10;
+* **refinement with the rule** (``ROLLER_END_REACH`` = 6): roller ends, 1.5 -> 2.25 -> 3.4.
 
 Run: ``OPENBLAS_NUM_THREADS=1 python bench/bench_roller_ends.py [--quick]`` (the full run takes
-about ten minutes, most of it at the largest reach).
+about fifteen minutes on two cores, most of it at the largest reaches).
 """
 
 from __future__ import annotations
@@ -30,6 +32,7 @@ sys.path[:0] = [str(ROOT), str(ROOT / "tests")]
 
 from support import folded_description  # noqa: E402
 
+import solver.problems  # noqa: E402
 from assembly import parse_case  # noqa: E402
 from solver.substructure import solve_assembly  # noqa: E402
 
@@ -71,21 +74,28 @@ def differences(a: dict, b: dict) -> str:
         for name in a)
 
 
+def refinement(ends: str, frequency: float, resolutions: tuple[float, ...]) -> None:
+    """Print the differences between successive resolutions (:func:`differences`)."""
+    previous = None
+    for resolution in resolutions:
+        fields, seconds, corner = fold_fields(frequency, ends, resolution)
+        if previous is not None:
+            print(f"  {ends:9s} {frequency:6.0f} Hz  {resolution:4.2f}  {seconds:5.1f} s  "
+                  f"w_B(end)/max {corner:.1e}  {differences(previous, fields)}", flush=True)
+        previous = fields
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true")
     args = parser.parse_args()
-    print("refinement (resolution 1 -> 1.5 -> 2.25 -> 3.4)")
+    rule = solver.problems.ROLLER_END_REACH
+    solver.problems.ROLLER_END_REACH = 1.0
+    print("refinement with the usual reach (resolution 1 -> 1.5 -> 2.25 -> 3.4)")
     for ends in ("diaphragm", "roller"):
         for frequency in (300.0, 1000.0):
-            previous = None
-            for resolution in (1.0, 1.5, 2.25, 3.4):
-                fields, seconds, _ = fold_fields(frequency, ends, resolution)
-                if previous is not None:
-                    print(f"  {ends:9s} {frequency:6.0f} Hz  {resolution:4.2f}  {seconds:5.1f} s  "
-                          f"{differences(previous, fields)}", flush=True)
-                previous = fields
-    print("reach of the edge rays (resolution 1.5, 30 line functions)")
+            refinement(ends, frequency, (1.0, 1.5, 2.25, 3.4))
+    print("reach of the edge waves (resolution 1.5, 30 line functions)")
     reaches = (2.5, 5.0, 10.0) if args.quick else (2.5, 5.0, 10.0, 15.0, 20.0)
     for ends, frequency in (("diaphragm", 1000.0), ("roller", 1000.0), ("roller", 2500.0)):
         previous = None
@@ -96,6 +106,10 @@ def main() -> None:
             print(f"  {ends:9s} {frequency:6.0f} Hz  tau {tau:4.1f}  {seconds:5.1f} s  "
                   f"w_B(end)/max {corner:.1e}  {change}", flush=True)
             previous = fields
+    solver.problems.ROLLER_END_REACH = rule
+    print(f"refinement with the rule (reach x {rule:g}; resolution 1.5 -> 2.25 -> 3.4)")
+    for frequency in (300.0, 1000.0):
+        refinement("roller", frequency, (1.5, 2.25, 3.4))
 
 
 if __name__ == "__main__":
