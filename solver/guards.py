@@ -416,8 +416,8 @@ def _roller_end_issues(case: Case) -> list[tuple[_Loc, str]]:
             message = (f"junction line {jid} moves but its end edges {names} are in-plane "
                        "roller: its line loads are singular at its ends, and its members' edge "
                        f"waves reach {ROLLER_END_REACH:g} times further to follow them, at 10 to "
-                       "100 times the cost and not always to convergence (docs/method.md section "
-                       "10.4); set held = true, or "
+                       "100 times the cost and not always to convergence "
+                       "(docs/method.md section 10.4); set held = true, or "
                        'in_plane = "diaphragm" or "fixed" on those edges where the structure '
                        "has them")
             warnings.append((("joints", jid, "held"), message))
