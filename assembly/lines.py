@@ -13,10 +13,16 @@ ends, as the shear diaphragm of folded-plate theory does. By default a line also
   moving: 3e-4 to 1.2e-3 between resolutions 1.5 and 2.25 at 189 to 282 Hz, 1e-2 at 600 Hz,
   where the held box agrees to 2e-5), so they are not the default yet;
 * where an end meets a free edge or a coplanar joint: refused with ``held = false``;
-* where an end edge is in-plane ``roller`` (:math:`u_n = 0`, :math:`N_{nt} = 0`): there refinement
-  does not converge (2e-2 to 3e-1 between resolutions 1.5 and 2.25 on a three-bay panel), for a
-  reason not found yet; by default such a line stays held, and ``held = false`` is allowed,
-  ``vtcr solve --tolerance`` reporting the non-convergence.
+* where moving costs much more: an end edge is in-plane ``roller`` (:math:`u_n = 0`,
+  :math:`N_{nt} = 0`). There only the members' bending supports hold the line's ends, under
+  line loads that are log-singular at them (``docs/method.md`` section 10.4); with the usual
+  rays refinement did not converge (2e-2 to 3e-1 between resolutions 1.5 and 2.25 on a
+  three-bay panel), and the members' edge waves now reach
+  :data:`solver.problems.ROLLER_END_REACH` times further, at 10 to 100 times the cost: an L
+  fold then converges (5e-5, then 3e-7 to 2e-5), the panel's resolutions 1.5 and 2.25 agree
+  to 6e-4 to 1.9e-3 at 1 kHz but only to 2.5e-3 to 1.5e-2 at 2.5 kHz. By default such a line
+  therefore stays held; ``held = false`` moves it, and ``vtcr check`` warns
+  (:func:`solver.guards.description_issues`).
 
 ``fixed`` ends, the default of a supported edge, converge since a moving line's functions stop
 at what every member's rays answer (:func:`solver.joint_rules.interface_function_count`).
@@ -34,7 +40,7 @@ from .joints import JunctionJoint
 from .models import FRAME_TOLERANCE
 from .types import EdgeId
 
-__all__ = ["members_coplanar", "unheld_ends", "moving_lines"]
+__all__ = ["members_coplanar", "unheld_ends", "roller_ends", "moving_lines"]
 
 
 def members_coplanar(joint: JunctionJoint, plates: Mapping[str, Any]) -> bool:
@@ -66,6 +72,13 @@ def unheld_ends(joint: JunctionJoint, conditions: Mapping[EdgeId, str],
             and not holding.get(edge, False)]
 
 
+def roller_ends(joint: JunctionJoint, in_plane: Mapping[EdgeId, str]) -> list[EdgeId]:
+    """The edges at the line's ends whose given in-plane condition (``in_plane``, by edge) is
+    ``roller``: where the members' bending supports alone hold the line's ends (module
+    notes)."""
+    return [edge for edge in _end_edges(joint) if in_plane.get(edge) == "roller"]
+
+
 def moving_lines(joints: Mapping[str, Any], plates: Mapping[str, Any],
                  conditions: Mapping[EdgeId, str],
                  in_plane: Mapping[EdgeId, str]) -> tuple[str, ...]:
@@ -83,7 +96,7 @@ def moving_lines(joints: Mapping[str, Any], plates: Mapping[str, Any],
     line_of = {side: jid for jid, joint in joints.items() for side in joint.sides}
     undecided = {jid for jid, j in junctions.items()
                  if j.held is None and not members_coplanar(j, plates)
-                 and not any(in_plane.get(edge) == "roller" for edge in _end_edges(j))}
+                 and not roller_ends(j, in_plane)}
 
     def holding(lines: set[str]) -> dict[EdgeId, bool]:
         return {side: jid not in lines and getattr(joints[jid], "kind", "") != "coplanar"

@@ -13,7 +13,9 @@ from dataclasses import dataclass
 
 from assembly.case import Case
 from assembly.errors import DescriptionError, Issue, format_path
-from solver.problems import plate_problems, plate_ray_counts
+from assembly.lines import roller_ends
+from assembly.types import parse_edge_ref
+from solver.problems import ROLLER_END_REACH, plate_problems, plate_ray_counts
 from solver.rays import RayCounts, automatic_ray_counts
 from solver.sizing import available_memory, estimate_size
 
@@ -397,6 +399,31 @@ def _resolution_issues(
     return errors, warnings
 
 
+def _roller_end_issues(case: Case) -> list[tuple[_Loc, str]]:
+    r"""A warning per moving junction line with an in-plane ``roller`` end edge
+    (:func:`assembly.lines.roller_ends`): there only the members' bending supports hold the
+    line's ends, under line loads that are log-singular at them, and the members' edge waves
+    reach :data:`solver.problems.ROLLER_END_REACH` times further to follow them
+    (``docs/method.md`` section 10.4), at 10 to 100 times the cost. Such a line moves only
+    when ``held = false`` is given."""
+    in_plane = {parse_edge_ref(bc.edge): bc.in_plane for bc in case.boundaries
+                if bc.in_plane is not None}
+    warnings = []
+    for jid in case.moving_lines():
+        ends = roller_ends(case.joints[jid], in_plane)
+        if ends:
+            names = ", ".join(f"{e.plate}.{e.edge}" for e in ends)
+            message = (f"junction line {jid} moves but its end edges {names} are in-plane "
+                       "roller: its line loads are singular at its ends, and its members' edge "
+                       f"waves reach {ROLLER_END_REACH:g} times further to follow them, at 10 to "
+                       "100 times the cost and not always to convergence "
+                       "(docs/method.md section 10.4); set held = true, or "
+                       'in_plane = "diaphragm" or "fixed" on those edges where the structure '
+                       "has them")
+            warnings.append((("joints", jid, "held"), message))
+    return warnings
+
+
 def description_issues(
     case: Case, frequencies: Iterable[float] | None = None, need_loads: bool = False,
 ) -> tuple[list[tuple[_Loc, str]], list[tuple[_Loc, str]]]:
@@ -416,7 +443,9 @@ def description_issues(
       thicknesses warns;
     * **measurement grid** -- more than :data:`MAX_GRID_POINTS` points on a plate is an
       error (spacing in mm instead of m?);
-    * **loads** (if `need_loads`) -- a description without loads has a zero response.
+    * **loads** (if `need_loads`) -- a description without loads has a zero response;
+    * **moving lines** -- a moving junction line with an in-plane ``roller`` end edge warns
+      (:func:`_roller_end_issues`).
 
     Parameters
     ----------
@@ -451,6 +480,7 @@ def description_issues(
     units = _millimetres_against_pascals(case)
     errors = ([units] if units else []) + errors
     scale_errors, warnings = _scale_issues(case, frequencies, location)
+    warnings += _roller_end_issues(case)
     if scale_errors:  # the quantities below would overflow or vanish
         return errors + scale_errors, warnings
     plates = _plate_rays(case, f)

@@ -16,7 +16,7 @@ from assembly.geometry import EDGE_NAMES
 from solver.membrane import MembraneEdge, MembraneProblem, membrane_stiffness
 from solver.membrane_basis import MembraneBasis, build_membrane_basis, membrane_ray_counts
 from solver.plate import PlateProblem
-from solver.problems import plate_resolution
+from solver.problems import edge_reach, plate_resolution
 
 __all__ = ["in_plane_plates", "in_plane_edge_conditions", "membrane_problems", "membrane_bases"]
 
@@ -85,14 +85,15 @@ def membrane_bases(case: Case, problems: Mapping[str, MembraneProblem],
     r"""Each in-plane plate's basis (``docs/method.md`` section 10.3): edge waves up to
     :math:`\beta_{max} = \tau\max(\kappa_0, k_S, 5/R_{max})`, with the plate's bending
     wavenumber :math:`\kappa_0` (the bending waves of the members load the line) and the
-    description's ``edge_wavenumber_ratio`` :math:`\tau`, counts by the resolution rule."""
+    description's ``edge_wavenumber_ratio`` :math:`\tau` (further on a member of a line with a
+    ``roller`` end: :func:`solver.problems.edge_reach`), counts by the resolution rule."""
     settings = case.discretisation
     bases, shared = {}, {}  # identical plates share one basis, and through it their traces
     for pid, problem in problems.items():
         k_long, k_shear = problem.wavenumbers
         radius = 0.5 * math.hypot(*problem.size)
-        beta_max = settings.edge_wavenumber_ratio * max(bending[pid].kappa.real, k_shear.real,
-                                                         5.0 / radius)
+        beta_max = edge_reach(case, pid) * max(bending[pid].kappa.real, k_shear.real,
+                                                5.0 / radius)
         counts = membrane_ray_counts(problem.size, k_shear.real, beta_max,
                                      plate_resolution(case, pid, resolution))
         key = (problem.size, k_long, k_shear, counts, beta_max)

@@ -11,12 +11,14 @@ from collections.abc import Iterable, Mapping
 
 from assembly.case import Case
 from assembly.geometry import EDGE_NAMES
+from assembly.lines import roller_ends
+from assembly.types import parse_edge_ref
 from solver.kirchhoff import complex_bending_stiffness
 from solver.plate import EdgeCondition, EdgeLoad, PlateProblem, PointForce
 from solver.rays import RayBasis, RayCounts, automatic_ray_counts, build_ray_basis
 
 __all__ = ["plate_problem", "plate_problems", "plate_ray_counts", "plate_basis", "plate_bases",
-           "joint_edge_kinds"]
+           "joint_edge_kinds", "ROLLER_END_REACH", "roller_end_plates", "edge_reach"]
 
 
 def joint_edge_kinds(case: Case) -> dict[tuple[str, str], str]:
@@ -106,6 +108,35 @@ def plate_resolution(case: Case, plate_id: str,
     return float(resolution)
 
 
+ROLLER_END_REACH = 6.0
+r"""How much further than elsewhere the edge waves of a member of a moving line with an in-plane
+``roller`` end reach, bending (:math:`\tau\kappa_0`) and in-plane (:math:`\beta_{max}`) alike
+(``docs/method.md`` section 10.4): there only the members' bending supports hold the line's
+ends, under line loads that are log-singular at them. On an L fold at 1 kHz (resolution 1.5, 30
+line functions) reaches of 2.5, 5, 10, 15 and 20 bending wavenumbers left ``w`` at the
+supported corner at 2.9e-3, 3.8e-3, 6.2e-5, 1.3e-5 and 4e-6 of the largest; 6 x 2.5 = 15."""
+
+
+def roller_end_plates(case: Case) -> frozenset[str]:
+    """The members of the moving lines with an in-plane ``roller`` end edge
+    (:func:`assembly.lines.roller_ends`)."""
+    in_plane = {parse_edge_ref(bc.edge): bc.in_plane for bc in case.boundaries
+                if bc.in_plane is not None}
+    if "roller" not in in_plane.values():  # the common case, without finding the moving lines
+        return frozenset()
+    return frozenset(plate for jid in case.moving_lines()
+                     if roller_ends(case.joints[jid], in_plane)
+                     for plate in case.joints[jid].plates)
+
+
+def edge_reach(case: Case, plate_id: str) -> float:
+    r"""The largest edge-wave wavenumber of a plate in units of its bending wavenumber: the
+    description's ``edge_wavenumber_ratio`` :math:`\tau`, times :data:`ROLLER_END_REACH` on a
+    member of a moving line with a ``roller`` end (:func:`roller_end_plates`)."""
+    tau = case.discretisation.edge_wavenumber_ratio
+    return tau * ROLLER_END_REACH if plate_id in roller_end_plates(case) else tau
+
+
 def plate_ray_counts(case: Case, plate_id: str, problem: PlateProblem,
                      resolution: float | Mapping[str, float] | None = None) -> RayCounts:
     """Sector counts of one plate: the automatic rule, then the description's overrides.
@@ -117,7 +148,7 @@ def plate_ray_counts(case: Case, plate_id: str, problem: PlateProblem,
     settings = case.discretisation
     scale = plate_resolution(case, plate_id, resolution)
     counts = automatic_ray_counts(problem.kappa.real, problem.size, scale,
-                                  settings.edge_wavenumber_ratio)
+                                  edge_reach(case, plate_id))
     override = settings.for_plate(plate_id)
     ratio = scale / settings.resolution
 
@@ -144,7 +175,7 @@ def plate_basis(case: Case, plate_id: str, problem: PlateProblem,
     settings = case.discretisation
     return build_ray_basis(problem.size, problem.kappa, counts,
                            n_q=settings.quadrature_per_sector,
-                           tau=settings.edge_wavenumber_ratio)
+                           tau=edge_reach(case, plate_id))
 
 
 def plate_bases(case: Case, problems: Mapping[str, PlateProblem],
@@ -154,7 +185,8 @@ def plate_bases(case: Case, problems: Mapping[str, PlateProblem],
     once (:func:`solver.plate.edge_values`' cache)."""
     bases, shared = {}, {}
     for pid, problem in problems.items():
-        key = (problem.size, problem.kappa, plate_ray_counts(case, pid, problem, resolution))
+        key = (problem.size, problem.kappa, plate_ray_counts(case, pid, problem, resolution),
+               edge_reach(case, pid))
         if key not in shared:
             shared[key] = plate_basis(case, pid, problem, resolution)
         bases[pid] = shared[key]
