@@ -3,15 +3,13 @@ description's checks, its summary and the solver.
 
 A junction line moves when ``held = false``, or by default (``held`` not given) when its member
 plates are not coplanar and its ends are held. An end is held where each member edge meets a
-simply supported or clamped edge, a hinge or a held line: its corners then hold the line's
-ends, as the shear diaphragm of folded-plate theory does. By default a line also stays held:
+simply supported or clamped edge, a hinge, a held line, or another moving line: the corners
+then hold the line's ends, as the shear diaphragm of folded-plate theory does, or the junction
+point where moving lines meet translates as one body (:func:`solver.layout.junction_point_axes`,
+``docs/method.md`` section 6.4; the wall's corners in ``cases/box_with_wall.toml``). The
+members of lines that meet reach further with their edge waves
+(:data:`solver.problems.MEETING_END_REACH`). By default a line stays held:
 
-* where its ends meet other moving lines (the wall's corners in ``cases/box_with_wall.toml``,
-  a box's corners). ``held = false`` is accepted there: the junction point's rows tie the
-  lines' translations (:func:`solver.layout.junction_point_axes`, ``docs/method.md`` section
-  6.4), but refinement converges slowly at such points (box_with_wall with its four welds
-  moving: 3e-4 to 1.2e-3 between resolutions 1.5 and 2.25 at 189 to 282 Hz, 1e-2 at 600 Hz,
-  where the held box agrees to 2e-5), so they are not the default yet;
 * where an end meets a free edge or a coplanar joint: refused with ``held = false``;
 * where moving costs much more: an end edge is in-plane ``roller`` (:math:`u_n = 0`,
   :math:`N_{nt} = 0`). There only the members' bending supports hold the line's ends, under
@@ -30,7 +28,7 @@ at what every member's rays answer (:func:`solver.joint_rules.interface_function
 
 from __future__ import annotations
 
-from collections.abc import Iterator, Mapping
+from collections.abc import Collection, Iterator, Mapping
 from typing import Any
 
 import numpy as np
@@ -40,7 +38,7 @@ from .joints import JunctionJoint
 from .models import FRAME_TOLERANCE
 from .types import EdgeId
 
-__all__ = ["members_coplanar", "unheld_ends", "roller_ends", "moving_lines"]
+__all__ = ["members_coplanar", "unheld_ends", "roller_ends", "meeting_ends", "moving_lines"]
 
 
 def members_coplanar(joint: JunctionJoint, plates: Mapping[str, Any]) -> bool:
@@ -79,6 +77,13 @@ def roller_ends(joint: JunctionJoint, in_plane: Mapping[EdgeId, str]) -> list[Ed
     return [edge for edge in _end_edges(joint) if in_plane.get(edge) == "roller"]
 
 
+def meeting_ends(joint: JunctionJoint, line_of: Mapping[EdgeId, str],
+                 moving: Collection[str]) -> list[EdgeId]:
+    """The edges at the line's ends that lie on other ``moving`` lines (``line_of``: the joint
+    of each joined edge): the junction points where moving lines meet (module notes)."""
+    return [edge for edge in _end_edges(joint) if line_of.get(edge) in moving]
+
+
 def moving_lines(joints: Mapping[str, Any], plates: Mapping[str, Any],
                  conditions: Mapping[EdgeId, str],
                  in_plane: Mapping[EdgeId, str]) -> tuple[str, ...]:
@@ -87,9 +92,8 @@ def moving_lines(joints: Mapping[str, Any], plates: Mapping[str, Any],
     are the boundaries' bending and given in-plane conditions by edge.
 
     The default is found by elimination: a line with an end that nothing can hold (a free
-    edge) is held, which may hold the ends of others; what remains moves, except lines whose
-    ends meet other moving lines, which are held too (module notes: ``held = false`` moves
-    them)."""
+    edge) is held, which may hold the ends of others; what remains moves, lines whose ends
+    meet other moving lines included (junction points, module notes)."""
     joints = {jid: j for jid, j in joints.items() if j is not None}  # the valid ones
     junctions = {jid: j for jid, j in joints.items() if isinstance(j, JunctionJoint)}
     moving = {jid for jid, j in junctions.items() if j.held is False}
@@ -110,7 +114,5 @@ def moving_lines(joints: Mapping[str, Any], plates: Mapping[str, Any],
         if not free_ends:
             break
         undecided -= free_ends
-    held_by = holding(undecided | moving)
-    meeting = {jid for jid in undecided if unheld_ends(junctions[jid], conditions, held_by)}
-    moving |= undecided - meeting
+    moving |= undecided
     return tuple(jid for jid in joints if jid in moving)
