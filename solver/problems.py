@@ -158,9 +158,26 @@ def edge_reach(case: Case, plate_id: str) -> float:
     :data:`MEETING_END_REACH` on a member of a moving line that meets others at its ends
     (:func:`meeting_end_plates`)."""
     tau = case.discretisation.edge_wavenumber_ratio
-    if plate_id in roller_end_plates(case):
+    roller, meeting = _far_reaching_plates(case)
+    if plate_id in roller:
         return tau * ROLLER_END_REACH
-    return tau * MEETING_END_REACH if plate_id in meeting_end_plates(case) else tau
+    return tau * MEETING_END_REACH if plate_id in meeting else tau
+
+
+_FAR_REACHING: dict[int, tuple[Case, frozenset[str], frozenset[str]]] = {}
+
+
+def _far_reaching_plates(case: Case) -> tuple[frozenset[str], frozenset[str]]:
+    """:func:`roller_end_plates` and :func:`meeting_end_plates` of ``case``, found once per case
+    (a frozen model) for the few cases in use: they find the moving lines, 5 ms on a 50-bay
+    panel, and :func:`edge_reach` is asked for every plate by several builders (0.5 s a pass
+    over its 99 plates without the memo)."""
+    entry = _FAR_REACHING.get(id(case))  # the memo holds its cases: their ids stay theirs
+    if entry is None:
+        if len(_FAR_REACHING) >= 8:
+            _FAR_REACHING.clear()
+        entry = _FAR_REACHING[id(case)] = (case, roller_end_plates(case), meeting_end_plates(case))
+    return entry[1], entry[2]
 
 
 def plate_ray_counts(case: Case, plate_id: str, problem: PlateProblem,
