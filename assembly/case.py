@@ -281,9 +281,14 @@ class Case(FrozenModel):
     def moving_lines(self) -> tuple[str, ...]:
         """The junction lines that move (:func:`assembly.lines.moving_lines`: ``held = false``,
         or by default non-coplanar members whose ends are held)."""
-        edges = [(parse_edge_ref(bc.edge), bc) for bc in self.boundaries]
-        return moving_lines(self.joints, self.plates, {e: bc.condition for e, bc in edges},
-                            {e: bc.in_plane for e, bc in edges if bc.in_plane is not None})
+        conditions = {parse_edge_ref(bc.edge): bc.condition for bc in self.boundaries}
+        return moving_lines(self.joints, self.plates, conditions, self.given_in_plane())
+
+    def given_in_plane(self) -> dict[EdgeId, str]:
+        """The in-plane conditions the boundaries give (their ``in_plane``, where set), by
+        edge."""
+        return {parse_edge_ref(bc.edge): bc.in_plane for bc in self.boundaries
+                if bc.in_plane is not None}
 
     def edge_joints(self) -> dict[EdgeId, str]:
         """Return ``{edge: joint id}`` for every joined edge."""

@@ -16,11 +16,12 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from assembly import Case
+from assembly.geometry import edge_geometry
 from solver.dense import factorise_dense
 from solver.interface import Block
 from solver.layout import InterfaceLayout, membrane_loads, plate_loads, plate_sides
 from solver.membrane import MembraneProblem, assemble_membrane
-from solver.membrane_basis import MembraneBasis
+from solver.membrane_basis import MembraneBasis, membrane_edge_traces
 from solver.plate import (
     PlateBoundary,
     PlateProblem,
@@ -48,6 +49,14 @@ class MembraneBlock:
     transfer: np.ndarray
     rcond: float
     unknowns: np.ndarray
+
+    def edge_traces(self, edge: str, arc: np.ndarray,
+                    cache: dict | None = None) -> dict[str, np.ndarray]:
+        """The traces ``u_n``, ``u_t``, ``N_nn``, ``N_nt`` of the plate's in-plane shape
+        functions at the arc lengths ``arc`` of its edge ``edge``
+        (:func:`solver.membrane_basis.membrane_edge_traces`, ``cache`` as there)."""
+        return membrane_edge_traces(self.basis, edge_geometry(self.problem.size, edge), arc,
+                                    self.problem.stiffness, self.problem.poisson_ratio, cache)
 
 
 @dataclass

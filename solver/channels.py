@@ -22,7 +22,6 @@ from dataclasses import dataclass
 import numpy as np
 
 from assembly import Case, EdgeId
-from assembly.geometry import edge_geometry
 from solver.admissibility import CornerDeflections, PlateAdmissibility
 from solver.interface import Block, residual_weight, squared_norm
 from solver.joint_rules import joint_gauss, legendre_values, load_function_projection
@@ -34,7 +33,6 @@ from solver.layout import (
     member_load,
     rigid_members,
 )
-from solver.membrane_basis import membrane_edge_traces
 from solver.plate import edge_values
 
 __all__ = ["Channel", "JointBuild", "RIGID_CROSSOVER", "two_plate_joint", "junction_line",
@@ -211,12 +209,8 @@ def _in_plane_continuity(build: JointBuild, *sides_at: tuple[EdgeId, np.ndarray]
     :math:`\int(u_\alpha^A + u_\alpha^B)\psi_m = 0` for :math:`\alpha\in\{n, t\}`, the
     traction unknowns ``Nn``, ``Nt`` acting on both edges."""
     plates = build.plates
-    traces = []
-    for side, arc in sides_at:
-        membrane = plates.membranes[side.plate]
-        edge = edge_geometry(membrane.problem.size, side.edge)
-        traces.append(membrane_edge_traces(membrane.basis, edge, arc, membrane.problem.stiffness,
-                                           membrane.problem.poisson_ratio, build.traces_cache))
+    traces = [plates.membranes[side.plate].edge_traces(side.edge, arc, build.traces_cache)
+              for side, arc in sides_at]
     (side_a, _), (side_b, _) = sides_at
     return [Block.union(plates.affine_membrane_operator(side_a.plate, weighted @ traces[0][key]),
                         plates.affine_membrane_operator(side_b.plate, weighted @ traces[1][key]))
@@ -295,12 +289,9 @@ def _balance(slots: Mapping[str, slice], coefficients: Mapping[str, float],
              group: int) -> Block:
     r"""The rows :math:`\sum_f c_f\,f_m = 0`, one per Legendre coefficient :math:`m`, of the
     load functions ``f`` named in ``coefficients``: a balance of the loads on a line."""
-    columns = np.concatenate([np.arange(slots[name].start, slots[name].stop)
-                              for name in coefficients])
-    n_f = slots[next(iter(coefficients))].stop - slots[next(iter(coefficients))].start
-    matrix = np.hstack([c * np.eye(n_f, dtype=complex) for c in coefficients.values()])
-    order = np.argsort(columns)
-    return Block(columns[order], matrix[:, order], np.zeros(n_f, dtype=complex), group)
+    first = slots[next(iter(coefficients))]
+    terms = [(slots[name], c) for name, c in coefficients.items()]
+    return _load_block(terms, np.eye(first.stop - first.start)).constraint(group)
 
 
 def _moving_line_rows(build: JointBuild, jid: str, group: int, sigma: np.ndarray,
@@ -326,10 +317,7 @@ def _moving_line_rows(build: JointBuild, jid: str, group: int, sigma: np.ndarray
         rays, part = edge_values(plates.problems[side.plate], plates.bases[side.plate],
                                  side.edge, arc, build.traces_cache)
         w = plates.affine_plate_operator(side.plate, weighted @ rays["w"], weighted @ part["w"])
-        membrane = plates.membranes[side.plate]
-        edge = edge_geometry(membrane.problem.size, side.edge)
-        traces = membrane_edge_traces(membrane.basis, edge, arc, membrane.problem.stiffness,
-                                      membrane.problem.poisson_ratio, build.traces_cache)
+        traces = plates.membranes[side.plate].edge_traces(side.edge, arc, build.traces_cache)
         u_n = plates.affine_membrane_operator(side.plate, weighted @ traces["u_n"])
         u_t = plates.affine_membrane_operator(side.plate, weighted @ traces["u_t"])
         displacements.append([Block.union(u_n.scaled(normal[c]), u_t.scaled(tangent[c]),
@@ -351,8 +339,7 @@ def junction_corner_rows(plates: PlateAdmissibility,
     coplanar: :func:`_point_rows`.
     """
     rows, columns_of = [], {}
-    axes_of = arrangement.junction_axes or [None] * len(arrangement.junctions)
-    for group, (flags, axes) in enumerate(zip(arrangement.junctions, axes_of),
+    for group, (flags, axes) in enumerate(zip(arrangement.junctions, arrangement.junction_axes),
                                           start=first_group):
         values = {(pid, c): plates.affine_plate_operator(
                       pid, corner_deflections[pid][0][c][None, :],

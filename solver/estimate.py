@@ -70,6 +70,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
+import networkx as nx
 import numpy as np
 
 from assembly.case import Case
@@ -392,19 +393,13 @@ def refined_together(case: Case) -> dict[str, frozenset[str]]:
     2.0e-3, of ``(u, v)`` 9.8e-4 -> 8.2e-3, true and estimated alike), where refining the
     three together gives estimates of 2e-6 to 4e-6 on ``w`` (true errors 5e-7 to 8e-7)."""
     in_plane = set(in_plane_plates(case))
-    together = {pid: {pid} for pid in case.plates}
-    links = [set(case.joints[jid].plates) for jid in case.moving_lines()]
-    links += [set(joint.plates) for joint in case.joints.values()
-              if joint.kind == "coplanar" and set(joint.plates) <= in_plane]
-    changed = True
-    while changed:  # the transitive closure: few plates, few lines
-        changed = False
-        for plates in links:
-            group = set().union(*(together[pid] for pid in plates))
-            for pid in group:
-                if together[pid] != group:
-                    together[pid], changed = set(group), True
-    return {pid: frozenset(group) for pid, group in together.items()}
+    links = nx.Graph()
+    links.add_nodes_from(case.plates)
+    for plates in ([case.joints[jid].plates for jid in case.moving_lines()]
+                   + [joint.plates for joint in case.joints.values()
+                      if joint.kind == "coplanar" and set(joint.plates) <= in_plane]):
+        nx.add_path(links, plates)
+    return {pid: frozenset(group) for group in nx.connected_components(links) for pid in group}
 
 
 def _to_refine(estimate: ErrorEstimate, tolerance: float) -> set[str]:

@@ -14,7 +14,6 @@ from dataclasses import dataclass
 from assembly.case import Case
 from assembly.errors import DescriptionError, Issue, format_path
 from assembly.lines import roller_ends
-from assembly.types import parse_edge_ref
 from solver.problems import ROLLER_END_REACH, plate_problems, plate_ray_counts
 from solver.rays import RayCounts, automatic_ray_counts
 from solver.sizing import available_memory, estimate_size
@@ -406,8 +405,7 @@ def _roller_end_issues(case: Case) -> list[tuple[_Loc, str]]:
     reach :data:`solver.problems.ROLLER_END_REACH` times further to follow them
     (``docs/method.md`` section 10.4), at 10 to 100 times the cost. Such a line moves only
     when ``held = false`` is given."""
-    in_plane = {parse_edge_ref(bc.edge): bc.in_plane for bc in case.boundaries
-                if bc.in_plane is not None}
+    in_plane = case.given_in_plane()
     warnings = []
     for jid in case.moving_lines():
         ends = roller_ends(case.joints[jid], in_plane)

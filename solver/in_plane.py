@@ -34,12 +34,12 @@ def in_plane_plates(case: Case) -> list[str]:
         members |= joined
 
 
-def _edge_conditions(case: Case, plates: list[str]) -> dict[str, dict[str, str]]:
-    """Per in-plane plate, each edge's in-plane condition: ``free`` (with the interface loads
-    as data) on a moving line or a coplanar joint, the boundary's ``in_plane`` on a supported
-    edge, ``fixed`` on a hinge or a held line (they hold their line in translation), ``free``
-    elsewhere."""
-    conditions = {pid: dict.fromkeys(EDGE_NAMES, "free") for pid in plates}
+def in_plane_edge_conditions(case: Case) -> dict[str, dict[str, str]]:
+    """Per in-plane plate (:func:`in_plane_plates`), each edge's in-plane condition: ``free``
+    (with the interface loads as data) on a moving line or a coplanar joint, the boundary's
+    ``in_plane`` on a supported edge, ``fixed`` on a hinge or a held line (they hold their line
+    in translation), ``free`` elsewhere."""
+    conditions = {pid: dict.fromkeys(EDGE_NAMES, "free") for pid in in_plane_plates(case)}
     moving = set(case.moving_lines())
     for jid, joint in case.joints.items():
         for side in joint.sides:
@@ -54,18 +54,11 @@ def _edge_conditions(case: Case, plates: list[str]) -> dict[str, dict[str, str]]
     return conditions
 
 
-def in_plane_edge_conditions(case: Case) -> dict[str, dict[str, str]]:
-    """Per in-plane plate (:func:`in_plane_plates`), each edge's in-plane condition
-    (``fixed``, ``free``, ``diaphragm`` or ``roller``; :func:`_edge_conditions`)."""
-    return _edge_conditions(case, in_plane_plates(case))
-
-
 def membrane_problems(case: Case, frequency: float) -> dict[str, MembraneProblem]:
     """``{plate: MembraneProblem}`` of the in-plane plates (:func:`in_plane_plates`); their
     moving-line edges carry no data here (their loads are interface unknowns)."""
-    plates = in_plane_plates(case)
     problems = {}
-    for pid, conditions in _edge_conditions(case, plates).items():
+    for pid, conditions in in_plane_edge_conditions(case).items():
         plate = case.plates[pid]
         material = case.materials[plate.material]
         problems[pid] = MembraneProblem(
@@ -86,7 +79,8 @@ def membrane_bases(case: Case, problems: Mapping[str, MembraneProblem],
     :math:`\beta_{max} = \tau\max(\kappa_0, k_S, 5/R_{max})`, with the plate's bending
     wavenumber :math:`\kappa_0` (the bending waves of the members load the line) and the
     description's ``edge_wavenumber_ratio`` :math:`\tau` (further on a member of a line with a
-    ``roller`` end: :func:`solver.problems.edge_reach`), counts by the resolution rule."""
+    ``roller`` end or meeting other moving lines: :func:`solver.problems.edge_reach`), counts by
+    the resolution rule."""
     settings = case.discretisation
     bases, shared = {}, {}  # identical plates share one basis, and through it their traces
     for pid, problem in problems.items():

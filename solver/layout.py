@@ -12,7 +12,7 @@ unknown.
 from __future__ import annotations
 
 from collections.abc import Collection, Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -151,13 +151,12 @@ def _held_directions(case: Case, corner: Corner, kinematic: bool,
     in-plane plates' edge conditions). A plate without in-plane waves is rigid in its plane
     (the held-line model of section 6.2b), so it holds both in-plane directions."""
     pid, c = corner
-    plate = case.plates[pid]
-    held = [plate.frame.normal] if kinematic else []
+    held = [case.plates[pid].frame.normal] if kinematic else []
     for edge in (EDGE_NAMES[c], EDGE_NAMES[c - 1]):  # the edges that start and end at c
-        _, tangent, normal, _ = plate.edge_frame(edge)
+        normal, tangent, _ = member_axes(case, EdgeId(pid, edge))
         axes = {"normal": normal, "tangent": tangent}
         condition = in_plane[pid][edge] if pid in in_plane else "fixed"
-        held += [plate.frame.to_space_vector(axes[name]) for name in HELD_IN_PLANE[condition]]
+        held += [axes[name] for name in HELD_IN_PLANE[condition]]
     return held
 
 
@@ -250,7 +249,7 @@ class InterfaceLayout:
     n_s: int
     unknowns: dict
     membrane_unknowns: dict
-    junction_axes: list = field(default_factory=list)
+    junction_axes: list
 
 
 def interface_layout(case: Case, problems: Mapping[str, PlateProblem],
@@ -311,11 +310,9 @@ def member_axes(case: Case, side: EdgeId) -> tuple[np.ndarray, np.ndarray, np.nd
     :math:`\mathbf t_i` and its plate's normal :math:`\mathbf e_{z,i}` (the frame of
     :math:`(u_n, u_t, w)` and of :math:`(N_{nn}, N_{nt}, K_n)`)."""
     plate = case.plates[side.plate]
-    edge = edge_geometry(tuple(plate.size), side.edge)
-    x_axis, y_axis = (np.asarray(a, float) for a in (plate.frame.x_axis, plate.frame.y_axis))
-    x_axis, y_axis = x_axis / np.linalg.norm(x_axis), y_axis / np.linalg.norm(y_axis)
-    return (edge.normal[0] * x_axis + edge.normal[1] * y_axis,
-            edge.tangent[0] * x_axis + edge.tangent[1] * y_axis, np.cross(x_axis, y_axis))
+    _, tangent, normal, _ = plate.edge_frame(side.edge)
+    frame = plate.frame
+    return frame.to_space_vector(normal), frame.to_space_vector(tangent), frame.normal
 
 
 def member_load(case: Case, jid: str, slots: Mapping[str, slice], plate: str,

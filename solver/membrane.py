@@ -81,10 +81,6 @@ def membrane_wavenumbers(mass_per_area: float, omega: float, stiffness: complex,
     return k_long, k_long * math.sqrt(2.0 / (1.0 - poisson_ratio))
 
 
-# ----------------------------------------------------------------------------------------------
-# one plate's problem
-# ----------------------------------------------------------------------------------------------
-
 EdgeData = Callable[[np.ndarray], np.ndarray]
 """Data along an edge as a function of the arc length from the edge's start."""
 

@@ -51,12 +51,11 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from assembly.case import Case
-from assembly.geometry import EdgeGeometry, edge_geometry, plate_edges
+from assembly.geometry import EdgeGeometry, plate_edges
 from solver.joint_rules import joint_gauss, joint_parameters, legendre_values
 from solver.kirchhoff import wave_edge_factors
 from solver.layout import LoadTerms, load_values, member_load, traction_loads
 from solver.membrane import membrane_dissipated_power
-from solver.membrane_basis import membrane_edge_traces
 from solver.plate import (
     PlateProblem,
     edge_rule_size,
@@ -259,10 +258,7 @@ def _side_powers(case: Case, system: Any, jid: str, amplitudes: Mapping[str, np.
             pairing += wq @ (shear * np.conj(w))
         tractions = traction_loads(case, jid, slots, side.plate)
         if tractions is not None:  # and its in-plane tractions N_nn, N_nt
-            membrane = system.membranes[side.plate]
-            traces = membrane_edge_traces(
-                membrane.basis, edge_geometry(membrane.problem.size, side.edge), arc,
-                membrane.problem.stiffness, membrane.problem.poisson_ratio)
+            traces = system.membranes[side.plate].edge_traces(side.edge, arc)
             u = membrane_amplitudes[side.plate]
             pairing += wq @ (load(tractions[0]) * np.conj(traces["u_n"] @ u)
                              + load(tractions[1]) * np.conj(traces["u_t"] @ u))

@@ -12,7 +12,6 @@ from collections.abc import Iterable, Mapping
 from assembly.case import Case
 from assembly.geometry import EDGE_NAMES
 from assembly.lines import meeting_ends, roller_ends
-from assembly.types import parse_edge_ref
 from solver.kirchhoff import complex_bending_stiffness
 from solver.plate import EdgeCondition, EdgeLoad, PlateProblem, PointForce
 from solver.rays import RayBasis, RayCounts, automatic_ray_counts, build_ray_basis
@@ -121,8 +120,7 @@ supported corner at 2.9e-3, 3.8e-3, 6.2e-5, 1.3e-5 and 4e-6 of the largest; 6 x 
 def roller_end_plates(case: Case) -> frozenset[str]:
     """The members of the moving lines with an in-plane ``roller`` end edge
     (:func:`assembly.lines.roller_ends`)."""
-    in_plane = {parse_edge_ref(bc.edge): bc.in_plane for bc in case.boundaries
-                if bc.in_plane is not None}
+    in_plane = case.given_in_plane()
     if "roller" not in in_plane.values():  # the common case, without finding the moving lines
         return frozenset()
     return frozenset(plate for jid in case.moving_lines()
