@@ -18,7 +18,8 @@ from solver.membrane_basis import MembraneBasis, build_membrane_basis, membrane_
 from solver.plate import PlateProblem
 from solver.problems import edge_reach, plate_resolution
 
-__all__ = ["in_plane_plates", "in_plane_edge_conditions", "membrane_problems", "membrane_bases"]
+__all__ = ["MIRROR_CONDITIONS", "membrane_edge_reach", "in_plane_plates",
+           "in_plane_edge_conditions", "membrane_problems", "membrane_bases"]
 
 
 def in_plane_plates(case: Case) -> list[str]:
@@ -71,6 +72,25 @@ def membrane_problems(case: Case, frequency: float) -> dict[str, MembraneProblem
     return problems
 
 
+MIRROR_CONDITIONS = ("diaphragm", "roller")
+r"""In-plane edge conditions that the edge waves of the perpendicular edges meet by themselves
+when they are homogeneous (as every boundary of an assembly is): a wave
+:math:`U(x)\sin\beta y,\ V(x)\cos\beta y` of an edge along :math:`y` (the sum of its
+:math:`\pm\beta` nodes) has :math:`u_x = 0` and :math:`N_{yy} = 0` on :math:`y = 0` (a
+diaphragm), its :math:`\cos`/:math:`\sin` partner :math:`u_y = 0` and :math:`N_{xy} = 0` (a
+roller) (``docs/method.md`` section 10.3)."""
+
+
+def membrane_edge_reach(conditions: Mapping[str, str], line_reach: float,
+                        own_reach: float) -> tuple[float, ...]:
+    r""":math:`\beta_{max}` of each edge, in the order of :data:`EDGE_NAMES`: ``own_reach``
+    (:math:`\tau\max(k_S, 5/R_{max})`) on an edge whose ``conditions`` entry is one of
+    :data:`MIRROR_CONDITIONS`, which needs none of the wavenumbers a line drives along the
+    edges it meets, else ``line_reach`` (:math:`\tau\max(\kappa_0, k_S, 5/R_{max})`)."""
+    return tuple(own_reach if conditions[edge] in MIRROR_CONDITIONS else line_reach
+                 for edge in EDGE_NAMES)
+
+
 def membrane_bases(case: Case, problems: Mapping[str, MembraneProblem],
                    bending: Mapping[str, PlateProblem],
                    resolution: float | Mapping[str, float] | None = None
@@ -79,15 +99,18 @@ def membrane_bases(case: Case, problems: Mapping[str, MembraneProblem],
     :math:`\beta_{max} = \tau\max(\kappa_0, k_S, 5/R_{max})`, with the plate's bending
     wavenumber :math:`\kappa_0` (the bending waves of the members load the line) and the
     description's ``edge_wavenumber_ratio`` :math:`\tau` (further on a member of a line with a
-    ``roller`` end or meeting other moving lines: :func:`solver.problems.edge_reach`), counts by
-    the resolution rule."""
+    ``roller`` end or meeting other moving lines: :func:`solver.problems.edge_reach`), except on
+    a diaphragm or roller edge (:func:`membrane_edge_reach`); counts by the resolution rule."""
     settings = case.discretisation
     bases, shared = {}, {}  # identical plates share one basis, and through it their traces
     for pid, problem in problems.items():
         k_long, k_shear = problem.wavenumbers
         radius = 0.5 * math.hypot(*problem.size)
-        beta_max = edge_reach(case, pid) * max(bending[pid].kappa.real, k_shear.real,
-                                                5.0 / radius)
+        reach = edge_reach(case, pid)
+        beta_max = membrane_edge_reach(
+            {edge: condition.condition for edge, condition in problem.edges.items()},
+            reach * max(bending[pid].kappa.real, k_shear.real, 5.0 / radius),
+            reach * max(k_shear.real, 5.0 / radius))
         counts = membrane_ray_counts(problem.size, k_shear.real, beta_max,
                                      plate_resolution(case, pid, resolution))
         key = (problem.size, k_long, k_shear, counts, beta_max)

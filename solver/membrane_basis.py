@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import functools
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -47,19 +48,21 @@ class MembraneCounts:
     edge: tuple[int, int, int, int]
 
 
-def membrane_ray_counts(size: tuple[float, float], k_shear: float, edge_wavenumber: float,
+def membrane_ray_counts(size: tuple[float, float], k_shear: float,
+                        edge_wavenumber: float | Sequence[float],
                         resolution: float = 1.0) -> MembraneCounts:
     r"""Sector counts by the resolution rule of ``docs/method.md`` section 5.2, for each wave
     type: :math:`N_{int} = \max(8, \lceil 2.6\,s k R_{max}\rceil_4)` with the shear wavenumber
     :math:`k_S` (the shorter in-plane wave), and per edge
     :math:`N_e = \max(4, \lceil s\,2\beta_{max}L_e/2\pi\rceil)` sectors of
     :math:`\beta\in[-\beta_{max}, \beta_{max}]`: a sector of width at most :math:`2\pi/L_e`
-    carries its edge wave over the whole edge."""
+    carries its edge wave over the whole edge. ``edge_wavenumber`` is :math:`\beta_{max}`, one
+    for every edge or one per edge in the order of :data:`assembly.geometry.EDGE_NAMES`."""
     lx, ly = size
     radius = 0.5 * math.hypot(lx, ly)
     interior = max(8, 4 * math.ceil(2.6 * resolution * k_shear * radius / 4))
-    edge = tuple(max(4, math.ceil(resolution * edge_wavenumber * length / math.pi))
-                 for length in (lx, ly, lx, ly))
+    edge = tuple(max(4, math.ceil(resolution * reach * length / math.pi))
+                 for reach, length in zip(_per_edge(edge_wavenumber), (lx, ly, lx, ly)))
     return MembraneCounts(interior, edge)
 
 
@@ -201,13 +204,18 @@ def boundary_layer_node(beta: np.ndarray, k_long: complex, k_shear: complex,
     return k_shear_vector, direction, k_long_vector, rate
 
 
+def _per_edge(edge_wavenumber: float | Sequence[float]) -> tuple[float, ...]:
+    """:math:`\beta_{max}` of each of the four edges."""
+    return tuple(float(b) for b in np.broadcast_to(np.asarray(edge_wavenumber, float), (4,)))
+
+
 def build_membrane_basis(size: tuple[float, float], k_long: complex, k_shear: complex,
-                         counts: MembraneCounts, edge_wavenumber: float,
+                         counts: MembraneCounts, edge_wavenumber: float | Sequence[float],
                          n_q: int = 8) -> MembraneBasis:
     r"""The in-plane waves of one plate: for each wave type :math:`X\in\{L, S\}`, interior
     plane waves :math:`\mathbf k = -jk_X(\cos\theta, \sin\theta)` about the centre and, per
-    edge and :math:`|\beta|\le` ``edge_wavenumber``, from the edge's start, the shear edge
-    wave :math:`\mathbf k = -j\beta\,\mathbf t + \sqrt{\beta^2 - k_S^2}\,\mathbf n` and the
+    edge and :math:`|\beta|\le` ``edge_wavenumber`` (one for all edges or one per edge), from the
+    edge's start, the shear edge wave :math:`\mathbf k = -j\beta\,\mathbf t + \sqrt{\beta^2 - k_S^2}\,\mathbf n` and the
     boundary-layer node of :func:`boundary_layer_node` (the divided difference of the
     longitudinal and the shear edge waves, which spans with the shear wave what the two edge
     waves span, without their near-dependence as :math:`k_X/\beta\to0`)."""
@@ -230,8 +238,9 @@ def build_membrane_basis(size: tuple[float, float], k_long: complex, k_shear: co
         theta, w = _sector_nodes(0.0, 2.0 * np.pi, counts.interior, n_q)
         k = -1j * k_wave * np.stack([np.cos(theta), np.sin(theta)], axis=1)
         add(k, centre, w, _polarisation(k, wave), f"interior:{wave}", counts.interior)
-    for edge, n_sectors in zip(plate_edges(size), counts.edge):
-        beta, w = _sector_nodes(-edge_wavenumber, edge_wavenumber, n_sectors, n_q)
+    for edge, n_sectors, reach in zip(plate_edges(size), counts.edge,
+                                      _per_edge(edge_wavenumber)):
+        beta, w = _sector_nodes(-reach, reach, n_sectors, n_q)
         beta = 0.5 * (beta - beta[::-1])  # exactly odd: +-beta share exponentials and rates
         k, direction, layer, rate = boundary_layer_node(beta, k_long, k_shear, edge.tangent,
                                                         edge.normal)
