@@ -280,9 +280,8 @@ class Case(FrozenModel):
 
     def moving_lines(self) -> tuple[str, ...]:
         """The junction lines that move (:func:`assembly.lines.moving_lines`: ``held = false``,
-        or by default non-coplanar members whose ends are held)."""
-        conditions = {parse_edge_ref(bc.edge): bc.condition for bc in self.boundaries}
-        return moving_lines(self.joints, self.plates, conditions, self.given_in_plane())
+        or by default non-coplanar members)."""
+        return moving_lines(self.joints, self.plates, self.given_in_plane())
 
     def given_in_plane(self) -> dict[EdgeId, str]:
         """The in-plane conditions the boundaries give (their ``in_plane``, where set), by

@@ -2,20 +2,21 @@
 description's checks, its summary and the solver.
 
 A junction line moves when ``held = false``, or by default (``held`` not given) when its member
-plates are not coplanar and its ends are held. An end is held where each member edge meets a
-simply supported or clamped edge, a hinge, a held line, or another moving line: the corners
-then hold the line's ends, as the shear diaphragm of folded-plate theory does, or the junction
-point where moving lines meet translates as one body (:func:`solver.layout.junction_point_axes`,
-``docs/method.md`` section 6.4; the wall's corners in ``cases/box_with_wall.toml``). The
-members of lines that meet reach further with their edge waves
-(:data:`solver.problems.MEETING_END_REACH`). By default a line stays held:
+plates are not coplanar. Its ends may meet a simply supported or clamped edge, a hinge or a
+held line (their kinematic corners hold the line's ends, as the shear diaphragm of
+folded-plate theory does), another moving line (the junction point where they meet translates
+as one body: :func:`solver.layout.junction_point_axes`, ``docs/method.md`` section 6.4; the
+wall's corners in ``cases/box_with_wall.toml``) or a free edge (a junction point that nothing
+holds: it translates freely in 3D). The members of a line that meets others or ends on a free
+edge reach further with their edge waves (:data:`solver.problems.MEETING_END_REACH`,
+:data:`solver.problems.FREE_END_REACH`). A line stays held:
 
-* where an end meets a free edge or a coplanar joint: refused with ``held = false``;
-* where moving costs much more: an end edge is in-plane ``roller`` (:math:`u_n = 0`,
-  :math:`N_{nt} = 0`). There only the members' bending supports hold the line's ends, under
-  line loads that are log-singular at them (``docs/method.md`` section 10.4); with the usual
-  rays refinement did not converge (2e-2 to 3e-1 between resolutions 1.5 and 2.25 on a
-  three-bay panel), and the members' edge waves now reach
+* where an end meets a coplanar joint: refused with ``held = false``;
+* by default, where moving costs much more: an end edge is in-plane ``roller``
+  (:math:`u_n = 0`, :math:`N_{nt} = 0`). There only the members' bending supports hold the
+  line's ends, under line loads that are log-singular at them (``docs/method.md`` section
+  10.4); with the usual rays refinement did not converge (2e-2 to 3e-1 between resolutions 1.5
+  and 2.25 on a three-bay panel), and the members' edge waves now reach
   :data:`solver.problems.ROLLER_END_REACH` times further, at 10 to 100 times the cost: an L
   fold then converges (5e-5, then 3e-7 to 2e-5), the panel's resolutions 1.5 and 2.25 agree
   to 6e-4 to 1.9e-3 at 1 kHz but only to 2.5e-3 to 1.5e-2 at 2.5 kHz. By default such a line
@@ -38,7 +39,7 @@ from .joints import JunctionJoint
 from .models import FRAME_TOLERANCE
 from .types import EdgeId
 
-__all__ = ["members_coplanar", "unheld_ends", "roller_ends", "meeting_ends", "moving_lines"]
+__all__ = ["members_coplanar", "coplanar_ends", "free_ends", "roller_ends", "meeting_ends", "moving_lines"]
 
 
 def members_coplanar(joint: JunctionJoint, plates: Mapping[str, Any]) -> bool:
@@ -60,14 +61,18 @@ def _end_edges(joint: JunctionJoint) -> Iterator[EdgeId]:
             yield EdgeId(side.plate, neighbour)
 
 
-def unheld_ends(joint: JunctionJoint, conditions: Mapping[EdgeId, str],
-                holding: Mapping[EdgeId, bool]) -> list[EdgeId]:
-    """The edges at the line's ends that do not hold it: neither simply supported nor clamped
-    (``conditions``, the boundaries' conditions by edge) nor on a joint that holds its line
-    (``holding``: by joined edge, whether its joint is a hinge or a held junction)."""
+def coplanar_ends(joint: JunctionJoint, line_of: Mapping[EdgeId, Any]) -> list[EdgeId]:
+    """The edges at the line's ends that lie on a coplanar joint (``line_of``: the joint of
+    each joined edge): where no moving line may end (module notes)."""
     return [edge for edge in _end_edges(joint)
-            if conditions.get(edge) not in ("simply_supported", "clamped")
-            and not holding.get(edge, False)]
+            if getattr(line_of.get(edge), "kind", "") == "coplanar"]
+
+
+def free_ends(joint: JunctionJoint, conditions: Mapping[EdgeId, str]) -> list[EdgeId]:
+    """The edges at the line's ends that are free (``conditions``: every edge's, as
+    :meth:`assembly.Case.edge_conditions` gives them): where nothing holds the line's end
+    (module notes)."""
+    return [edge for edge in _end_edges(joint) if conditions[edge] == "free"]
 
 
 def roller_ends(joint: JunctionJoint, in_plane: Mapping[EdgeId, str]) -> list[EdgeId]:
@@ -85,34 +90,13 @@ def meeting_ends(joint: JunctionJoint, line_of: Mapping[EdgeId, str],
 
 
 def moving_lines(joints: Mapping[str, Any], plates: Mapping[str, Any],
-                 conditions: Mapping[EdgeId, str],
                  in_plane: Mapping[EdgeId, str]) -> tuple[str, ...]:
     """The junction lines that move, in the description's order: ``held = false``, or by
-    default non-coplanar members and held ends (module notes); ``conditions`` and ``in_plane``
-    are the boundaries' bending and given in-plane conditions by edge.
-
-    The default is found by elimination: a line with an end that nothing can hold (a free
-    edge) is held, which may hold the ends of others; what remains moves, lines whose ends
-    meet other moving lines included (junction points, module notes)."""
+    default non-coplanar members, no end on a coplanar joint and none in-plane ``roller``
+    (module notes); ``in_plane`` holds the boundaries' given in-plane conditions by edge."""
     joints = {jid: j for jid, j in joints.items() if j is not None}  # the valid ones
-    junctions = {jid: j for jid, j in joints.items() if isinstance(j, JunctionJoint)}
-    moving = {jid for jid, j in junctions.items() if j.held is False}
-    line_of = {side: jid for jid, joint in joints.items() for side in joint.sides}
-    undecided = {jid for jid, j in junctions.items()
-                 if j.held is None and not members_coplanar(j, plates)
-                 and not roller_ends(j, in_plane)}
-
-    def holding(lines: set[str]) -> dict[EdgeId, bool]:
-        return {side: jid not in lines and getattr(joints[jid], "kind", "") != "coplanar"
-                for side, jid in line_of.items()}
-
-    while True:
-        held_by = holding(undecided | moving)
-        free_ends = {jid for jid in undecided
-                     if any(line_of.get(edge) not in undecided
-                            for edge in unheld_ends(junctions[jid], conditions, held_by))}
-        if not free_ends:
-            break
-        undecided -= free_ends
-    moving |= undecided
-    return tuple(jid for jid in joints if jid in moving)
+    line_of = {side: joint for joint in joints.values() for side in joint.sides}
+    return tuple(jid for jid, joint in joints.items() if isinstance(joint, JunctionJoint) and (
+        joint.held is False
+        or (joint.held is None and not members_coplanar(joint, plates)
+            and not coplanar_ends(joint, line_of) and not roller_ends(joint, in_plane))))
