@@ -84,6 +84,9 @@ class PlateAdmissibility:
     membranes : dict of str to MembraneBlock
         The in-plane plates' membrane fields (``docs/method.md`` section 10), affine in the
         interface unknowns like the bending ones; empty without moving lines.
+    corner_columns : dict of (str, int) to int
+        Position in S of the force of each static junction corner, by plate and corner
+        (:class:`solver.layout.InterfaceLayout`).
     """
 
     frequency: float
@@ -96,6 +99,7 @@ class PlateAdmissibility:
     layout: dict[str, dict[str, slice]]
     rcond: dict[str, float]
     membranes: dict[str, MembraneBlock] = field(default_factory=dict)
+    corner_columns: dict[tuple[str, int], int] = field(default_factory=dict)
 
     @property
     def omega(self) -> float:
@@ -180,7 +184,8 @@ def plate_admissibility(case: Case, frequency: float, problems: Mapping[str, Pla
         u0[pid], transfer[pid], rcond[pid] = solution[:, 0], solution[:, 1:], block.rcond
         corner_w[pid] = block.boundary.corner_w, block.boundary.corner_w_p
     plates = PlateAdmissibility(frequency, dict(problems), dict(bases), arrangement.unknowns, u0,
-                                transfer, arrangement.n_s, arrangement.slots, rcond)
+                                transfer, arrangement.n_s, arrangement.slots, rcond,
+                                corner_columns=dict(arrangement.corner_columns))
     return plates, corner_w
 
 

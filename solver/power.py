@@ -81,7 +81,10 @@ class PowerFlow:
     ``transmitted`` (from the joint's first plate to its second; for a junction, from its first
     member to the others) per joint; ``delivered`` per joint and member plate: the power the
     joint's loads put into that plate (a passive joint's sum over its members is minus its
-    dissipated power).
+    dissipated power); ``corners`` per plate with static junction corners: the power their
+    corner forces put into it (the forces at a junction point do no net work, so these sum to
+    zero over a point's plates). A plate's injected, delivered and corner powers sum to what it
+    dissipates.
     """
 
     frequency: float
@@ -91,6 +94,7 @@ class PowerFlow:
     joint_dissipated: dict
     transmitted: dict
     delivered: dict = dataclasses.field(default_factory=dict)
+    corners: dict = dataclasses.field(default_factory=dict)
 
     @property
     def total_injected(self) -> float:
@@ -113,7 +117,9 @@ class PowerFlow:
         return {"frequency": self.frequency, "injected": self.total_injected,
                 "dissipated": self.total_dissipated, "imbalance": self.imbalance,
                 "plates": {pid: {"injected": self.injected[pid], "kinetic_energy": self.kinetic[pid],
-                                 "dissipated": self.dissipated[pid]} for pid in self.injected},
+                                 "dissipated": self.dissipated[pid]}
+                           | ({"delivered_at_corners": self.corners[pid]}
+                              if pid in self.corners else {}) for pid in self.injected},
                 "joints": {jid: {"transmitted": self.transmitted[jid],
                                  "dissipated": self.joint_dissipated[jid],
                                  "delivered": dict(self.delivered.get(jid, {}))}
@@ -298,5 +304,24 @@ def power_flow(case: Case, solution: CaseSolution) -> PowerFlow:
                                                          membrane_amplitudes, s)
             transmitted[jid] = 0.5 * (sum(to_others) - to_first)
             delivered[jid] = {side.plate: p for side, p in zip(joint.sides, powers)}
+    corners = _corner_powers(solution, system.corner_columns) if system is not None else {}
     return PowerFlow(solution.frequency, injected, kinetic, dissipated, joint_dissipated,
-                     transmitted, delivered)
+                     transmitted, delivered, corners)
+
+
+def _corner_powers(solution: CaseSolution, corner_columns: Mapping[tuple[str, int], int]
+                   ) -> dict[str, float]:
+    r"""Per plate with static junction corners, the power their forces :math:`P_c` (interface
+    unknowns, applied as a corner's Kirchhoff force) put into it:
+    :math:`\tfrac12\omega\,\mathrm{Im}\sum_c P_c\bar w_c` (W), with the plate's deflection
+    :math:`w_c` at the corner, as an edge's shear load delivers
+    :math:`\tfrac12\omega\,\mathrm{Im}\int K_n\bar w`."""
+    omega = 2.0 * math.pi * solution.frequency
+    powers: dict[str, float] = {}
+    for (pid, corner), column in corner_columns.items():
+        lx, ly = solution.plates[pid].problem.size
+        point = np.array([[(0.0, 0.0), (lx, 0.0), (lx, ly), (0.0, ly)][corner]])
+        w = solution.w(pid, point)[0]
+        force = solution.interface[column]
+        powers[pid] = powers.get(pid, 0.0) + 0.5 * omega * float((force * np.conj(w)).imag)
+    return powers
