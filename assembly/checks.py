@@ -19,7 +19,6 @@ import numpy as np
 from assembly.errors import Loc, did_you_mean, listing
 from assembly.grid import on_grid
 from assembly.joints import CoplanarJoint, HingeJoint, JunctionJoint
-from assembly.lines import coplanar_ends
 from assembly.models import (
     FRAME_TOLERANCE,
     Boundary,
@@ -358,28 +357,21 @@ class _CrossCheck:
                     self.conditions[edge] = (bc.condition, i)
 
     def moving_lines(self) -> None:
-        """A line that must move (``held = false``) has framed members and no end on a
-        coplanar joint (:mod:`assembly.lines`). Checked once the joints, plates and boundaries
-        are valid: the rule reads their edges."""
+        """A line that must move (``held = false``) has framed members (:mod:`assembly.lines`).
+        Checked once the joints and plates are valid."""
         joints, plates = self.view.joints, self.plates
         if (self.issues or joints is None or plates is None or None in joints.values()
                 or None in plates.values()):
             return
-        line_of = {side: joint for joint in joints.values() for side in joint.sides}
         for jid, joint in self.view.joints.items():
             if not isinstance(joint, JunctionJoint) or joint.held is not False:
                 continue
-            loc = ("joints", jid, "held")
             unframed = [p for p in joint.plates if p in self.plates
                         and self.plates[p].frame is None]
             if unframed:
-                self.issues.append((loc, f"a moving line needs a frame on every member plate; "
+                self.issues.append((("joints", jid, "held"),
+                                    f"a moving line needs a frame on every member plate; "
                                     f"add [plates.{unframed[0]}.frame], or set held = true"))
-                continue
-            for edge in coplanar_ends(joint, line_of):
-                self.issues.append(
-                    (loc, f"the line's end meets the coplanar joint on {edge.ref}, where a "
-                     "moving line cannot end; set held = true"))
 
     def loads(self) -> None:
         """Each load's plate or edge exists, and an edge load acts where the edge lets it."""

@@ -6,22 +6,21 @@ plates are not coplanar. Its ends may meet a simply supported or clamped edge, a
 held line (their kinematic corners hold the line's ends, as the shear diaphragm of
 folded-plate theory does), another moving line (the junction point where they meet translates
 as one body: :func:`solver.layout.junction_point_axes`, ``docs/method.md`` section 6.4; the
-wall's corners in ``cases/box_with_wall.toml``) or a free edge (a junction point that nothing
-holds: it translates freely in 3D). The members of a line that meets others or ends on a free
-edge reach further with their edge waves (:data:`solver.problems.MEETING_END_REACH`,
-:data:`solver.problems.FREE_END_REACH`). A line stays held:
+wall's corners in ``cases/box_with_wall.toml``), a coplanar joint (a stiffener crossing a skin
+joint: the point is the same) or a free edge (a junction point that nothing holds: it
+translates freely in 3D). The members of a line that meets others or ends on a free edge reach
+further with their edge waves (:data:`solver.problems.MEETING_END_REACH`,
+:data:`solver.problems.FREE_END_REACH`).
 
-* where an end meets a coplanar joint: refused with ``held = false``;
-* by default, where moving costs much more: an end edge is in-plane ``roller``
-  (:math:`u_n = 0`, :math:`N_{nt} = 0`). There only the members' bending supports hold the
-  line's ends, under line loads that are log-singular at them (``docs/method.md`` section
-  10.4); with the usual rays refinement did not converge (2e-2 to 3e-1 between resolutions 1.5
-  and 2.25 on a three-bay panel), and the members' edge waves now reach
-  :data:`solver.problems.ROLLER_END_REACH` times further, at 10 to 100 times the cost: an L
-  fold then converges (5e-5, then 3e-7 to 2e-5), the panel's resolutions 1.5 and 2.25 agree
-  to 6e-4 to 1.9e-3 at 1 kHz but only to 2.5e-3 to 1.5e-2 at 2.5 kHz. By default such a line
-  therefore stays held; ``held = false`` moves it, and ``vtcr check`` warns
-  (:func:`solver.guards.description_issues`).
+By default a line stays held only where moving costs much more: where an end edge is in-plane
+``roller`` (:math:`u_n = 0`, :math:`N_{nt} = 0`). There only the members' bending supports hold
+the line's ends, under line loads that are log-singular at them (``docs/method.md`` section
+10.4); with the usual rays refinement did not converge (2e-2 to 3e-1 between resolutions 1.5
+and 2.25 on a three-bay panel), and the members' edge waves now reach
+:data:`solver.problems.ROLLER_END_REACH` times further, at 10 to 100 times the cost: an L fold
+then converges (5e-5, then 3e-7 to 2e-5), the panel's resolutions 1.5 and 2.25 agree to 6e-4
+to 1.9e-3 at 1 kHz but only to 2.5e-3 to 1.5e-2 at 2.5 kHz. ``held = false`` moves such a line,
+and ``vtcr check`` warns (:func:`solver.guards.description_issues`).
 
 ``fixed`` ends, the default of a supported edge, converge since a moving line's functions stop
 at what every member's rays answer (:func:`solver.joint_rules.interface_function_count`).
@@ -39,7 +38,7 @@ from .joints import JunctionJoint
 from .models import FRAME_TOLERANCE
 from .types import EdgeId
 
-__all__ = ["members_coplanar", "coplanar_ends", "free_ends", "roller_ends", "meeting_ends", "moving_lines"]
+__all__ = ["members_coplanar", "free_ends", "roller_ends", "meeting_ends", "moving_lines"]
 
 
 def members_coplanar(joint: JunctionJoint, plates: Mapping[str, Any]) -> bool:
@@ -59,13 +58,6 @@ def _end_edges(joint: JunctionJoint) -> Iterator[EdgeId]:
         index = EDGE_NAMES.index(side.edge)
         for neighbour in (EDGE_NAMES[index - 1], EDGE_NAMES[(index + 1) % 4]):
             yield EdgeId(side.plate, neighbour)
-
-
-def coplanar_ends(joint: JunctionJoint, line_of: Mapping[EdgeId, Any]) -> list[EdgeId]:
-    """The edges at the line's ends that lie on a coplanar joint (``line_of``: the joint of
-    each joined edge): where no moving line may end (module notes)."""
-    return [edge for edge in _end_edges(joint)
-            if getattr(line_of.get(edge), "kind", "") == "coplanar"]
 
 
 def free_ends(joint: JunctionJoint, conditions: Mapping[EdgeId, str]) -> list[EdgeId]:
@@ -92,11 +84,9 @@ def meeting_ends(joint: JunctionJoint, line_of: Mapping[EdgeId, str],
 def moving_lines(joints: Mapping[str, Any], plates: Mapping[str, Any],
                  in_plane: Mapping[EdgeId, str]) -> tuple[str, ...]:
     """The junction lines that move, in the description's order: ``held = false``, or by
-    default non-coplanar members, no end on a coplanar joint and none in-plane ``roller``
-    (module notes); ``in_plane`` holds the boundaries' given in-plane conditions by edge."""
-    joints = {jid: j for jid, j in joints.items() if j is not None}  # the valid ones
-    line_of = {side: joint for joint in joints.values() for side in joint.sides}
+    default non-coplanar members and no in-plane ``roller`` end (module notes); ``in_plane``
+    holds the boundaries' given in-plane conditions by edge."""
     return tuple(jid for jid, joint in joints.items() if isinstance(joint, JunctionJoint) and (
         joint.held is False
         or (joint.held is None and not members_coplanar(joint, plates)
-            and not coplanar_ends(joint, line_of) and not roller_ends(joint, in_plane))))
+            and not roller_ends(joint, in_plane))))
