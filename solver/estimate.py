@@ -376,7 +376,7 @@ def solve_to_tolerance(
         if stalled or refinement == max_refinements:
             raise ToleranceError(_tolerance_message(case, frequency, tolerance, history,
                                                     solution, stalled))
-        refine = set().union(*(together[pid] for pid in _to_refine(estimate, tolerance)))
+        refine = set().union(*(together[pid] for pid in _to_refine(case, estimate, tolerance)))
         resolution = {pid: r * (ENRICHMENT if pid in refine else 1.0)
                       for pid, r in resolution.items()}
         solution = solve_case(case, frequency, resolution=resolution, check=False)
@@ -402,15 +402,25 @@ def refined_together(case: Case) -> dict[str, frozenset[str]]:
     return {pid: frozenset(group) for group in nx.connected_components(links) for pid in group}
 
 
-def _to_refine(estimate: ErrorEstimate, tolerance: float) -> set[str]:
+def _to_refine(case: Case, estimate: ErrorEstimate, tolerance: float) -> set[str]:
     r"""The plates a refinement refines: those whose own estimate exceeds ``tolerance``
-    (:meth:`ErrorEstimate.plate_errors`), and those whose share of the squared total exceeds
-    :math:`\mathrm{tolerance}^2/P` (P plates): a plate whose error is small beside its own
-    field may still spoil a weakly excited neighbour through their joint. Plates far from the
-    load or already converged keep their counts."""
-    allowed = tolerance**2 / len(estimate.plates)
-    return {pid for pid, error in estimate.plate_errors().items()
-            if error > tolerance or estimate.shares[pid] > allowed}
+    (:meth:`ErrorEstimate.plate_errors`), and each plate joined to one of them whose error of
+    ``w`` is larger than that plate may have, :math:`\int_{\Omega_a}|e|^2 >
+    \mathrm{tolerance}^2\int_{\Omega_b}|w|^2`: an error small beside its own plate's field may
+    still spoil a weakly excited neighbour through their joint. The rule reads a plate, its
+    joints and its neighbours only, so that a plate gets the same decision in an assembly of
+    any size (the share of the squared total above :math:`\mathrm{tolerance}^2/P`, P plates,
+    refined ever more plates as P grew). Plates far from the load or already converged keep
+    their counts."""
+    errors = estimate.plate_errors()
+    failing = {pid for pid, error in errors.items() if error > tolerance}
+    refine = set(failing)
+    for joint in case.joints.values():
+        for weak in failing.intersection(joint.plates):
+            if estimate.plates[weak] > 0.0:  # its part of the squared norm: shares / error**2
+                allowed = tolerance**2 * estimate.shares[weak] / estimate.plates[weak] ** 2
+                refine.update(pid for pid in joint.plates if estimate.shares[pid] > allowed)
+    return refine
 
 
 def _tolerance_message(case: Case, frequency: float, tolerance: float,

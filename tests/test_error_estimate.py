@@ -386,3 +386,24 @@ def test_tolerance_refines_only_the_plates_that_need_it():
                                np.array([0.2, 0.3]), np.array([0.1, 0.3]), n_terms=400)
     w = solution.w("P2", np.array([[0.2, 0.1], [0.3, 0.3]]))
     assert np.max(abs(w - exact)) / np.max(abs(exact)) < 1e-3
+
+
+@pytest.mark.parametrize("n_plates", [3, 30])
+def test_the_plates_a_refinement_refines_do_not_depend_on_the_assemblys_size(n_plates):
+    """A chain whose plate P2_1 fails the tolerance (2e-3 of its weak field, 1 % of the energy
+    of P1_1), between the driven P1_1 (5e-4 of its own field, an error 25 times what P2_1 may
+    have) and P3_1 (9e-4), the other plates exact: the refinement takes the failing plate and
+    its two neighbours, in a chain of 3 as of 30. The former rule (a plate's share of the
+    squared total above tolerance^2 / P) took P3_1 in the chain of 3, not in the chain of 30,
+    and left the polluting P1_1 out of both."""
+    from assembly.generate import plate_grid
+    from solver.estimate import ErrorEstimate, _to_refine
+
+    case = parse_case(plate_grid(n_plates, 1))
+    norms = {pid: 1.0 for pid in case.plates} | {"P1_1": 1.0, "P2_1": 0.01}
+    errors = {pid: 0.0 for pid in case.plates} | {"P1_1": 5e-4, "P2_1": 2e-3, "P3_1": 9e-4}
+    total = sum(norms.values())
+    estimate = ErrorEstimate(
+        1e-3, errors, 1.0, 1.5, 0.0,
+        shares={pid: errors[pid] ** 2 * norms[pid] / total for pid in case.plates})
+    assert _to_refine(case, estimate, 1e-3) == {"P1_1", "P2_1", "P3_1"}
