@@ -17,6 +17,7 @@ from support import folded_description
 
 import solver.problems
 from assembly import parse_case
+from solver.estimate import estimate_error
 from solver.guards import check_description
 from solver.power import power_flow
 from solver.problems import free_end_plates
@@ -99,3 +100,20 @@ def test_a_free_ended_fold_converges(monkeypatch):
     assert change() < 2e-5
     monkeypatch.setattr(solver.problems, "FREE_END_REACH", 1.0)
     assert change() > 1e-4
+
+
+def test_the_error_estimate_stays_honest_on_a_free_ended_fold():
+    """The estimate (the enriched solve at 1.5 times the resolution) against the field at
+    resolution 3.375 (which the convergence test above puts within 3e-6 of the limit), at 300
+    Hz and resolution 1: measured 1.3e-3 / 1.5e-3 on A and 7.0e-3 / 8.3e-3 on B (ratios 0.85);
+    0.90 to 1.00 at 1 and 3 kHz and at resolution 1.5 (``docs/method.md`` section 10.4). The
+    issue's bounds for the ratio, [0.5, 3]."""
+    case = parse_case(_bracket(300.0, 1.0))
+    solution = solve_assembly(case, 300.0, residuals=False)
+    estimate = estimate_error(case, solution, 1.0)
+    reference = _grid_w(solve_assembly(parse_case(_bracket(300.0, 3.375)), 300.0,
+                                       residuals=False))
+    fields = _grid_w(solution)
+    for plate in PLATES:
+        true = np.linalg.norm(fields[plate] - reference[plate]) / np.linalg.norm(reference[plate])
+        assert 0.5 < estimate.plates[plate] / true < 3.0, (plate, estimate.plates[plate], true)
