@@ -99,8 +99,18 @@ normal to ``e`` (``t_1`` the first member's ``x_axis``, ``t_2 = e \times t_1``),
 
 and every member equation below is its local harmonic times ``c_m``:
 
-* translation: ``c_m (U_m x_axis + W_m e_z) . t_k = Tk_m`` (``k = 1, 2``; ``x_axis`` and
-  ``e_z`` are normal to ``e``) and ``c_m V_m = E_m``;
+* translation, rigid tie: ``c_m (U_m x_axis + W_m e_z) . t_k = Tk_m`` (``k = 1, 2``;
+  ``x_axis`` and ``e_z`` are normal to ``e``) and ``c_m V_m = E_m``;
+* translation, spring (``translational[i] = k_t*``, N/m^2): the line applies to the edge
+  ``F_i = k_t* (U_J - X_i)``, ``X_i = u x_axis + v y_axis + w e_z`` the edge's displacement.
+  On the line ``X_i = sum_m [c_m (U_m x_axis + W_m e_z) sin(alpha_m s) + c_m V_m e
+  cos(alpha_m s)]`` and ``F_i = sum_m [c_m (n_x N_xx,m x_axis + K_n,m e_z) sin(alpha_m s) +
+  c_m n_x N_xy,m e cos(alpha_m s)]`` (the ``cos`` parts through ``sigma y_axis = e``), so
+
+      c_m (n_x N_xx,m x_axis + K_n,m e_z) . t_k = k_t* (Tk_m - c_m (U_m x_axis + W_m e_z) . t_k),
+      c_m n_x N_xy,m = k_t* (E_m - c_m V_m);
+
+  ``k_t* -> inf`` gives the rigid tie back; ``k_t* = 0`` frees the edge in translation;
 * rotation (``exact_junction``): ``Theta_i = -sigma w_x``; ``M_n = k (theta + sigma n_x c_m
   T_m)`` on a spring ``k``, ``-sigma n_x theta = c_m T_m`` on a rigid tie;
 * balance of the massless line, which receives ``-F_i`` and the couple ``-m_i e`` from
@@ -114,18 +124,27 @@ At the ends ``s = 0, Ly`` the line's transverse translation and rotation vanish 
 its axial one is free (``cos``), as the diaphragms ask; the Kirchhoff corner forces act there
 along ``e_z``, on the supports.
 
+The force balance is the same whether a member is tied rigidly or on a translational spring
+(``F_i`` is its edge force either way), and the spring acts on the line itself, so it adds
+nothing to the moment balance.  If every member has a spring, ``U_J`` is a free node fixed
+by the balance.
+
 ``held=True`` replaces the three force balances by ``U_J = 0``: ``w = u = v = 0`` on every
-member's edge.  Without in-plane loads the membrane fields then vanish and the bending fields
-are those of ``exact_junction.junction_levy``.
+rigidly tied member's edge (a member on a translational spring is then on a spring to the
+fixed line).  Without in-plane loads and translational springs the membrane fields then
+vanish and the bending fields are those of ``exact_junction.junction_levy``.
 
 Power
 -----
 Input ``0.5 Re(conj(F) j omega w(x0, y0))`` per normal force (``u`` for an in-plane one);
 dissipation ``0.5 omega Im(D*) a(w, w*)/D*`` (``exact.LevyPlateField``),
 ``0.5 omega Im(A*) Ly/2 sum_m int [|U'|^2 + alpha^2 |V|^2 - 2 nu alpha Re(U' conj V)
-+ (1 - nu)/2 |alpha U + V'|^2] dx`` and ``0.5 omega Im(k) int |Theta_J - Theta_i|^2 ds`` per
-spring.  The lines do no work (``sum_i F_i . U_J = 0``), so the two balance harmonic by
-harmonic.
++ (1 - nu)/2 |alpha U + V'|^2] dx``, ``0.5 omega Im(k) int |Theta_J - Theta_i|^2 ds`` per
+rotational spring and ``0.5 omega Im(k_t*) int |U_J - X_i|^2 ds
+= 0.5 omega Im(k_t*) Ly/2 sum_m [sum_k |Tk_m - c_m (U_m x_axis + W_m e_z) . t_k|^2
++ |E_m - c_m V_m|^2]`` per translational spring (``sin^2`` and ``cos^2`` both average to
+``1/2`` over ``[0, Ly]`` for ``m >= 1``).  The lines do no work (``sum_i F_i . U_J = 0``), so
+the two balance harmonic by harmonic.
 
 Public API
 ----------
@@ -136,7 +155,8 @@ PrismaticSolution, default_prismatic_n_terms, INPLANE_CONDITIONS.
 from __future__ import annotations
 
 import itertools
-from dataclasses import dataclass
+import math
+from dataclasses import dataclass, field
 
 import numpy as np
 from exact import EDGES, LevyPlateField, Section, _graded_breakpoints
@@ -250,9 +270,29 @@ class FoldedPlate:
 @dataclass(frozen=True)
 class PrismaticLine(JunctionLine):
     """Line shared by plate edges: ``members`` maps a plate name to ``(end, k)`` as
-    ``exact_junction.JunctionLine``; ``held=True`` fixes its translation (``U_J = 0``)."""
+    ``exact_junction.JunctionLine``; ``held=True`` fixes its translation (``U_J = 0``).
+
+    ``translational`` maps a member's name to the complex stiffness ``k_t* = k_t (1 + j
+    zeta_t)`` (N/m^2: force per length per displacement) of an isotropic translational spring
+    between its edge and the line, ``F_i = k_t* (U_J - X_i)`` (module docstring, Lines); a
+    member not in it (or with ``math.inf``) is tied rigidly in translation, ``X_i = U_J``.
+    """
 
     held: bool = False
+    translational: dict = field(default_factory=dict)
+
+    def __post_init__(self):
+        super().__post_init__()
+        for name, k_t in self.translational.items():
+            if name not in self.members:
+                raise ValueError(f"translational spring on {name!r}, not a member of the line")
+            if np.isnan(k_t) or (not np.isinf(k_t) and np.real(k_t) < 0):
+                raise ValueError(f"member {name!r}: translational stiffness must be >= 0 or inf,"
+                                 f" got {k_t}")
+
+    def translational_stiffness(self, name):
+        """``k_t*`` of member ``name``, ``math.inf`` for a rigid tie."""
+        return self.translational.get(name, math.inf)
 
 
 def default_prismatic_n_terms(plates, Ly, omega):
@@ -515,7 +555,8 @@ class MembraneField:
 class PrismaticSolution(JunctionSolution):
     r"""Levy solution returned by ``prismatic_levy``: a ``JunctionSolution`` (whose bending
     fields, line rotation, member rotations and spring dissipation it shares) with the in-plane
-    fields and the lines' translations.
+    fields, the lines' translations and the translational springs' dissipation
+    (``translational_spring_dissipated_power``, included in ``dissipated_power``).
 
     Attributes
     ----------
@@ -570,6 +611,44 @@ class PrismaticSolution(JunctionSolution):
         sines, cosines = np.sin(s * self.alpha), np.cos(s * self.alpha)
         return ((sines @ T1)[..., None] * t1 + (sines @ T2)[..., None] * t2
                 + (cosines @ E)[..., None] * e)
+
+    def member_translation_harmonics(self, line, plate):
+        """Harmonics of ``plate``'s edge displacement ``X_i`` on ``line``, in the line's frame.
+
+        ``(n_terms, 3)``: ``c_m (U_m x_axis + W_m e_z) . t_k`` (``k = 1, 2``, amplitudes of
+        ``sin(alpha_m s)``) and ``c_m V_m`` (of ``cos(alpha_m s)``), comparable with
+        ``translation_coefficients[line]``.
+        """
+        end = self.lines[line].members[plate][0]
+        x_edge = [0.0 if end == "left" else self.plates[plate].length]
+        W = self.bending[plate].harmonic_derivative(x_edge, 0)[0]
+        U, V = (c[0] for c in self.membranes[plate].harmonic_derivative(x_edge, 0))
+        x_axis, _, e_z = self.plates[plate].axes()
+        _, _, t1, t2 = self.line_frames[line]
+        signs = _harmonic_signs(self.sigmas[line][plate], np.arange(1, self.n_terms + 1))
+        return signs[:, None] * np.stack([U * (x_axis @ t1) + W * (e_z @ t1),
+                                          U * (x_axis @ t2) + W * (e_z @ t2), V], axis=-1)
+
+    def translational_spring_dissipated_power(self, line, plate):
+        """Time-averaged power dissipated by the translational spring of ``plate`` on ``line``.
+
+        ``0.5 omega Im(k_t*) int_0^Ly |U_J - X_i|^2 ds
+        = 0.5 omega Im(k_t*) Ly/2 sum_m |(T1, T2, E)_m - X_i,m|^2`` (``sin^2`` and ``cos^2``
+        both average to 1/2 for ``m >= 1``); 0 for a rigid tie.
+        """
+        k_t = self.lines[line].translational_stiffness(plate)
+        if np.isinf(k_t):
+            return 0.0
+        jump = self.translation_coefficients[line] - self.member_translation_harmonics(line,
+                                                                                        plate)
+        return 0.25 * self.omega * np.imag(k_t) * self.Ly * np.sum(np.abs(jump) ** 2)
+
+    def dissipated_power(self):
+        """Total time-averaged dissipation: plates (bending and membrane), rotational springs
+        (``JunctionSolution.dissipated_power``) and translational springs."""
+        translational = sum(self.translational_spring_dissipated_power(j, name)
+                            for j, line in enumerate(self.lines) for name in line.translational)
+        return super().dissipated_power() + translational
 
     def bending_dissipated_power(self, plate):
         """``0.5 omega Im(D*) a(w, w*) / D*`` of ``plate``."""
@@ -659,19 +738,36 @@ def _outer_edge_equations(eqs, name, plate, end):
         eqs.add([(1.0, name, end, quantity)])
 
 
-def _member_equations(eqs, name, plate, end, line, stiffness, frame, sigma, signs):
-    """Translation continuity (3 rows) and rotation law (1 row) of a member on ``line``.
+def _member_equations(eqs, name, plate, end, line, stiffness, frame, sigma, signs,
+                      translational=math.inf):
+    """Translation law (3 rows) and rotation law (1 row) of a member on ``line``.
 
-    ``c_m (U x_axis + W e_z) . t_k = Tk``, ``c_m V = E``; ``M_n = k (theta + sigma n_x c_m T)``
-    on a spring, ``-sigma n_x theta = c_m T`` on a rigid tie (``exact_junction``).
+    Rigid tie in translation: ``c_m (U x_axis + W e_z) . t_k = Tk``, ``c_m V = E``.  On a
+    translational spring ``k_t*`` (``F_i = k_t* (U_J - X_i)``):
+    ``c_m (n_x N_xx x_axis + K_n e_z) . t_k + k_t* c_m (U x_axis + W e_z) . t_k - k_t* Tk = 0``
+    and ``c_m n_x N_xy + k_t* c_m V - k_t* E = 0`` (the rows are equilibrated by
+    ``_Equations.solve``, so a stiff ``k_t*`` approaches the rigid rows).
+    Rotation: ``M_n = k (theta + sigma n_x c_m T)`` on a spring, ``-sigma n_x theta = c_m T``
+    on a rigid tie (``exact_junction``).
     """
     x_axis, _, e_z = plate.axes()
     _, _, t1, t2 = frame
-    for k, t in enumerate((t1, t2)):
-        eqs.add([(signs * (x_axis @ t), name, end, "u"), (signs * (e_z @ t), name, end, "w")],
-                [(-1.0, line, k)])
-    eqs.add([(signs, name, end, "v")], [(-1.0, line, 2)])
-    sigma_nx = sigma * (1.0 if end == "right" else -1.0)
+    n_x = 1.0 if end == "right" else -1.0
+    if np.isinf(translational):
+        for k, t in enumerate((t1, t2)):
+            eqs.add([(signs * (x_axis @ t), name, end, "u"),
+                     (signs * (e_z @ t), name, end, "w")], [(-1.0, line, k)])
+        eqs.add([(signs, name, end, "v")], [(-1.0, line, 2)])
+    else:
+        k_t = translational
+        for k, t in enumerate((t1, t2)):
+            eqs.add([(signs * n_x * (x_axis @ t), name, end, "Nx"),
+                     (signs * (e_z @ t), name, end, "K"),
+                     (k_t * signs * (x_axis @ t), name, end, "u"),
+                     (k_t * signs * (e_z @ t), name, end, "w")], [(-k_t, line, k)])
+        eqs.add([(signs * n_x, name, end, "Nxy"), (k_t * signs, name, end, "v")],
+                [(-k_t, line, 2)])
+    sigma_nx = sigma * n_x
     if np.isinf(stiffness):
         eqs.add([(-sigma_nx, name, end, "theta")], [(-signs, line, 3)])
     else:
@@ -749,8 +845,9 @@ def prismatic_levy(plates, lines, Ly, omega, forces=(), inplane_forces=(), n_ter
     the strip Green function of its normal forces) and 4 membrane ones (``MembraneField``, with
     the Green function of its in-plane forces); each line has ``T1, T2, E`` (translation) and
     ``T`` (rotation).  Equations (module docstring): 4 per outer edge (2 bending, 2 in-plane),
-    4 per member edge (3 translation continuity, 1 rotation law) and 4 per line (3 force
-    balances or ``U_J = 0``, 1 moment balance).  The ``n_terms`` square systems are solved at
+    4 per member edge (3 translation laws: continuity, or the translational spring of
+    ``PrismaticLine.translational``; 1 rotation law) and 4 per line (3 force balances or
+    ``U_J = 0``, 1 moment balance).  The ``n_terms`` square systems are solved at
     once after scaling each row to a unit largest entry.
 
     Parameters
@@ -778,7 +875,7 @@ def prismatic_levy(plates, lines, Ly, omega, forces=(), inplane_forces=(), n_ter
     -----
     With damping (``Im D*, Im A* > 0``) no harmonic sits exactly on a cut-on
     (``alpha_m = kappa``, ``k_L`` or ``k_S``).  A line whose members all have ``k = 0`` leaves
-    ``T`` undetermined.
+    ``T`` undetermined, one whose members all have ``k_t* = 0`` (and is not held) ``U_J``.
     """
     if not omega > 0:
         raise ValueError(f"omega must be > 0, got {omega}")
@@ -809,7 +906,8 @@ def prismatic_levy(plates, lines, Ly, omega, forces=(), inplane_forces=(), n_ter
             j = on_line[(name, end)]
             sigma = sigmas[j][name]
             _member_equations(eqs, name, plate, end, j, lines[j].members[name][1], frames[j],
-                              sigma, _harmonic_signs(sigma, m))
+                              sigma, _harmonic_signs(sigma, m),
+                              lines[j].translational_stiffness(name))
     for j, line in enumerate(lines):
         _line_equations(eqs, j, line, plates, frames[j], sigmas[j], m)
     solution = eqs.solve()

@@ -255,15 +255,27 @@ def folded_description(plates: FoldedPlates, lines: FoldLines, load: tuple[str, 
 
 
 def folded_reference(plates: FoldedPlates, lines: FoldLines, load: tuple[str, float, float],
-                     frequency: float, held: bool, ly: float, n_terms: int = 600):
+                     frequency: float, held: bool, ly: float, n_terms: int = 600,
+                     translational: Mapping[str, Mapping[str, complex]] | None = None):
     """The exact prismatic solution (``tests/exact_prismatic.py``) of
-    :func:`folded_description`'s structure, lines moving or ``held``."""
+    :func:`folded_description`'s structure, lines moving or ``held``.
+
+    ``translational``: ``{joint: {plate: k_t*}}``, the complex stiffness (N/m^2, ``k_t (1 + j
+    zeta_t)``) of a translational spring between that member's edge and the line
+    (``PrismaticLine.translational``: ``F_i = k_t* (U_J - X_i)``); members not listed are tied
+    rigidly in translation.  (Reference only: :func:`folded_description` has no such spring.)
+    """
+    translational = translational or {}
+    unknown = set(translational) - set(lines)
+    if unknown:
+        raise ValueError(f"translational springs on unknown joints {sorted(unknown)}")
     strips = {name: FoldedPlate(length, complex_rigidity(E, h, NU, ETA),
                                 membrane_stiffness(E, h, NU, ETA), NU, RHO * h, origin, x_axis,
                                 (0.0, 1.0, 0.0), right=right)
               for name, (length, origin, x_axis, h, right) in plates.items()}
     prismatic = [PrismaticLine({p: (edge, math.inf if k == math.inf else 10.0**k)
-                                for p, (edge, k) in members.items()}, held=held)
-                 for members in lines.values()]
+                                for p, (edge, k) in members.items()}, held=held,
+                                translational=dict(translational.get(jid, {})))
+                 for jid, members in lines.items()]
     return prismatic_levy(strips, prismatic, ly, 2.0 * math.pi * frequency,
                           forces=[(*load, 1.0)], n_terms=n_terms)

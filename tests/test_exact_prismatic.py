@@ -6,7 +6,9 @@ plate of the summed length (``exact.levy_plate`` / ``levy_chain``), the held-lin
 transfer-matrix solution written here (``scipy.linalg.expm``), the line laws written again
 with 3D vectors, other frame descriptions of the same structure, reciprocity and the power
 balance; and, for the quasi-static membrane regime, the modes themselves and the limit
-``omega -> 0``.
+``omega -> 0``.  Translational springs between members and their line (section 8) are checked
+by their stiff limit (the rigid tie), the power balance, reciprocity and their law written
+again from each member's edge resultants.
 
 Plates: steel, ``Ly = 0.5`` m, 2 mm unless stated.  Identities that hold harmonic by harmonic
 use ``N_TERMS = 400`` harmonics (both sides of a comparison share the truncation); the power
@@ -614,13 +616,192 @@ def test_moving_against_held_l_fold():
 
 
 # --------------------------------------------------------------------------------------
+# 8. Translational springs between members and their line
+# --------------------------------------------------------------------------------------
+
+K_TRANS = 1e8 * (1 + 0.2j)
+"""A lossy translational spring (N/m^2): ``F_i = k_t* (U_J - X_i)``."""
+
+
+def with_translational(lines, springs):
+    """``lines`` with ``translational = springs[j]`` on line ``j`` (others rigid)."""
+    return [dataclasses.replace(line, translational=springs.get(j, {}))
+            for j, line in enumerate(lines)]
+
+
+def spring_variant(variant):
+    """``(plates, lines, force)`` of a structure with translational springs.
+
+    ``T1``: the T, its stiffener on ``K_TRANS`` (skins rigid); ``all``: the T, every member on
+    ``K_TRANS`` (``U_J`` a free node fixed by the balance); ``held``: the T held, T1 on
+    ``K_TRANS`` (a spring to the fixed line); ``U``: the U channel, P2 on line 0 and P3 (the
+    ``sigma = -1`` member) on line 1 on ``K_TRANS``, besides the rotational springs.
+    """
+    if variant == "U":
+        plates, lines = u_channel()
+        springs = {0: {"P2": K_TRANS}, 1: {"P3": K_TRANS}}
+        force = ASSEMBLIES["U"][1]
+    else:
+        plates, lines = t_junction(held=variant == "held")
+        members = ("S1", "S2", "T1") if variant == "all" else ("T1",)
+        springs = {0: {name: K_TRANS for name in members}}
+        force = ASSEMBLIES["T"][1]
+    return plates, with_translational(lines, springs), force
+
+
+def differences_to_rigid(plates, lines, spring_lines, force):
+    """Largest relative difference of ``w``, ``u``, ``v`` (each over every plate's grid)
+    between the structure with ``spring_lines`` and with the rigid ``lines``."""
+    rigid = prismatic_levy(plates, lines, LY, OMEGA, [force], n_terms=N_TERMS)
+    sol = prismatic_levy(plates, spring_lines, LY, OMEGA, [force], n_terms=N_TERMS)
+    return np.array([max(max_relative(getattr(sol, c)(n, *local_grid(p.length)),
+                                      getattr(rigid, c)(n, *local_grid(p.length)))
+                         for n, p in plates.items()) for c in ("w", "u", "v")])
+
+
+@pytest.mark.parametrize("assembly, member", [("L", "B"), ("T", "T1")])
+def test_stiff_translational_spring_is_the_rigid_tie(assembly, member):
+    """A stiff translational spring ties the member as rigidly as no spring; a soft one not.
+
+    The difference to the rigid tie is the spring's own compliance, of order (edge stiffness
+    of the plates) / ``k_t*``: it falls like ``1 / k_t*`` (no round-off floor in the way).
+    ``w``, ``u``, ``v`` (largest relative difference over all plates' grids) at
+    ``k_t* = 1e14`` N/m^2: ``w`` below 3e-6, ``u`` and ``v`` below 1e-4 (measured: 1.1e-6,
+    4.4e-6, 2.6e-5 on the L; 8.7e-7, 1.7e-5, 2.6e-5 on the T); at ``1e16`` all below 1e-6
+    (measured at most 2.6e-7), and the two in the ratio 100 within 5e-4 (measured within
+    4.4e-5: a solve losing the stiff rows to round-off would break it).  At ``1e4`` the member
+    is nearly detached in translation: ``w`` differs by more than 1e-3 (measured 1.0 on the L,
+    6.4 on the T).
+    """
+    builder, force = ASSEMBLIES[assembly]
+    plates, lines = builder()
+
+    def difference(k_t):
+        return differences_to_rigid(plates, lines, with_translational(lines, {0: {member: k_t}}),
+                                    force)
+
+    at_1e14, at_1e16 = difference(1e14), difference(1e16)
+    assert np.all(at_1e14 < [3e-6, 1e-4, 1e-4])
+    assert np.all(at_1e16 < 1e-6)
+    assert at_1e14 / at_1e16 == pytest.approx(np.full(3, 100.0), rel=5e-4)
+    assert difference(1e4)[0] > 1e-3
+
+
+@pytest.mark.parametrize("variant", ["U", "all"])
+def test_power_balance_with_translational_springs(variant):
+    """Input power = plates + rotational springs + translational springs, with lossy
+    translational springs (``K_TRANS = 1e8 (1 + 0.2 j)`` N/m^2).
+
+    ``U``: P2 on line 0 and P3 on line 1 on ``K_TRANS`` besides the rotational springs;
+    ``all``: every member of the T on ``K_TRANS``.  The spring energy ``0.5 k_t* |U_J -
+    X_i|^2`` is orthogonal between harmonics like the rest (``sin^2`` and ``cos^2`` both
+    average to 1/2), and the line still does no work, so the balance holds harmonic by harmonic
+    up to the energy quadrature: 1e-10 relative (measured 4e-16 and 2e-16).  The translational
+    springs carry a share that the check sees: > 1e-2 of the input (measured 7.0e-2 and
+    0.19; a wrong sign of the law or a missing term in ``dissipated_power`` would show); the
+    rotational springs of the U > 1e-3 (2.3e-3).
+    """
+    plates, lines, force = spring_variant(variant)
+    sol = prismatic_levy(plates, lines, LY, OMEGA, [force], n_terms=N_POWER)
+    p_in = sol.input_power()
+    translational = sum(sol.translational_spring_dissipated_power(j, n)
+                        for j, line in enumerate(lines) for n in line.translational)
+    rotational = sum(sol.spring_dissipated_power(j, n) for j, line in enumerate(lines)
+                     for n in line.members)
+    plates_power = sum(sol.plate_dissipated_power(n) for n in plates)
+    assert p_in > 0
+    assert translational > 1e-2 * p_in
+    if variant == "U":
+        assert rotational > 1e-3 * p_in
+    assert sol.dissipated_power() == pytest.approx(plates_power + rotational + translational,
+                                                   rel=1e-14)
+    assert abs(sol.dissipated_power() - p_in) < 1e-10 * p_in
+
+
+@pytest.mark.parametrize("variant", ["U", "all"])
+def test_reciprocity_with_translational_springs(variant):
+    """Transfers stay symmetric with lossy translational springs.
+
+    ``U``: ``w_P3(B)`` under a unit normal force at A on P1 equals ``w_P1(A)`` under one at B
+    on P3 (both folds on translational and rotational springs); ``all``: the T with every
+    member on ``K_TRANS``, ``w_T1(B)`` under a force at A on S1 and back.  The spring energy
+    ``k_t* (U_J - X_i) . (U_J - X_i)`` is complex symmetric, so each harmonic's transfer is
+    symmetric: 1e-8 relative (measured 1.7e-14 and 3.6e-14).  The transfers are not
+    negligible: > 1e-5 of the drive-point ``|w|`` (measured 1.9e-3 and 3.4e-2).
+    """
+    plates, lines, force = spring_variant(variant)
+    a = force[:3]
+    b = ("P3", 0.25, 0.31) if variant == "U" else ("T1", 0.2, 0.31)
+    from_a = prismatic_levy(plates, lines, LY, OMEGA, [(*a, 1.0)], n_terms=N_TERMS)
+    from_b = prismatic_levy(plates, lines, LY, OMEGA, [(*b, 1.0)], n_terms=N_TERMS)
+    transfer, back = from_a.w(*b), from_b.w(*a)
+    assert abs(transfer) > 1e-5 * abs(from_a.w(*a))
+    assert abs(transfer - back) < 1e-8 * abs(back)
+
+
+@pytest.mark.parametrize("variant", ["T1", "all", "held", "U"])
+def test_translational_spring_law_in_3d(variant):
+    """The member's edge force, from its fields' resultants, is ``k_t* (U_J - X_i)``.
+
+    At 19 points ``s`` of each line: ``F_i = n_x (N_xx x_axis + N_xy y_axis) + K_n e_z`` from
+    the fields' derivatives (``member_edge_laws``, 3D vectors, not the solve's rows) equals
+    ``k_t* (line_translation - displacement)`` on every spring member, and the edge
+    displacement equals ``line_translation`` on every rigid one; the forces of all members
+    still sum to 0 (not held).  Each to 1e-11 relative to the largest force (the law and the
+    sum; measured at most 1.3e-15 and 7.8e-15) or to the line's largest edge displacement
+    (rigid members; measured at most 8.8e-14, held).  The springs are soft enough that
+    ``|U_J - X_i|`` is more than 5 % of ``|U_J|`` (measured 0.19 to 0.98; held, ``U_J = 0``
+    and the stretch is ``-X_i``), so a wrong sign or component of the law would miss by about
+    twice the force.
+    """
+    plates, lines, force = spring_variant(variant)
+    sol = prismatic_levy(plates, lines, LY, OMEGA, [force], n_terms=N_TERMS)
+    s = np.linspace(0.0, LY, 21)[1:-1]
+    for j, line in enumerate(lines):
+        laws = {name: member_edge_laws(sol, j, name, s) for name in line.members}
+        translation = sol.line_translation(j, s)
+        scale = max(np.max(np.abs(law["force"])) for law in laws.values())
+        # Held, a rigid member's edge and the line are both 0: compare with the line's motion.
+        motion = max(np.max(np.abs(law["displacement"])) for law in laws.values())
+        for name in line.members:
+            law = laws[name]
+            if name not in line.translational:
+                assert np.max(np.abs(law["displacement"] - translation)) < 1e-11 * motion
+                continue
+            stretch = translation - law["displacement"]
+            reference = law["displacement"] if line.held else translation
+            assert np.max(np.abs(stretch)) > 5e-2 * np.max(np.abs(reference))
+            mismatch = law["force"] - line.translational[name] * stretch
+            assert np.max(np.abs(mismatch)) < 1e-11 * scale
+        if not line.held:
+            total = sum(law["force"] for law in laws.values())
+            assert np.max(np.abs(total)) < 1e-11 * scale
+
+
+def test_translational_springs_leave_rigid_lines_unchanged():
+    """An empty ``translational`` (the default) or ``math.inf`` springs give the rigid tie
+    bit for bit: the same rows are assembled."""
+    plates, lines = u_channel()
+    force = ASSEMBLIES["U"][1]
+    ref = prismatic_levy(plates, lines, LY, OMEGA, [force], n_terms=N_POWER)
+    sol = prismatic_levy(plates, with_translational(lines, {0: {"P1": RIGID, "P2": RIGID}}),
+                         LY, OMEGA, [force], n_terms=N_POWER)
+    assert np.array_equal(sol.translation_coefficients, ref.translation_coefficients)
+    for name, p in plates.items():
+        assert np.array_equal(sol.displacement(name, *local_grid(p.length)),
+                              ref.displacement(name, *local_grid(p.length)))
+    assert sol.dissipated_power() == ref.dissipated_power()
+
+
+# --------------------------------------------------------------------------------------
 # Bad input
 # --------------------------------------------------------------------------------------
 
 
 def test_bad_inputs_raise():
     """Unknown in-plane condition, force outside its plate or on an unknown plate, an edge
-    on two lines: ``ValueError``."""
+    on two lines, a translational spring on a non-member or with a negative stiffness:
+    ``ValueError``."""
     with pytest.raises(ValueError, match="in-plane condition"):
         plate(0.3, (0, 0, 0), X_HAT, Y_HAT, left_inplane="sliding")
     plates, lines = l_fold()
@@ -631,3 +812,7 @@ def test_bad_inputs_raise():
     twice = [lines[0], PrismaticLine({"A": ("right", RIGID), "B": ("right", RIGID)})]
     with pytest.raises(ValueError, match="two lines"):
         prismatic_levy(plates, twice, LY, OMEGA, [("A", 0.1, 0.2, 1.0)])
+    with pytest.raises(ValueError, match="not a member"):
+        PrismaticLine({"A": ("right", RIGID), "B": ("left", RIGID)}, translational={"C": 1e8})
+    with pytest.raises(ValueError, match="translational stiffness"):
+        PrismaticLine({"A": ("right", RIGID), "B": ("left", RIGID)}, translational={"B": -1.0})
