@@ -19,6 +19,7 @@ import numpy as np
 from assembly.errors import Loc, did_you_mean, listing
 from assembly.grid import on_grid
 from assembly.joints import CoplanarJoint, HingeJoint, JunctionJoint
+from assembly.lines import moving_lines as lines_that_move
 from assembly.models import (
     FRAME_TOLERANCE,
     Boundary,
@@ -89,7 +90,8 @@ def _member_issues(
     if not isinstance(joint, JunctionJoint):
         return issues
     members = [edge.plate for edge in ids]
-    for name in ("log10_stiffness", "loss_factor"):
+    for name in ("log10_stiffness", "loss_factor", "log10_translational_stiffness",
+                 "translational_loss_factor"):
         table = getattr(joint, name)
         if not isinstance(table, Mapping):
             continue
@@ -357,8 +359,9 @@ class _CrossCheck:
                     self.conditions[edge] = (bc.condition, i)
 
     def moving_lines(self) -> None:
-        """A line that must move (``held = false``) has framed members (:mod:`assembly.lines`).
-        Checked once the joints and plates are valid."""
+        """A line that must move (``held = false``) has framed members, and translational
+        springs sit on moving lines with at least one member rigid in translation
+        (:mod:`assembly.lines`). Checked once the joints, plates and boundaries are valid."""
         joints, plates = self.view.joints, self.plates
         if (self.issues or joints is None or plates is None or None in joints.values()
                 or None in plates.values()):
@@ -372,6 +375,25 @@ class _CrossCheck:
                 self.issues.append((("joints", jid, "held"),
                                     f"a moving line needs a frame on every member plate; "
                                     f"add [plates.{unframed[0]}.frame], or set held = true"))
+        if self.issues:
+            return
+        in_plane = {parse_edge_ref(bc.edge): bc.in_plane for bc in self.view.boundaries or ()
+                    if bc is not None and bc.in_plane is not None}
+        moving = set(lines_that_move(joints, plates, in_plane))
+        for jid, joint in joints.items():
+            springs = (joint.translational_springs() if isinstance(joint, JunctionJoint)
+                       else ())
+            if not springs:
+                continue
+            loc = ("joints", jid, "log10_translational_stiffness")
+            if jid not in moving:
+                self.issues.append((loc, f"junction {jid!r} is held in translation, so its "
+                                    "members' translational springs would do nothing; set "
+                                    "held = false (framed, non-coplanar members) or remove them"))
+            elif len(springs) == len(joint.plates):
+                self.issues.append((loc, "every member has a translational spring; leave at "
+                                    "least one member rigid in translation (inf): the line "
+                                    "translates with it"))
 
     def loads(self) -> None:
         """Each load's plate or edge exists, and an edge load acts where the edge lets it."""

@@ -125,9 +125,9 @@ class HingeJoint(_JointBase):
         return 0.0
 
 
-def _member_stiffness(value: object, where: str = "") -> float:
+def _member_stiffness(value: object, where: str = "", unit: str = "N") -> float:
     if not is_real(value) and not (isinstance(value, float) and math.isinf(value)):
-        raise ValueError(f"{where}must be a number (log10 of k in N) or inf (rigid), "
+        raise ValueError(f"{where}must be a number (log10 of k in {unit}) or inf (rigid), "
                          f"got {show_value(value)}")
     value = float(value)  # type: ignore[arg-type]
     if math.isnan(value) or value == -math.inf:
@@ -164,6 +164,15 @@ MemberStiffness = Annotated[
     _member_schema({"type": "number", "description": "log10 k in [-50, 50], or inf (rigid)"}),
 ]
 """log10 of a junction's member stiffness: one number (``inf``: rigid) or a table by plate."""
+
+MemberTranslationalStiffness = Annotated[
+    Any, PlainValidator(_per_member(
+        lambda value, where="": _member_stiffness(value, where, "N/m^2"))),
+    _member_schema({"type": "number",
+                    "description": "log10 k_t (N/m^2) in [-50, 50], or inf (rigid)"}),
+]
+"""log10 of a junction's member translational stiffness: one number (``inf``: rigid) or a
+table by plate (members it does not name: rigid)."""
 
 MemberLossFactor = Annotated[
     Any, PlainValidator(_per_member(_member_loss_factor)),
@@ -202,8 +211,19 @@ class JunctionJoint(FrozenModel):
         :math:`\zeta` >= 0, one for every member or a table by member plate.  Default 0.
     held : bool, optional
         ``true``: the line is held in translation. ``false``: it moves; every member plate
-        needs a ``frame``, and the line's ends must be held (:mod:`assembly.lines`). Default:
-        it moves when its members are not coplanar and the model can move it, else it is held.
+        needs a ``frame`` (:mod:`assembly.lines`). Default: it moves when its members are not
+        coplanar and the model can move it, else it is held.
+    log10_translational_stiffness : float or mapping of str to float, optional
+        On a moving line, :math:`\log_{10}k_{t,i}` (:math:`k_t` in N/m², force per unit length
+        per unit displacement) of a translational spring between member :math:`i` and the
+        line, :math:`\mathbf f_i = k_{t,i}(1 + j\zeta_{t,i})(\mathbf X_J - \mathbf X_i)`
+        (isotropic; :math:`\mathbf f_i` the force per unit length of the line on the member,
+        :math:`\mathbf X` the displacements), one for every member or a table by member
+        plate (members it does not name: ``inf``, rigid). Default ``inf``: every member moves
+        with the line. At least one member stays rigid: the line's translation is the first
+        such member's (``docs/method.md`` section 10.4).
+    translational_loss_factor : float or mapping of str to float, optional
+        :math:`\zeta_{t,i}` >= 0 of those springs.  Default 0.
     """
 
     kind: Literal["junction"] = "junction"
@@ -211,6 +231,8 @@ class JunctionJoint(FrozenModel):
     log10_stiffness: MemberStiffness
     loss_factor: MemberLossFactor = 0.0
     held: bool | None = None
+    log10_translational_stiffness: MemberTranslationalStiffness = math.inf
+    translational_loss_factor: MemberLossFactor = 0.0
 
     @property
     def sides(self) -> tuple[EdgeId, ...]:
@@ -236,6 +258,22 @@ class JunctionJoint(FrozenModel):
         r""":math:`\zeta_i` of the member on ``plate``."""
         value = self.loss_factor
         return value.get(plate, 0.0) if isinstance(value, Mapping) else value
+
+    def member_log10_translational_stiffness(self, plate: str) -> float:
+        r""":math:`\log_{10} k_{t,i}` of the member on ``plate`` (``inf``: rigid in
+        translation)."""
+        value = self.log10_translational_stiffness
+        return value.get(plate, math.inf) if isinstance(value, Mapping) else value
+
+    def member_translational_loss_factor(self, plate: str) -> float:
+        r""":math:`\zeta_{t,i}` of the member on ``plate``."""
+        value = self.translational_loss_factor
+        return value.get(plate, 0.0) if isinstance(value, Mapping) else value
+
+    def translational_springs(self) -> tuple[str, ...]:
+        """The member plates tied to the line's translation by a finite spring."""
+        return tuple(p for p in self.plates
+                     if math.isfinite(self.member_log10_translational_stiffness(p)))
 
     def finite_members(self) -> tuple[str, ...]:
         """The member plates whose spring is finite (each one a residual channel)."""

@@ -18,7 +18,7 @@ from typing import Any, Literal
 
 from .case import Case
 from .graph import build_graph, components, plate_degrees
-from .joints import CoplanarJoint
+from .joints import CoplanarJoint, JunctionJoint
 from .models import PointForce
 from .types import EDGE_NAMES, EdgeId
 
@@ -112,8 +112,7 @@ def _sections(case: Case) -> list[_Section]:
         joints.rows.append(
             (
                 jid,
-                f"{joint.kind} ({'moving' if jid in moving else 'held'})"
-                if joint.kind == "junction" else joint.kind,
+                _junction_kind(joint, jid in moving) if joint.kind == "junction" else joint.kind,
                 " - ".join(joint.between),
                 _per_member(joint.log10_stiffness),
                 _per_member(joint.loss_factor),
@@ -134,6 +133,15 @@ def _sections(case: Case) -> list[_Section]:
                  load.distribution)
             )
     return [s for s in (plates, edges, joints, loads) if s.rows]
+
+
+def _junction_kind(joint: JunctionJoint, moving: bool) -> str:
+    """A junction's kind cell: moving or held, and its members' translational springs
+    (log10 k_t, N/m^2) where it has any."""
+    springs = ", ".join(f"{p} {joint.member_log10_translational_stiffness(p):g}"
+                        for p in joint.translational_springs())
+    return (f"junction ({'moving' if moving else 'held'}"
+            + (f"; log10 k_t {springs}" if springs else "") + ")")
 
 
 def _edge_cell(key: EdgeId, joined: dict[EdgeId, str], conditions: dict[EdgeId, str],

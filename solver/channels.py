@@ -24,8 +24,14 @@ import numpy as np
 from assembly import Case, EdgeId
 from solver.admissibility import CornerDeflections, PlateAdmissibility
 from solver.interface import Block, residual_weight, squared_norm
-from solver.joint_rules import joint_gauss, legendre_values, load_function_projection
+from solver.joint_rules import (
+    joint_gauss,
+    legendre_values,
+    load_function_projection,
+    translational_stiffness,
+)
 from solver.layout import (
+    FORCE_COMPONENTS,
     PARALLEL_TOLERANCE,
     InterfaceLayout,
     LoadTerms,
@@ -260,7 +266,7 @@ def junction_line(build: JointBuild, jid: str, group: int) -> tuple[list[Block],
         gap = Block.union(rotation[plate], line.scaled(-1.0)).projected(weighted)
         rows.append(gap.constraint(group))
     if jid in build.moving:  # its balances hold by construction (solver.layout.member_load)
-        rows += _moving_line_rows(build, jid, group, sigma, weighted)
+        rows += _moving_line_rows(build, jid, group, sigma, psi, weighted)
     else:
         rows.append(_balance(slots, {(f"C.{p}"): 1.0 for p in joint.plates}, group))
     stiffness, kappa0 = _plate_stiffness(plates, joint.plates)
@@ -295,35 +301,55 @@ def _balance(slots: Mapping[str, slice], coefficients: Mapping[str, float],
 
 
 def _moving_line_rows(build: JointBuild, jid: str, group: int, sigma: np.ndarray,
-                      weighted: np.ndarray) -> list[Block]:
+                      psi: np.ndarray, weighted: np.ndarray) -> list[Block]:
     r"""The reliable equations of a moving line (``docs/method.md`` section 10.4): its
-    translation is one body's, :math:`\int(\mathbf X_i - \mathbf X_1)\psi_m\,d\sigma = 0`
-    for every member :math:`i > 1`, with :math:`\mathbf X_i = u_n\mathbf n_i + u_t\mathbf t_i
-    + w\,\mathbf e_{z,i}` the member edge's displacement
-    (:func:`solver.layout.member_axes`), three rows per function and member. The balances of
-    the massless line, :math:`\sum_iC_i = 0` and
-    :math:`\sum_i(N_{nn}\mathbf n_i + N_{nt}\mathbf t_i + K_n\mathbf e_{z,i}) = 0` per
-    Legendre coefficient, need no rows: the balancing member's loads are the others'
-    (:func:`solver.layout.member_load`). The traces are taken on the moments
-    :math:`\psi^TW` before the transfer operators multiply them, as in
-    :func:`two_plate_joint`."""
+    translation :math:`\mathbf X_J` is that of its first member rigid in translation, and
+    every other member :math:`i` follows it,
+    :math:`\int(\mathbf X_i - \mathbf X_J + \mathbf f_i/k_{t,i}^*)\psi_m\,d\sigma = 0`,
+    three rows per function and member, with :math:`\mathbf X_i = u_n\mathbf n_i +
+    u_t\mathbf t_i + w\,\mathbf e_{z,i}` the member edge's displacement
+    (:func:`solver.layout.member_axes`), :math:`\mathbf f_i = N_{nn}\mathbf n_i +
+    N_{nt}\mathbf t_i + K_n\mathbf e_{z,i}` the line's force on it and
+    :math:`k_{t,i}^* = k_{t,i}(1 + j\zeta_{t,i})` its translational spring (no term for a
+    rigid member). The balances of the massless line, :math:`\sum_iC_i = 0` and
+    :math:`\sum_i\mathbf f_i = 0` per Legendre coefficient, need no rows: the balancing
+    member's loads are the others' (:func:`solver.layout.member_load`). The traces are taken
+    on the moments :math:`\psi^TW` (``weighted``) before the transfer operators multiply
+    them, as in :func:`two_plate_joint`; the loads on the Gram matrix
+    :math:`\int\psi_m\psi_n` of their functions ``psi`` (at the Gauss points)."""
     case, plates = build.case, build.plates
     joint = case.joints[jid]
     length = case.edge_length(joint.sides[0])
-    displacements = []
+    displacements, axes = {}, {}
     for side, direction in zip(joint.sides, case.member_directions(jid)):
         arc = sigma if direction > 0 else length - sigma
-        normal, tangent, plate_normal = member_axes(case, side)
+        normal, tangent, plate_normal = axes[side.plate] = member_axes(case, side)
         rays, part = edge_values(plates.problems[side.plate], plates.bases[side.plate],
                                  side.edge, arc, build.traces_cache)
         w = plates.affine_plate_operator(side.plate, weighted @ rays["w"], weighted @ part["w"])
         traces = plates.membranes[side.plate].edge_traces(side.edge, arc, build.traces_cache)
         u_n = plates.affine_membrane_operator(side.plate, weighted @ traces["u_n"])
         u_t = plates.affine_membrane_operator(side.plate, weighted @ traces["u_t"])
-        displacements.append([Block.union(u_n.scaled(normal[c]), u_t.scaled(tangent[c]),
-                                          w.scaled(plate_normal[c])) for c in range(3)])
-    return [Block.union(member[c], displacements[0][c].scaled(-1.0)).constraint(group)
-            for member in displacements[1:] for c in range(3)]
+        displacements[side.plate] = [Block.union(u_n.scaled(normal[c]), u_t.scaled(tangent[c]),
+                                                 w.scaled(plate_normal[c])) for c in range(3)]
+    springs = joint.translational_springs()
+    line = displacements[next(p for p in joint.plates if p not in springs)]
+    gram = weighted @ psi
+    rows = []
+    for plate in joint.plates:
+        member = displacements[plate]
+        if member is line:
+            continue
+        loads = ([(member_load(case, jid, plates.layout[jid], plate, name), axis)
+                  for name, axis in zip(FORCE_COMPONENTS, axes[plate])]
+                 if plate in springs else [])
+        compliance = 1.0 / translational_stiffness(joint, plate) if loads else 0.0
+        for c in range(3):  # X_i - X_J (+ f_i / k_t* on a spring), component c
+            gap = Block.union(member[c], line[c].scaled(-1.0),
+                              *(_load_block(terms, gram).scaled(compliance * axis[c])
+                                for terms, axis in loads if terms))
+            rows.append(gap.constraint(group))
+    return rows
 
 
 def junction_corner_rows(plates: PlateAdmissibility,

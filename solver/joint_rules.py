@@ -15,10 +15,11 @@ import scipy.linalg
 from numpy.typing import ArrayLike
 
 from assembly.case import Case
+from assembly.joints import JunctionJoint
 from solver.rays import gauss_legendre
 
 __all__ = ["interface_function_count", "load_function_projection", "legendre_values",
-           "joint_gauss", "channel_parameters", "joint_parameters"]
+           "joint_gauss", "channel_parameters", "joint_parameters", "translational_stiffness"]
 
 
 def interface_function_count(kappa0: float, length: float, resolution: float = 1.0,
@@ -99,3 +100,10 @@ def channel_parameters(parameters: Mapping[str, Mapping[str, float]],
 def joint_parameters(case: Case, omega: float) -> dict[tuple[str, str], complex]:
     """Channel parameters ``{(channel name, kind): c}`` of the description's joints."""
     return channel_parameters(case.updatable_parameters(), omega)
+
+
+def translational_stiffness(joint: JunctionJoint, plate: str) -> complex:
+    r""":math:`k_{t,i}^* = 10^{\log_{10}k_{t,i}}(1 + j\zeta_{t,i})` (N/m²) of a junction
+    member's translational spring."""
+    return (10.0 ** joint.member_log10_translational_stiffness(plate)
+            * (1.0 + 1j * joint.member_translational_loss_factor(plate)))

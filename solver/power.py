@@ -52,9 +52,21 @@ from numpy.typing import ArrayLike
 
 from assembly.case import Case
 from assembly.geometry import EdgeGeometry, plate_edges
-from solver.joint_rules import joint_gauss, joint_parameters, legendre_values
+from solver.joint_rules import (
+    joint_gauss,
+    joint_parameters,
+    legendre_values,
+    translational_stiffness,
+)
 from solver.kirchhoff import wave_edge_factors
-from solver.layout import LoadTerms, load_values, member_load, traction_loads
+from solver.layout import (
+    FORCE_COMPONENTS,
+    LoadTerms,
+    load_values,
+    member_axes,
+    member_load,
+    traction_loads,
+)
 from solver.membrane import membrane_dissipated_power
 from solver.plate import (
     PlateProblem,
@@ -300,6 +312,8 @@ def power_flow(case: Case, solution: CaseSolution) -> PowerFlow:
             joint_dissipated[channel.joint] += channel.dissipated_power(
                 s, params[channel.name, channel.kind], omega)
         for jid, joint in case.joints.items():
+            if joint.kind == "junction" and joint.translational_springs():
+                joint_dissipated[jid] += _translational_spring_power(case, system, jid, s)
             to_first, *to_others = powers = _side_powers(case, system, jid, amplitudes,
                                                          membrane_amplitudes, s)
             transmitted[jid] = 0.5 * (sum(to_others) - to_first)
@@ -307,6 +321,32 @@ def power_flow(case: Case, solution: CaseSolution) -> PowerFlow:
     corners = _corner_powers(solution, system.corner_columns) if system is not None else {}
     return PowerFlow(solution.frequency, injected, kinetic, dissipated, joint_dissipated,
                      transmitted, delivered, corners)
+
+
+def _translational_spring_power(case: Case, system: Any, jid: str, s: np.ndarray) -> float:
+    r"""Power dissipated by the translational springs of a moving line's members
+    (``docs/method.md`` section 10.4): with the line's force :math:`\mathbf f_i` on member
+    :math:`i` and :math:`\mathbf X_J - \mathbf X_i = \mathbf f_i/k_{t,i}^*`,
+    :math:`\tfrac12\omega\,\mathrm{Re}\int\mathbf f_i\cdot\overline{j(\mathbf X_J -
+    \mathbf X_i)}\,d\sigma = \tfrac12\omega\,\mathrm{Im}(k_{t,i}^*)/|k_{t,i}^*|^2
+    \int|\mathbf f_i|^2d\sigma` (W), exact on the loads' functions, where the law holds."""
+    joint = case.joints[jid]
+    length = case.edge_length(joint.sides[0])
+    slots = system.layout[jid]
+    count = next(iter(slots.values())).stop - next(iter(slots.values())).start
+    sigma, wq = joint_gauss(length, max(float(np.max(np.abs(system.bases[p].k)))
+                                        for p in joint.plates))
+    psi = legendre_values(sigma, length, count)
+    power = 0.0
+    for plate in joint.translational_springs():
+        side = next(side for side in joint.sides if side.plate == plate)
+        force = sum(np.outer(psi @ load_values(terms, s), axis)
+                    for name, axis in zip(FORCE_COMPONENTS, member_axes(case, side))
+                    if (terms := member_load(case, jid, slots, plate, name)))
+        stiffness = translational_stiffness(joint, plate)
+        power += 0.5 * system.omega * stiffness.imag / abs(stiffness) ** 2 * float(
+            wq @ np.sum(np.abs(force) ** 2, axis=1))
+    return power
 
 
 def _corner_powers(solution: CaseSolution, corner_columns: Mapping[tuple[str, int], int]
