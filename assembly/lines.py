@@ -19,8 +19,9 @@ the line's ends, under line loads that are log-singular at them (``docs/method.m
 and 2.25 on a three-bay panel), and the members' edge waves now reach
 :data:`solver.problems.ROLLER_END_REACH` times further, at 10 to 100 times the cost: an L fold
 then converges (5e-5, then 3e-7 to 2e-5), the panel's resolutions 1.5 and 2.25 agree to 6e-4
-to 1.9e-3 at 1 kHz but only to 2.5e-3 to 1.5e-2 at 2.5 kHz. ``held = false`` moves such a line,
-and ``vtcr check`` warns (:func:`solver.guards.description_issues`).
+to 1.9e-3 at 1 kHz but only to 2.5e-3 to 1.5e-2 at 2.5 kHz. ``held = false`` moves such a line;
+``vtcr check`` warns either way, of the cost or of what the held line leaves out, unless
+``held = true`` is given (:func:`solver.guards.description_issues`).
 
 ``fixed`` ends, the default of a supported edge, converge since a moving line's functions stop
 at what every member's rays answer (:func:`solver.joint_rules.interface_function_count`).

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 from assembly.case import Case
 from assembly.errors import DescriptionError, Issue, format_path
-from assembly.lines import roller_ends
+from assembly.lines import members_coplanar, roller_ends
 from solver.problems import ROLLER_END_REACH, plate_problems, plate_ray_counts
 from solver.rays import RayCounts, automatic_ray_counts
 from solver.sizing import available_memory, estimate_size
@@ -399,12 +399,13 @@ def _resolution_issues(
 
 
 def _roller_end_issues(case: Case) -> list[tuple[_Loc, str]]:
-    r"""A warning per moving junction line with an in-plane ``roller`` end edge
-    (:func:`assembly.lines.roller_ends`): there only the members' bending supports hold the
-    line's ends, under line loads that are log-singular at them, and the members' edge waves
-    reach :data:`solver.problems.ROLLER_END_REACH` times further to follow them
+    r"""A warning per junction line between non-coplanar plates with an in-plane ``roller``
+    end edge (:func:`assembly.lines.roller_ends`): there only the members' bending supports
+    hold the line's ends, under line loads that are log-singular at them, and the members'
+    edge waves reach :data:`solver.problems.ROLLER_END_REACH` times further to follow them
     (``docs/method.md`` section 10.4), at 10 to 100 times the cost. Such a line moves only
-    when ``held = false`` is given."""
+    when ``held = false`` is given, with a warning of that cost; held by default, it is
+    warned of what the held line leaves out (``held = true`` says the choice is made)."""
     in_plane = case.given_in_plane()
     warnings = []
     for jid in case.moving_lines():
@@ -419,6 +420,19 @@ def _roller_end_issues(case: Case) -> list[tuple[_Loc, str]]:
                        'in_plane = "diaphragm" or "fixed" on those edges where the structure '
                        "has them")
             warnings.append((("joints", jid, "held"), message))
+    moving = set(case.moving_lines())
+    for jid, joint in case.joints.items():
+        if (joint.kind != "junction" or joint.held is not None or jid in moving
+                or members_coplanar(joint, case.plates)):
+            continue
+        names = ", ".join(f"{e.plate}.{e.edge}" for e in roller_ends(joint, in_plane))
+        warnings.append((("joints", jid, "held"), (
+            f"junction line {jid} is held in translation by default: its end edges {names} "
+            "are in-plane roller, where moving it costs 10 to 100 times more "
+            "(docs/method.md section 10.4), and the held line leaves out its members' in-plane "
+            "motion (on a three-bay stiffened panel, 2 to 110 % of w); set held = false to "
+            "move it, held = true to keep it held without this warning, or "
+            'in_plane = "diaphragm" or "fixed" on those edges where the structure has them')))
     return warnings
 
 

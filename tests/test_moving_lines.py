@@ -422,12 +422,17 @@ def _roller_fold(held, ends="roller", frequency=1000.0, resolution=RESOLUTION):
 
 def test_a_line_with_roller_ends_stays_held_unless_asked_and_then_warns():
     """In-plane ``roller`` ends (``docs/method.md`` section 10.4): held by default, the moving
-    solve costing 10 to 100 times more; with ``held = false`` the line moves and ``vtcr check``
-    warns, naming the joint, its roller edges and the alternatives; with ``diaphragm`` ends it
-    moves by default, without a warning."""
+    solve costing 10 to 100 times more, and ``vtcr check`` warns of what the held line leaves
+    out unless ``held = true`` says so; with ``held = false`` the line moves and ``vtcr check``
+    warns of the cost, naming the joint, its roller edges and the alternatives; with
+    ``diaphragm`` ends it moves by default, without a warning."""
 
     assert _roller_fold(None).moving_lines() == ()
-    assert check_description(_roller_fold(None), "fold.toml") == []
+    (held,) = check_description(_roller_fold(None), "fold.toml")
+    assert held.startswith("fold.toml: joints.F.held: junction line F is held in translation "
+                           "by default")
+    assert "A.bottom" in held and "held = false" in held and "held = true" in held
+    assert check_description(_roller_fold(True), "fold.toml") == []
     (warning,) = check_description(_roller_fold(False), "fold.toml")
     assert warning.startswith("fold.toml: joints.F.held: junction line F moves")
     assert "A.bottom" in warning and "held = true" in warning and "diaphragm" in warning
