@@ -44,7 +44,8 @@ __all__ = ["members_coplanar", "free_ends", "roller_ends", "meeting_ends", "movi
 
 def members_coplanar(joint: JunctionJoint, plates: Mapping[str, Any]) -> bool:
     """Whether a junction's member plates lie in one plane (or have no frames: a flat layout):
-    their normals parallel to the frames' own tolerance, :data:`assembly.models.FRAME_TOLERANCE`."""
+    their normals parallel to the frames' own tolerance,
+    :data:`assembly.models.FRAME_TOLERANCE`."""
     frames = [getattr(plates.get(p), "frame", None) for p in joint.plates]
     if any(frame is None for frame in frames):
         return True

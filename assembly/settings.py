@@ -66,7 +66,8 @@ class Discretisation(FrozenModel):
         Largest accepted estimated relative L2 error on any plate, of ``w`` or of the
         displacement ``(u, v, w)`` where larger (0 < tolerance < 1): ``solve``, the updating
         commands and the simulated experiment (to 0.3 of it) raise the resolution until the
-        a-posteriori estimate is below it, or stop naming the plate that cannot reach it.  None (default): solve at ``resolution`` and report the estimate.
+        a-posteriori estimate is below it, or stop naming the plate that cannot reach it.
+        None (default): solve at ``resolution`` and report the estimate.
     plates : mapping of str to PlateDiscretisation, optional
         Per-plate overrides, ``[discretisation.plates.P1]``.
     """

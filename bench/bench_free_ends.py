@@ -25,6 +25,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path[:0] = [str(ROOT), str(ROOT / "tests")]
 
+from support import inner_grid  # noqa: E402
 from test_free_ends import LY, PLATES, _bracket  # noqa: E402
 
 import solver.problems  # noqa: E402
@@ -41,8 +42,7 @@ def fields(frequency: float, resolution: float, held: bool | None) -> dict:
                               residuals=False)
     out = {}
     for name, (length, *_) in PLATES.items():
-        x, y = np.meshgrid(np.linspace(0.02, 0.98, 15) * length, np.linspace(0.02, 0.98, 15) * LY)
-        points = np.column_stack([x.ravel(), y.ravel()])
+        points = inner_grid(length, LY)
         out[name] = (solution.plates[name].field(points)["w"], solution.in_plane(name, points))
     return out
 
@@ -84,7 +84,8 @@ def main() -> None:
                 solution = solve_assembly(case, frequency, residuals=False)
                 times.append(time.process_time() - start)
             row.append((label, min(times), solution.n_unknowns))
-        ratios = f"rule / usual {row[0][1] / row[1][1]:.1f}x, rule / held {row[0][1] / row[2][1]:.1f}x"
+        ratios = (f"rule / usual {row[0][1] / row[1][1]:.1f}x, "
+                  f"rule / held {row[0][1] / row[2][1]:.1f}x")
         print(f"  {frequency:6.0f} Hz  " + "; ".join(f"{label} {t:.2f} s ({n})"
                                                     for label, t, n in row) + f"; {ratios}",
               flush=True)

@@ -34,7 +34,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path[:0] = [str(ROOT), str(ROOT / "tests")]
 
-from support import folded_description, folded_reference  # noqa: E402
+from support import folded_description, folded_reference, folded_w, inner_grid  # noqa: E402
 
 from assembly import parse_case  # noqa: E402
 from solver.estimate import solve_to_tolerance  # noqa: E402
@@ -119,11 +119,8 @@ def same_accuracy(frequencies: list[float]) -> None:
                     solution = solve_assembly(case, frequency, residuals=False)
                     times.append(time.process_time() - start)
                 errors = []
-                for name, (length, *_) in PLATES.items():
-                    x, y = np.meshgrid(np.linspace(0.02, 0.98, 15) * length,
-                                       np.linspace(0.02, 0.98, 15) * LY)
-                    w = solution.plates[name].field(np.column_stack([x.ravel(), y.ravel()]))["w"]
-                    reference = exact.w(name, x.ravel(), y.ravel())
+                for name, w in folded_w(solution, PLATES, LY).items():
+                    reference = exact.w(name, *inner_grid(PLATES[name][0], LY).T)
                     errors.append(np.linalg.norm(w - reference) / np.linalg.norm(reference))
                 cells.append(f"{resolution}: {min(times):.2f} s, {max(errors):.1e}")
             print(f"  {frequency:6.0f} Hz {'held' if held else 'moving'}: " + "; ".join(cells))

@@ -30,7 +30,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path[:0] = [str(ROOT), str(ROOT / "tests")]
 
-from support import folded_description  # noqa: E402
+from support import folded_description, inner_grid  # noqa: E402
 
 import solver.problems  # noqa: E402
 from assembly import parse_case  # noqa: E402
@@ -58,8 +58,7 @@ def fold_fields(frequency: float, ends: str, resolution: float,
     seconds = time.perf_counter() - start
     fields = {}
     for name, (length, *_) in PLATES.items():
-        x, y = np.meshgrid(np.linspace(0.02, 0.98, 15) * length, np.linspace(0.02, 0.98, 15) * LY)
-        points = np.column_stack([x.ravel(), y.ravel()])
+        points = inner_grid(length, LY)
         fields[name] = (solution.plates[name].field(points)["w"],
                         solution.in_plane(name, points))
     ends_w = solution.plates["B"].field(np.array([[0.0, 0.0], [0.0, LY]]))["w"]

@@ -407,11 +407,14 @@ def _roller_end_issues(case: Case) -> list[tuple[_Loc, str]]:
     when ``held = false`` is given, with a warning of that cost; held by default, it is
     warned of what the held line leaves out (``held = true`` says the choice is made)."""
     in_plane = case.given_in_plane()
+    moving = set(case.moving_lines())
     warnings = []
-    for jid in case.moving_lines():
-        ends = roller_ends(case.joints[jid], in_plane)
-        if ends:
-            names = ", ".join(f"{e.plate}.{e.edge}" for e in ends)
+    for jid, joint in case.joints.items():
+        ends = roller_ends(joint, in_plane) if joint.kind == "junction" else []
+        if not ends:
+            continue
+        names = ", ".join(f"{e.plate}.{e.edge}" for e in ends)
+        if jid in moving:
             message = (f"junction line {jid} moves but its end edges {names} are in-plane "
                        "roller: its line loads are singular at its ends, and its members' edge "
                        f"waves reach {ROLLER_END_REACH:g} times further to follow them, at 10 to "
@@ -419,20 +422,17 @@ def _roller_end_issues(case: Case) -> list[tuple[_Loc, str]]:
                        "(docs/method.md section 10.4); set held = true, or "
                        'in_plane = "diaphragm" or "fixed" on those edges where the structure '
                        "has them")
-            warnings.append((("joints", jid, "held"), message))
-    moving = set(case.moving_lines())
-    for jid, joint in case.joints.items():
-        if (joint.kind != "junction" or joint.held is not None or jid in moving
-                or members_coplanar(joint, case.plates)):
+        elif joint.held is None and not members_coplanar(joint, case.plates):
+            message = (f"junction line {jid} is held in translation by default: its end edges "
+                       f"{names} are in-plane roller, where moving it costs 10 to 100 times "
+                       "more (docs/method.md section 10.4), and the held line leaves out its "
+                       "members' in-plane motion (on a three-bay stiffened panel, 2 to 110 % of "
+                       "w); set held = false to move it, held = true to keep it held without "
+                       'this warning, or in_plane = "diaphragm" or "fixed" on those edges where '
+                       "the structure has them")
+        else:
             continue
-        names = ", ".join(f"{e.plate}.{e.edge}" for e in roller_ends(joint, in_plane))
-        warnings.append((("joints", jid, "held"), (
-            f"junction line {jid} is held in translation by default: its end edges {names} "
-            "are in-plane roller, where moving it costs 10 to 100 times more "
-            "(docs/method.md section 10.4), and the held line leaves out its members' in-plane "
-            "motion (on a three-bay stiffened panel, 2 to 110 % of w); set held = false to "
-            "move it, held = true to keep it held without this warning, or "
-            'in_plane = "diaphragm" or "fixed" on those edges where the structure has them')))
+        warnings.append((("joints", jid, "held"), message))
     return warnings
 
 

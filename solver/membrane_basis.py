@@ -215,7 +215,8 @@ def build_membrane_basis(size: tuple[float, float], k_long: complex, k_shear: co
     r"""The in-plane waves of one plate: for each wave type :math:`X\in\{L, S\}`, interior
     plane waves :math:`\mathbf k = -jk_X(\cos\theta, \sin\theta)` about the centre and, per
     edge and :math:`|\beta|\le` ``edge_wavenumber`` (one for all edges or one per edge), from the
-    edge's start, the shear edge wave :math:`\mathbf k = -j\beta\,\mathbf t + \sqrt{\beta^2 - k_S^2}\,\mathbf n` and the
+    edge's start, the shear edge wave
+    :math:`\mathbf k = -j\beta\,\mathbf t + \sqrt{\beta^2 - k_S^2}\,\mathbf n` and the
     boundary-layer node of :func:`boundary_layer_node` (the divided difference of the
     longitudinal and the shear edge waves, which spans with the shear wave what the two edge
     waves span, without their near-dependence as :math:`k_X/\beta\to0`)."""

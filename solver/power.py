@@ -238,18 +238,27 @@ def kinetic_energies(
 
 # system is the solution's solver.substructure.AssemblySystem, typed Any: substructure imports
 # this module, and importing it here, even for annotations only, would close an import circle
-def _side_powers(case: Case, system: Any, jid: str, amplitudes: Mapping[str, np.ndarray],
-                 membrane_amplitudes: Mapping[str, np.ndarray], s: np.ndarray) -> list[float]:
-    """Power the joint ``jid`` delivers to each of its plates (W), from its loads (interface
-    unknowns ``s``) and the plates' traces on the joint line."""
+def _joint_rule(case: Case, system: Any, jid: str
+                ) -> tuple[float, np.ndarray, np.ndarray, np.ndarray]:
+    """A joint's length, its Gauss points and weights (:func:`solver.joint_rules.joint_gauss`,
+    fine enough for every member's rays) and its load functions at them."""
     joint = case.joints[jid]
     length = case.edge_length(joint.sides[0])
     k_max = max(float(np.max(np.abs(system.bases[side.plate].k))) for side in joint.sides)
     sigma, wq = joint_gauss(length, k_max)
     slots = system.layout[jid]
-    directions = case.member_directions(jid)
     count = next(iter(slots.values())).stop - next(iter(slots.values())).start
-    psi = legendre_values(sigma, length, count)
+    return length, sigma, wq, legendre_values(sigma, length, count)
+
+
+def _side_powers(case: Case, system: Any, jid: str, amplitudes: Mapping[str, np.ndarray],
+                 membrane_amplitudes: Mapping[str, np.ndarray], s: np.ndarray) -> list[float]:
+    """Power the joint ``jid`` delivers to each of its plates (W), from its loads (interface
+    unknowns ``s``) and the plates' traces on the joint line."""
+    joint = case.joints[jid]
+    length, sigma, wq, psi = _joint_rule(case, system, jid)
+    slots = system.layout[jid]
+    directions = case.member_directions(jid)
 
     def load(terms: LoadTerms) -> np.ndarray:
         return psi @ load_values(terms, s)
@@ -331,12 +340,8 @@ def _translational_spring_power(case: Case, system: Any, jid: str, s: np.ndarray
     \mathbf X_i)}\,d\sigma = \tfrac12\omega\,\mathrm{Im}(k_{t,i}^*)/|k_{t,i}^*|^2
     \int|\mathbf f_i|^2d\sigma` (W), exact on the loads' functions, where the law holds."""
     joint = case.joints[jid]
-    length = case.edge_length(joint.sides[0])
+    _, _, wq, psi = _joint_rule(case, system, jid)
     slots = system.layout[jid]
-    count = next(iter(slots.values())).stop - next(iter(slots.values())).start
-    sigma, wq = joint_gauss(length, max(float(np.max(np.abs(system.bases[p].k)))
-                                        for p in joint.plates))
-    psi = legendre_values(sigma, length, count)
     power = 0.0
     for plate in joint.translational_springs():
         side = next(side for side in joint.sides if side.plate == plate)
@@ -359,9 +364,9 @@ def _corner_powers(solution: CaseSolution, corner_columns: Mapping[tuple[str, in
     omega = 2.0 * math.pi * solution.frequency
     powers: dict[str, float] = {}
     for (pid, corner), column in corner_columns.items():
-        lx, ly = solution.plates[pid].problem.size
-        point = np.array([[(0.0, 0.0), (lx, 0.0), (lx, ly), (0.0, ly)][corner]])
-        w = solution.w(pid, point)[0]
+        # corner c starts edge c (solver.plate's corner_w)
+        start = plate_edges(solution.plates[pid].problem.size)[corner].start
+        w = solution.w(pid, start[None, :])[0]
         force = solution.interface[column]
         powers[pid] = powers.get(pid, 0.0) + 0.5 * omega * float((force * np.conj(w)).imag)
     return powers

@@ -91,6 +91,20 @@ OMEGA = 2 * np.pi * FREQUENCY
 MATERIAL = {"young_modulus": E, "poisson_ratio": NU, "density": RHO, "loss_factor": ETA}
 
 
+def inner_grid(length: float, width: float, n: int = 15) -> np.ndarray:
+    """``n`` x ``n`` points, shape (n * n, 2), on the plate ``[0, length] x [0, width]``, 2 % in
+    from its edges: where the folded-plate checks compare fields."""
+    x, y = np.meshgrid(np.linspace(0.02, 0.98, n) * length, np.linspace(0.02, 0.98, n) * width)
+    return np.column_stack([x.ravel(), y.ravel()])
+
+
+def folded_w(solution, plates: FoldedPlates, width: float) -> dict[str, np.ndarray]:
+    """``w`` of each plate of a folded plate (``plates`` as :func:`folded_description`'s) on
+    its :func:`inner_grid`."""
+    return {name: solution.plates[name].field(inner_grid(length, width))["w"]
+            for name, (length, *_) in plates.items()}
+
+
 def grid(lx, ly, n=10):
     return np.array([(x, y) for x in np.linspace(0.04 * lx, 0.96 * lx, n)
                      for y in np.linspace(0.04 * ly, 0.96 * ly, n)])

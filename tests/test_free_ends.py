@@ -12,8 +12,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-import pytest
-from support import folded_description
+from support import folded_description, folded_w
 
 import solver.problems
 from assembly import parse_case
@@ -43,11 +42,7 @@ def _bracket(frequency: float, resolution: float = 1.5, held: bool | None = None
 
 
 def _grid_w(solution) -> dict[str, np.ndarray]:
-    fields = {}
-    for name, (length, *_) in PLATES.items():
-        x, y = np.meshgrid(np.linspace(0.02, 0.98, 15) * length, np.linspace(0.02, 0.98, 15) * LY)
-        fields[name] = solution.plates[name].field(np.column_stack([x.ravel(), y.ravel()]))["w"]
-    return fields
+    return folded_w(solution, PLATES, LY)
 
 
 def test_a_free_ended_fold_moves_by_default():

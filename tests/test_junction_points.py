@@ -13,6 +13,7 @@ z: their corner forces vanish), at each of the wall's four corners two welds and
 from __future__ import annotations
 
 import numpy as np
+from support import inner_grid
 
 from assembly import parse_case
 from assembly.generate import box_with_wall
@@ -162,8 +163,7 @@ def test_moving_lines_cross_a_coplanar_skin_joint():
     reference = _reference(plates, lines, load, 1000.0, False)
     for name, (length, *_) in plates.items():
         for part, y0, width in (("1", 0.0, 0.3), ("2", 0.3, LY - 0.3)):
-            x, y = np.meshgrid(np.linspace(0.02, 0.98, 15) * length,
-                               np.linspace(0.02, 0.98, 15) * width)
-            w = solution.plates[name + part].field(np.column_stack([x.ravel(), y.ravel()]))["w"]
-            exact = reference.w(name, x.ravel(), y.ravel() + y0)
+            x, y = inner_grid(length, width).T
+            w = solution.plates[name + part].field(np.column_stack([x, y]))["w"]
+            exact = reference.w(name, x, y + y0)
             assert np.linalg.norm(w - exact) < 1e-5 * np.linalg.norm(exact), name + part

@@ -16,7 +16,7 @@ import math
 
 import numpy as np
 import pytest
-from support import folded_description, folded_reference
+from support import folded_description, folded_reference, folded_w, inner_grid
 
 from assembly import AssemblyError, parse_case
 from assembly.summary import summary_text
@@ -73,10 +73,8 @@ def _errors(shape, frequency, held_model=False, held_reference=False) -> dict[st
     solution = solve_assembly(case, frequency, residuals=False)
     reference = _reference(plates, lines, load, frequency, held_reference)
     errors = {}
-    for name, (length, *_) in plates.items():
-        x, y = np.meshgrid(np.linspace(0.02, 0.98, 15) * length, np.linspace(0.02, 0.98, 15) * LY)
-        w = solution.plates[name].field(np.column_stack([x.ravel(), y.ravel()]))["w"]
-        exact = reference.w(name, x.ravel(), y.ravel())
+    for name, w in folded_w(solution, plates, LY).items():
+        exact = reference.w(name, *inner_grid(plates[name][0], LY).T)
         errors[name] = float(np.linalg.norm(w - exact) / np.linalg.norm(exact))
     return errors
 
@@ -154,10 +152,9 @@ def test_the_in_plane_displacements_are_the_exact_ones(frequency):
     solution = solve_assembly(case, frequency, residuals=False)
     reference = _reference(plates, lines, load, frequency, False)
     for name, (length, *_) in plates.items():
-        x, y = np.meshgrid(np.linspace(0.02, 0.98, 15) * length, np.linspace(0.02, 0.98, 15) * LY)
-        in_plane = solution.in_plane(name, np.column_stack([x.ravel(), y.ravel()]))
-        exact = np.column_stack([reference.u(name, x.ravel(), y.ravel()),
-                                 reference.v(name, x.ravel(), y.ravel())])
+        points = inner_grid(length, LY)
+        in_plane = solution.in_plane(name, points)
+        exact = np.column_stack([reference.u(name, *points.T), reference.v(name, *points.T)])
         assert np.linalg.norm(in_plane - exact) < 1e-3 * np.linalg.norm(exact), name
 
 
@@ -268,11 +265,8 @@ def test_two_moving_lines_with_fixed_ends_converge():
         description["discretisation"]["resolution"] = resolution
         case = parse_case(description)
         solution = solve_assembly(case, 2500.0, residuals=False)
-        for name, (length, *_) in plates.items():
-            x, y = np.meshgrid(np.linspace(0.02, 0.98, 15) * length,
-                               np.linspace(0.02, 0.98, 15) * LY)
-            points = np.column_stack([x.ravel(), y.ravel()])
-            fields[name, resolution] = solution.plates[name].field(points)["w"]
+        for name, w in folded_w(solution, plates, LY).items():
+            fields[name, resolution] = w
     errors = {name: float(np.linalg.norm(fields[name, 1.5] - fields[name, 2.25])
                           / np.linalg.norm(fields[name, 2.25])) for name in plates}
     assert max(errors.values()) < 2e-3, errors
@@ -303,10 +297,8 @@ def test_a_coplanar_joint_carries_the_in_plane_field(frequency):
     lossy = {p: (e, cmath.log10(2.0 * 100.0 * (1.0 + 0.1j))) for p, (e, _) in lines["G"].items()}
     reference = folded_reference(plates, {**lines, "G": lossy}, load, frequency, False, LY,
                                  N_TERMS)
-    for name, (length, *_) in plates.items():
-        x, y = np.meshgrid(np.linspace(0.02, 0.98, 15) * length, np.linspace(0.02, 0.98, 15) * LY)
-        w = solution.plates[name].field(np.column_stack([x.ravel(), y.ravel()]))["w"]
-        exact = reference.w(name, x.ravel(), y.ravel())
+    for name, w in folded_w(solution, plates, LY).items():
+        exact = reference.w(name, *inner_grid(plates[name][0], LY).T)
         assert np.linalg.norm(w - exact) < 1e-4 * np.linalg.norm(exact), name
 
     power = power_flow(case, solution)
@@ -402,10 +394,9 @@ def test_the_in_plane_field_converges_under_refinement():
         case = parse_case(folded_description(plates, lines, load, 1000.0, False, LY, resolution))
         solution = solve_assembly(case, 1000.0, residuals=False)
         for name, (length, *_) in plates.items():
-            x, y = (g.ravel() for g in np.meshgrid(np.linspace(0.02, 0.98, 15) * length,
-                                                   np.linspace(0.02, 0.98, 15) * LY))
-            exact = np.column_stack([reference.u(name, x, y), reference.v(name, x, y)])
-            in_plane = solution.in_plane(name, np.column_stack([x, y]))
+            points = inner_grid(length, LY)
+            exact = np.column_stack([reference.u(name, *points.T), reference.v(name, *points.T)])
+            in_plane = solution.in_plane(name, points)
             errors[name].append(np.linalg.norm(in_plane - exact) / np.linalg.norm(exact))
     for name, (coarse, fine) in errors.items():
         assert fine < coarse and fine < 1e-6, (name, errors)
@@ -444,10 +435,7 @@ def _field_and_ends(case, frequency):
     """``w`` of every plate on a 15 x 15 grid, and ``|w|`` of plate B at the line's two ends (a
     simply supported corner: 0 exactly) over B's largest ``|w|`` on the grid."""
     solution = solve_assembly(case, frequency, residuals=False)
-    fields = {}
-    for name, (length, *_) in L_FOLD[0].items():
-        x, y = np.meshgrid(np.linspace(0.02, 0.98, 15) * length, np.linspace(0.02, 0.98, 15) * LY)
-        fields[name] = solution.plates[name].field(np.column_stack([x.ravel(), y.ravel()]))["w"]
+    fields = folded_w(solution, L_FOLD[0], LY)
     ends = solution.plates["B"].field(np.array([[0.0, 0.0], [0.0, LY]]))["w"]
     return fields, float(np.abs(ends).max() / np.abs(fields["B"]).max())
 

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from support import folded_reference
+from support import folded_reference, folded_w, inner_grid
 from test_moving_lines import L_FOLD, LY, T_JUNCTION, _description
 
 from assembly import AssemblyError, parse_case
@@ -32,11 +32,7 @@ def _tee(log10_translational_stiffness: float | None = None,
 
 
 def _grid_w(solution) -> dict[str, np.ndarray]:
-    fields = {}
-    for name, (length, *_) in T_JUNCTION[0].items():
-        x, y = np.meshgrid(np.linspace(0.02, 0.98, 15) * length, np.linspace(0.02, 0.98, 15) * LY)
-        fields[name] = solution.plates[name].field(np.column_stack([x.ravel(), y.ravel()]))["w"]
-    return fields
+    return folded_w(solution, T_JUNCTION[0], LY)
 
 
 def test_a_stiff_translational_spring_is_a_rigid_tie():
@@ -93,10 +89,8 @@ def test_translational_springs_match_the_exact_folded_plate(shape, frequency, lo
     solution = solve_assembly(parse_case(description), frequency, residuals=False)
     reference = folded_reference(plates, lines, load, frequency, False, LY, 600, translational={
         line: {member: 10.0**log10_stiffness * (1.0 + 1j * loss_factor)}})
-    for name, (length, *_) in plates.items():
-        x, y = np.meshgrid(np.linspace(0.02, 0.98, 15) * length, np.linspace(0.02, 0.98, 15) * LY)
-        w = solution.plates[name].field(np.column_stack([x.ravel(), y.ravel()]))["w"]
-        exact = reference.w(name, x.ravel(), y.ravel())
+    for name, w in folded_w(solution, plates, LY).items():
+        exact = reference.w(name, *inner_grid(plates[name][0], LY).T)
         assert np.linalg.norm(w - exact) < 1e-5 * np.linalg.norm(exact), name
 
 

@@ -10,7 +10,7 @@ import hashlib
 import math
 import os
 import sys
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -264,20 +264,23 @@ def estimates_json(estimates: Mapping[float, ErrorEstimate]) -> dict[str, Any] |
         return None
     values = list(estimates.values())
     known = all(e.total is not None for e in values)
-    plates = {}
-    for e in values:
-        for pid, v in e.plates.items():
-            plates[pid] = max(plates.get(pid, 0.0), v)
-    out = {"total": max(e.total for e in values) if known else None, "plates": plates,
+    out = {"total": max(e.total for e in values) if known else None,
+           "plates": _worst_by_plate(e.plates for e in values),
            "frequencies": {f"{f:g}": e.to_json() for f, e in estimates.items()}}
     in_plane = [e for e in values if e.in_plane]
     if in_plane:  # only where some plate carries an in-plane field: flat JSON as before
-        worst: dict[str, float] = {}
-        for e in in_plane:
-            for pid, v in e.in_plane.items():
-                worst[pid] = max(worst.get(pid, 0.0), v)
-        out["in_plane"] = {"total": max(e.in_plane_total for e in in_plane), "plates": worst}
+        out["in_plane"] = {"total": max(e.in_plane_total for e in in_plane),
+                           "plates": _worst_by_plate(e.in_plane for e in in_plane)}
     return out
+
+
+def _worst_by_plate(per_frequency: Iterable[Mapping[str, float]]) -> dict[str, float]:
+    """Per plate, the largest of its values over the frequencies."""
+    worst: dict[str, float] = {}
+    for values in per_frequency:
+        for pid, value in values.items():
+            worst[pid] = max(worst.get(pid, 0.0), value)
+    return worst
 
 
 def run_path_for(args: argparse.Namespace) -> Path:
