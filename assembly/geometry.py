@@ -5,6 +5,7 @@ figures all take edges from here.
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -30,8 +31,10 @@ class EdgeGeometry:
     length: float
 
 
+@functools.lru_cache(maxsize=256)
 def plate_edges(size: tuple[float, float]) -> tuple[EdgeGeometry, ...]:
-    """The four edges of ``[0, Lx] x [0, Ly]`` in the order of :data:`EDGE_NAMES`."""
+    """The four edges of ``[0, Lx] x [0, Ly]`` in the order of :data:`EDGE_NAMES`: made once per
+    size (a solve asks for them hundreds of times), their arrays read-only."""
     lx, ly = size
     corners = np.array([[0.0, 0.0], [lx, 0.0], [lx, ly], [0.0, ly]])
     edges = []
@@ -40,6 +43,8 @@ def plate_edges(size: tuple[float, float]) -> tuple[EdgeGeometry, ...]:
         length = float(np.linalg.norm(end - start))
         tangent = (end - start) / length
         normal = np.array([tangent[1], -tangent[0]])  # t = e_z x n  <=>  n = t x e_z
+        for vector in (start, tangent, normal):
+            vector.setflags(write=False)
         edges.append(EdgeGeometry(name, start, tangent, normal, length))
     return tuple(edges)
 
