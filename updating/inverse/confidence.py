@@ -21,11 +21,11 @@ whatever the bias:
   values :math:`p(v)`; the data are redrawn as :math:`p(v)(1 + e)` with the noise model
   (uniform :math:`\pm\varepsilon` as stated in ``[measurement] noise``, else Gaussian of the
   misfit left at the optimum) and the statistic is computed for each redraw. Everything goes
-  through condensations at the identified values (:class:`solver.interface.JointCondensation`):
-  a redraw changes the measurement rows' offsets only, which move the joints' samples
-  linearly (:math:`y_0 + D\,\delta\tilde u`, with :math:`D` from the same solves as the
-  condensation), so one candidate costs one dense solve of the joints' sample size per
-  frequency, for all redraws at once.
+  through condensations at the identified values
+  (:class:`solver.condensation.JointCondensation`): a redraw changes the measurement rows'
+  offsets only, which move the joints' samples linearly (:math:`y_0 + D\,\delta\tilde u`,
+  with :math:`D` from the same solves as the condensation), so one candidate costs one dense
+  solve of the joints' sample size per frequency, for all redraws at once.
 * **Interval.** :math:`v` is accepted when the observed statistic lies between the
   :math:`(1-L)/2` and :math:`(1+L)/2` quantiles of the redrawn ones. The accepted run around
   the estimate is found by walking out from it in steps of :data:`STEPS` and locating each
@@ -54,7 +54,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from assembly.types import JointParameters
-from solver.interface import JointCondensation
+from solver.condensation import JointCondensation
 from updating.inverse.accepted_run import accepted_start, run_end
 from updating.inverse.cost import PARAMETER_BOUNDS, SMALLEST_MASS, channel_parameters
 

@@ -2,8 +2,8 @@ r""":math:`E_{mod}^2` as a function of one joint's parameters, the others fixed:
 correction optimises (:class:`JointCorrection`).
 
 While one joint is corrected, the problem is condensed once on that joint's residual samples
-(:class:`solver.interface.JointCondensation`), and each cost evaluation is then a dense solve of
-their size, whatever the size of the structure. The problem builds and keeps them
+(:class:`solver.condensation.JointCondensation`), and each cost evaluation is then a dense
+solve of their size, whatever the size of the structure. The problem builds and keeps them
 (:meth:`updating.inverse.cost.ModifiedProblem.correction`).
 """
 
@@ -17,8 +17,9 @@ import numpy as np
 
 from assembly.types import JointParameters
 from solver.channels import Channel
+from solver.condensation import JointCondensation
 from solver.errors import NumericalError
-from solver.interface import Block, InterfaceFactor, JointCondensation, squared_norm
+from solver.interface import Block, InterfaceFactor, squared_norm
 from solver.joint_rules import channel_parameters
 from updating.executor import thread_map
 from updating.inverse.problem_data import Evaluation, FrequencyData
@@ -51,7 +52,7 @@ class JointCorrection:
     """:math:`E_{mod}^2` as a function of one joint's parameters (the others fixed).
 
     Built once per correction from the factorisations at the current parameters: per
-    frequency, a :class:`solver.interface.JointCondensation` on the joint's residual samples,
+    frequency, a :class:`solver.condensation.JointCondensation` on the joint's residual samples,
     so that each :meth:`cost` is a dense solve of that size, whatever the size of the
     structure.
     """
@@ -83,7 +84,7 @@ class JointCorrection:
                                for f, freq in problem.frequencies.items()}
 
     def condensation(self, frequency: float) -> JointCondensation:
-        """The joint's :class:`solver.interface.JointCondensation` at ``frequency``; it keeps
+        """The joint's :class:`solver.condensation.JointCondensation` at ``frequency``; it keeps
         the samples' response to the measured values (``kept_rows``, one row per value)."""
         return self._frequencies[frequency][2]
 

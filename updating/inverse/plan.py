@@ -6,7 +6,8 @@ description's grid, or a measurement file's points), per joint:
 * **Field sensitivity** per frequency: the relative change of the model's values at the
   planned points, :math:`\|p(\theta + 0.1) - p(\theta)\| / \|p(\theta)\|`, for +0.1 decade of
   log10 k, and for +0.1 of the joint's loss factor. Computed through the joint's condensation
-  of the model response (:class:`solver.interface.JointCondensation`), no new factorisation.
+  of the model response (:class:`solver.condensation.JointCondensation`), no new
+  factorisation.
 * **Expected interval**: the confidence interval (:mod:`updating.inverse.confidence`) that the stated
   noise (:data:`ASSUMED_NOISE` when none is stated) gives when the measured values are the
   model's own prediction plus typical noise (the statistic of the noise-free prediction moved
