@@ -20,7 +20,8 @@ from solver.channels import channel_blocks, joint_residuals
 from solver.errors import GroupPivotError
 from solver.joint_rules import joint_parameters
 from solver.multifrontal import GroupedLDL, minimum_degree_order
-from solver.substructure import build_assembly_system, solve_interface
+from solver.substructure import build_assembly_system, solve_assembly, solve_interface
+from solver.vtcr import solve_case
 from updating.data.measurements import simulate_measurements
 from updating.inverse.cost import ModifiedProblem, with_joint
 
@@ -190,6 +191,18 @@ def test_a_forward_solve_is_the_square_system_of_the_laws_and_constraints(case, 
     # a square system's minimum is zero: what is left is round-off on the offsets' scale
     assert np.linalg.norm(residuals) < 1e-9 * np.linalg.norm(offsets)
     assert len(offsets) + system.constraints[0].shape[0] == system.n_s
+
+
+def test_a_plate_without_joints_has_an_empty_interface():
+    """No joint, no interface unknown: the forward solve is the plate's own."""
+    case = load_case(CASES / "single_plate.toml")
+    frequency = case.frequencies[0]
+    assembled = solve_assembly(case, frequency)
+    assert assembled.interface.shape == (0,)
+    points = np.array([[0.1, 0.1], [0.3, 0.2]])
+    alone = solve_case(case, frequency).plates["P1"].field(points)["w"]
+    # the same plate system, solved by the same factorisation
+    assert np.allclose(assembled.plates["P1"].field(points)["w"], alone, rtol=1e-12, atol=0)
 
 
 @pytest.fixture(scope="module")
