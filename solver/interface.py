@@ -359,8 +359,10 @@ def _determined_solution(n_s: int, blocks: Sequence[Block], g_mat: scipy.sparse.
     if n_s == 0:  # plates without joints
         return np.zeros(0, dtype=complex)
     g_entries = g_mat.tocoo()
+    g_entries.sum_duplicates()
     n_rho = sum(len(b.offset) for b in blocks)
     starts = np.cumsum([0] + [len(b.offset) for b in blocks])
+    # each block's row acts once on each of its unknowns: no entry is given twice
     rows = np.concatenate([np.repeat(np.arange(start, start + len(b.offset)), len(b.index))
                            for start, b in zip(starts, blocks)] + [g_entries.row + n_rho])
     cols = np.concatenate([np.tile(b.index, len(b.offset)) for b in blocks] + [g_entries.col])
