@@ -84,12 +84,14 @@ def wrong_joints(n):
 
 
 def _with_misfit(description, misfit):
-    """``description`` with ``[updating] misfit`` set (the generators leave the default)."""
-    description["updating"] = {**description["updating"], "misfit": misfit}
+    """``description`` with ``[updating] misfit`` set, or the generators' default (the
+    per-plate misfit of the scale-free weights) for None."""
+    if misfit is not None:
+        description["updating"] = {**description["updating"], "misfit": misfit}
     return description
 
 
-def write_cases(n, frequency, stiff_frequency, directory, misfit="global"):
+def write_cases(n, frequency, stiff_frequency, directory, misfit=None):
     """Write the n x n grid with wrong joints (its ``[updating] misfit`` set) and the stiff
     grid; return their paths."""
     from assembly.generate import description_toml, plate_grid
@@ -111,7 +113,7 @@ def wrong_welds(n):
     return {f"W{i}": 2.0 for i in sorted({1, max(1, n // 2), n - 1})}
 
 
-def write_panel(n, frequency, directory, misfit="global"):
+def write_panel(n, frequency, directory, misfit=None):
     """Write the n-bay stiffened panel with wrong welds; return its path."""
     from assembly.generate import description_toml, stiffened_panel
 
@@ -773,7 +775,8 @@ def report(result, commands):
         f"{m['scikit-fem']}, BLAS {m['blas']}; every process on one BLAS thread ("
         + ", ".join(f"{k}={v}" for k, v in m["threads"].items()) + ")")
     say(f"grids: N x N plates 0.5 x 0.4 m, h 1 mm, at {settings['frequency']:g} Hz, model "
-        f"log10 k = 2, misfit {settings.get('misfit', 'global')}; wrong joints (true log10 k): "
+        f"log10 k = 2, misfit {settings.get('misfit') or 'per_plate (the default)'}; wrong "
+        "joints (true log10 k): "
         + "; ".join(
             f"N = {r['n']}: " + ", ".join(f"{j} {v}" for j, v in r["wrong_joints"].items())
             for r in result["rows"]))
@@ -917,8 +920,9 @@ def parse_args(argv=None):
                              "other sizes: --frequency)")
     parser.add_argument("--repeats", type=int, default=3,
                         help="stiff grid and FE: best of this many solves per process")
-    parser.add_argument("--misfit", choices=("global", "per_plate"), default="global",
-                        help="[updating] misfit of the grids and panels (default global)")
+    parser.add_argument("--misfit", choices=("global", "per_plate"),
+                        help="[updating] misfit of the grids and panels (default: the "
+                             "description's, per_plate with the scale-free weights)")
     parser.add_argument("--json", metavar="OUT", help="also save the results as JSON")
     hidden = argparse.SUPPRESS
     parser.add_argument("--evaluation", metavar="CASE", help=hidden)

@@ -437,6 +437,26 @@ def test_thin_plate_limit_warns() -> None:
                for loc, msg in warnings), warnings
 
 
+@pytest.mark.parametrize("updating, warned", [
+    ('misfit = "global"\n', True),  # r = "auto" by default
+    ('r = "auto"\nmisfit = "global"\n', True),
+    ('misfit = "per_plate"\n', False),
+    ('r = 0.8\nmisfit = "global"\n', False),
+    ("", False),
+])
+def test_the_scale_free_weights_with_the_global_misfit_warn(updating: str, warned: bool) -> None:
+    """The scale-free weights weigh each plate's data by its own noise; the global misfit does
+    not: vtcr check says so, at [updating] misfit, and is silent on every other combination."""
+    from solver.guards import description_issues
+
+    errors, warnings = description_issues(load_case_text(TWO + "\n[updating]\n" + updating))
+    assert errors == []
+    found = [msg for loc, msg in warnings if loc == ("updating", "misfit")]
+    assert bool(found) == warned, warnings
+    if warned:
+        assert "per_plate" in found[0] and "r = \"auto\"" in found[0]
+
+
 # ------------------------------------------------------------------------ numerical guard rails
 def test_condition_warnings_name_plate_and_frequency() -> None:
     from solver.errors import CONDITION_WARNING, condition_warnings
