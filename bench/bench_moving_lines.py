@@ -10,7 +10,7 @@ supported and fixed in-plane, the stiffeners' tops free, 1 N on bay B1.
   processor time (best of three), unknowns and peak memory (numpy's arrays, traced); and the
   time each takes to meet ``--tolerance 1e-3`` (``solve_to_tolerance``), at 600 and 2500 Hz;
   and each model's time and error against its own exact solution by resolution (at the same
-  accuracy).
+  accuracy); and where one solve's time goes, by part of the build.
 * **Identification**: the "measured" field is the exact prismatic folded plate of
   ``tests/exact_prismatic.py`` (bending and in-plane motion, lines free in translation) with
   the weld W2.T2 at log10 k = 2.0 (the model says 3.5), sampled on the skin only (0.1 m cell
@@ -23,7 +23,9 @@ Run: ``OPENBLAS_NUM_THREADS=1 python bench/bench_moving_lines.py`` (about two mi
 from __future__ import annotations
 
 import argparse
+import cProfile
 import math
+import pstats
 import sys
 import time
 import tracemalloc
@@ -101,6 +103,36 @@ def cost(frequencies: list[float]) -> None:
               f"to 1e-3 {m2:.2f} / {h2:.2f} s ({m2 / h2:.1f}x; estimates {me:.1e} / {he:.1e})")
 
 
+# The parts of a solve, by the function that builds each (cumulative time in a profile).
+PARTS = {"bending blocks": "plate_admissibility", "in-plane blocks": "membrane_blocks",
+         "line rows": "junction_line", "interface solve": "solve_interface"}
+
+
+def parts(frequencies: list[float]) -> None:
+    """Where one solve's time goes: the processor time of each part of the build
+    (:data:`PARTS`) in a profiled solve, the best of three per part."""
+    print("where one solve's time goes (resolution 1.5; processor time in a profile, best of "
+          "three per part, the profile's overhead included)")
+    for frequency in frequencies:
+        for held in (False, True):
+            case = parse_case(description([frequency], held))
+            best = dict.fromkeys(["total", *PARTS], math.inf)
+            for _ in range(3):
+                profile = cProfile.Profile(time.process_time)
+                profile.enable()
+                solve_assembly(case, frequency, residuals=False)
+                profile.disable()
+                stats = pstats.Stats(profile).stats  # (file, line, name): (.., cumulative, ..)
+                by_name = {}
+                for (_, _, name), (*_, cumulative, _) in stats.items():
+                    by_name[name] = by_name.get(name, 0.0) + cumulative
+                best["total"] = min(best["total"], by_name["solve_assembly"])
+                for part, function in PARTS.items():
+                    best[part] = min(best[part], by_name.get(function, 0.0))
+            print(f"  {frequency:6.0f} Hz {'held  ' if held else 'moving'}: "
+                  + ", ".join(f"{part} {seconds:.2f} s" for part, seconds in best.items()))
+
+
 def same_accuracy(frequencies: list[float]) -> None:
     """Each model against its own exact solution (the exact folded plate with lines moving, or
     held), by resolution: the time of one solve and the worst plate's relative L2 error of w
@@ -157,6 +189,7 @@ def main() -> None:
     parser.add_argument("--seed", type=int, default=1)
     args = parser.parse_args()
     cost([600.0, 2500.0])
+    parts([600.0, 2500.0])
     same_accuracy([600.0, 2500.0])
     identification([600.0, 800.0, 1000.0], args.seed)
 
