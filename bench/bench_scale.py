@@ -92,8 +92,8 @@ def _with_misfit(description, misfit):
 
 
 def write_cases(n, frequency, stiff_frequency, directory, misfit=None):
-    """Write the n x n grid with wrong joints (its ``[updating] misfit`` set) and the stiff
-    grid; return their paths."""
+    """Write the n x n grid with wrong joints (its ``[updating] misfit`` set when given) and
+    the stiff grid; return their paths."""
     from assembly.generate import description_toml, plate_grid
 
     grid = directory / f"grid_{n}x{n}.toml"
