@@ -6,6 +6,7 @@ figures all take edges from here.
 from __future__ import annotations
 
 import functools
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -31,11 +32,15 @@ class EdgeGeometry:
     length: float
 
 
-@functools.lru_cache(maxsize=256)
-def plate_edges(size: tuple[float, float]) -> tuple[EdgeGeometry, ...]:
+def plate_edges(size: Sequence[float]) -> tuple[EdgeGeometry, ...]:
     """The four edges of ``[0, Lx] x [0, Ly]`` in the order of :data:`EDGE_NAMES`: made once per
     size (a solve asks for them hundreds of times), their arrays read-only."""
     lx, ly = size
+    return _edges(float(lx), float(ly))
+
+
+@functools.lru_cache(maxsize=256)
+def _edges(lx: float, ly: float) -> tuple[EdgeGeometry, ...]:
     corners = np.array([[0.0, 0.0], [lx, 0.0], [lx, ly], [0.0, ly]])
     edges = []
     for i, name in enumerate(EDGE_NAMES):
@@ -49,6 +54,6 @@ def plate_edges(size: tuple[float, float]) -> tuple[EdgeGeometry, ...]:
     return tuple(edges)
 
 
-def edge_geometry(size: tuple[float, float], name: str) -> EdgeGeometry:
+def edge_geometry(size: Sequence[float], name: str) -> EdgeGeometry:
     """The edge ``name`` of ``[0, Lx] x [0, Ly]`` (:func:`plate_edges`)."""
     return plate_edges(size)[EDGE_NAMES.index(name)]

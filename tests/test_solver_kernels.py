@@ -157,6 +157,17 @@ def test_sector_means_match_adaptive_quadrature():
         assert abs(values[dof] - expected) <= 1e-8, basis.family[dof]
 
 
+def test_plate_edges_are_made_once_per_size_and_shared_read_only():
+    """A list, a tuple or an array of the same size give the same edges (made once: a solve
+    asks for them hundreds of times), whose arrays are shared and so cannot be written."""
+    edges = plate_edges((0.5, 0.4))
+    assert plate_edges([0.5, 0.4]) is edges and plate_edges(np.array([0.5, 0.4])) is edges
+    assert [e.name for e in edges] == list(EDGE_NAMES)
+    np.testing.assert_array_equal(edges[2].start, [0.5, 0.4])  # top runs from (Lx, Ly)
+    with pytest.raises(ValueError):
+        edges[1].normal[0] = 0.0
+
+
 def test_edge_gauss_rule_matches_closed_form_exponential_integrals():
     """Edge integrals of trace products against the closed form node pair by node pair.
 
