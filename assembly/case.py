@@ -18,7 +18,7 @@ from .checks import View, cross_check
 from .errors import AssemblyError, CrossReferenceError, listing
 from .grid import grid_points
 from .joints import CoplanarJoint, HingeJoint, Joint, JunctionJoint
-from .lines import moving_lines
+from .lines import given_in_plane, moving_lines
 from .models import Boundary, Load, Material, Plate
 from .settings import Compute, Discretisation, Measurement, Truth, Updating, default_spacing
 from .types import (
@@ -286,8 +286,7 @@ class Case(FrozenModel):
     def given_in_plane(self) -> dict[EdgeId, str]:
         """The in-plane conditions the boundaries give (their ``in_plane``, where set), by
         edge."""
-        return {parse_edge_ref(bc.edge): bc.in_plane for bc in self.boundaries
-                if bc.in_plane is not None}
+        return given_in_plane(self.boundaries)
 
     def edge_joints(self) -> dict[EdgeId, str]:
         """Return ``{edge: joint id}`` for every joined edge."""

@@ -19,6 +19,7 @@ import numpy as np
 from assembly.errors import Loc, did_you_mean, listing
 from assembly.grid import on_grid
 from assembly.joints import CoplanarJoint, HingeJoint, JunctionJoint
+from assembly.lines import given_in_plane
 from assembly.lines import moving_lines as lines_that_move
 from assembly.models import (
     FRAME_TOLERANCE,
@@ -377,8 +378,7 @@ class _CrossCheck:
                                     f"add [plates.{unframed[0]}.frame], or set held = true"))
         if self.issues:
             return
-        in_plane = {parse_edge_ref(bc.edge): bc.in_plane for bc in self.view.boundaries or ()
-                    if bc is not None and bc.in_plane is not None}
+        in_plane = given_in_plane(bc for bc in self.view.boundaries or () if bc is not None)
         moving = set(lines_that_move(joints, plates, in_plane))
         for jid, joint in joints.items():
             springs = (joint.translational_springs() if isinstance(joint, JunctionJoint)

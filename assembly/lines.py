@@ -29,7 +29,7 @@ at what every member's rays answer (:func:`solver.joint_rules.interface_function
 
 from __future__ import annotations
 
-from collections.abc import Collection, Iterator, Mapping
+from collections.abc import Collection, Iterable, Iterator, Mapping
 from typing import Any
 
 import numpy as np
@@ -37,9 +37,10 @@ import numpy as np
 from .geometry import EDGE_NAMES
 from .joints import JunctionJoint
 from .models import FRAME_TOLERANCE
-from .types import EdgeId
+from .types import EdgeId, parse_edge_ref
 
-__all__ = ["members_coplanar", "free_ends", "roller_ends", "meeting_ends", "moving_lines"]
+__all__ = ["members_coplanar", "given_in_plane", "free_ends", "roller_ends", "meeting_ends",
+           "moving_lines"]
 
 
 def members_coplanar(joint: JunctionJoint, plates: Mapping[str, Any]) -> bool:
@@ -60,6 +61,11 @@ def _end_edges(joint: JunctionJoint) -> Iterator[EdgeId]:
         index = EDGE_NAMES.index(side.edge)
         for neighbour in (EDGE_NAMES[index - 1], EDGE_NAMES[(index + 1) % 4]):
             yield EdgeId(side.plate, neighbour)
+
+
+def given_in_plane(boundaries: Iterable[Any]) -> dict[EdgeId, str]:
+    """The in-plane conditions ``boundaries`` give (their ``in_plane``, where set), by edge."""
+    return {parse_edge_ref(bc.edge): bc.in_plane for bc in boundaries if bc.in_plane is not None}
 
 
 def free_ends(joint: JunctionJoint, conditions: Mapping[EdgeId, str]) -> list[EdgeId]:

@@ -20,7 +20,6 @@ about fifteen minutes on two cores, most of it at the largest reaches).
 from __future__ import annotations
 
 import argparse
-import math
 import sys
 import time
 from pathlib import Path
@@ -31,16 +30,13 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path[:0] = [str(ROOT), str(ROOT / "tests")]
 
 from support import folded_description, inner_grid  # noqa: E402
+from test_moving_lines import L_FOLD, LY  # noqa: E402
 
 import solver.problems  # noqa: E402
 from assembly import parse_case  # noqa: E402
 from solver.substructure import solve_assembly  # noqa: E402
 
-LY = 0.5
-PLATES = {"A": (0.4, (0.0, 0.0, 0.0), (1.0, 0.0, 0.0), 0.002, "simply_supported"),
-          "B": (0.3, (0.4, 0.0, 0.0), (0.0, 0.0, 1.0), 0.002, "simply_supported")}
-LINES = {"F": {"A": ("right", math.inf), "B": ("left", math.inf)}}
-LOAD = ("A", 0.15, 0.2)
+PLATES, LINES, LOAD = L_FOLD
 
 
 def fold_fields(frequency: float, ends: str, resolution: float,

@@ -340,14 +340,16 @@ def _moving_line_rows(build: JointBuild, jid: str, group: int, sigma: np.ndarray
         member = displacements[plate]
         if member is line:
             continue
-        loads = ([(member_load(case, jid, plates.layout[jid], plate, name), axis)
-                  for name, axis in zip(FORCE_COMPONENTS, axes[plate])]
-                 if plate in springs else [])
-        compliance = 1.0 / translational_stiffness(joint, plate) if loads else 0.0
+        # on a spring, f_i / k_t*: its load functions, each along its member axis
+        loads = []
+        if plate in springs:
+            compliance = 1.0 / translational_stiffness(joint, plate)
+            loads = [(_load_block(terms, gram).scaled(compliance), axis)
+                     for name, axis in zip(FORCE_COMPONENTS, axes[plate])
+                     if (terms := member_load(case, jid, plates.layout[jid], plate, name))]
         for c in range(3):  # X_i - X_J (+ f_i / k_t* on a spring), component c
             gap = Block.union(member[c], line[c].scaled(-1.0),
-                              *(_load_block(terms, gram).scaled(compliance * axis[c])
-                                for terms, axis in loads if terms))
+                              *(load.scaled(axis[c]) for load, axis in loads))
             rows.append(gap.constraint(group))
     return rows
 

@@ -13,6 +13,7 @@ import math
 
 import numpy as np
 from support import folded_description, folded_w
+from test_moving_lines import L_FOLD, LY
 
 import solver.problems
 from assembly import parse_case
@@ -22,9 +23,7 @@ from solver.power import power_flow
 from solver.problems import free_end_plates
 from solver.substructure import solve_assembly
 
-LY = 0.5
-PLATES = {"A": (0.4, (0.0, 0.0, 0.0), (1.0, 0.0, 0.0), 0.002, "simply_supported"),
-          "B": (0.3, (0.4, 0.0, 0.0), (0.0, 0.0, 1.0), 0.002, "simply_supported")}
+PLATES = L_FOLD[0]  # the L fold's plates, with their own weld below
 LINE = {"F": {"A": ("right", math.inf), "B": ("left", 3.0)}}
 ON_A, ON_B = ("A", (0.15, 0.2)), ("B", (0.21, 0.07))
 
