@@ -4,7 +4,8 @@ Each plate :math:`i` is a complete VTCR problem whose joined edges carry the int
 static data (``docs/method.md`` section 7.1): :math:`K_iU_i = F_i + B_iS`, so that
 :math:`U_i = U_i^0 + T_iS` with :math:`U_i^0 = K_i^{-1}F_i` and :math:`T_i = K_i^{-1}B_i`.
 :func:`plate_admissibility` factorises every plate once and keeps :math:`U_i^0` and
-:math:`T_i`; identical unforced plates (a grid's, a panel's) share one factorisation.
+:math:`T_i`; identical unforced plates (a grid's, a panel's) share one factorisation, and
+identical plates one factorisation of their in-plane matrix.
 """
 
 from __future__ import annotations
@@ -16,7 +17,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from assembly import Case
-from assembly.geometry import edge_geometry
+from assembly.geometry import EDGE_NAMES, edge_geometry
 from solver.dense import factorise_dense
 from solver.interface import Block
 from solver.layout import InterfaceLayout, membrane_loads, plate_loads, plate_sides
@@ -189,16 +190,31 @@ def plate_admissibility(case: Case, frequency: float, problems: Mapping[str, Pla
     return plates, corner_w
 
 
+def _membrane_signature(problem: MembraneProblem, basis: MembraneBasis) -> tuple:
+    """What a plate's membrane VTCR matrix depends on: its basis object
+    (:func:`solver.in_plane.membrane_bases`), material, frequency and in-plane edge
+    conditions. The conditions' data enter only the right-hand side, which an assembly's
+    membranes do not use (their loads are interface unknowns)."""
+    return (id(basis), problem.size, problem.stiffness, problem.poisson_ratio,
+            problem.mass_per_area, problem.omega,
+            tuple(problem.condition(edge).condition for edge in EDGE_NAMES))
+
+
 def membrane_blocks(case: Case, problems: Mapping[str, MembraneProblem],
                     bases: Mapping[str, MembraneBasis], arrangement: InterfaceLayout
                     ) -> dict[str, MembraneBlock]:
     r"""Every in-plane plate's :math:`T_i^m = K_i^{m\,-1}B_i^m`
-    (:func:`solver.layout.membrane_loads`)."""
+    (:func:`solver.layout.membrane_loads`); identical plates share one factorisation of
+    :math:`K_i^m`."""
     sides, _ = plate_sides(case, arrangement.corner_columns)
     blocks, cache = {}, {}  # the traces, shared by identical plates and by both uses
+    factorised = {}  # identical plates (a panel's inner bays, its stiffeners) share one
     for pid, problem in problems.items():
-        matrix, _ = assemble_membrane(problem, bases[pid], cache)
-        solve, rcond = factorise_dense(matrix)
+        key = _membrane_signature(problem, bases[pid])
+        if key not in factorised:
+            matrix, _ = assemble_membrane(problem, bases[pid], cache)
+            factorised[key] = factorise_dense(matrix)
+        solve, rcond = factorised[key]
         unknowns = arrangement.membrane_unknowns[pid]
         loads = membrane_loads(case, problem, bases[pid], sides[pid], arrangement.counts,
                                arrangement.slots, unknowns, cache)

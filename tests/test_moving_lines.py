@@ -459,3 +459,32 @@ def test_a_line_with_roller_ends_holds_its_ends_and_converges(monkeypatch):
     monkeypatch.setattr(solver.problems, "ROLLER_END_REACH", 1.0)
     _, corner_before = _field_and_ends(_roller_fold(False, frequency=300.0), 300.0)
     assert corner_before > 2e-4, corner_before
+
+
+def test_identical_plates_share_their_in_plane_factorisation_and_nothing_changes(monkeypatch):
+    """A four-bay stiffened panel's inner bays have the same in-plane problem, and so have its
+    stiffeners: four in-plane matrices are assembled and factorised for seven plates, and the
+    transfer operators are those of a factorisation of its own for every plate, to the bit."""
+    from assembly.generate import stiffened_panel
+    from solver import admissibility
+    from solver.substructure import build_assembly_system
+
+    case = parse_case(stiffened_panel(4, frequency=600.0))
+    assembled = []
+    assemble = admissibility.assemble_membrane
+
+    def counted(problem, basis, cache=None):
+        assembled.append(problem)
+        return assemble(problem, basis, cache)
+
+    monkeypatch.setattr(admissibility, "assemble_membrane", counted)
+    shared = build_assembly_system(case, 600.0).membranes
+    # B1 (its outer edge fixed), B2 = B3 (both lines free), B4 (mirror of B1), T1 = T2 = T3
+    assert len(assembled) == 4 and len(shared) == 7
+    assembled.clear()
+    monkeypatch.setattr(admissibility, "_membrane_signature", lambda problem, basis: object())
+    alone = build_assembly_system(case, 600.0).membranes
+    assert len(assembled) == 7
+    for pid, block in shared.items():
+        assert np.array_equal(block.transfer, alone[pid].transfer), pid
+        assert block.rcond == alone[pid].rcond
