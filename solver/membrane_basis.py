@@ -24,7 +24,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from assembly.geometry import EdgeGeometry, plate_edges
-from solver.rays import RayBasis, gauss_legendre, line_exponentials, node_exponentials
+from solver.rays import RayBasis, edge_exponentials, gauss_legendre, node_exponentials
 
 __all__ = [
     "MembraneCounts",
@@ -297,26 +297,6 @@ def _node_factors(basis: MembraneBasis, stiffness: complex, poisson_ratio: float
     return d, b, plain, grown
 
 
-def _edge_node_values(basis: MembraneBasis, edge: EdgeGeometry, s: np.ndarray) -> np.ndarray:
-    r"""Node exponentials :math:`e^{\mathbf k\cdot(\mathbf x - \mathbf x_r)}` at the arc
-    lengths ``s`` of an edge, (len(s), nodes).
-
-    Where the points lie symmetrically on the edge (its Gauss rules, a joint's), the
-    exponentials factor through :func:`solver.rays.line_exponentials`: about a seventh of the
-    exponentials of the direct evaluation on a 50-point rule (a quarter of the nodes share
-    their wavenumber along the edge, and half of the points mirror the others)."""
-    axis = int(np.argmax(np.abs(edge.tangent)))
-    along = edge.start[axis] + s * edge.tangent[axis]  # the coordinate along the edge
-    order = np.argsort(along)
-    u = np.concatenate([[0.0], along[order], [edge.length]])
-    if not np.allclose(u + u[::-1], edge.length, rtol=0.0, atol=1e-12 * edge.length):
-        return node_exponentials(basis, edge.start + s[:, None] * edge.tangent)
-    shared, constants = line_exponentials(basis, axis, u, [edge.start[1 - axis]])
-    values = np.empty((len(s), shared.shape[1]), dtype=complex)
-    values[order] = shared[1:-1] * constants[0]
-    return values
-
-
 def _layer_sector_means(basis: MembraneBasis, nodes: slice | np.ndarray, nodal: np.ndarray,
                         factors: np.ndarray) -> np.ndarray:
     """:meth:`solver.rays.RayBasis.sector_means` over the dofs whose nodes are ``nodes`` (whole
@@ -463,7 +443,7 @@ def membrane_edge_traces(basis: MembraneBasis, edge: EdgeGeometry, s: np.ndarray
         return cache[key]
     s = np.asarray(s, dtype=float)
     factors, layer_factors, along = _edge_factors(basis, edge, stiffness, poisson_ratio)
-    nodal = _edge_node_values(basis, edge, s)
+    nodal = edge_exponentials(basis, edge, s)
     traces = basis.sector_means(nodal, factors)
     for nodes, rates, index, start, slope in along:
         growth = layer_growth(rates, start + slope * s[:, None])[:, index]

@@ -59,7 +59,13 @@ from numpy.typing import ArrayLike
 from assembly.geometry import EDGE_NAMES, EdgeGeometry, edge_geometry, plate_edges
 from solver.dense import solve_dense
 from solver.kirchhoff import point_force_derivatives, wave_edge_factors
-from solver.rays import RayBasis, gauss_legendre, line_exponentials, node_exponentials, ray_field
+from solver.rays import (
+    RayBasis,
+    edge_exponentials,
+    gauss_legendre,
+    line_exponentials,
+    ray_field,
+)
 
 __all__ = [
     "EdgeLoad",
@@ -363,7 +369,7 @@ def edge_values(
     key = (id(basis), problem.bending_stiffness, problem.poisson_ratio, edge_name, s.tobytes())
     rays = None if cache is None else cache.get(key)
     if rays is None:
-        nodal = node_exponentials(basis, points)
+        nodal = edge_exponentials(basis, edge, s)
         w, slope = basis.sector_means(nodal,
                                       _trace_factors(problem, basis, edge, ("w", "slope")))
         rays = {"w": w, "slope": slope}

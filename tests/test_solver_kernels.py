@@ -19,6 +19,7 @@ from solver.plate import EdgeCondition, PlateProblem, assemble_plate, boundary_t
 from solver.rays import (
     automatic_ray_counts,
     build_ray_basis,
+    edge_exponentials,
     line_exponentials,
     node_exponentials,
     ray_field,
@@ -226,6 +227,23 @@ def test_line_exponentials_match_direct_evaluation(size, frequency):
             error = np.abs(factored - direct)[resolved] / np.abs(direct)[resolved]
             assert error.max() <= 8 * np.finfo(float).eps * exponent, (axis, c)
             assert np.all(np.abs(factored[~resolved]) <= 1e-240)
+
+
+def test_edge_exponentials_match_direct_evaluation():
+    r"""On every edge, the node exponentials at a joint's Gauss points (both directions of
+    travel, so in either order along the edge) and at points without symmetry (the direct
+    evaluation's fallback) equal :math:`e^{k_q(x - x_r)}` evaluated point by point, to the
+    rounding of the exponent (as in the test above)."""
+    from solver.joint_rules import joint_gauss
+
+    basis = basis_for(plate(frequency=1600.0))
+    exponent = np.max(np.abs(basis.k)) * np.hypot(*SIZE)
+    for edge in plate_edges(SIZE):
+        sigma, _ = joint_gauss(edge.length, float(np.max(np.abs(basis.k))))
+        for s in (sigma, edge.length - sigma, np.array([0.1, 0.05, 0.33]) * edge.length):
+            direct = node_exponentials(basis, edge.start + s[:, None] * edge.tangent)
+            error = np.abs(edge_exponentials(basis, edge, s) - direct) / np.abs(direct)
+            assert error.max() <= 8 * np.finfo(float).eps * exponent, edge.name
 
 
 def test_ray_nodes_share_their_edge_exponentials():
