@@ -330,8 +330,12 @@ def _moving_line_rows(build: JointBuild, jid: str, group: int, sigma: np.ndarray
         traces = plates.membranes[side.plate].edge_traces(side.edge, arc, build.traces_cache)
         u_n = plates.affine_membrane_operator(side.plate, weighted @ traces["u_n"])
         u_t = plates.affine_membrane_operator(side.plate, weighted @ traces["u_t"])
-        displacements[side.plate] = [Block.union(u_n.scaled(normal[c]), u_t.scaled(tangent[c]),
-                                                 w.scaled(plate_normal[c])) for c in range(3)]
+        # a member along the axes has zero components: those terms would be explicit zeros,
+        # as many entries again in the constraint matrix, and fill in its factorisation
+        displacements[side.plate] = [
+            Block.union(*(part.scaled(axis[c]) for part, axis in
+                          ((u_n, normal), (u_t, tangent), (w, plate_normal)) if axis[c] != 0.0))
+            for c in range(3)]
     springs = joint.translational_springs()
     line = displacements[next(p for p in joint.plates if p not in springs)]
     gram = weighted @ psi
@@ -349,7 +353,7 @@ def _moving_line_rows(build: JointBuild, jid: str, group: int, sigma: np.ndarray
                      if (terms := member_load(case, jid, plates.layout[jid], plate, name))]
         for c in range(3):  # X_i - X_J (+ f_i / k_t* on a spring), component c
             gap = Block.union(member[c], line[c].scaled(-1.0),
-                              *(load.scaled(axis[c]) for load, axis in loads))
+                              *(load.scaled(axis[c]) for load, axis in loads if axis[c] != 0.0))
             rows.append(gap.constraint(group))
     return rows
 

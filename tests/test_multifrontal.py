@@ -169,21 +169,26 @@ def test_the_grouped_path_on_junctions_corners_and_line_masses(case, monkeypatch
 @pytest.mark.parametrize("case", [mixed_chain(), load_case(CASES / "box_with_wall.toml"),
                                   load_case(CASES / "stiffened_panel.toml")],
                          ids=["chain", "box_with_wall", "stiffened_panel"])
-@pytest.mark.parametrize("fill", [0.0, 2.0], ids=["dense", "superlu"])
-def test_a_forward_solve_is_the_square_system_of_the_laws_and_constraints(case, fill,
+@pytest.mark.parametrize("path", ["dense", "superlu", "grouped"])
+def test_a_forward_solve_is_the_square_system_of_the_laws_and_constraints(case, path,
                                                                           monkeypatch):
     """Without measurements the laws' samples and the constraints are as many as the
     unknowns: the forward solve takes the square system K S = (-a, g), half the augmented
     one's size, and finds the dense normal equations' minimiser, whose residuals vanish;
-    factorised dense or by SuperLU."""
-    monkeypatch.setattr(interface, "DENSE_FILL", fill)
+    factorised dense, by SuperLU or by groups (solver.grouped_lu)."""
+    monkeypatch.setattr(interface, "DENSE_FILL", 0.0 if path == "dense" else 2.0)
+    monkeypatch.setattr(interface, "GROUPED_LU_MIN_SIZE", 0 if path == "grouped" else 10**9)
     system, _, blocks = _direct_blocks(case)
-    calls = []
-    square = interface._determined_solution
+    calls, grouped = [], []
+    square, by_groups = interface._determined_solution, interface._grouped_solution
     monkeypatch.setattr(interface, "_determined_solution",
                         lambda *args: calls.append(1) or square(*args))
+    monkeypatch.setattr(interface, "_grouped_solution",
+                        lambda *args: grouped.append(by_groups(*args)) or grouped[-1])
     minimiser = solve_interface(system, blocks, keep=False)
     assert calls and minimiser.lu is None
+    # the grouped path serves (no fallback) when it is asked for, and only then
+    assert [x is not None for x in grouped] == ([True] if path == "grouped" else [])
     # measured 4e-12 to 4e-11, as the grouped and SuperLU paths against the same reference
     assert field_difference(system, minimiser.s, dense_interface(system, blocks)) < 1e-8
     offsets = np.concatenate([b.offset for b in blocks])
