@@ -4,12 +4,15 @@ Each plate :math:`i` is a complete VTCR problem whose joined edges carry the int
 static data (``docs/method.md`` section 7.1): :math:`K_iU_i = F_i + B_iS`, so that
 :math:`U_i = U_i^0 + T_iS` with :math:`U_i^0 = K_i^{-1}F_i` and :math:`T_i = K_i^{-1}B_i`.
 :func:`plate_admissibility` factorises every plate once and keeps :math:`U_i^0` and
-:math:`T_i`; identical unforced plates (a grid's, a panel's) share one factorisation, and
-identical plates one factorisation of their in-plane matrix.
+:math:`T_i`; identical unforced plates (a grid's, a panel's) share one factorisation,
+identical plates one factorisation of their in-plane matrix, and those whose loads are the
+same their :math:`U_i^0` and :math:`T_i` (:class:`_SharedSolves`).
 """
 
 from __future__ import annotations
 
+import functools
+import hashlib
 import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
@@ -153,6 +156,38 @@ def plate_block(problem: PlateProblem, basis: RayBasis) -> PlateBlock:
     return PlateBlock(boundary, force, solve, rcond)
 
 
+class _SharedSolves:
+    """Solutions shared by identical plates whose loads are the same, to the bit (the inner
+    bays of a panel, a grid's inner plates: their load functions are the same functions of
+    the same traces, only the interface unknowns they load differ): one solve of
+    :math:`K_i^{-1}B_i` serves them all, and one array holds it (read-only)."""
+
+    def __init__(self) -> None:
+        self._solutions: dict[tuple, list[tuple[np.ndarray, np.ndarray]]] = {}
+
+    def get(self, signature: tuple | None, loads: np.ndarray,
+            solve: Callable[[np.ndarray], np.ndarray]) -> np.ndarray:
+        """The solution for a plate of ``signature`` (None: a plate that shares nothing, a
+        forced one) with ``loads``: a shared one, or ``solve(loads)``."""
+        if signature is None:
+            return solve(loads)
+        candidates = self._solutions.setdefault(
+            (signature, loads.shape, hashlib.blake2b(loads.tobytes(), digest_size=16).digest()),
+            [])
+        for seen, solution in candidates:
+            if np.array_equal(seen, loads):
+                return solution
+        solution = solve(loads)
+        solution.setflags(write=False)
+        candidates.append((loads, solution))
+        return solution
+
+
+def _with_force(block: PlateBlock, loads: np.ndarray) -> np.ndarray:
+    r""":math:`K_i^{-1}[F_i\ B_i]`: the plate's :math:`U_i^0` and :math:`T_i` side by side."""
+    return block.solve(np.column_stack([block.force, loads]))
+
+
 def _plate_signature(problem: PlateProblem, basis: RayBasis) -> tuple:
     """What a plate's VTCR block depends on besides its point forces: its basis object
     (:func:`solver.problems.plate_bases`), material, frequency and edge conditions with their
@@ -173,6 +208,7 @@ def plate_admissibility(case: Case, frequency: float, problems: Mapping[str, Pla
     sides, corners = plate_sides(case, arrangement.corner_columns)
     u0, transfer, rcond, corner_w = {}, {}, {}, {}
     shared: dict[tuple, PlateBlock] = {}
+    solved = _SharedSolves()
     for pid in case.plates:
         problem = problems[pid]
         key = None if problem.point_forces else _plate_signature(problem, bases[pid])
@@ -181,7 +217,7 @@ def plate_admissibility(case: Case, frequency: float, problems: Mapping[str, Pla
             shared[key] = block
         loads = plate_loads(case, block.boundary, sides[pid], corners[pid], arrangement.counts,
                             arrangement.slots, arrangement.unknowns[pid])
-        solution = block.solve(np.column_stack([block.force, loads]))
+        solution = solved.get(key, loads, functools.partial(_with_force, block))
         u0[pid], transfer[pid], rcond[pid] = solution[:, 0], solution[:, 1:], block.rcond
         corner_w[pid] = block.boundary.corner_w, block.boundary.corner_w_p
     plates = PlateAdmissibility(frequency, dict(problems), dict(bases), arrangement.unknowns, u0,
@@ -208,7 +244,8 @@ def membrane_blocks(case: Case, problems: Mapping[str, MembraneProblem],
     :math:`K_i^m`."""
     sides, _ = plate_sides(case, arrangement.corner_columns)
     blocks, cache = {}, {}  # the traces, shared by identical plates and by both uses
-    factorised = {}  # identical plates (a panel's inner bays, its stiffeners) share one
+    factorised, solved = {}, _SharedSolves()  # identical plates (a panel's inner bays, its
+    # stiffeners) share one factorisation, and with the same loads one transfer operator
     for pid, problem in problems.items():
         key = _membrane_signature(problem, bases[pid])
         if key not in factorised:
@@ -218,5 +255,6 @@ def membrane_blocks(case: Case, problems: Mapping[str, MembraneProblem],
         unknowns = arrangement.membrane_unknowns[pid]
         loads = membrane_loads(case, problem, bases[pid], sides[pid], arrangement.counts,
                                arrangement.slots, unknowns, cache)
-        blocks[pid] = MembraneBlock(problem, bases[pid], solve(loads), rcond, unknowns)
+        blocks[pid] = MembraneBlock(problem, bases[pid],
+                                    solved.get(key, loads, solve), rcond, unknowns)
     return blocks

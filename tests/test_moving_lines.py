@@ -461,10 +461,12 @@ def test_a_line_with_roller_ends_holds_its_ends_and_converges(monkeypatch):
     assert corner_before > 2e-4, corner_before
 
 
-def test_identical_plates_share_their_in_plane_factorisation_and_nothing_changes(monkeypatch):
+def test_identical_plates_share_their_factorisations_and_solves_and_nothing_changes(monkeypatch):
     """A four-bay stiffened panel's inner bays have the same in-plane problem, and so have its
-    stiffeners: four in-plane matrices are assembled and factorised for seven plates, and the
-    transfer operators are those of a factorisation of its own for every plate, to the bit."""
+    stiffeners: four in-plane matrices are assembled and factorised for seven plates. The
+    inner bays' loads are the same too, so they hold one transfer operator, bending and
+    in-plane. Every transfer operator is that of a factorisation and a solve of its own for
+    every plate, to the bit."""
     from assembly.generate import stiffened_panel
     from solver import admissibility
     from solver.substructure import build_assembly_system
@@ -478,13 +480,22 @@ def test_identical_plates_share_their_in_plane_factorisation_and_nothing_changes
         return assemble(problem, basis, cache)
 
     monkeypatch.setattr(admissibility, "assemble_membrane", counted)
-    shared = build_assembly_system(case, 600.0).membranes
+    system = build_assembly_system(case, 600.0)
+    shared = system.membranes
     # B1 (its outer edge fixed), B2 = B3 (both lines free), B4 (mirror of B1), T1 = T2 = T3
     assert len(assembled) == 4 and len(shared) == 7
+    for inner in (system.transfer, {pid: block.transfer for pid, block in shared.items()}):
+        assert np.shares_memory(inner["B2"], inner["B3"]) and not inner["B2"].flags.writeable
+        assert not np.shares_memory(inner["B1"], inner["B2"])
     assembled.clear()
     monkeypatch.setattr(admissibility, "_membrane_signature", lambda problem, basis: object())
-    alone = build_assembly_system(case, 600.0).membranes
+    monkeypatch.setattr(admissibility._SharedSolves, "get",
+                        lambda self, signature, loads, solve: solve(loads))
+    alone_system = build_assembly_system(case, 600.0)
+    alone = alone_system.membranes
     assert len(assembled) == 7
     for pid, block in shared.items():
         assert np.array_equal(block.transfer, alone[pid].transfer), pid
         assert block.rcond == alone[pid].rcond
+        assert np.array_equal(system.transfer[pid], alone_system.transfer[pid]), pid
+        assert np.array_equal(system.u0[pid], alone_system.u0[pid]), pid
