@@ -10,14 +10,15 @@ supported and fixed in-plane, the stiffeners' tops free, 1 N on bay B1.
   processor time (best of three), unknowns and peak memory (numpy's arrays, traced); and the
   time each takes to meet ``--tolerance 1e-3`` (``solve_to_tolerance``), at 600 and 2500 Hz;
   and each model's time and error against its own exact solution by resolution (at the same
-  accuracy); and where one solve's time goes, by part of the build.
+  accuracy); and where one solve's time goes, by part of the build; and one solve of the
+  panel widened to 6, 12 and 24 bays (its two stiffeners alternating), where the ratio grows.
 * **Identification**: the "measured" field is the exact prismatic folded plate of
   ``tests/exact_prismatic.py`` (bending and in-plane motion, lines free in translation) with
   the weld W2.T2 at log10 k = 2.0 (the model says 3.5), sampled on the skin only (0.1 m cell
   centres, a vibrometer's face), +-5 % uniform noise; ``vtcr update`` corrects W2.T2 with
   moving lines, then with ``held = true``.
 
-Run: ``OPENBLAS_NUM_THREADS=1 python bench/bench_moving_lines.py`` (about two minutes).
+Run: ``OPENBLAS_NUM_THREADS=1 python bench/bench_moving_lines.py`` (about three minutes).
 """
 
 from __future__ import annotations
@@ -133,6 +134,44 @@ def parts(frequencies: list[float]) -> None:
                   + ", ".join(f"{part} {seconds:.2f} s" for part, seconds in best.items()))
 
 
+def wider_panel(n_bays: int) -> tuple[dict, dict]:
+    """The bench panel widened to ``n_bays`` bays: :data:`PLATES`' bays repeated, its two
+    stiffeners alternating on the inner lines (so that a wide panel has two kinds of each, as
+    a real one would), every weld at the model's stiffness."""
+    plates, lines_of = {}, {}
+    for i in range(1, n_bays + 1):
+        right = "simply_supported" if i == n_bays else "free"
+        plates[f"B{i}"] = (BAY, ((i - 1) * BAY, 0.0, 0.0), ALONG_X, 0.001, right)
+    for i in range(1, n_bays):
+        height, _, _, thickness, top = PLATES["T1" if i % 2 else "T2"]
+        plates[f"T{i}"] = (height, (i * BAY, 0.0, 0.0), UP, thickness, top)
+        lines_of[f"W{i}"] = {f"B{i}": ("right", math.inf), f"B{i + 1}": ("left", math.inf),
+                             f"T{i}": ("left", MODEL_LOG_K)}
+    return plates, lines_of
+
+
+def wider(bays: list[int], frequency: float) -> None:
+    """One solve of wider panels, moving and held: the cost ratio grows with the number of
+    bays, because a held panel's bays are all alike (its blocks are shared) while each moving
+    line has twice the interface unknowns of a held one and couples them densely."""
+    print(f"wider panels at {frequency:.0f} Hz: one solve at resolution 1.5 (moving / held; "
+          "processor time, best of three), unknowns (interface unknowns)")
+    for n_bays in bays:
+        plates, lines_of = wider_panel(n_bays)
+        row = []
+        for held in (False, True):
+            case = parse_case(folded_description(plates, lines_of, LOAD, frequency, held, LY))
+            times = []
+            for _ in range(3):
+                start = time.process_time()
+                solution = solve_assembly(case, frequency, residuals=False)
+                times.append(time.process_time() - start)
+            row.append((min(times), solution.n_unknowns, solution.system.n_s))
+        (mt, mn, ms), (ht, hn, hs) = row
+        print(f"  {n_bays:2d} bays: {mt:.2f} / {ht:.2f} s ({mt / ht:.1f}x); {mn} ({ms}) / "
+              f"{hn} ({hs}) unknowns")
+
+
 def same_accuracy(frequencies: list[float]) -> None:
     """Each model against its own exact solution (the exact folded plate with lines moving, or
     held), by resolution: the time of one solve and the worst plate's relative L2 error of w
@@ -191,6 +230,7 @@ def main() -> None:
     cost([600.0, 2500.0])
     parts([600.0, 2500.0])
     same_accuracy([600.0, 2500.0])
+    wider([3, 6, 12, 24], 2500.0)
     identification([600.0, 800.0, 1000.0], args.seed)
 
 

@@ -37,7 +37,7 @@ level).
 from __future__ import annotations
 
 import numpy as np
-import scipy.linalg
+from scipy.linalg.lapack import zgetrf, zgetrs
 
 from solver.errors import GroupPivotError
 from solver.multifrontal import group_graph, minimum_degree_order
@@ -100,12 +100,18 @@ class GroupedLU:
             blocks[u, w] = block
         u, w = np.divmod(pairs, n_groups)
         order = minimum_degree_order(group_graph(u, w, n_groups), sizes)
-        self._steps = self._eliminate(blocks, order)
+        self._steps = self._eliminate(blocks, order, sizes)
 
     @staticmethod
-    def _eliminate(blocks: dict[tuple[int, int], np.ndarray], order: np.ndarray) -> list:
-        """Eliminate the groups in ``order``; per group ``(v, LU of A_vv, {u: A_uv},
-        {w: R_vw})``. ``blocks`` is consumed."""
+    def _eliminate(blocks: dict[tuple[int, int], np.ndarray], order: np.ndarray,
+                   sizes: np.ndarray) -> list:
+        """Eliminate the groups in ``order``; per group ``(v, (LU, pivots) of A_vv,
+        {u: A_uv}, the later groups w coupled to it, [R_vw ...] side by side)``. ``blocks``
+        is consumed.
+
+        The blocks right of a group are solved together, and each block below it updates
+        them all by one product: LAPACK is called twice per group and once per coupled
+        group, not once per pair of them (a grid's groups are small and many)."""
         position = np.empty(len(order), dtype=int)
         position[order] = np.arange(len(order))
         right_of = {v: set() for v in order}  # w with a block A_vw, and u with A_uv
@@ -117,38 +123,40 @@ class GroupedLU:
         steps = []
         for v in order:
             own = blocks.pop((v, v), None)
-            factors = None if own is None else scipy.linalg.lu_factor(
-                own, overwrite_a=True, check_finite=False)
-            if factors is None or not np.all(np.diag(factors[0])):
+            lu, pivots, info = (None, None, 1) if own is None else zgetrf(own, overwrite_a=True)
+            if info != 0:
                 raise GroupPivotError(f"the block of group {v} is singular")
-            later_right = sorted(w for w in right_of[v] if position[w] > position[v])
-            later_left = sorted(u for u in left_of[v] if position[u] > position[v])
-            reduced = {w: scipy.linalg.lu_solve(factors, blocks.pop((v, w)), check_finite=False)
-                       for w in later_right}
-            coupling = {u: blocks.pop((u, v)) for u in later_left}
+            later = sorted(w for w in right_of[v] if position[w] > position[v])
+            reduced = np.zeros((sizes[v], 0), dtype=complex)
+            if later:
+                reduced, _ = zgetrs(lu, pivots, np.hstack([blocks.pop((v, w)) for w in later]))
+            bounds = np.cumsum([0] + [sizes[w] for w in later])
+            coupling = {u: blocks.pop((u, v)) for u in sorted(left_of[v])
+                        if position[u] > position[v]}
             for u, a_uv in coupling.items():
-                for w, r_vw in reduced.items():
+                update = a_uv @ reduced
+                for w, start, stop in zip(later, bounds[:-1], bounds[1:]):
                     if (u, w) in blocks:
-                        blocks[u, w] -= a_uv @ r_vw
+                        blocks[u, w] -= update[:, start:stop]
                     else:  # fill
-                        blocks[u, w] = -(a_uv @ r_vw)
+                        blocks[u, w] = -update[:, start:stop]
                         right_of[u].add(w)
                         left_of[w].add(u)
-            steps.append((v, factors, coupling, reduced))
+            steps.append((v, (lu, pivots), coupling, later, reduced))
         return steps
 
     def solve(self, rhs: np.ndarray) -> np.ndarray:
         """:math:`x = A^{-1}b` for ``rhs`` of shape (n,)."""
         remaining = [rhs[r].astype(complex) for r in self._rows]
         forward = {}
-        for v, factors, coupling, _ in self._steps:
-            forward[v] = scipy.linalg.lu_solve(factors, remaining[v], check_finite=False)
+        for v, (lu, pivots), coupling, _, _ in self._steps:
+            forward[v], _ = zgetrs(lu, pivots, remaining[v])
             for u, a_uv in coupling.items():
                 remaining[u] -= a_uv @ forward[v]
         x = np.empty(len(rhs), dtype=complex)
-        for v, _, _, reduced in reversed(self._steps):
+        for v, _, _, later, reduced in reversed(self._steps):
             x_v = forward[v]
-            for w, r_vw in reduced.items():
-                x_v = x_v - r_vw @ x[self._cols[w]]
+            if later:
+                x_v = x_v - reduced @ np.concatenate([x[self._cols[w]] for w in later])
             x[self._cols[v]] = x_v
         return x
