@@ -18,12 +18,12 @@ new blocks). The solve is the block forward substitution :math:`y_v = A_{vv}^{-1
 
 **Why.** SuperLU orders single unknowns (COLAMD) and finds its dense blocks itself; the
 interface system is dense between groups and sparse at their level. Measured on forward
-solves (one BLAS thread, the whole square solve): a 12-bay moving-line panel at 2500 Hz,
-4472 unknowns in 11 groups along a chain, 0.44 s against SuperLU's 1.85 s; 6 bays (2048),
-0.17 s against 0.31 s (dense LAPACK); the 10 x 10 grid at 500 Hz (6624), 0.65 s against
-0.99 s; equal to within 5 % on the 4 x 4 and 6 x 6 grids. Held-line panels, whose groups are
-smaller and sparser, stay faster with SuperLU (24 bays at 2500 Hz, 4071 unknowns: 0.10 s
-against 0.14 s) (``docs/method.md`` section 7.4).
+solves (one BLAS thread, the whole square solve, ``bench/bench_square_solve.py``): a 12-bay
+moving-line panel at 2500 Hz, 4472 unknowns in 11 groups along a chain, 0.44 s against
+SuperLU's 1.90 s; the 10 x 10 grid at 500 Hz (6624), 0.68 s against 1.06 s; 1.13 times
+faster on the 4 x 4 and 6 x 6 grids. Held-line panels, whose groups are smaller and sparser,
+stay faster with SuperLU (24 bays at 2500 Hz, 4071 unknowns: 0.10 s against 0.13 s)
+(``docs/method.md`` section 7.4).
 
 **Pivoting.** Interchanges stay inside each group's block (restricted pivoting): the block
 must be nonsingular, as it is by construction (a joint's laws and constraints on its own

@@ -78,10 +78,10 @@ GROUPED_MIN_SIZE = 1500
 # the grids' (5 to 16 % filled) stay with SuperLU.
 DENSE_FILL = 0.3
 # From this many unknowns on, a forward solve's square system is factorised by groups
-# (solver.grouped_lu): measured faster than SuperLU or dense LAPACK on every grid from 6 x 6
-# and every moving-line panel from 6 bays (2048 unknowns: 0.17 s against 0.31 s; 12 bays,
-# 4472: 0.44 s against 1.85 s), within 5 % below; slower on held-line panels (24 bays, 4071:
-# 0.14 s against 0.10 s), whose time is small.
+# (solver.grouped_lu): measured faster than SuperLU on the grids (1.13x at 6 x 6, 1.57x at
+# 10 x 10) and the moving-line panels (6 bays, 2048 unknowns: 1.9x; 12 bays: 4.4x), slower on
+# held-line panels (24 bays, 4071 unknowns: 0.13 s against 0.10 s), whose time is small
+# (bench/bench_square_solve.py).
 GROUPED_LU_MIN_SIZE = 2000
 
 
