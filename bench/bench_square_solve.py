@@ -32,13 +32,13 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path[:0] = [str(ROOT), str(ROOT / "bench"), str(ROOT / "tests")]
 
-from bench_moving_lines import LOAD, LY, wider_panel  # noqa: E402
-from support import folded_description  # noqa: E402
+from bench_moving_lines import LOAD, LY, wider_panel
+from support import folded_description
 
-from assembly import parse_case  # noqa: E402
-from assembly.generate import plate_grid  # noqa: E402
-from solver import interface  # noqa: E402
-from solver.substructure import solve_assembly  # noqa: E402
+from assembly import parse_case
+from assembly.generate import plate_grid
+from solver import interface
+from solver.substructure import solve_assembly
 
 
 def cases(grids: list[int], bays: list[tuple[int, float, bool]]):
