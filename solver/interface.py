@@ -60,9 +60,9 @@ from solver.errors import GroupPivotError
 from solver.grouped_lu import GroupedLU
 from solver.multifrontal import GroupedLDL
 
-__all__ = ["BACKWARD_ERROR", "DENSE_FILL", "GROUPED_LU_MIN_SIZE", "GROUPED_MIN_SIZE", "Block", "InterfaceFactor",
-           "factorise_interface", "backward_error", "hermitian_full", "residual_weight",
-           "squared_norm"]
+__all__ = ["BACKWARD_ERROR", "DENSE_FILL", "GROUPED_LU_MIN_SIZE", "GROUPED_MIN_SIZE", "Block",
+           "InterfaceFactor", "factorise_interface", "backward_error", "hermitian_full",
+           "residual_weight", "squared_norm"]
 
 # Largest backward error accepted from the grouped factorisation, whose row interchanges stay
 # inside each group: SuperLU's partial pivoting gives 1e-18 to 1e-16 on these systems, and so
@@ -351,8 +351,8 @@ def _determined_solution(n_s: int, blocks: Sequence[Block], g_mat: scipy.sparse.
     r"""The minimiser of a problem with as many residual rows and constraints as unknowns: the
     solution of the square system
 
-    .. math:: K S = \begin{bmatrix} A \ G \end{bmatrix} S
-              = \begin{bmatrix} -a \ g \end{bmatrix},
+    .. math:: K S = \begin{bmatrix} A \\ G \end{bmatrix} S
+              = \begin{bmatrix} -a \\ g \end{bmatrix},
 
     whose residuals vanish, equilibrated by rows and then columns (:func:`_equilibration`) and
     factorised:
