@@ -91,15 +91,17 @@ def minimum_degree_order(adjacency: scipy.sparse.csr_matrix,
                          sizes: Sequence[int] | np.ndarray) -> np.ndarray:
     """Elimination order of the groups: repeatedly the group whose current neighbours hold the
     fewest unknowns (weighted minimum degree on the elimination graph; ties by index, so the
-    order is reproducible)."""
+    order is reproducible).
+
+    The weights are kept up to date as the cliques form: eliminating ``v`` joins its
+    neighbours into a clique, so each of them loses ``v`` and gains the clique members it did
+    not see yet, and only those are summed (summing every neighbour again took 0.7 s of the
+    16 x 16 grid's forward solve)."""
     n = adjacency.shape[0]
+    sizes = [int(size) for size in sizes]
     neighbours = [set(adjacency.indices[adjacency.indptr[v]:adjacency.indptr[v + 1]].tolist())
                   for v in range(n)]
-
-    def weight(v: int) -> int:
-        return sum(sizes[u] for u in neighbours[v])
-
-    current = [weight(v) for v in range(n)]
+    current = [sum(sizes[u] for u in neighbours[v]) for v in range(n)]
     heap = [(w, v) for v, w in enumerate(current)]
     heapq.heapify(heap)
     eliminated = np.zeros(n, dtype=bool)
@@ -112,10 +114,10 @@ def minimum_degree_order(adjacency: scipy.sparse.csr_matrix,
         order.append(v)
         clique = neighbours[v]
         for u in clique:
-            neighbours[u] |= clique
-            neighbours[u] -= {u, v}
-        for u in clique:
-            current[u] = weight(u)
+            gained = clique - neighbours[u] - {u}
+            neighbours[u] |= gained
+            neighbours[u].discard(v)
+            current[u] += sum(sizes[x] for x in gained) - sizes[v]
             heapq.heappush(heap, (current[u], u))
         neighbours[v] = set()
     return np.array(order, dtype=int)
