@@ -155,7 +155,8 @@ def wider(bays: list[int], frequency: float) -> None:
     bays, because a held panel's bays are all alike (its blocks are shared) while each moving
     line has twice the interface unknowns of a held one and couples them densely."""
     print(f"wider panels at {frequency:.0f} Hz: one solve at resolution 1.5 (moving / held; "
-          "processor time, best of three), unknowns (interface unknowns)")
+          "processor time, best of three), unknowns (interface unknowns), peak memory of "
+          "numpy's arrays")
     for n_bays in bays:
         plates, lines_of = wider_panel(n_bays)
         row = []
@@ -166,10 +167,14 @@ def wider(bays: list[int], frequency: float) -> None:
                 start = time.process_time()
                 solution = solve_assembly(case, frequency, residuals=False)
                 times.append(time.process_time() - start)
-            row.append((min(times), solution.n_unknowns, solution.system.n_s))
-        (mt, mn, ms), (ht, hn, hs) = row
+            tracemalloc.start()
+            solve_assembly(case, frequency, residuals=False)
+            peak = tracemalloc.get_traced_memory()[1] / 1e6
+            tracemalloc.stop()
+            row.append((min(times), solution.n_unknowns, solution.system.n_s, peak))
+        (mt, mn, ms, mp), (ht, hn, hs, hp) = row
         print(f"  {n_bays:2d} bays: {mt:.2f} / {ht:.2f} s ({mt / ht:.1f}x); {mn} ({ms}) / "
-              f"{hn} ({hs}) unknowns")
+              f"{hn} ({hs}) unknowns; {mp:.0f} / {hp:.0f} MB ({mp / hp:.1f}x)")
 
 
 def same_accuracy(frequencies: list[float]) -> None:

@@ -62,7 +62,7 @@ from solver.multifrontal import GroupedLDL
 
 __all__ = ["BACKWARD_ERROR", "DENSE_FILL", "GROUPED_LU_MIN_SIZE", "GROUPED_MIN_SIZE", "Block",
            "InterfaceFactor", "factorise_interface", "backward_error", "hermitian_full",
-           "residual_weight", "squared_norm"]
+           "residual_weight", "squared_norm", "stacked_blocks"]
 
 # Largest backward error accepted from the grouped factorisation, whose row interchanges stay
 # inside each group: SuperLU's partial pivoting gives 1e-18 to 1e-16 on these systems, and so
@@ -374,32 +374,41 @@ def _determined_solution(n_s: int, blocks: Sequence[Block], g_mat: scipy.sparse.
     """
     if n_s == 0:  # plates without joints
         return np.zeros(0, dtype=complex)
-    g_entries = g_mat.tocoo()
-    g_entries.sum_duplicates()
-    n_rho = sum(len(b.offset) for b in blocks)
-    starts = np.cumsum([0] + [len(b.offset) for b in blocks])
-    # each block's row acts once on each of its unknowns: no entry is given twice
-    rows = np.concatenate([np.repeat(np.arange(start, start + len(b.offset)), len(b.index))
-                           for start, b in zip(starts, blocks)] + [g_entries.row + n_rho])
-    cols = np.concatenate([np.tile(b.index, len(b.offset)) for b in blocks] + [g_entries.col])
-    values = np.concatenate([b.matrix.ravel() for b in blocks] + [g_entries.data])
-    row_scale, col_scale = _equilibration(n_s, rows, cols, values)
-    values = values * (row_scale[rows] * col_scale[cols])
+    # one copy of the entries, in compressed rows: the largest data of a solve
+    k_mat = scipy.sparse.vstack([stacked_blocks(blocks, n_s), g_mat], format="csr")
+    k_mat.sum_duplicates()
+    rows = np.repeat(np.arange(n_s), np.diff(k_mat.indptr))
+    row_scale, col_scale = _equilibration(n_s, rows, k_mat.indices, k_mat.data)
+    k_mat.data *= row_scale[rows] * col_scale[k_mat.indices]
     rhs = np.concatenate([-b.offset for b in blocks] + [g_rhs]) * row_scale
     if groups is not None and n_s >= GROUPED_LU_MIN_SIZE:
         row_groups = np.concatenate([np.full(len(b.offset), b.group) for b in blocks]
                                     + [np.asarray(groups[1], dtype=int)])
-        solution = _grouped_solution(rows, cols, values, rhs, row_groups,
+        solution = _grouped_solution(k_mat, rows, rhs, row_groups,
                                      np.asarray(groups[0], dtype=int))
         if solution is not None:
             return col_scale * solution
-    if len(values) > DENSE_FILL * n_s ** 2:
-        k_mat = np.zeros((n_s, n_s), dtype=complex)
-        k_mat[rows, cols] = values
-        factors = scipy.linalg.lu_factor(k_mat, overwrite_a=True, check_finite=False)
+    del rows
+    if k_mat.nnz > DENSE_FILL * n_s ** 2:
+        factors = scipy.linalg.lu_factor(k_mat.toarray(), overwrite_a=True, check_finite=False)
         return col_scale * scipy.linalg.lu_solve(factors, rhs, check_finite=False)
-    k_mat = scipy.sparse.csc_matrix((values, (rows, cols)), shape=(n_s, n_s))
-    return col_scale * scipy.sparse.linalg.splu(k_mat, permc_spec="COLAMD").solve(rhs)
+    return col_scale * scipy.sparse.linalg.splu(k_mat.tocsc(), permc_spec="COLAMD").solve(rhs)
+
+
+def stacked_blocks(blocks: Sequence[Block], n_columns: int) -> scipy.sparse.csr_matrix:
+    """The Blocks' matrices stacked, row after row, as one sparse matrix of ``n_columns``
+    columns (each Block's rows act on its own unknowns ``index``). Built in compressed rows
+    directly, without the row and column index of every entry, and made canonical (columns
+    sorted in each row, each once)."""
+    if not blocks:
+        return scipy.sparse.csr_matrix((0, n_columns), dtype=complex)
+    lengths = np.concatenate([np.full(len(block.offset), len(block.index)) for block in blocks])
+    indptr = np.concatenate([[0], np.cumsum(lengths)])
+    indices = np.concatenate([np.tile(block.index, len(block.offset)) for block in blocks])
+    data = np.concatenate([block.matrix.ravel() for block in blocks]).astype(complex, copy=False)
+    matrix = scipy.sparse.csr_matrix((data, indices, indptr), shape=(len(lengths), n_columns))
+    matrix.sum_duplicates()
+    return matrix
 
 
 def _equilibration(n: int, rows: np.ndarray, cols: np.ndarray,
@@ -417,9 +426,9 @@ def _equilibration(n: int, rows: np.ndarray, cols: np.ndarray,
     return row_scale, 1.0 / np.maximum(col_max, tiny)
 
 
-def _grouped_solution(rows: np.ndarray, cols: np.ndarray, values: np.ndarray, rhs: np.ndarray,
+def _grouped_solution(k_mat: scipy.sparse.csr_matrix, rows: np.ndarray, rhs: np.ndarray,
                       row_groups: np.ndarray, col_groups: np.ndarray) -> np.ndarray | None:
-    r"""The solution of :math:`Kx = b` (``K`` by its entries) by
+    r"""The solution of :math:`Kx = b` (``rows``: the row of each stored entry) by
     :class:`solver.grouped_lu.GroupedLU` and one step of iterative refinement, or None where
     it cannot serve: rows without a group, a group without as many rows as unknowns or with a
     singular block, or a backward error
@@ -428,13 +437,12 @@ def _grouped_solution(rows: np.ndarray, cols: np.ndarray, values: np.ndarray, rh
     if row_groups.min(initial=0) < 0:
         return None
     try:
-        factor = GroupedLU(rows, cols, values, row_groups, col_groups)
+        factor = GroupedLU(rows, k_mat.indices, k_mat.data, row_groups, col_groups)
     except GroupPivotError:
         return None
-    k_mat = scipy.sparse.csr_matrix((values, (rows, cols)), shape=(len(rhs), len(rhs)))
     x = factor.solve(rhs)
     x += factor.solve(rhs - k_mat @ x)
-    norm = float(np.bincount(rows, np.abs(values), len(rhs)).max())
+    norm = float(abs(k_mat).sum(axis=1).max())
     error = np.max(np.abs(k_mat @ x - rhs)) / (norm * np.max(np.abs(x)) + np.max(np.abs(rhs)))
     return x if error <= BACKWARD_ERROR else None
 

@@ -8,6 +8,7 @@ each group scattered through the numbering as the joints' are.
 
 import numpy as np
 import pytest
+import scipy.sparse
 
 from solver import interface
 from solver.errors import GroupPivotError
@@ -68,7 +69,7 @@ def test_a_singular_group_block_is_refused_and_superlu_takes_over():
     with pytest.raises(GroupPivotError, match="singular"):
         GroupedLU(rows, cols, dense[rows, cols], row_groups, col_groups)
     rhs = np.ones(10, dtype=complex)
-    assert interface._grouped_solution(rows, cols, dense[rows, cols], rhs, row_groups,
+    assert interface._grouped_solution(scipy.sparse.csr_matrix(dense), rows, rhs, row_groups,
                                        col_groups) is None
 
 
