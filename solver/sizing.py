@@ -30,8 +30,8 @@ factorise_interface` takes:
 ``vtcr solve`` estimates its discretisation error by an enriched solve, every count times
 :data:`solver.estimate.ENRICHMENT`: its memory is that solve's (:func:`solver.estimate.
 enriched_size`; 0.43 GB estimated on the 10 x 10 grid, 0.46-0.48 GB measured, 0.49 GB
-once a forward solve factorised the square system by SuperLU, 0.37 GB since it factorises it
-by groups, :mod:`solver.grouped_lu`).
+once a forward solve factorised the square system by SuperLU, 0.32 GB since it factorises it
+by groups, :mod:`solver.grouped_lu`, from one copy of its entries).
 
 All on one core of the 2-core reference machine. These are estimates to a factor of about
 two, for deciding before a run whether it fits, not measurements.
