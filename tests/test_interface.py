@@ -195,3 +195,24 @@ def test_the_trace_cache_tells_edges_and_points_apart():
             assert np.array_equal(rays["w"], fresh["w"]), edge
             assert np.array_equal(rays["slope"], fresh["slope"]), edge
     assert len(cache) == 8
+
+
+def test_stacked_blocks_are_the_blocks_row_after_row():
+    """Blocks on overlapping unknowns, one with an unknown given twice (its two columns add),
+    one without rows, stacked: the dense matrix written entry by entry here."""
+    from solver.interface import Block, stacked_blocks
+
+    rng = np.random.default_rng(3)
+    blocks = [Block(np.array([4, 1, 6]), rng.standard_normal((2, 3)) + 0j, np.zeros(2)),
+              Block(np.array([2]), np.zeros((0, 1), dtype=complex), np.zeros(0)),
+              Block(np.array([0, 6, 0]), rng.standard_normal((3, 3)) + 1j, np.zeros(3))]
+    dense = np.zeros((5, 8), dtype=complex)
+    row = 0
+    for block in blocks:
+        for values in block.matrix:
+            for column, value in zip(block.index, values):
+                dense[row, column] += value
+            row += 1
+    stacked = stacked_blocks(blocks, 8)
+    assert stacked.has_canonical_format
+    assert np.array_equal(stacked.toarray(), dense)
