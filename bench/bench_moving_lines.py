@@ -76,6 +76,26 @@ def exact_field(frequency: float):
     return folded_reference(PLATES, lines(TRUE_LOG_K), LOAD, frequency, False, LY, 800)
 
 
+def best_solve(case, frequency: float):
+    """``(seconds, solution)``: the best processor time of three solves (the machine's noise is
+    10-20 %) and the last solution."""
+    times = []
+    for _ in range(3):
+        start = time.process_time()
+        solution = solve_assembly(case, frequency, residuals=False)
+        times.append(time.process_time() - start)
+    return min(times), solution
+
+
+def peak_memory(case, frequency: float) -> float:
+    """The peak of a solve's memory (MB), numpy's arrays traced."""
+    tracemalloc.start()
+    solve_assembly(case, frequency, residuals=False)
+    peak = tracemalloc.get_traced_memory()[1] / 1e6
+    tracemalloc.stop()
+    return peak
+
+
 def cost(frequencies: list[float]) -> None:
     print("cost: one solve at resolution 1.5 (best of three), and to --tolerance 1e-3 "
           "(moving / held; processor time, one BLAS thread: other work on the machine does "
@@ -84,16 +104,8 @@ def cost(frequencies: list[float]) -> None:
         row = []
         for held in (False, True):
             case = parse_case(description([frequency], held))
-            times = []
-            for _ in range(3):  # the best of three: the machine's noise is 10-20 %
-                start = time.process_time()
-                solution = solve_assembly(case, frequency, residuals=False)
-                times.append(time.process_time() - start)
-            once = min(times)
-            tracemalloc.start()  # numpy's arrays are traced: the solve's peak of memory
-            solve_assembly(case, frequency, residuals=False)
-            peak = tracemalloc.get_traced_memory()[1] / 1e6
-            tracemalloc.stop()
+            once, solution = best_solve(case, frequency)
+            peak = peak_memory(case, frequency)
             start = time.process_time()
             _, estimate = solve_to_tolerance(case, frequency, 1e-3)
             row.append((once, time.process_time() - start, solution.n_unknowns, estimate.total,
@@ -162,16 +174,9 @@ def wider(bays: list[int], frequency: float) -> None:
         row = []
         for held in (False, True):
             case = parse_case(folded_description(plates, lines_of, LOAD, frequency, held, LY))
-            times = []
-            for _ in range(3):
-                start = time.process_time()
-                solution = solve_assembly(case, frequency, residuals=False)
-                times.append(time.process_time() - start)
-            tracemalloc.start()
-            solve_assembly(case, frequency, residuals=False)
-            peak = tracemalloc.get_traced_memory()[1] / 1e6
-            tracemalloc.stop()
-            row.append((min(times), solution.n_unknowns, solution.system.n_s, peak))
+            seconds, solution = best_solve(case, frequency)
+            row.append((seconds, solution.n_unknowns, solution.system.n_s,
+                        peak_memory(case, frequency)))
         (mt, mn, ms, mp), (ht, hn, hs, hp) = row
         print(f"  {n_bays:2d} bays: {mt:.2f} / {ht:.2f} s ({mt / ht:.1f}x); {mn} ({ms}) / "
               f"{hn} ({hs}) unknowns; {mp:.0f} / {hp:.0f} MB ({mp / hp:.1f}x)")
@@ -188,17 +193,13 @@ def same_accuracy(frequencies: list[float]) -> None:
             exact = folded_reference(PLATES, lines(MODEL_LOG_K), LOAD, frequency, held, LY, 800)
             cells = []
             for resolution in (1.0, 1.25, 1.5):
-                case = parse_case(description([frequency], held, resolution))
-                times = []
-                for _ in range(3):
-                    start = time.process_time()
-                    solution = solve_assembly(case, frequency, residuals=False)
-                    times.append(time.process_time() - start)
+                seconds, solution = best_solve(
+                    parse_case(description([frequency], held, resolution)), frequency)
                 errors = []
                 for name, w in folded_w(solution, PLATES, LY).items():
                     reference = exact.w(name, *inner_grid(PLATES[name][0], LY).T)
                     errors.append(np.linalg.norm(w - reference) / np.linalg.norm(reference))
-                cells.append(f"{resolution}: {min(times):.2f} s, {max(errors):.1e}")
+                cells.append(f"{resolution}: {seconds:.2f} s, {max(errors):.1e}")
             print(f"  {frequency:6.0f} Hz {'held' if held else 'moving'}: " + "; ".join(cells))
 
 

@@ -161,29 +161,20 @@ def squared_norm(r: np.ndarray) -> float | np.ndarray:
     return np.einsum("ij,ij->j", r.conj(), r).real
 
 
-def _augmented_matrix(n_s: int, blocks: Iterable[Block],
+def _augmented_matrix(n_s: int, blocks: Sequence[Block],
                       g_mat: scipy.sparse.spmatrix) -> tuple[scipy.sparse.coo_matrix, int]:
     """The lower triangle of the Hermitian augmented matrix ``[-I A 0; A^H 0 G^H; 0 G 0]`` in
     COO form (:func:`hermitian_full` completes it), and the number of residual rows."""
-    rows, cols, vals = [], [], []
-    start = 0
-    for block in blocks:
-        n_rows, m = block.matrix.shape
-        rows.append(np.repeat(np.arange(start, start + n_rows, dtype=np.int32), m))
-        cols.append(np.tile(block.index.astype(np.int32), n_rows))
-        vals.append(block.matrix.ravel())
-        start += n_rows
-    n_rho = start
-    a_rows = np.concatenate(rows) if rows else np.zeros(0, dtype=np.int32)
-    a_cols = np.concatenate(cols) + n_rho if cols else np.zeros(0, dtype=np.int32)
-    a_vals = np.concatenate(vals) if vals else np.zeros(0, dtype=complex)
+    a = stacked_blocks(blocks, n_s).tocoo()
+    n_rho = a.shape[0]
     g = g_mat.tocoo()
     diag = np.arange(n_rho, dtype=np.int32)
     n = n_rho + n_s + g_mat.shape[0]
     lower = scipy.sparse.coo_matrix(
-        (np.concatenate([-np.ones(n_rho), a_vals.conj(), g.data]),  # -I, A^H and G
-         (np.concatenate([diag, a_cols, (g.row + n_rho + n_s).astype(np.int32)]),
-          np.concatenate([diag, a_rows, (g.col + n_rho).astype(np.int32)]))),
+        (np.concatenate([-np.ones(n_rho), a.data.conj(), g.data]),  # -I, A^H and G
+         (np.concatenate([diag, (a.col + n_rho).astype(np.int32),
+                          (g.row + n_rho + n_s).astype(np.int32)]),
+          np.concatenate([diag, a.row.astype(np.int32), (g.col + n_rho).astype(np.int32)]))),
         shape=(n, n), dtype=complex)
     return lower, n_rho
 
@@ -402,9 +393,11 @@ def stacked_blocks(blocks: Sequence[Block], n_columns: int) -> scipy.sparse.csr_
     sorted in each row, each once)."""
     if not blocks:
         return scipy.sparse.csr_matrix((0, n_columns), dtype=complex)
+    index_type = np.int32 if n_columns < 2**31 else np.int64  # what the matrix will store
     lengths = np.concatenate([np.full(len(block.offset), len(block.index)) for block in blocks])
     indptr = np.concatenate([[0], np.cumsum(lengths)])
-    indices = np.concatenate([np.tile(block.index, len(block.offset)) for block in blocks])
+    indices = np.concatenate([np.tile(block.index.astype(index_type), len(block.offset))
+                              for block in blocks])
     data = np.concatenate([block.matrix.ravel() for block in blocks]).astype(complex, copy=False)
     matrix = scipy.sparse.csr_matrix((data, indices, indptr), shape=(len(lengths), n_columns))
     matrix.sum_duplicates()
@@ -442,7 +435,7 @@ def _grouped_solution(k_mat: scipy.sparse.csr_matrix, rows: np.ndarray, rhs: np.
         return None
     x = factor.solve(rhs)
     x += factor.solve(rhs - k_mat @ x)
-    norm = float(abs(k_mat).sum(axis=1).max())
+    norm = float(np.bincount(rows, np.abs(k_mat.data), len(rhs)).max())
     error = np.max(np.abs(k_mat @ x - rhs)) / (norm * np.max(np.abs(x)) + np.max(np.abs(rhs)))
     return x if error <= BACKWARD_ERROR else None
 
