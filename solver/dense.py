@@ -53,21 +53,28 @@ def factorise_dense(matrix: np.ndarray) -> tuple[Callable[[np.ndarray], np.ndarr
         Reciprocal condition estimate of the system solved, :math:`R_{[r]}` (LAPACK ``trcon``,
         1-norm): 1e-16 to 1e-15 where the whole equilibrated matrix's is 1e-21 to 1e-19.
     """
+    n_rows, n_columns = matrix.shape
     scale = 1.0 / np.maximum(np.abs(matrix).max(axis=0), np.finfo(float).tiny)
-    q, r, pivots = scipy.linalg.qr(matrix * scale, mode="economic", pivoting=True,
-                                   check_finite=False)
-    pivot_sizes = np.abs(np.diag(r))
+    # mode "raw" keeps R in the upper triangle and the Householder reflectors of Q below it:
+    # Q^H b is applied from them (LAPACK unmqr), since forming Q would cost about as much as
+    # the factorisation itself; trcon and the triangular solve read the upper triangle only
+    (factors, tau), _, pivots = scipy.linalg.qr(matrix * scale, mode="raw", pivoting=True,
+                                                check_finite=False)
+    pivot_sizes = np.abs(np.diag(factors))
     rank = int(np.count_nonzero(pivot_sizes > RANK_TOLERANCE * pivot_sizes[0]))
-    kept, triangle, projection = pivots[:rank], r[:rank, :rank], q[:, :rank].conj().T
-    trcon = scipy.linalg.get_lapack_funcs("trcon", (triangle,))
+    kept, triangle = pivots[:rank], factors[:rank, :rank]
+    trcon, unmqr = scipy.linalg.get_lapack_funcs(("trcon", "unmqr"), (factors,))
     rcond, _ = trcon(triangle, norm="1")
 
     def solve(rhs: np.ndarray) -> np.ndarray:
-        amplitudes = scipy.linalg.solve_triangular(triangle, projection @ rhs,
+        columns = np.array(np.reshape(rhs, (n_rows, -1)), dtype=complex, order="F")
+        projected, _, _ = unmqr("L", "C", factors, tau, columns, overwrite_c=True,
+                                lwork=max(1, 64 * columns.shape[1]))
+        amplitudes = scipy.linalg.solve_triangular(triangle, projected[:rank],
                                                    check_finite=False)
-        x = np.zeros((matrix.shape[1],) + amplitudes.shape[1:], dtype=complex)
-        x[kept] = amplitudes
-        return (x.T * scale).T
+        x = np.zeros((n_columns, columns.shape[1]), dtype=complex)
+        x[kept] = amplitudes * scale[kept, None]
+        return x.reshape((n_columns,) + np.shape(rhs)[1:])
 
     return solve, float(rcond)
 
