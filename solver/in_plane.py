@@ -8,6 +8,7 @@ leave them out, so that their fields are those of the held-line model to the bit
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Mapping
 
@@ -15,6 +16,7 @@ from assembly.case import Case
 from assembly.geometry import EDGE_NAMES
 from solver.membrane import MembraneEdge, MembraneProblem, membrane_stiffness
 from solver.membrane_basis import MembraneBasis, build_membrane_basis, membrane_ray_counts
+from solver.membrane_corners import fixed_free_corners
 from solver.plate import PlateProblem
 from solver.problems import edge_reach, plate_resolution
 
@@ -113,9 +115,13 @@ def membrane_bases(case: Case, problems: Mapping[str, MembraneProblem],
             reach * max(k_shear.real, 5.0 / radius))
         counts = membrane_ray_counts(problem.size, k_shear.real, beta_max,
                                      plate_resolution(case, pid, resolution))
-        key = (problem.size, k_long, k_shear, counts, beta_max)
+        conditions = tuple(problem.condition(edge).condition for edge in EDGE_NAMES)
+        key = (problem.size, k_long, k_shear, counts, beta_max, conditions,
+               problem.poisson_ratio)
         if key not in shared:
-            shared[key] = build_membrane_basis(problem.size, k_long, k_shear, counts, beta_max,
-                                               settings.quadrature_per_sector)
+            rays = build_membrane_basis(problem.size, k_long, k_shear, counts, beta_max,
+                                        settings.quadrature_per_sector)
+            shared[key] = dataclasses.replace(rays, corners=fixed_free_corners(
+                problem.size, conditions, problem.poisson_ratio, k_long, k_shear))
         bases[pid] = shared[key]
     return bases

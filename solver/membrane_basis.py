@@ -24,6 +24,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from assembly.geometry import EdgeGeometry, plate_edges
+from solver.membrane_corners import CornerFamily, corner_displacements, corner_fields
 from solver.rays import RayBasis, edge_exponentials, gauss_legendre, node_exponentials
 
 __all__ = [
@@ -98,12 +99,20 @@ class MembraneBasis(RayBasis):
     layer_rate : ndarray of complex, shape (n_nodes,)
         :math:`\delta_q = \gamma_L - \gamma_S`, the difference of the two waves' rates
         across the edge (zero for the plain waves).
+    corners : tuple of :class:`solver.membrane_corners.CornerFamily`
+        The corner functions of the plate's fixed-free corners
+        (:func:`solver.in_plane.membrane_bases`), dofs after the rays' (``n_rays`` on).
     """
 
     polarisation: np.ndarray
     layer: np.ndarray
     layer_normal: np.ndarray
     layer_rate: np.ndarray
+    corners: tuple[CornerFamily, ...] = ()
+
+    @property
+    def n_dof(self) -> int:
+        return self.n_rays + sum(family.n_functions for family in self.corners)
 
     @functools.cached_property
     def edge_factors(self) -> dict:
@@ -330,10 +339,17 @@ def membrane_field(basis: MembraneBasis, amplitudes: np.ndarray, points: ArrayLi
         growth = layer_growth(basis.layer_rate[layer], distance)
         means[:, :, layer[::basis.n_q] // basis.n_q] += _layer_sector_means(
             basis, layer, nodal[:, layer] * growth, np.stack(layer_factors)[:, layer])
-    means = means @ amplitudes
+    rays, corner = amplitudes[:basis.n_rays], amplitudes[basis.n_rays:]
+    means = means @ rays
     out = {"u": np.stack(means[:2], axis=-1)}
     if stiffness is not None:
         out["N"] = np.stack(means[2:], axis=-1).reshape(-1, 2, 2)
+    if basis.corners and stiffness is None:
+        out["u"] = out["u"] + corner_displacements(basis.corners, points) @ corner
+    elif basis.corners:
+        u, resultants = corner_fields(basis.corners, points, stiffness, poisson_ratio)
+        out["u"] = out["u"] + u @ corner
+        out["N"] = out["N"] + resultants @ corner
     return out
 
 
@@ -352,7 +368,8 @@ def membrane_grid_displacement(basis: MembraneBasis, amplitudes: np.ndarray, xs:
     :math:`g` joins that coordinate's factor. Each factor is bounded on the plate, the edge
     waves decaying away from their edge in each coordinate."""
     xs, ys = np.asarray(xs, float), np.asarray(ys, float)
-    nodes = basis.weight * np.repeat(np.asarray(amplitudes), basis.n_q)
+    amplitudes = np.asarray(amplitudes)
+    nodes = basis.weight * np.repeat(amplitudes[:basis.n_rays], basis.n_q)
     ex = np.exp(basis.k[:, 0, None] * (xs[None, :] - basis.origin[:, 0, None]))
     ey = np.exp(basis.k[:, 1, None] * (ys[None, :] - basis.origin[:, 1, None]))
     layer = basis.layer_nodes
@@ -362,9 +379,14 @@ def membrane_grid_displacement(basis: MembraneBasis, amplitudes: np.ndarray, xs:
         rate[:, None], normal[:, 0, None] * (xs[None, :] - origin[:, 0, None])), 1.0)
     layer_y = ey[layer] * np.where(across_x, 1.0, layer_growth(
         rate[:, None], normal[:, 1, None] * (ys[None, :] - origin[:, 1, None])))
-    return np.stack([ex.T @ ((nodes * basis.polarisation[:, c])[:, None] * ey)
+    grid = np.stack([ex.T @ ((nodes * basis.polarisation[:, c])[:, None] * ey)
                      + layer_x.T @ ((nodes * basis.layer[:, c])[layer, None] * layer_y)
                      for c in range(2)])
+    if basis.corners:  # the corner functions point by point: they do not separate
+        x, y = np.meshgrid(xs, ys, indexing="ij")
+        u = corner_displacements(basis.corners, np.column_stack([x.ravel(), y.ravel()]))
+        grid += np.moveaxis((u @ amplitudes[basis.n_rays:]).reshape(len(xs), len(ys), 2), -1, 0)
+    return grid
 
 
 EdgeFactors = tuple[np.ndarray, np.ndarray,
@@ -450,6 +472,15 @@ def membrane_edge_traces(basis: MembraneBasis, edge: EdgeGeometry, s: np.ndarray
         dofs = slice(nodes.start // basis.n_q, nodes.stop // basis.n_q)
         traces[:, :, dofs] += _layer_sector_means(basis, nodes, nodal[:, nodes] * growth,
                                                   layer_factors[:, nodes])
+    if basis.corners:
+        u, resultants = corner_fields(basis.corners, edge.start + s[:, None] * edge.tangent,
+                                      stiffness, poisson_ratio)
+        traction = np.einsum("pijf,j->pif", resultants, edge.normal)
+        traces = np.concatenate([traces, np.stack([
+            np.einsum("pif,i->pf", vectors, direction)
+            for vectors, direction in ((u, edge.normal), (u, edge.tangent),
+                                       (traction, edge.normal), (traction, edge.tangent))])],
+            axis=2)
     traces = dict(zip(("u_n", "u_t", "N_nn", "N_nt"), traces))
     if cache is not None:
         cache[key] = traces

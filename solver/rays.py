@@ -177,6 +177,12 @@ class RayBasis:
     def n_dof(self) -> int:
         return len(self.family)
 
+    @property
+    def n_rays(self) -> int:
+        """The dofs that are sector means of rays, the first ones (all of them here; a
+        :class:`solver.membrane_basis.MembraneBasis` may add corner functions after them)."""
+        return len(self.family)
+
     def sector_means(self, nodal: np.ndarray, factors: np.ndarray) -> np.ndarray:
         r"""Shape-function values from node exponentials, for several derivative factors.
 
@@ -192,11 +198,11 @@ class RayBasis:
 
         Returns
         -------
-        ndarray of complex, shape (n_factors, n_points, n_dof)
+        ndarray of complex, shape (n_factors, n_points, n_rays)
         """
         n_points = nodal.shape[0]
-        blocks = nodal.reshape(n_points, self.n_dof, self.n_q).transpose(1, 0, 2)
-        weighted = (factors * self.weight).reshape(-1, self.n_dof, self.n_q).transpose(1, 2, 0)
+        blocks = nodal.reshape(n_points, self.n_rays, self.n_q).transpose(1, 0, 2)
+        weighted = (factors * self.weight).reshape(-1, self.n_rays, self.n_q).transpose(1, 2, 0)
         return np.matmul(blocks, weighted).transpose(2, 1, 0)
 
 

@@ -1,0 +1,386 @@
+r"""Corner functions of the in-plane field where a ``fixed`` edge meets a ``free`` or loaded one
+(``docs/method.md`` section 10.5).
+
+Near such a right-angle corner the plane-stress field is not smooth: the static problem's
+local solutions are :math:`r^\lambda\mathbf F(\theta)` with the exponents :math:`\lambda` of the
+clamped-free wedge (Williams, 1952), the roots of
+
+.. math:: 1 + \kappa^2 + 2\kappa\cos(\pi\lambda) = 4\lambda^2,\qquad
+    \kappa = \frac{3 - \nu}{1 + \nu}\ \text{(plane stress)},
+
+0.758 and then complex pairs (:math:`1.719 \pm 0.448j`, :math:`3.812 \pm 1.060j` for
+:math:`\nu = 0.3`). The rays are entire functions and carry :math:`r^{0.758}` only through slow
+convergence; a plate loaded on a line edge that meets a fixed end (a skin bay beside a moving
+line, a stiffener) carries these fields in its response to every load function, even where the
+assembled structure has no corner.
+
+The functions added here are exact solutions of the time-harmonic membrane equation (the
+Trefftz property is kept) whose static limits span the four static solutions of each degree
+:math:`\lambda`. In Wirtinger form, :math:`\partial = (\partial_x - j\partial_y)/2`,
+:math:`\bar\partial = (\partial_x + j\partial_y)/2`, :math:`z = x + jy` in the corner's frame,
+with :math:`\mathbf u = \nabla\Phi` (longitudinal, :math:`(\Delta + k_L^2)\Phi = 0`) or
+:math:`\mathbf u = \nabla\times(\Psi\mathbf e_z)` (shear, :math:`(\Delta + k_S^2)\Psi = 0`) and
+the Helmholtz solutions
+
+.. math:: \Gamma(\mu + 1)\Big(\frac2k\Big)^\mu J_\mu(kr)e^{\pm j\mu\theta}
+    = \sum_{m\ge0}c_m(k^2)\,z^{\mu_\pm + m}\bar z^{\mu_\mp + m},\qquad
+    c_m(k^2) = \frac{(-k^2/4)^m}{m!\,(\mu + 1)_m}
+
+(:math:`\mu_+ = \mu`, :math:`\mu_- = 0`), the four functions of degree :math:`\lambda` are
+
+* :math:`F_1^\pm = \nabla\Phi` with :math:`\mu = \lambda + 1`: static limit
+  :math:`\nabla z^{\lambda+1}`, :math:`\nabla\bar z^{\lambda+1}`;
+* :math:`F_2^\pm = (\nabla\Phi_L \pm j\,\nabla\times\Psi_S)/(k_S^2 - k_L^2)` with
+  :math:`\mu = \lambda - 1` and the same normalisation: for an analytic :math:`h`,
+  :math:`\nabla\times h = j\nabla h` (and :math:`-j` for an anti-analytic one), so the
+  :math:`m = 0` terms cancel exactly and are left out, and the :math:`m = 1` terms give the
+  static solutions of the form :math:`z^\lambda\bar z`, :math:`z\bar z^\lambda`; the longitudinal
+  and shear waves enter only through :math:`k_L^{2m}, k_S^{2m}` over
+  :math:`k_S^2 - k_L^2 = k_L^2(1 + \nu)/(1 - \nu)`, without cancellation.
+
+Per exponent one function is kept: the combination of the four whose static limit is the
+wedge's eigenfunction (fixed on one edge, traction-free on the other; the null vector of the
+static 4 x 4 system, which vanishes exactly at the roots above). Every monomial and its
+derivatives are :math:`z^p\bar z^q = r^{p+q}e^{j(p-q)\theta}` with :math:`\partial(z^p\bar
+z^q) = p\,z^{p-1}\bar z^q`, :math:`\bar\partial(z^p\bar z^q) = q\,z^p\bar z^{q-1}`, and along a
+series :math:`p - q` is fixed, so each sum is a polynomial in :math:`r^2` times one power of
+:math:`r` and one exponential of :math:`\theta` (the branch cut on the bisector's far side,
+outside the plate).
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from assembly.geometry import plate_edges
+
+__all__ = ["CORNER_EXPONENT_LIMIT", "SERIES_REACH", "fixed_free_exponents", "CornerFamily",
+           "corner_family", "fixed_free_corners", "corner_fields", "corner_displacements"]
+
+CORNER_EXPONENT_LIMIT = 4.0
+r"""Exponents :math:`\lambda` with :math:`0 < \mathrm{Re}\,\lambda <` this get a corner function
+(five for :math:`\nu = 0.3`). Measured on ``cases/stiffened_panel.toml`` at 184.8 Hz, the
+in-plane change between resolutions 1.25 and 1.875 on the worst plate: 1.8e-1 without corner
+functions, 1.1e-1 with the first exponent, 1.2e-2 with three, 7.9e-4 with five
+(``docs/method.md`` section 10.5)."""
+
+SERIES_REACH = 15.0
+r"""Corner functions are used where :math:`|k_S|` times the plate's diagonal is at most this
+(a 0.5 x 0.4 m steel plate to about 12 kHz): the series alternate, and their largest terms,
+about :math:`e^{|k_S|r}`, would cost more than :math:`e^{15}\epsilon\approx 7\times10^{-10}`
+to cancellation beyond."""
+
+SERIES_TOLERANCE = 1e-17
+"""The series are summed until a term of the largest radius falls below this fraction."""
+
+
+@functools.lru_cache(maxsize=32)
+def fixed_free_exponents(poisson_ratio: float) -> tuple[complex, ...]:
+    r"""The roots :math:`\lambda` of :math:`f(\lambda) = 1 + \kappa^2 + 2\kappa\cos(\pi\lambda)
+    - 4\lambda^2` with :math:`0 < \mathrm{Re}\,\lambda <` :data:`CORNER_EXPONENT_LIMIT`,
+    :math:`\kappa = (3 - \nu)/(1 + \nu)`, by Newton's method from a grid of starts, sorted by
+    real part (conjugate pairs, negative imaginary part first); integer roots (1 and 2 at
+    :math:`\nu = 0`) are left out, their fields being polynomials."""
+    kappa = (3.0 - poisson_ratio) / (1.0 + poisson_ratio)
+
+    def f(lam: complex) -> complex:
+        return 1.0 + kappa**2 + 2.0 * kappa * np.cos(np.pi * lam) - 4.0 * lam**2
+
+    def slope(lam: complex) -> complex:
+        return -2.0 * np.pi * kappa * np.sin(np.pi * lam) - 8.0 * lam
+
+    roots: list[complex] = []
+    for start in (complex(x, y) for x in np.arange(0.1, CORNER_EXPONENT_LIMIT + 1.0, 0.25)
+                  for y in (-1.5, -0.5, 0.0, 0.5, 1.5)):
+        lam = start
+        for _ in range(100):
+            step = f(lam) / slope(lam)
+            lam -= step
+            if abs(step) < 1e-15 * max(1.0, abs(lam)):
+                break
+        integer = abs(lam - round(lam.real)) < 1e-9  # a polynomial field: the rays have it
+        if (abs(f(lam)) < 1e-11 and 0.0 < lam.real < CORNER_EXPONENT_LIMIT and not integer
+                and all(abs(lam - r) > 1e-8 for r in roots)):
+            roots.append(complex(lam.real, 0.0 if abs(lam.imag) < 1e-12 else lam.imag))
+    return tuple(sorted(roots, key=lambda r: (round(r.real, 8), r.imag)))
+
+
+@dataclass(frozen=True)
+class _Series:
+    r"""Functions :math:`\sum_m(a_m\nabla + b_m\nabla\times)(z^{\alpha+m}\bar z^{\beta+m})`,
+    one per row: ``alpha``, ``beta`` (n_functions,), ``m``, ``gradient`` (:math:`a_m`),
+    ``curl`` (:math:`b_m`) (n_functions, n_terms)."""
+
+    alpha: np.ndarray
+    beta: np.ndarray
+    m: np.ndarray
+    gradient: np.ndarray
+    curl: np.ndarray
+
+    @staticmethod
+    def stack(series: Sequence[_Series]) -> _Series:
+        return _Series(*(np.concatenate([getattr(one, name) for one in series])
+                         for name in ("alpha", "beta", "m", "gradient", "curl")))
+
+
+def _pochhammer(x: complex, n: int) -> complex:
+    return math.prod((x + j for j in range(n)), start=1.0 + 0j)
+
+
+def _wedge_functions(lam: complex, k_long2: complex, k_shear2: complex,
+                     n_terms: int) -> _Series:
+    r"""The four functions :math:`F_1^+, F_1^-, F_2^+, F_2^-` of degree ``lam`` (module
+    notes), their series cut at ``n_terms`` terms."""
+    m0 = np.arange(n_terms)
+    first = np.array([(-k_long2 / 4.0) ** m / (math.factorial(m) * _pochhammer(lam + 2.0, m))
+                      for m in m0])
+    m1 = np.arange(1, n_terms + 1)
+    common = np.array([(-0.25) ** m / (math.factorial(m) * _pochhammer(lam, m)
+                                       * (k_shear2 - k_long2)) for m in m1])
+    longitudinal = common * k_long2 ** m1
+    shear = 1j * common * k_shear2 ** m1
+    none = np.zeros(n_terms, complex)
+    # F_2's series start at m = 1: written from m = 0 on z^lam zbar (z zbar^lam), so that every
+    # function is r^(lam + 1) times a polynomial in r^2 and no power of r is negative
+    return _Series(np.array([lam + 1.0, 0.0, lam, 1.0], complex),
+                   np.array([0.0, lam + 1.0, 1.0, lam], complex),
+                   np.stack([m0, m0, m1 - 1, m1 - 1]),
+                   np.stack([first, first, longitudinal, longitudinal]),
+                   np.stack([none, none, shear, -shear]))
+
+
+def _wirtinger(series: _Series, log_r: np.ndarray, theta: np.ndarray, powers: np.ndarray,
+               second: bool) -> np.ndarray:
+    r""":math:`(\partial f, \bar\partial f)` and, if ``second``, :math:`(\partial^2f,
+    \partial\bar\partial f, \bar\partial^2f)` of :math:`f = \sum_m c_m z^{\alpha+m}
+    \bar z^{\beta+m}` at the points, for :math:`c = a` and :math:`c = b` of every function:
+    shape (2 or 5, 2, n_points, n_functions). ``powers`` holds :math:`r^{2j}` (points, j);
+    with :math:`p = \alpha + m`, :math:`q = \beta + m`,
+    :math:`\partial(z^p\bar z^q) = p\,r^{p+q-1}e^{j(p-q-1)\theta}` and so on, the sum over
+    :math:`m` a polynomial in :math:`r^2`."""
+    p, q = series.alpha[:, None] + series.m, series.beta[:, None] + series.m
+    factors = [p, q] + ([p * (p - 1), p * q, q * (q - 1)] if second else [])
+    factors = np.stack(factors, axis=-1)  # (functions, terms, orders)
+    coefficients = np.concatenate([series.gradient[..., None] * factors,
+                                   series.curl[..., None] * factors], axis=-1)
+    on_points = np.take_along_axis(powers, series.m[None], axis=2)  # (n, functions, terms)
+    sums = np.matmul(on_points.transpose(1, 0, 2), coefficients)  # (functions, n, 2 orders)
+    # r^(s-1) e^{j(d-1)theta}, r^(s-1) e^{j(d+1)theta}, r^(s-2) e^{j(d-2)theta}, ...; each
+    # power of r formed once, as an exponential (at the corner itself r^(s-2) is large but
+    # finite, and r^(s-1) vanishes)
+    angle = 1j * theta * (series.alpha - series.beta)
+    turn = np.exp(1j * theta)
+    first = np.exp(log_r * (series.alpha + series.beta - 1.0) + angle)
+    prefactors = [first / turn, first * turn]
+    if second:
+        second_power = np.exp(log_r * (series.alpha + series.beta - 2.0) + angle)
+        prefactors += [second_power / turn**2, second_power, second_power * turn**2]
+    orders = len(prefactors)
+    sums = sums.transpose(2, 1, 0).reshape(2, orders, log_r.shape[0], -1)
+    return (sums * np.stack(prefactors)).transpose(1, 0, 2, 3)
+
+
+def _local_fields(series: _Series, local: np.ndarray, repeats: int,
+                  gradient: bool = True) -> tuple[np.ndarray, np.ndarray | None]:
+    r"""``u`` (points, 2, n) and, if ``gradient``, :math:`\partial_ju_i` (points, 2, 2, n) of
+    the functions of ``series`` at ``local`` (points, corners, 2), the points in each corner's
+    frame (the plate in the quadrant x, y >= 0), the series ``repeats`` per corner: with
+    :math:`f_x = \partial f + \bar\partial f`, :math:`f_y = j(\partial f - \bar\partial f)`,
+    :math:`f_{xx} = \partial^2f + 2\partial\bar\partial f + \bar\partial^2f`,
+    :math:`f_{yy} = -\partial^2f + 2\partial\bar\partial f - \bar\partial^2f`,
+    :math:`f_{xy} = j(\partial^2f - \bar\partial^2f)`; :math:`\nabla f` gives
+    :math:`(f_x, f_y)` and the Hessian, :math:`\nabla\times(g\mathbf e_z)` gives
+    :math:`(g_y, -g_x)` and :math:`[[g_{xy}, g_{yy}], [-g_{xx}, -g_{xy}]]`."""
+    radius = np.maximum(np.hypot(local[..., 0], local[..., 1]), np.finfo(float).tiny)
+    # the branch cut on the far side of the bisector theta = pi/4, outside the quadrant
+    theta = np.angle((local[..., 0] + 1j * local[..., 1]) * np.exp(-0.25j * np.pi)) + 0.25 * np.pi
+    powers = (radius**2)[..., None] ** np.arange(int(series.m.max()) + 1)
+    log_r, theta, powers = (np.repeat(a, repeats, axis=1)
+                            for a in (np.log(radius), theta, powers))
+    derivatives = _wirtinger(series, log_r, theta, powers, gradient)
+    d1, d1b = derivatives[:2]
+    fx, fy = d1 + d1b, 1j * (d1 - d1b)
+    u = np.stack([fx[0] + fy[1], fy[0] - fx[1]], axis=1)
+    if not gradient:
+        return u, None
+    d2, d11, d2b = derivatives[2:]
+    fxx, fyy, fxy = d2 + 2 * d11 + d2b, -d2 + 2 * d11 - d2b, 1j * (d2 - d2b)
+    return u, np.stack([np.stack([fxx[0] + fxy[1], fxy[0] + fyy[1]], axis=1),
+                        np.stack([fxy[0] - fxx[1], fyy[0] - fxy[1]], axis=1)], axis=1)
+
+
+def _resultants(gradient: np.ndarray, stiffness: complex, poisson_ratio: float) -> np.ndarray:
+    r""":math:`\mathbf N = A^*[\nu\,\mathrm{tr}\,\boldsymbol\varepsilon\,\mathbf I
+    + (1 - \nu)\boldsymbol\varepsilon]`, :math:`\boldsymbol\varepsilon` the symmetric part of
+    ``gradient`` (points, 2, 2, ...)."""
+    strain = 0.5 * (gradient + np.swapaxes(gradient, 1, 2))
+    trace = strain[:, 0, 0] + strain[:, 1, 1]
+    resultants = (1.0 - poisson_ratio) * strain
+    resultants[:, 0, 0] += poisson_ratio * trace
+    resultants[:, 1, 1] += poisson_ratio * trace
+    return stiffness * resultants
+
+
+@functools.lru_cache(maxsize=256)
+def _static_null_vector(lam: complex, fixed_first: bool, poisson_ratio: float) -> np.ndarray:
+    r"""The combination of the four static functions of degree ``lam`` that is the wedge's
+    eigenfunction: :math:`\mathbf u = 0` on the fixed edge, :math:`\mathbf N\mathbf n = 0` on
+    the free one (the x axis of the corner's frame is the fixed edge if ``fixed_first``, else
+    the free one). Static limits: the leading terms of :func:`_wedge_functions`, whose
+    coefficients do not depend on the wavenumbers (:math:`k_S^2/k_L^2 = 2/(1 - \nu)`)."""
+    leading = _wedge_functions(lam, 1.0, 2.0 / (1.0 - poisson_ratio), 1)
+    on_fixed, on_free = (np.array([[1.0, 0.0]]), np.array([[0.0, 1.0]]))
+    normal = np.array([-1.0, 0.0])  # outward on the y axis
+    if not fixed_first:
+        on_fixed, on_free, normal = on_free, on_fixed, np.array([0.0, -1.0])
+    u, _ = _local_fields(leading, on_fixed[:, None], len(leading.alpha))
+    _, gradient = _local_fields(leading, on_free[:, None], len(leading.alpha))
+    traction = np.einsum("ijn,j->in", _resultants(gradient, 1.0, poisson_ratio)[0], normal)
+    system = np.vstack([u[0], traction])
+    _, singular, vh = np.linalg.svd(system)
+    if singular[-1] > 1e-9 * singular[0]:
+        raise ArithmeticError(f"the static wedge system of exponent {lam} is not singular "
+                              f"(singular values {singular}): not a root of the wedge equation")
+    null = vh[-1].conj()
+    null.flags.writeable = False
+    return null
+
+
+@dataclass(frozen=True)
+class CornerFamily:
+    r"""The corner functions of one fixed-free corner of a plate.
+
+    Attributes
+    ----------
+    point : ndarray of float, shape (2,)
+        The corner, in the plate's axes.
+    frame : ndarray of float, shape (2, 2)
+        Columns :math:`\mathbf x', \mathbf y'`: the directions of the corner's two edges away
+        from it, right-handed, so that the plate is the quadrant :math:`x', y' \ge 0`.
+    functions : _Series
+        The four series of each exponent (:func:`_wedge_functions`), exponent after exponent.
+    combinations : ndarray of complex, shape (4 n_exponents, n_exponents)
+        Column :math:`e`: the static eigenfunction of exponent :math:`e` on its four series.
+    """
+
+    point: np.ndarray
+    frame: np.ndarray
+    functions: _Series
+    combinations: np.ndarray
+
+    @property
+    def n_functions(self) -> int:
+        return self.combinations.shape[1]
+
+
+def _series_length(k_shear: complex, radius: float) -> int:
+    r"""Terms for :math:`|c_m|\rho^m \le` :data:`SERIES_TOLERANCE` at :math:`r =` ``radius``
+    (a bound of the terms: :math:`(|k_S|r/2)^{2m}/(m!)^2`), at least 4."""
+    x, term, m = (abs(k_shear) * radius / 2.0) ** 2, 1.0, 0
+    while term > SERIES_TOLERANCE or m < 4:
+        m += 1
+        term *= x / m**2
+    return m + 1
+
+
+def corner_family(point: np.ndarray, fixed_direction: np.ndarray, free_direction: np.ndarray,
+                  poisson_ratio: float, k_long: complex, k_shear: complex,
+                  radius: float) -> CornerFamily:
+    r"""The :class:`CornerFamily` of a right-angle corner at ``point`` whose fixed and free edges
+    leave it along ``fixed_direction`` and ``free_direction``, for the exponents of
+    :func:`fixed_free_exponents`; ``radius`` bounds the distance from the corner to any point of
+    the plate (the series' length)."""
+    fixed_direction, free_direction = np.asarray(fixed_direction), np.asarray(free_direction)
+    turned = np.array([-fixed_direction[1], fixed_direction[0]])
+    fixed_first = bool(np.allclose(turned, free_direction))
+    first, second = ((fixed_direction, free_direction) if fixed_first
+                     else (free_direction, fixed_direction))
+    n_terms = _series_length(k_shear, radius)
+    exponents = fixed_free_exponents(float(poisson_ratio))
+    functions, combinations = [], np.zeros((4 * len(exponents), len(exponents)), complex)
+    for e, lam in enumerate(exponents):
+        functions.append(_wedge_functions(lam, k_long**2, k_shear**2, n_terms))
+        combinations[4 * e:4 * e + 4, e] = _static_null_vector(lam, fixed_first, poisson_ratio)
+    return CornerFamily(np.asarray(point, float), np.column_stack([first, second]),
+                        _Series.stack(functions), combinations)
+
+
+def fixed_free_corners(size: tuple[float, float], conditions: Sequence[str],
+                       poisson_ratio: float, k_long: complex, k_shear: complex
+                       ) -> tuple[CornerFamily, ...]:
+    """The :class:`CornerFamily` of every corner of a ``size`` plate where an edge whose
+    in-plane condition (``conditions``, in the order of :data:`assembly.geometry.EDGE_NAMES`)
+    is ``fixed`` meets a ``free`` one (a free edge, or a line's member edge loaded by the
+    line); none beyond :data:`SERIES_REACH`."""
+    diagonal = math.hypot(*size)
+    if abs(k_shear) * diagonal > SERIES_REACH:
+        return ()
+    edges = plate_edges(size)
+    families = []
+    for i, edge in enumerate(edges):  # corner i: the end of edge i - 1, the start of edge i
+        incoming, outgoing = conditions[i - 1], conditions[i]
+        if {incoming, outgoing} != {"fixed", "free"}:
+            continue
+        along_outgoing, along_incoming = edge.tangent, -edges[i - 1].tangent
+        fixed, free = ((along_incoming, along_outgoing) if incoming == "fixed"
+                       else (along_outgoing, along_incoming))
+        families.append(corner_family(edge.start, fixed, free, poisson_ratio, k_long, k_shear,
+                                      diagonal))
+    return tuple(families)
+
+
+def _stacked(families: tuple[CornerFamily, ...]
+             ) -> tuple[_Series, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Every family's series in one: the series, the corners (n, 2) and their frames
+    (n, 2, 2), the block-diagonal combinations (series, corner functions), and each corner
+    function's frame. A combination mixes the series of one corner only, so it may come
+    before the rotation to the plate's axes."""
+    series = _Series.stack([family.functions for family in families])
+    counts = [len(family.functions.alpha) for family in families]
+    points = np.array([family.point for family in families])
+    frames = np.array([family.frame for family in families])
+    combinations = np.zeros((sum(counts), sum(f.n_functions for f in families)), complex)
+    row = column = 0
+    for family in families:
+        rows, columns = family.combinations.shape
+        combinations[row:row + rows, column:column + columns] = family.combinations
+        row, column = row + rows, column + columns
+    function_frames = np.repeat([family.frame for family in families],
+                                [family.n_functions for family in families], axis=0)
+    return series, points, frames, combinations, function_frames
+
+
+def corner_fields(families: tuple[CornerFamily, ...], points: np.ndarray, stiffness: complex,
+                  poisson_ratio: float) -> tuple[np.ndarray, np.ndarray]:
+    r"""Displacement (points, 2, n) and resultants :math:`\mathbf N` (points, 2, 2, n) of the
+    corner functions of ``families``, in the plate's axes, at ``points`` (n, 2): for a frame
+    :math:`Q = [\mathbf x'\ \mathbf y']`, :math:`\mathbf u = Q\mathbf u'` and
+    :math:`\nabla\mathbf u = Q\nabla'\mathbf u'Q^T`."""
+    points = np.atleast_2d(np.asarray(points, float))
+    if not families:
+        return np.zeros((len(points), 2, 0), complex), np.zeros((len(points), 2, 2, 0), complex)
+    series, corners, frames, combinations, rotations = _stacked(families)
+    local = np.einsum("nfa,fab->nfb", points[:, None, :] - corners[None], frames)
+    u, gradient = _local_fields(series, local, len(series.alpha) // len(families))
+    u = np.einsum("fia,naf->nif", rotations, u @ combinations)
+    gradient = np.einsum("nibf,fjb->nijf",
+                         np.einsum("fia,nabf->nibf", rotations, gradient @ combinations),
+                         rotations)
+    return u, _resultants(gradient, stiffness, poisson_ratio)
+
+
+def corner_displacements(families: tuple[CornerFamily, ...], points: np.ndarray) -> np.ndarray:
+    """The displacements of :func:`corner_fields` alone, (points, 2, n), without the second
+    derivatives."""
+    points = np.atleast_2d(np.asarray(points, float))
+    if not families:
+        return np.zeros((len(points), 2, 0), complex)
+    series, corners, frames, combinations, rotations = _stacked(families)
+    local = np.einsum("nfa,fab->nfb", points[:, None, :] - corners[None], frames)
+    u, _ = _local_fields(series, local, len(series.alpha) // len(families), False)
+    return np.einsum("fia,naf->nif", rotations, u @ combinations)
