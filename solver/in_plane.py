@@ -16,7 +16,7 @@ from assembly.case import Case
 from assembly.geometry import EDGE_NAMES
 from solver.membrane import MembraneEdge, MembraneProblem, membrane_stiffness
 from solver.membrane_basis import MembraneBasis, build_membrane_basis, membrane_ray_counts
-from solver.membrane_corners import fixed_free_corners
+from solver.membrane_corners import fixed_free_corners, fixed_free_layout
 from solver.plate import PlateProblem
 from solver.problems import edge_reach, plate_resolution
 
@@ -116,8 +116,11 @@ def membrane_bases(case: Case, problems: Mapping[str, MembraneProblem],
         counts = membrane_ray_counts(problem.size, k_shear.real, beta_max,
                                      plate_resolution(case, pid, resolution))
         conditions = tuple(problem.condition(edge).condition for edge in EDGE_NAMES)
-        key = (problem.size, k_long, k_shear, counts, beta_max, conditions,
-               problem.poisson_ratio)
+        # the corner functions depend on the corners' layout only: plates whose conditions
+        # differ elsewhere (a panel's mirrored end bays) still share one basis and its traces
+        layout = fixed_free_layout(conditions)
+        key = (problem.size, k_long, k_shear, counts, beta_max, layout,
+               problem.poisson_ratio if layout else None)
         if key not in shared:
             rays = build_membrane_basis(problem.size, k_long, k_shear, counts, beta_max,
                                         settings.quadrature_per_sector)

@@ -60,7 +60,8 @@ import numpy as np
 from assembly.geometry import plate_edges
 
 __all__ = ["CORNER_EXPONENT_LIMIT", "SERIES_REACH", "fixed_free_exponents", "CornerFamily",
-           "corner_family", "fixed_free_corners", "corner_fields", "corner_displacements"]
+           "corner_family", "fixed_free_layout", "fixed_free_corners", "corner_fields",
+           "corner_displacements"]
 
 CORNER_EXPONENT_LIMIT = 4.0
 r"""Exponents :math:`\lambda` with :math:`0 < \mathrm{Re}\,\lambda <` this get a corner function
@@ -310,27 +311,32 @@ def corner_family(point: np.ndarray, fixed_direction: np.ndarray, free_direction
                         _Series.stack(functions), combinations)
 
 
+def fixed_free_layout(conditions: Sequence[str]) -> tuple[tuple[int, bool], ...]:
+    """The fixed-free corners of a plate whose edges' in-plane conditions are ``conditions``
+    (in the order of :data:`assembly.geometry.EDGE_NAMES`): ``(i, incoming_fixed)`` for each
+    corner ``i`` (the end of edge ``i - 1``, the start of edge ``i``) where a ``fixed`` edge meets
+    a ``free`` one (a free edge, or a line's member edge loaded by the line). Plates of one
+    size whose layouts are equal have the same corner functions."""
+    return tuple((i, conditions[i - 1] == "fixed") for i in range(4)
+                 if {conditions[i - 1], conditions[i]} == {"fixed", "free"})
+
+
 def fixed_free_corners(size: tuple[float, float], conditions: Sequence[str],
                        poisson_ratio: float, k_long: complex, k_shear: complex
                        ) -> tuple[CornerFamily, ...]:
-    """The :class:`CornerFamily` of every corner of a ``size`` plate where an edge whose
-    in-plane condition (``conditions``, in the order of :data:`assembly.geometry.EDGE_NAMES`)
-    is ``fixed`` meets a ``free`` one (a free edge, or a line's member edge loaded by the
-    line); none beyond :data:`SERIES_REACH`."""
+    """The :class:`CornerFamily` of every corner of :func:`fixed_free_layout`; none beyond
+    :data:`SERIES_REACH`."""
     diagonal = math.hypot(*size)
     if abs(k_shear) * diagonal > SERIES_REACH:
         return ()
     edges = plate_edges(size)
     families = []
-    for i, edge in enumerate(edges):  # corner i: the end of edge i - 1, the start of edge i
-        incoming, outgoing = conditions[i - 1], conditions[i]
-        if {incoming, outgoing} != {"fixed", "free"}:
-            continue
-        along_outgoing, along_incoming = edge.tangent, -edges[i - 1].tangent
-        fixed, free = ((along_incoming, along_outgoing) if incoming == "fixed"
+    for i, incoming_fixed in fixed_free_layout(conditions):
+        along_outgoing, along_incoming = edges[i].tangent, -edges[i - 1].tangent
+        fixed, free = ((along_incoming, along_outgoing) if incoming_fixed
                        else (along_outgoing, along_incoming))
-        families.append(corner_family(edge.start, fixed, free, poisson_ratio, k_long, k_shear,
-                                      diagonal))
+        families.append(corner_family(edges[i].start, fixed, free, poisson_ratio, k_long,
+                                      k_shear, diagonal))
     return tuple(families)
 
 
