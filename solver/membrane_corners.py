@@ -281,7 +281,7 @@ class CornerFamily:
 
 def _series_length(k_shear: complex, radius: float) -> int:
     r"""Terms for :math:`|c_m|\rho^m \le` :data:`SERIES_TOLERANCE` at :math:`r =` ``radius``
-    (a bound of the terms: :math:`(|k_S|r/2)^{2m}/(m!)^2`), at least 4."""
+    (a bound of the terms: :math:`(|k_S|r/2)^{2m}/(m!)^2`), at least five."""
     x, term, m = (abs(k_shear) * radius / 2.0) ** 2, 1.0, 0
     while term > SERIES_TOLERANCE or m < 4:
         m += 1
