@@ -13,7 +13,10 @@ from dataclasses import dataclass
 
 from assembly.case import Case
 from assembly.errors import DescriptionError, Issue, format_path
+from assembly.geometry import EDGE_NAMES
 from assembly.lines import members_coplanar, roller_ends
+from solver.in_plane import membrane_problems
+from solver.membrane_corners import SERIES_REACH, fixed_free_layout
 from solver.problems import ROLLER_END_REACH, plate_problems, plate_ray_counts
 from solver.rays import RayCounts, automatic_ray_counts
 from solver.sizing import available_memory, estimate_size
@@ -436,6 +439,26 @@ def _roller_end_issues(case: Case) -> list[tuple[_Loc, str]]:
     return warnings
 
 
+def _corner_reach_issues(case: Case, frequency: float, loc: _Loc) -> list[tuple[_Loc, str]]:
+    r"""A warning per in-plane plate with a fixed-free corner (an in-plane ``fixed`` edge
+    meeting a free or loaded one) whose shear wavenumber times its diagonal exceeds
+    :data:`solver.membrane_corners.SERIES_REACH` at ``frequency``: the corner functions that
+    follow such a corner's singular field are not used there (``docs/method.md`` section
+    10.5), and its in-plane field converges slowly near it."""
+    warnings = []
+    for pid, problem in membrane_problems(case, frequency).items():
+        conditions = [problem.condition(edge).condition for edge in EDGE_NAMES]
+        reach = abs(problem.wavenumbers[1]) * math.hypot(*problem.size)
+        if fixed_free_layout(conditions) and reach > SERIES_REACH:
+            warnings.append((loc, f"at {frequency:g} Hz plate {pid}'s in-plane shear "
+                                  f"wavenumber times its diagonal is {reach:.1f}, beyond the "
+                                  f"{SERIES_REACH:g} up to which its fixed-free corners have "
+                                  "corner functions: its in-plane field converges slowly near "
+                                  "them (docs/accuracy.md section 8); split the plate with "
+                                  "coplanar joints, or lower the frequency"))
+    return warnings
+
+
 def _weights_issues(case: Case) -> list[tuple[_Loc, str]]:
     r"""A warning when the scale-free weights (``[updating] r = "auto"``) meet
     ``misfit = "global"``. The weights balance each joint's law against its own plates' data
@@ -478,7 +501,8 @@ def description_issues(
       error (spacing in mm instead of m?);
     * **loads** (if `need_loads`) -- a description without loads has a zero response;
     * **moving lines** -- a moving junction line with an in-plane ``roller`` end edge warns
-      (:func:`_roller_end_issues`);
+      (:func:`_roller_end_issues`), and so does a plate whose fixed-free in-plane corners are
+      beyond its corner functions' reach (:func:`_corner_reach_issues`);
     * **weights** -- the scale-free weights with ``misfit = "global"`` warn
       (:func:`_weights_issues`).
 
@@ -523,6 +547,7 @@ def description_issues(
         override_errors, override_warnings = _override_issues(rays)
         errors += override_errors
         warnings += override_warnings + _thin_plate_issues(rays, f, f_loc)
+    warnings += _corner_reach_issues(case, f, f_loc)
     errors += _size_issues(plates, f, f_loc)
     resolution_errors, resolution_warnings = _resolution_issues(case, plates)
     errors += resolution_errors

@@ -288,3 +288,22 @@ def test_plates_share_a_basis_where_their_corner_layouts_agree():
     assert fixed["B2"] is fixed["B3"] and fixed["T1"] is fixed["T2"] is fixed["T3"]
     assert len({id(fixed[p]) for p in ("B1", "B2", "B4")}) == 3
     assert [len(fixed[p].corners) for p in ("B1", "B2", "T1")] == [2, 4, 4]
+
+
+def test_check_warns_where_the_corner_functions_stop():
+    """Beyond ``SERIES_REACH`` (the shear wavenumber times the diagonal) a plate's fixed-free
+    corners get no corner functions, and the description's check says so, naming the plate
+    and what would fix it: a two-bay stiffened panel (0.5 x 0.4 m bays, 0.64 m diagonal) at
+    13 kHz (16.3) warns for both bays, at 11 kHz (13.7) not; its stiffeners (0.43 m) stay
+    below at both."""
+    from assembly.generate import stiffened_panel
+    from solver.guards import description_issues
+
+    def corner_warnings(frequency: float) -> list[str]:
+        _, warnings = description_issues(parse_case(stiffened_panel(2, frequency=frequency)))
+        return [message for _, message in warnings if "corner functions" in message]
+
+    assert corner_warnings(11000.0) == []
+    warned = corner_warnings(13000.0)
+    assert len(warned) == 2 and all("16.3" in m and "split the plate" in m for m in warned)
+    assert {m.split("plate ")[1].split("'")[0] for m in warned} == {"B1", "B2"}
