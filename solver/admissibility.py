@@ -20,7 +20,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from assembly import Case
-from assembly.geometry import EDGE_NAMES, edge_geometry
+from assembly.geometry import edge_geometry
 from solver.dense import factorise_dense
 from solver.interface import Block
 from solver.layout import InterfaceLayout, membrane_loads, plate_loads, plate_sides
@@ -233,8 +233,7 @@ def _membrane_signature(problem: MembraneProblem, basis: MembraneBasis) -> tuple
     conditions. The conditions' data enter only the right-hand side, which an assembly's
     membranes do not use (their loads are interface unknowns)."""
     return (id(basis), problem.size, problem.stiffness, problem.poisson_ratio,
-            problem.mass_per_area, problem.omega,
-            tuple(problem.condition(edge).condition for edge in EDGE_NAMES))
+            problem.mass_per_area, problem.omega, problem.conditions)
 
 
 def membrane_blocks(case: Case, problems: Mapping[str, MembraneProblem],

@@ -13,10 +13,9 @@ from dataclasses import dataclass
 
 from assembly.case import Case
 from assembly.errors import DescriptionError, Issue, format_path
-from assembly.geometry import EDGE_NAMES
 from assembly.lines import members_coplanar, roller_ends
 from solver.in_plane import membrane_problems
-from solver.membrane_corners import SERIES_REACH, fixed_free_layout
+from solver.membrane_corners import SERIES_REACH, fixed_free_layout, series_reach
 from solver.problems import ROLLER_END_REACH, plate_problems, plate_ray_counts
 from solver.rays import RayCounts, automatic_ray_counts
 from solver.sizing import available_memory, estimate_size
@@ -447,9 +446,8 @@ def _corner_reach_issues(case: Case, frequency: float, loc: _Loc) -> list[tuple[
     10.5), and its in-plane field converges slowly near it."""
     warnings = []
     for pid, problem in membrane_problems(case, frequency).items():
-        conditions = [problem.condition(edge).condition for edge in EDGE_NAMES]
-        reach = abs(problem.wavenumbers[1]) * math.hypot(*problem.size)
-        if fixed_free_layout(conditions) and reach > SERIES_REACH:
+        reach = series_reach(problem.size, problem.wavenumbers[1])
+        if fixed_free_layout(problem.conditions) and reach > SERIES_REACH:
             warnings.append((loc, f"at {frequency:g} Hz plate {pid}'s in-plane shear "
                                   f"wavenumber times its diagonal is {reach:.1f}, beyond the "
                                   f"{SERIES_REACH:g} up to which its fixed-free corners have "

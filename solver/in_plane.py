@@ -115,16 +115,15 @@ def membrane_bases(case: Case, problems: Mapping[str, MembraneProblem],
             reach * max(k_shear.real, 5.0 / radius))
         counts = membrane_ray_counts(problem.size, k_shear.real, beta_max,
                                      plate_resolution(case, pid, resolution))
-        conditions = tuple(problem.condition(edge).condition for edge in EDGE_NAMES)
         # the corner functions depend on the corners' layout only: plates whose conditions
         # differ elsewhere (a panel's mirrored end bays) still share one basis and its traces
-        layout = fixed_free_layout(conditions)
+        layout = fixed_free_layout(problem.conditions)
         key = (problem.size, k_long, k_shear, counts, beta_max, layout,
                problem.poisson_ratio if layout else None)
         if key not in shared:
             rays = build_membrane_basis(problem.size, k_long, k_shear, counts, beta_max,
                                         settings.quadrature_per_sector)
             shared[key] = dataclasses.replace(rays, corners=fixed_free_corners(
-                problem.size, conditions, problem.poisson_ratio, k_long, k_shear))
+                problem.size, problem.conditions, problem.poisson_ratio, k_long, k_shear))
         bases[pid] = shared[key]
     return bases

@@ -435,8 +435,8 @@ def _grouped_solution(k_mat: scipy.sparse.csr_matrix, rows: np.ndarray, rhs: np.
         return None
     x = factor.solve(rhs)
     x += factor.solve(rhs - k_mat @ x)
-    norm = float(np.bincount(rows, np.abs(k_mat.data), len(rhs)).max())
-    error = np.max(np.abs(k_mat @ x - rhs)) / (norm * np.max(np.abs(x)) + np.max(np.abs(rhs)))
+    error = _normwise_backward_error(k_mat @ x - rhs,
+                                     np.bincount(rows, np.abs(k_mat.data), len(rhs)), x, rhs)
     return x if error <= BACKWARD_ERROR else None
 
 
@@ -458,12 +458,19 @@ def backward_error(lower: scipy.sparse.coo_matrix, x: np.ndarray, rhs: np.ndarra
     r"""Normwise backward error :math:`\|Hx - b\|_\infty / (\|H\|_\infty\|x\|_\infty +
     \|b\|_\infty)` of a solution ``x`` of :math:`Hx = b`, :math:`H` Hermitian given by its
     lower triangle ``lower`` (COO)."""
-    residual = _hermitian_product(lower, x) - rhs
     magnitude = np.abs(lower.data)
     off = np.where(lower.row != lower.col, magnitude, 0.0)
-    norm = (np.bincount(lower.row, magnitude, lower.shape[0])
-            + np.bincount(lower.col, off, lower.shape[0])).max()
-    return float(np.max(np.abs(residual)) / (norm * np.max(np.abs(x)) + np.max(np.abs(rhs))))
+    row_sums = (np.bincount(lower.row, magnitude, lower.shape[0])
+                + np.bincount(lower.col, off, lower.shape[0]))
+    return _normwise_backward_error(_hermitian_product(lower, x) - rhs, row_sums, x, rhs)
+
+
+def _normwise_backward_error(residual: np.ndarray, row_sums: np.ndarray, x: np.ndarray,
+                             rhs: np.ndarray) -> float:
+    r""":math:`\|r\|_\infty / (\|K\|_\infty\|x\|_\infty + \|b\|_\infty)`, the matrix norm
+    the largest of its ``row_sums`` of absolute values."""
+    return float(np.max(np.abs(residual))
+                 / (row_sums.max() * np.max(np.abs(x)) + np.max(np.abs(rhs))))
 
 
 def _variable_groups(blocks: Sequence[Block], n_rho: int,

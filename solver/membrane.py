@@ -35,7 +35,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import ArrayLike
 
-from assembly.geometry import EdgeGeometry, plate_edges
+from assembly.geometry import EDGE_NAMES, EdgeGeometry, plate_edges
 from solver.dense import factorise_dense
 from solver.membrane_basis import MembraneBasis, membrane_edge_traces, membrane_field
 from solver.rays import gauss_legendre
@@ -125,6 +125,12 @@ class MembraneProblem:
 
     def condition(self, edge: str) -> MembraneEdge:
         return self.edges.get(edge, MembraneEdge())
+
+    @property
+    def conditions(self) -> tuple[str, ...]:
+        """Every edge's in-plane condition, in the order of :data:`assembly.geometry.
+        EDGE_NAMES`."""
+        return tuple(self.condition(edge).condition for edge in EDGE_NAMES)
 
 
 CORNER_GRADING = (6, 0.15)

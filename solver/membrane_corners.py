@@ -59,7 +59,8 @@ import numpy as np
 
 from assembly.geometry import plate_edges
 
-__all__ = ["CORNER_EXPONENT_LIMIT", "SERIES_REACH", "fixed_free_exponents", "CornerFamily",
+__all__ = ["CORNER_EXPONENT_LIMIT", "SERIES_REACH", "series_reach", "fixed_free_exponents",
+           "CornerFamily",
            "corner_family", "fixed_free_layout", "fixed_free_corners", "corner_fields",
            "corner_displacements"]
 
@@ -311,6 +312,12 @@ def corner_family(point: np.ndarray, fixed_direction: np.ndarray, free_direction
                         _Series.stack(functions), combinations)
 
 
+def series_reach(size: Sequence[float], k_shear: complex) -> float:
+    """:math:`|k_S|` times the plate's diagonal: what the series must reach (against
+    :data:`SERIES_REACH`)."""
+    return abs(k_shear) * math.hypot(*size)
+
+
 def fixed_free_layout(conditions: Sequence[str]) -> tuple[tuple[int, bool], ...]:
     """The fixed-free corners of a plate whose edges' in-plane conditions are ``conditions``
     (in the order of :data:`assembly.geometry.EDGE_NAMES`): ``(i, incoming_fixed)`` for each
@@ -326,9 +333,9 @@ def fixed_free_corners(size: tuple[float, float], conditions: Sequence[str],
                        ) -> tuple[CornerFamily, ...]:
     """The :class:`CornerFamily` of every corner of :func:`fixed_free_layout`; none beyond
     :data:`SERIES_REACH`."""
-    diagonal = math.hypot(*size)
-    if abs(k_shear) * diagonal > SERIES_REACH:
+    if series_reach(size, k_shear) > SERIES_REACH:
         return ()
+    diagonal = math.hypot(*size)
     edges = plate_edges(size)
     families = []
     for i, incoming_fixed in fixed_free_layout(conditions):
@@ -361,22 +368,32 @@ def _stacked(families: tuple[CornerFamily, ...]
     return series, points, frames, combinations, function_frames
 
 
+def _plate_axes(families: tuple[CornerFamily, ...], points: np.ndarray, gradient: bool
+                ) -> tuple[np.ndarray, np.ndarray | None]:
+    r"""Displacement (points, 2, n) and, if ``gradient``, :math:`\partial_ju_i`
+    (points, 2, 2, n) of the corner functions of ``families`` in the plate's axes: for a frame
+    :math:`Q = [\mathbf x'\ \mathbf y']`, :math:`\mathbf u = Q\mathbf u'` and
+    :math:`\nabla\mathbf u = Q\nabla'\mathbf u'Q^T`."""
+    series, corners, frames, combinations, rotations = _stacked(families)
+    local = np.einsum("nfa,fab->nfb", points[:, None, :] - corners[None], frames)
+    u, derivatives = _local_fields(series, local, len(series.alpha) // len(families), gradient)
+    u = np.einsum("fia,naf->nif", rotations, u @ combinations)
+    if derivatives is None:
+        return u, None
+    derivatives = np.einsum("nibf,fjb->nijf",
+                            np.einsum("fia,nabf->nibf", rotations, derivatives @ combinations),
+                            rotations)
+    return u, derivatives
+
+
 def corner_fields(families: tuple[CornerFamily, ...], points: np.ndarray, stiffness: complex,
                   poisson_ratio: float) -> tuple[np.ndarray, np.ndarray]:
     r"""Displacement (points, 2, n) and resultants :math:`\mathbf N` (points, 2, 2, n) of the
-    corner functions of ``families``, in the plate's axes, at ``points`` (n, 2): for a frame
-    :math:`Q = [\mathbf x'\ \mathbf y']`, :math:`\mathbf u = Q\mathbf u'` and
-    :math:`\nabla\mathbf u = Q\nabla'\mathbf u'Q^T`."""
+    corner functions of ``families``, in the plate's axes, at ``points`` (n, 2)."""
     points = np.atleast_2d(np.asarray(points, float))
     if not families:
         return np.zeros((len(points), 2, 0), complex), np.zeros((len(points), 2, 2, 0), complex)
-    series, corners, frames, combinations, rotations = _stacked(families)
-    local = np.einsum("nfa,fab->nfb", points[:, None, :] - corners[None], frames)
-    u, gradient = _local_fields(series, local, len(series.alpha) // len(families))
-    u = np.einsum("fia,naf->nif", rotations, u @ combinations)
-    gradient = np.einsum("nibf,fjb->nijf",
-                         np.einsum("fia,nabf->nibf", rotations, gradient @ combinations),
-                         rotations)
+    u, gradient = _plate_axes(families, points, True)
     return u, _resultants(gradient, stiffness, poisson_ratio)
 
 
@@ -386,7 +403,4 @@ def corner_displacements(families: tuple[CornerFamily, ...], points: np.ndarray)
     points = np.atleast_2d(np.asarray(points, float))
     if not families:
         return np.zeros((len(points), 2, 0), complex)
-    series, corners, frames, combinations, rotations = _stacked(families)
-    local = np.einsum("nfa,fab->nfb", points[:, None, :] - corners[None], frames)
-    u, _ = _local_fields(series, local, len(series.alpha) // len(families), False)
-    return np.einsum("fia,naf->nif", rotations, u @ combinations)
+    return _plate_axes(families, points, False)[0]

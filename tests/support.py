@@ -24,12 +24,16 @@ from exact_prismatic import (
 )
 
 from assembly import parse_case
+from assembly.geometry import plate_edges
+from solver.membrane import MembraneEdge, MembraneProblem
 from updating.data.measurements import Measurements, add_noise
 
 __all__ = ["ROOT", "CASES", "STEEL", "TWO_PLATES", "E", "NU", "RHO", "H", "ETA", "D", "LY",
            "LENGTHS", "FREQUENCY", "OMEGA", "MATERIAL", "grid", "chain_description",
            "levy_chain_experiment", "exact_measurements", "exact_joint", "dense_interface",
-           "field_difference", "mixed_chain", "folded_description", "folded_reference"]
+           "field_difference", "mixed_chain", "folded_description", "folded_reference",
+           "STRIP_H", "STRIP_A", "membrane_strip", "membrane_strip_fields",
+           "membrane_strip_problem"]
 
 ROOT = Path(__file__).resolve().parents[1]
 """The repository."""
@@ -293,3 +297,56 @@ def folded_reference(plates: FoldedPlates, lines: FoldLines, load: tuple[str, fl
                  for jid, members in lines.items()]
     return prismatic_levy(strips, prismatic, ly, 2.0 * math.pi * frequency,
                           forces=[(*load, 1.0)], n_terms=n_terms)
+
+
+# The exact in-plane strip: one 2 mm steel plate 0.5 x 0.4 m of tests/exact_prismatic.py,
+# shear diaphragms on y = 0 and y = 0.4, clamped (in-plane fixed) on x = 0 and free on
+# x = 0.5, driven by an in-plane force along x at (0.08, 0.17); rectangles cut from it, their
+# edges given its exact data, are solved by the membrane VTCR and compared with it
+STRIP_H = 0.002
+"""The strip's thickness (m)."""
+STRIP_A = membrane_stiffness(E, STRIP_H, NU, ETA)
+"""The strip's membrane stiffness :math:`A^*` (N/m)."""
+_STRIP_SIZE = (0.5, 0.4)
+_STRIP_FORCE = ("P", 0.08, 0.17, 1.0)
+
+
+def membrane_strip(frequency: float):
+    """The exact strip's in-plane field at ``frequency`` and the circular frequency."""
+    plate = FoldedPlate(_STRIP_SIZE[0], complex_rigidity(E, STRIP_H, NU, ETA), STRIP_A, NU,
+                        RHO * STRIP_H, (0, 0, 0), (1, 0, 0), (0, 1, 0), left="clamped",
+                        right="free")
+    omega = 2.0 * math.pi * frequency
+    return prismatic_levy({"P": plate}, [], _STRIP_SIZE[1], omega,
+                          inplane_forces=[_STRIP_FORCE], n_terms=200).membranes["P"], omega
+
+
+def membrane_strip_fields(field, x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``u`` (n, 2) and ``N`` (n, 2, 2) of the exact strip's in-plane ``field``."""
+    d = {(c, i, j): field.derivative(c, x, y, nx=i, ny=j)
+         for c in "uv" for i, j in ((0, 0), (1, 0), (0, 1))}
+    n_xx = STRIP_A * (d["u", 1, 0] + NU * d["v", 0, 1])
+    n_yy = STRIP_A * (d["v", 0, 1] + NU * d["u", 1, 0])
+    n_xy = 0.5 * STRIP_A * (1.0 - NU) * (d["u", 0, 1] + d["v", 1, 0])
+    resultants = np.array([[n_xx, n_xy], [n_xy, n_yy]]).transpose(2, 0, 1)
+    return np.stack([d["u", 0, 0], d["v", 0, 0]], axis=-1), resultants
+
+
+def membrane_strip_problem(field, omega: float, corner: np.ndarray, size: tuple[float, float],
+                           conditions: Mapping[str, str]) -> MembraneProblem:
+    """The rectangle ``corner + [0, size]`` of the exact strip, each edge given the exact data
+    of its in-plane condition (``conditions``, by edge name)."""
+    edges = {}
+    for edge in plate_edges(size):
+        def data(s: np.ndarray, edge=edge) -> dict[str, np.ndarray]:
+            points = corner + edge.start + s[:, None] * edge.tangent
+            u, resultants = membrane_strip_fields(field, points[:, 0], points[:, 1])
+            traction = resultants @ edge.normal
+            return {"u_n": u @ edge.normal, "u_t": u @ edge.tangent,
+                    "N_nn": traction @ edge.normal, "N_nt": traction @ edge.tangent}
+
+        edges[edge.name] = MembraneEdge(
+            conditions[edge.name],
+            {key: (lambda s, key=key, data=data: data(s)[key])
+             for key in ("u_n", "u_t", "N_nn", "N_nt")})
+    return MembraneProblem(size, STRIP_A, NU, RHO * STRIP_H, omega, edges)

@@ -15,7 +15,7 @@ import math
 import numpy as np
 import pytest
 from exact import complex_rigidity
-from exact_prismatic import FoldedPlate, membrane_stiffness, prismatic_levy
+from support import STRIP_A, STRIP_H, membrane_strip, membrane_strip_fields, membrane_strip_problem
 
 from assembly.geometry import EDGE_NAMES
 from solver.in_plane import MIRROR_CONDITIONS
@@ -23,49 +23,9 @@ from solver.membrane import MembraneEdge, MembraneProblem, solve_membrane
 from solver.membrane_basis import build_membrane_basis, membrane_field, membrane_ray_counts
 from solver.rays import gauss_legendre, plate_edges
 
-E, NU, RHO, ETA, H = 210e9, 0.3, 7800.0, 0.01, 0.002
-LX, LY = 0.5, 0.4
-A_STAR = membrane_stiffness(E, H, NU, ETA)
+E, NU, RHO, ETA, H = 210e9, 0.3, 7800.0, 0.01, STRIP_H
+A_STAR = STRIP_A
 D_STAR = complex_rigidity(E, H, NU, ETA)
-FORCE = ("P", 0.08, 0.17, 1.0)  # in-plane, along x, away from the rectangles solved
-
-
-def _exact(frequency: float):
-    plate = FoldedPlate(LX, D_STAR, A_STAR, NU, RHO * H, (0, 0, 0), (1, 0, 0), (0, 1, 0),
-                        left="clamped", right="free")
-    omega = 2.0 * math.pi * frequency
-    return prismatic_levy({"P": plate}, [], LY, omega, inplane_forces=[FORCE],
-                          n_terms=200).membranes["P"], omega
-
-
-def _exact_fields(field, x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """``u`` (n, 2) and ``N`` (n, 2, 2) of the exact in-plane field."""
-    d = {(c, i, j): field.derivative(c, x, y, nx=i, ny=j)
-         for c in "uv" for i, j in ((0, 0), (1, 0), (0, 1))}
-    n_xx = A_STAR * (d["u", 1, 0] + NU * d["v", 0, 1])
-    n_yy = A_STAR * (d["v", 0, 1] + NU * d["u", 1, 0])
-    n_xy = 0.5 * A_STAR * (1.0 - NU) * (d["u", 0, 1] + d["v", 1, 0])
-    resultants = np.array([[n_xx, n_xy], [n_xy, n_yy]]).transpose(2, 0, 1)
-    return np.stack([d["u", 0, 0], d["v", 0, 0]], axis=-1), resultants
-
-
-def _problem(field, omega, corner, size, conditions):
-    """The rectangle ``corner + [0, size]`` of the exact plate, its edges given the exact
-    data of their conditions."""
-    edges = {}
-    for edge in plate_edges(size):
-        def data(s: np.ndarray, edge=edge) -> dict[str, np.ndarray]:
-            points = corner + edge.start + s[:, None] * edge.tangent
-            u, resultants = _exact_fields(field, points[:, 0], points[:, 1])
-            traction = resultants @ edge.normal
-            return {"u_n": u @ edge.normal, "u_t": u @ edge.tangent,
-                    "N_nn": traction @ edge.normal, "N_nt": traction @ edge.tangent}
-
-        edges[edge.name] = MembraneEdge(
-            conditions[edge.name],
-            {key: (lambda s, key=key, data=data: data(s)[key])
-             for key in ("u_n", "u_t", "N_nn", "N_nt")})
-    return MembraneProblem(size, A_STAR, NU, RHO * H, omega, edges)
 
 
 def _basis(problem, resolution, mirror_conditions=()):
@@ -84,7 +44,7 @@ def _basis(problem, resolution, mirror_conditions=()):
 def _relative_error(solution, field, corner) -> float:
     gx, gy = np.meshgrid(*(np.linspace(0.0, length, 25) for length in solution.problem.size))
     points = np.column_stack([gx.ravel(), gy.ravel()])
-    exact, _ = _exact_fields(field, points[:, 0] + corner[0], points[:, 1] + corner[1])
+    exact, _ = membrane_strip_fields(field, points[:, 0] + corner[0], points[:, 1] + corner[1])
     return float(np.linalg.norm(solution.u(points) - exact) / np.linalg.norm(exact))
 
 
@@ -111,8 +71,8 @@ def test_the_membrane_field_is_the_exact_one(rectangle, frequency):
     missing its edge waves, or a sign of the form, fails it by orders of magnitude; at 3 kHz
     refinement must gain."""
     corner, size, conditions = RECTANGLES[rectangle]
-    field, omega = _exact(frequency)
-    problem = _problem(field, omega, np.array(corner), size, conditions)
+    field, omega = membrane_strip(frequency)
+    problem = membrane_strip_problem(field, omega, np.array(corner), size, conditions)
     errors = [_relative_error(solve_membrane(problem, _basis(problem, r)), field, corner)
               for r in (1.0, 1.5)]
     assert errors[1] < 1e-3, errors
@@ -129,8 +89,8 @@ def test_a_diaphragm_edge_needs_none_of_the_line_wavenumbers(frequency):
     and 276 -> 196 rays), while the same cut on the fixed and free edges too costs three to
     four decades (1.5e-4 and 9.5e-5). The bound 1e-6 sits between the two."""
     corner, size, conditions = RECTANGLES["outer"]
-    field, omega = _exact(frequency)
-    problem = _problem(field, omega, np.array(corner), size, conditions)
+    field, omega = membrane_strip(frequency)
+    problem = membrane_strip_problem(field, omega, np.array(corner), size, conditions)
 
     def error(mirror_conditions):
         basis = _basis(problem, 1.5, mirror_conditions)

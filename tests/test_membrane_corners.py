@@ -8,18 +8,28 @@ not converge without them.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import tomllib
 
 import numpy as np
 import pytest
-from exact import complex_rigidity
-from exact_prismatic import FoldedPlate, membrane_stiffness, prismatic_levy
-from support import CASES
+from support import (
+    CASES,
+    STRIP_A,
+    STRIP_H,
+    folded_description,
+    membrane_strip,
+    membrane_strip_fields,
+    membrane_strip_problem,
+)
 
 from assembly import parse_case
+from assembly.generate import stiffened_panel
 from assembly.geometry import EDGE_NAMES
-from solver.membrane import MembraneEdge, MembraneProblem, membrane_edge_rule, solve_membrane
+from solver.guards import description_issues
+from solver.in_plane import membrane_bases, membrane_problems
+from solver.membrane import membrane_edge_rule, membrane_wavenumbers, solve_membrane
 from solver.membrane_basis import (
     build_membrane_basis,
     membrane_edge_traces,
@@ -27,17 +37,24 @@ from solver.membrane_basis import (
     membrane_grid_displacement,
     membrane_ray_counts,
 )
-from solver.membrane_corners import corner_family, corner_fields, fixed_free_exponents
+from solver.membrane_corners import (
+    _static_null_vector,
+    corner_family,
+    corner_fields,
+    fixed_free_corners,
+    fixed_free_exponents,
+)
+from solver.problems import plate_problems
 from solver.rays import plate_edges
 from solver.substructure import solve_assembly
 
-E, NU, RHO, ETA, H = 210e9, 0.3, 7800.0, 0.01, 0.002
-A_STAR = membrane_stiffness(E, H, NU, ETA)
+E, NU, RHO, H = 210e9, 0.3, 7800.0, STRIP_H
+A_STAR = STRIP_A
 
 
 def _wavenumbers(frequency: float) -> tuple[complex, complex]:
-    k_long = 2.0 * math.pi * frequency * np.sqrt(RHO * H / A_STAR)
-    return k_long, k_long * math.sqrt(2.0 / (1.0 - NU))
+    """:math:`(k_L, k_S)` of the 2 mm steel strip."""
+    return membrane_wavenumbers(RHO * H, 2.0 * math.pi * frequency, A_STAR, NU)
 
 
 def test_the_exponents_are_the_roots_of_the_wedge_equation():
@@ -59,7 +76,6 @@ def test_the_exponents_are_the_roots_of_the_wedge_equation():
     for fixed, free in (((1.0, 0.0), (0.0, 1.0)), ((0.0, 1.0), (1.0, 0.0))):
         corner_family(np.zeros(2), np.array(fixed), np.array(free), NU, k_long, k_shear, 0.6)
 
-    from solver.membrane_corners import _static_null_vector
     with pytest.raises(ArithmeticError):
         _static_null_vector(exponents[0] + 1e-6, True, NU)
 
@@ -115,40 +131,19 @@ def test_near_the_corner_they_are_the_wedge_eigenfunctions():
 
 
 def _strip_problem(frequency: float):
-    """The exact prismatic strip (2 mm steel, diaphragm ends, fixed at x = 0, free at
-    x = 0.5 m, an in-plane force at (0.08, 0.17)) cut to the rectangle [0.2, 0.5] x [0.05, 0.35]
-    with the exact data of a fixed cut on its bottom edge and its own free right edge, a free
-    cut on top and a fixed cut on the left: two fixed-free corners (right-bottom, top-left)
-    where the exact field is smooth."""
-    plate = FoldedPlate(0.5, complex_rigidity(E, H, NU, ETA), A_STAR, NU, RHO * H, (0, 0, 0), (1, 0, 0), (0, 1, 0),
-                        left="clamped", right="free")
-    omega = 2.0 * math.pi * frequency
-    field = prismatic_levy({"P": plate}, [], 0.4, omega, inplane_forces=[("P", 0.08, 0.17, 1.0)],
-                           n_terms=200).membranes["P"]
+    """The exact strip of ``tests/support.py`` (``membrane_strip``) cut to the rectangle
+    [0.2, 0.5] x [0.05, 0.35] with the exact data of a fixed cut on its bottom edge and its own
+    free right edge, a free cut on top and a fixed cut on the left: two fixed-free corners
+    (right-bottom, top-left) where the exact field is smooth. Returns the problem, the exact
+    ``(u, N)`` at points of the rectangle, and the conditions."""
+    field, omega = membrane_strip(frequency)
     corner, size = np.array([0.2, 0.05]), (0.3, 0.3)
     conditions = {"bottom": "fixed", "right": "free", "top": "free", "left": "fixed"}
 
     def exact(points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        x, y = points[:, 0] + corner[0], points[:, 1] + corner[1]
-        d = {(c, i, j): field.derivative(c, x, y, nx=i, ny=j)
-             for c in "uv" for i, j in ((0, 0), (1, 0), (0, 1))}
-        n_xx = A_STAR * (d["u", 1, 0] + NU * d["v", 0, 1])
-        n_yy = A_STAR * (d["v", 0, 1] + NU * d["u", 1, 0])
-        n_xy = 0.5 * A_STAR * (1.0 - NU) * (d["u", 0, 1] + d["v", 1, 0])
-        return (np.stack([d["u", 0, 0], d["v", 0, 0]], axis=-1),
-                np.array([[n_xx, n_xy], [n_xy, n_yy]]).transpose(2, 0, 1))
+        return membrane_strip_fields(field, points[:, 0] + corner[0], points[:, 1] + corner[1])
 
-    edges = {}
-    for edge in plate_edges(size):
-        def data(s, key, edge=edge):
-            u, resultants = exact(edge.start + s[:, None] * edge.tangent)
-            traction = resultants @ edge.normal
-            return {"u_n": u @ edge.normal, "u_t": u @ edge.tangent,
-                    "N_nn": traction @ edge.normal, "N_nt": traction @ edge.tangent}[key]
-        edges[edge.name] = MembraneEdge(conditions[edge.name], {
-            key: (lambda s, key=key, data=data: data(s, key))
-            for key in ("u_n", "u_t", "N_nn", "N_nt")})
-    return MembraneProblem(size, A_STAR, NU, RHO * H, omega, edges), exact, conditions
+    return membrane_strip_problem(field, omega, corner, size, conditions), exact, conditions
 
 
 @pytest.mark.parametrize("frequency", [300.0, 3000.0])
@@ -159,10 +154,9 @@ def test_corner_functions_leave_a_smooth_field_exact(frequency):
     2.9e-5 / 1.4e-5, 3.1e-6 / 2.5e-6 at 300 Hz; 1.3e-6 / 5.6e-7, 1.2e-9 / 1.1e-9, 1.3e-9 /
     1.5e-9 at 3 kHz (the rays alone converge slowly at a fixed-free corner even where the
     exact field is smooth: their own solve loads it). Asked at resolution 1.5: with them at
-    most twice the error without, and below 1e-4. The traces, the graded edge rule, the field and the grid evaluation all take
-    part, and the grid agrees with the field point by point to 1e-12."""
-    from solver.membrane_corners import fixed_free_corners
-
+    most twice the error without, and below 1e-4. The traces, the graded edge rule, the field
+    and the grid evaluation all take part, and the grid agrees with the field point by point
+    to 1e-12."""
     problem, exact, conditions = _strip_problem(frequency)
     k_long, k_shear = problem.wavenumbers
     beta_max = 2.5 * max(abs((RHO * H * problem.omega**2 / (E * H**3 / 12)) ** 0.25),
@@ -172,7 +166,6 @@ def test_corner_functions_leave_a_smooth_field_exact(frequency):
     families = fixed_free_corners(problem.size, [conditions[e] for e in EDGE_NAMES], NU,
                                   k_long, k_shear)
     assert [tuple(f.point) for f in families] == [(0.3, 0.0), (0.0, 0.3)]
-    import dataclasses
     with_corners = dataclasses.replace(rays, corners=families)
     xs = np.linspace(0.0, 0.3, 25)
     gx, gy = np.meshgrid(xs, xs, indexing="ij")
@@ -195,10 +188,6 @@ def test_traces_carry_the_corner_columns_on_a_graded_rule():
     columns unchanged; the edge rule is graded towards both ends of an edge that meets a
     corner (its smallest panel 0.25 * 0.15^5 of the edge) and symmetric, and an edge without
     one keeps its Gauss rule."""
-    import dataclasses
-
-    from solver.membrane_corners import fixed_free_corners
-
     size = (0.5, 0.4)
     k_long, k_shear = _wavenumbers(1000.0)
     counts = membrane_ray_counts(size, abs(k_shear), 60.0, 1.0)
@@ -262,10 +251,6 @@ def test_plates_share_a_basis_where_their_corner_layouts_agree():
     basis (keying on the whole conditions made the solve 16 % slower at 600 Hz); on
     ``cases/stiffened_panel.toml`` the inner bays share one, the end bays, whose corners are
     mirrored, one each, and the three stiffeners one."""
-    from support import folded_description
-
-    from solver.in_plane import membrane_bases, membrane_problems
-    from solver.problems import plate_problems
 
     along_x, up = (1.0, 0.0, 0.0), (0.0, 0.0, 1.0)
     plates = {"B1": (0.4, (0.0, 0.0, 0.0), along_x, 0.001, "simply_supported"),
@@ -296,8 +281,6 @@ def test_check_warns_where_the_corner_functions_stop():
     and what would fix it: a two-bay stiffened panel (0.5 x 0.4 m bays, 0.64 m diagonal) at
     13 kHz (16.3) warns for both bays, at 11 kHz (13.7) not; its stiffeners (0.43 m) stay
     below at both."""
-    from assembly.generate import stiffened_panel
-    from solver.guards import description_issues
 
     def corner_warnings(frequency: float) -> list[str]:
         _, warnings = description_issues(parse_case(stiffened_panel(2, frequency=frequency)))
