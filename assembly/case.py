@@ -18,7 +18,7 @@ from .checks import View, cross_check
 from .errors import AssemblyError, CrossReferenceError, listing
 from .grid import grid_points
 from .joints import CoplanarJoint, HingeJoint, Joint, JunctionJoint
-from .lines import given_in_plane, moving_lines
+from .lines import given_supports, member_directions, moving_lines, singular_ends
 from .models import Boundary, Load, Material, Plate
 from .settings import Compute, Discretisation, Measurement, Truth, Updating, default_spacing
 from .types import (
@@ -266,7 +266,8 @@ class Case(FrozenModel):
         -------
         dict of EdgeId to str
             For each plate (description order) and edge (:data:`~assembly.geometry.EDGE_NAMES`):
-            ``"joined"``, ``"clamped"``, ``"simply_supported"`` or ``"free"``.
+            ``"joined"``, ``"clamped"``, ``"simply_supported"``, ``"free"`` or
+            ``"symmetric"``.
         """
         joined = self.edge_joints()
         given = {parse_edge_ref(bc.edge): bc.condition for bc in self.boundaries}
@@ -281,38 +282,24 @@ class Case(FrozenModel):
     def moving_lines(self) -> tuple[str, ...]:
         """The junction lines that move (:func:`assembly.lines.moving_lines`: ``held = false``,
         or by default non-coplanar members)."""
-        return moving_lines(self.joints, self.plates, self.given_in_plane())
-
-    def given_in_plane(self) -> dict[EdgeId, str]:
-        """The in-plane conditions the boundaries give (their ``in_plane``, where set), by
-        edge."""
-        return given_in_plane(self.boundaries)
+        return moving_lines(self.joints, self.plates, self.boundaries)
 
     def edge_joints(self) -> dict[EdgeId, str]:
         """Return ``{edge: joint id}`` for every joined edge."""
         return {side: jid for jid, joint in self.joints.items() for side in joint.sides}
 
-    def member_directions(self, joint_id: str) -> tuple[int, ...]:
-        r"""For each edge of a joint, +1 if it runs (counter-clockwise) along the joint line's
-        direction, -1 if against it.
-
-        The line runs along its first edge.  A junction between framed plates takes the
-        other directions from the frames, :math:`s_i = \mathbf t_i\cdot\mathbf e_\Gamma` with
-        :math:`\mathbf t_i = \mathbf e_{z,i}\times\mathbf n_i` the member's edge tangent
-        (``docs/method.md`` section 6.2b); every other joint is ``(1, -1)``: the second edge
-        runs the other way, as in an assembly unrolled in a plane (checked for framed plates).
-        """
+    def singular_ends(self, joint_id: str) -> list[EdgeId]:
+        """The end edges of a junction line that are a plane of symmetry for part of the
+        motion only (:func:`assembly.lines.singular_ends`); none for another joint."""
         joint = self.joints[joint_id]
-        sides = joint.sides
-        if not isinstance(joint, JunctionJoint) or self.plates[sides[0].plate].frame is None:
-            return (1, -1)
-        start, end, _ = self.plates[sides[0].plate].edge_in_space(sides[0].edge)
-        line = end - start
-        directions = []
-        for side in sides:
-            a, b, _ = self.plates[side.plate].edge_in_space(side.edge)
-            directions.append(1 if float((b - a) @ line) > 0.0 else -1)
-        return tuple(directions)
+        if not isinstance(joint, JunctionJoint):
+            return []
+        return singular_ends(joint, self.plates, given_supports(self.boundaries))
+
+    def member_directions(self, joint_id: str) -> tuple[int, ...]:
+        """For each edge of a joint, +1 if it runs (counter-clockwise) along the joint line's
+        direction, -1 if against it (:func:`assembly.lines.member_directions`)."""
+        return member_directions(self.joints[joint_id], self.plates)
 
     def joint_parameters(self) -> dict[str, dict[str, float]]:
         """Return the current joint parameters, ``{joint id: {name: value}}``.

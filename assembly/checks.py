@@ -19,7 +19,6 @@ import numpy as np
 from assembly.errors import Loc, did_you_mean, listing
 from assembly.grid import on_grid
 from assembly.joints import CoplanarJoint, HingeJoint, JunctionJoint
-from assembly.lines import given_in_plane
 from assembly.lines import moving_lines as lines_that_move
 from assembly.models import (
     FRAME_TOLERANCE,
@@ -378,8 +377,8 @@ class _CrossCheck:
                                     f"add [plates.{unframed[0]}.frame], or set held = true"))
         if self.issues:
             return
-        in_plane = given_in_plane(bc for bc in self.view.boundaries or () if bc is not None)
-        moving = set(lines_that_move(joints, plates, in_plane))
+        boundaries = [bc for bc in self.view.boundaries or () if bc is not None]
+        moving = set(lines_that_move(joints, plates, boundaries))
         for jid, joint in joints.items():
             springs = (joint.translational_springs() if isinstance(joint, JunctionJoint)
                        else ())
@@ -450,8 +449,8 @@ class _CrossCheck:
                     if edge in self.joined:
                         why = (f"joined by joint {self.joined[edge]!r}, which sets its "
                                "bending moment M_n")
-                    elif cond == "clamped":
-                        why = ("clamped: its rotation is fixed, so its bending moment M_n is "
+                    elif cond in ("clamped", "symmetric"):
+                        why = (f"{cond}: its rotation is fixed, so its bending moment M_n is "
                                "a reaction")
                     else:
                         why = None

@@ -1,4 +1,4 @@
-"""Which junction lines move (``docs/method.md`` section 10.4): the rule shared by the
+r"""Which junction lines move (``docs/method.md`` section 10.4): the rule shared by the
 description's checks, its summary and the solver.
 
 A junction line moves when ``held = false``, or by default (``held`` not given) when its member
@@ -12,16 +12,22 @@ translates freely in 3D). The members of a line that meets others or ends on a f
 further with their edge waves (:data:`solver.problems.MEETING_END_REACH`,
 :data:`solver.problems.FREE_END_REACH`).
 
-By default a line stays held only where moving costs much more: where an end edge is in-plane
-``roller`` (:math:`u_n = 0`, :math:`N_{nt} = 0`). There only the members' bending supports hold
-the line's ends, under line loads that are log-singular at them (``docs/method.md`` section
-10.4); with the usual rays refinement did not converge (2e-2 to 3e-1 between resolutions 1.5
-and 2.25 on a three-bay panel), and the members' edge waves now reach
-:data:`solver.problems.ROLLER_END_REACH` times further, at 10 to 100 times the cost: an L fold
-then converges (5e-5, then 3e-7 to 2e-5), the panel's resolutions 1.5 and 2.25 agree to 6e-4
-to 1.9e-3 at 1 kHz but only to 2.5e-3 to 1.5e-2 at 2.5 kHz. ``held = false`` moves such a line;
-``vtcr check`` warns either way, of the cost or of what the held line leaves out, unless
-``held = true`` is given (:func:`solver.guards.description_issues`).
+By default a line stays held only where its ends are a plane of symmetry for part of the
+motion and not for the rest (:func:`singular_ends`). A ``roller`` edge (:math:`u_n = 0`,
+:math:`N_{nt} = 0`) is the in-plane half of a plane of symmetry, a ``symmetric`` edge
+(:math:`\partial_n w = 0`, :math:`K_n = 0`) its bending half; ``diaphragm`` with
+``simply_supported`` is a plane of antisymmetry. Where every member's end edge is both halves
+(the structure's own plane of symmetry) or neither, the fields continue smoothly across the
+plane and the line converges as elsewhere. Where the halves are mixed (a ``roller`` edge
+simply supported in bending, say), the line's translation along one member's in-plane normal,
+even across the plane, is another member's deflection, odd across it: the line's data have a
+kink at the end and its loads are log-singular there (``docs/method.md`` section 10.4). With
+the usual rays refinement did not converge (2e-2 to 3e-1 between resolutions 1.5 and 2.25 on a
+three-bay panel with roller ends), and the members' edge waves then reach
+:data:`solver.problems.SINGULAR_END_REACH` times further, at 10 to 100 times the cost.
+``held = false`` moves such a line; ``vtcr check`` warns either way, of the cost or of what the
+held line leaves out, unless ``held = true`` is given
+(:func:`solver.guards.description_issues`).
 
 ``fixed`` ends, the default of a supported edge, converge since a moving line's functions stop
 at what every member's rays answer (:func:`solver.joint_rules.interface_function_count`).
@@ -39,8 +45,11 @@ from .joints import JunctionJoint
 from .models import FRAME_TOLERANCE
 from .types import EdgeId, parse_edge_ref
 
-__all__ = ["members_coplanar", "given_in_plane", "free_ends", "roller_ends", "meeting_ends",
-           "moving_lines"]
+__all__ = ["members_coplanar", "member_directions", "given_supports", "free_ends", "line_ends",
+           "singular_ends", "meeting_ends", "moving_lines"]
+
+SYMMETRY_PLANE = ("symmetric", "roller")
+"""The bending and in-plane conditions of an edge on a plane of symmetry of the structure."""
 
 
 def members_coplanar(joint: JunctionJoint, plates: Mapping[str, Any]) -> bool:
@@ -63,11 +72,6 @@ def _end_edges(joint: JunctionJoint) -> Iterator[EdgeId]:
             yield EdgeId(side.plate, neighbour)
 
 
-def given_in_plane(boundaries: Iterable[Any]) -> dict[EdgeId, str]:
-    """The in-plane conditions ``boundaries`` give (their ``in_plane``, where set), by edge."""
-    return {parse_edge_ref(bc.edge): bc.in_plane for bc in boundaries if bc.in_plane is not None}
-
-
 def free_ends(joint: JunctionJoint, conditions: Mapping[EdgeId, str]) -> list[EdgeId]:
     """The edges at the line's ends that are free (``conditions``: every edge's, as
     :meth:`assembly.Case.edge_conditions` gives them): where nothing holds the line's end
@@ -75,11 +79,56 @@ def free_ends(joint: JunctionJoint, conditions: Mapping[EdgeId, str]) -> list[Ed
     return [edge for edge in _end_edges(joint) if conditions[edge] == "free"]
 
 
-def roller_ends(joint: JunctionJoint, in_plane: Mapping[EdgeId, str]) -> list[EdgeId]:
-    """The edges at the line's ends whose given in-plane condition (``in_plane``, by edge) is
-    ``roller``: where the members' bending supports alone hold the line's ends (module
-    notes)."""
-    return [edge for edge in _end_edges(joint) if in_plane.get(edge) == "roller"]
+def member_directions(joint: Any, plates: Mapping[str, Any]) -> tuple[int, ...]:
+    r"""For each edge of a joint, +1 if it runs (counter-clockwise) along the joint line's
+    direction, -1 if against it.
+
+    The line runs along its first edge.  A junction between framed plates takes the other
+    directions from the frames, :math:`s_i = \mathbf t_i\cdot\mathbf e_\Gamma` with
+    :math:`\mathbf t_i = \mathbf e_{z,i}\times\mathbf n_i` the member's edge tangent
+    (``docs/method.md`` section 6.2b); every other joint is ``(1, -1)``: the second edge runs the
+    other way, as in an assembly unrolled in a plane (checked for framed plates).
+    """
+    sides = joint.sides
+    if not isinstance(joint, JunctionJoint) or plates[sides[0].plate].frame is None:
+        return (1, -1)
+    start, end, _ = plates[sides[0].plate].edge_in_space(sides[0].edge)
+    line = end - start
+    directions = []
+    for side in sides:
+        a, b, _ = plates[side.plate].edge_in_space(side.edge)
+        directions.append(1 if float((b - a) @ line) > 0.0 else -1)
+    return tuple(directions)
+
+
+def line_ends(joint: JunctionJoint,
+              plates: Mapping[str, Any]) -> tuple[list[EdgeId], list[EdgeId]]:
+    """The edges at the line's start and at its end: each member edge's neighbour there (edge
+    ``i`` runs from corner ``i`` to corner ``i + 1``, so edge ``i - 1`` meets its start)."""
+    ends: tuple[list[EdgeId], list[EdgeId]] = ([], [])
+    for side, direction in zip(joint.sides, member_directions(joint, plates)):
+        index = EDGE_NAMES.index(side.edge)
+        before, after = EDGE_NAMES[index - 1], EDGE_NAMES[(index + 1) % 4]
+        first, last = (before, after) if direction > 0 else (after, before)
+        ends[0].append(EdgeId(side.plate, first))
+        ends[1].append(EdgeId(side.plate, last))
+    return ends
+
+
+def singular_ends(joint: JunctionJoint, plates: Mapping[str, Any],
+                  supports: Mapping[EdgeId, tuple[str, str]]) -> list[EdgeId]:
+    """The end edges of a line whose end is a plane of symmetry for part of the motion only
+    (module notes): at one end of the line, some member's edge is ``roller`` in-plane or
+    ``symmetric`` in bending, and not every member's edge there is both. ``supports`` holds
+    the ``(bending, in-plane)`` conditions of the edges with a boundary condition; edges
+    without one (joined, or free by default) take no part."""
+    singular = []
+    for edges in line_ends(joint, plates):
+        given = [edge for edge in edges if edge in supports]
+        halves = [sum(a == b for a, b in zip(supports[edge], SYMMETRY_PLANE)) for edge in given]
+        if any(halves) and any(count < 2 for count in halves):
+            singular += given
+    return singular
 
 
 def meeting_ends(joint: JunctionJoint, line_of: Mapping[EdgeId, str],
@@ -89,12 +138,19 @@ def meeting_ends(joint: JunctionJoint, line_of: Mapping[EdgeId, str],
     return [edge for edge in _end_edges(joint) if line_of.get(edge) in moving]
 
 
+def given_supports(boundaries: Iterable[Any]) -> dict[EdgeId, tuple[str, str]]:
+    """The ``(bending, in-plane)`` conditions of the edges ``boundaries`` give, the in-plane
+    one by default where not set (:attr:`assembly.models.Boundary.in_plane_condition`)."""
+    return {parse_edge_ref(bc.edge): (bc.condition, bc.in_plane_condition) for bc in boundaries}
+
+
 def moving_lines(joints: Mapping[str, Any], plates: Mapping[str, Any],
-                 in_plane: Mapping[EdgeId, str]) -> tuple[str, ...]:
+                 boundaries: Iterable[Any]) -> tuple[str, ...]:
     """The junction lines that move, in the description's order: ``held = false``, or by
-    default non-coplanar members and no in-plane ``roller`` end (module notes); ``in_plane``
-    holds the boundaries' given in-plane conditions by edge."""
+    default non-coplanar members and no end that is a plane of symmetry for part of the motion
+    only (:func:`singular_ends`)."""
+    supports = given_supports(boundaries)
     return tuple(jid for jid, joint in joints.items() if isinstance(joint, JunctionJoint) and (
         joint.held is False
         or (joint.held is None and not members_coplanar(joint, plates)
-            and not roller_ends(joint, in_plane))))
+            and not singular_ends(joint, plates, supports))))

@@ -112,7 +112,7 @@ _EXAMPLES: dict[str, str] = {
     "boundaries": '[[boundaries]] tables with edge = "P1.left" and condition = "clamped"',
     "boundaries[]": "a [[boundaries]] table",
     "boundaries[].edge": 'edge = "P1.left"',
-    "boundaries[].condition": 'condition = "clamped", "simply_supported" or "free"',
+    "boundaries[].condition": 'condition = "clamped", "simply_supported", "free" or "symmetric"',
     "loads": '[[loads]] tables, e.g. kind = "point_force"',
     "loads[]": "a [[loads]] table",
     "loads[].kind": 'kind = "edge_shear", "edge_moment" or "point_force"',

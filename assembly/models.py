@@ -401,19 +401,22 @@ class Boundary(FrozenModel):
     ----------
     edge : str
         Edge reference ``"PLATE.EDGE"``.
-    condition : {"clamped", "simply_supported", "free"}
+    condition : {"clamped", "simply_supported", "free", "symmetric"}
         ``clamped``: w = 0 and dw/dn = 0; ``simply_supported``: w = 0 and M_n = 0 (or a
-        prescribed ``edge_moment``); ``free``: K_n = 0 and M_n = 0 (or prescribed loads).
+        prescribed ``edge_moment``); ``free``: K_n = 0 and M_n = 0 (or prescribed loads);
+        ``symmetric``: dw/dn = 0 and K_n = 0 (or a prescribed ``edge_shear``), a plane of
+        symmetry of the structure.
     in_plane : {"fixed", "free", "diaphragm", "roller"}, optional
         The edge's in-plane condition, for a plate that carries in-plane waves (a member of a
         moving junction line): ``fixed`` u_n = u_t = 0, ``free`` N_nn = N_nt = 0,
         ``diaphragm`` u_t = 0 and N_nn = 0 (the shear diaphragm of folded-plate theory),
         ``roller`` u_n = 0 and N_nt = 0. Default: ``fixed`` for ``clamped`` and
-        ``simply_supported``, ``free`` for ``free``.
+        ``simply_supported``, ``free`` for ``free``, ``roller`` for ``symmetric`` (with it,
+        the plane of symmetry).
     """
 
     edge: EdgeRef
-    condition: Literal["clamped", "simply_supported", "free"]
+    condition: Literal["clamped", "simply_supported", "free", "symmetric"]
     in_plane: Literal["fixed", "free", "diaphragm", "roller"] | None = None
 
     @property
@@ -421,7 +424,7 @@ class Boundary(FrozenModel):
         """:attr:`in_plane`, or its default for :attr:`condition`."""
         if self.in_plane is not None:
             return self.in_plane
-        return "free" if self.condition == "free" else "fixed"
+        return {"free": "free", "symmetric": "roller"}.get(self.condition, "fixed")
 
 
 class _EdgeLoad(FrozenModel):
@@ -456,8 +459,8 @@ class _EdgeLoad(FrozenModel):
 class EdgeShear(_EdgeLoad):
     """A prescribed Kirchhoff shear on an edge: ``K_n = p`` (N/m, along +w).
 
-    Only on a free edge (clamped, simply supported and joined edges take ``K_n`` as a
-    reaction).
+    Only on a free or symmetric edge (clamped, simply supported and joined edges take ``K_n``
+    as a reaction).
 
     Parameters
     ----------

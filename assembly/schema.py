@@ -123,7 +123,7 @@ def case_json_schema() -> dict[str, Any]:
     >>> sorted(schema["properties"])[:3]
     ['boundaries', 'discretisation', 'frequencies']
     >>> schema["$defs"]["Boundary"]["properties"]["condition"]["enum"]
-    ['clamped', 'simply_supported', 'free']
+    ['clamped', 'simply_supported', 'free', 'symmetric']
     """
     schema = copy.deepcopy(Case.model_json_schema())
     defs = schema.setdefault("$defs", {})

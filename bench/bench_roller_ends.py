@@ -4,14 +4,14 @@ section 10.4): the measurements behind the diagnosis, on the L fold of
 members rigid, simply supported ends, 1 N on A), the in-plane condition of the end edges
 ``roller`` or ``diaphragm``, ``held = false``.
 
-* **refinement with the usual reach** (``solver.problems.ROLLER_END_REACH`` set to 1, as
+* **refinement with the usual reach** (``solver.problems.SINGULAR_END_REACH`` set to 1, as
   before the rule): the relative L2 differences of ``w`` and ``(u, v)`` on each plate between
   resolutions 1 -> 1.5 -> 2.25 -> 3.4;
 * **reach of the rays** (the same): at resolution 1.5 with the line's functions fixed at 30
   (``interface_functions``), ``edge_wavenumber_ratio`` (the edge waves' reach, in bending
   wavenumbers) raised from 2.5 to 20, with ``w`` of plate B at the line's ends (a simply
   supported corner: 0 exactly) relative to B's largest ``w``; ``--quick`` stops at 10;
-* **refinement with the rule** (``ROLLER_END_REACH`` = 6): roller ends, 1.5 -> 2.25 -> 3.4.
+* **refinement with the rule** (``SINGULAR_END_REACH`` = 6): roller ends, 1.5 -> 2.25 -> 3.4.
 
 Run: ``OPENBLAS_NUM_THREADS=1 python bench/bench_roller_ends.py [--quick]`` (the full run takes
 about fifteen minutes on two cores, most of it at the largest reaches).
@@ -84,8 +84,8 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true")
     args = parser.parse_args()
-    rule = solver.problems.ROLLER_END_REACH
-    solver.problems.ROLLER_END_REACH = 1.0
+    rule = solver.problems.SINGULAR_END_REACH
+    solver.problems.SINGULAR_END_REACH = 1.0
     print("refinement with the usual reach (resolution 1 -> 1.5 -> 2.25 -> 3.4)")
     for ends in ("diaphragm", "roller"):
         for frequency in (300.0, 1000.0):
@@ -101,7 +101,7 @@ def main() -> None:
             print(f"  {ends:9s} {frequency:6.0f} Hz  tau {tau:4.1f}  {seconds:5.1f} s  "
                   f"w_B(end)/max {corner:.1e}  {change}", flush=True)
             previous = fields
-    solver.problems.ROLLER_END_REACH = rule
+    solver.problems.SINGULAR_END_REACH = rule
     print(f"refinement with the rule (reach x {rule:g}; resolution 1.5 -> 2.25 -> 3.4)")
     for frequency in (300.0, 1000.0):
         refinement("roller", frequency, (1.5, 2.25, 3.4))

@@ -13,10 +13,10 @@ from dataclasses import dataclass
 
 from assembly.case import Case
 from assembly.errors import DescriptionError, Issue, format_path
-from assembly.lines import members_coplanar, roller_ends
+from assembly.lines import members_coplanar
 from solver.in_plane import membrane_problems
 from solver.membrane_corners import SERIES_REACH, fixed_free_layout, series_reach
-from solver.problems import ROLLER_END_REACH, plate_problems, plate_ray_counts
+from solver.problems import SINGULAR_END_REACH, plate_problems, plate_ray_counts
 from solver.rays import RayCounts, automatic_ray_counts
 from solver.sizing import available_memory, estimate_size
 
@@ -400,38 +400,40 @@ def _resolution_issues(
     return errors, warnings
 
 
-def _roller_end_issues(case: Case) -> list[tuple[_Loc, str]]:
-    r"""A warning per junction line between non-coplanar plates with an in-plane ``roller``
-    end edge (:func:`assembly.lines.roller_ends`): there only the members' bending supports
-    hold the line's ends, under line loads that are log-singular at them, and the members'
-    edge waves reach :data:`solver.problems.ROLLER_END_REACH` times further to follow them
-    (``docs/method.md`` section 10.4), at 10 to 100 times the cost. Such a line moves only
-    when ``held = false`` is given, with a warning of that cost; held by default, it is
-    warned of what the held line leaves out (``held = true`` says the choice is made)."""
-    in_plane = case.given_in_plane()
+def _singular_end_issues(case: Case) -> list[tuple[_Loc, str]]:
+    r"""A warning per junction line between non-coplanar plates whose end is a plane of
+    symmetry for part of the motion only (:meth:`assembly.Case.singular_ends`: an in-plane
+    ``roller`` edge simply supported in bending, say). There the line's loads are log-singular
+    at its ends, and the members' edge waves reach :data:`solver.problems.SINGULAR_END_REACH`
+    times further to follow them (``docs/method.md`` section 10.4), at 10 to 100 times the
+    cost. Such a line moves only when ``held = false`` is given, with a warning of that cost;
+    held by default, it is warned of what the held line leaves out (``held = true`` says the
+    choice is made). Both name the two consistent choices: a plane of symmetry on every
+    member (``symmetric`` with ``roller``) or none."""
     moving = set(case.moving_lines())
     warnings = []
     for jid, joint in case.joints.items():
-        ends = roller_ends(joint, in_plane) if joint.kind == "junction" else []
+        ends = case.singular_ends(jid)
         if not ends:
             continue
         names = ", ".join(f"{e.plate}.{e.edge}" for e in ends)
+        why = (f"its end edges {names} are a plane of symmetry for part of the motion only "
+               "(in-plane roller or bending symmetric, not both on every member)")
+        fix = ('condition = "symmetric" with in_plane = "roller" on all of them where the end '
+               'is a plane of symmetry of the structure, or in_plane = "diaphragm" or "fixed" '
+               "where it is not")
         if jid in moving:
-            message = (f"junction line {jid} moves but its end edges {names} are in-plane "
-                       "roller: its line loads are singular at its ends, and its members' edge "
-                       f"waves reach {ROLLER_END_REACH:g} times further to follow them, at 10 to "
-                       "100 times the cost and not always to convergence "
-                       "(docs/method.md section 10.4); set held = true, or "
-                       'in_plane = "diaphragm" or "fixed" on those edges where the structure '
-                       "has them")
+            message = (f"junction line {jid} moves but {why}: its line loads are singular at "
+                       f"its ends, and its members' edge waves reach {SINGULAR_END_REACH:g} "
+                       "times further to follow them, at 10 to 100 times the cost and not "
+                       f"always to convergence (docs/method.md section 10.4); set held = true, "
+                       f"or {fix}")
         elif joint.held is None and not members_coplanar(joint, case.plates):
-            message = (f"junction line {jid} is held in translation by default: its end edges "
-                       f"{names} are in-plane roller, where moving it costs 10 to 100 times "
-                       "more (docs/method.md section 10.4), and the held line leaves out its "
-                       "members' in-plane motion (on a three-bay stiffened panel, 2 to 110 % of "
-                       "w); set held = false to move it, held = true to keep it held without "
-                       'this warning, or in_plane = "diaphragm" or "fixed" on those edges where '
-                       "the structure has them")
+            message = (f"junction line {jid} is held in translation by default: {why}, where "
+                       "moving it costs 10 to 100 times more (docs/method.md section 10.4), "
+                       "and the held line leaves out its members' in-plane motion (on a "
+                       "three-bay stiffened panel, 2 to 110 % of w); set held = false to move "
+                       f"it, held = true to keep it held without this warning, or {fix}")
         else:
             continue
         warnings.append((("joints", jid, "held"), message))
@@ -498,8 +500,8 @@ def description_issues(
     * **measurement grid** -- more than :data:`MAX_GRID_POINTS` points on a plate is an
       error (spacing in mm instead of m?);
     * **loads** (if `need_loads`) -- a description without loads has a zero response;
-    * **moving lines** -- a moving junction line with an in-plane ``roller`` end edge warns
-      (:func:`_roller_end_issues`), and so does a plate whose fixed-free in-plane corners are
+    * **moving lines** -- a junction line whose end is a plane of symmetry for part of the
+      motion only warns, moving or held by default (:func:`_singular_end_issues`), and so does a plate whose fixed-free in-plane corners are
       beyond its corner functions' reach (:func:`_corner_reach_issues`);
     * **weights** -- the scale-free weights with ``misfit = "global"`` warn
       (:func:`_weights_issues`).
@@ -537,7 +539,7 @@ def description_issues(
     units = _millimetres_against_pascals(case)
     errors = ([units] if units else []) + errors
     scale_errors, warnings = _scale_issues(case, frequencies, location)
-    warnings += _roller_end_issues(case) + _weights_issues(case)
+    warnings += _singular_end_issues(case) + _weights_issues(case)
     if scale_errors:  # the quantities below would overflow or vanish
         return errors + scale_errors, warnings
     plates = _plate_rays(case, f)

@@ -103,10 +103,11 @@ class EdgeLoad:
 
 @dataclass(frozen=True)
 class EdgeCondition:
-    """Condition on one edge: ``clamped``, ``simply_supported`` or ``free``.
+    r"""Condition on one edge: ``clamped``, ``simply_supported``, ``free`` or ``symmetric``
+    (:math:`\partial_n w = 0`, :math:`K_n = 0`: a plane of symmetry).
 
-    ``shear`` prescribes :math:`K_n` (free edges only), ``moment`` prescribes :math:`M_n`
-    (free or simply supported edges).
+    ``shear`` prescribes :math:`K_n` (free and symmetric edges), ``moment`` prescribes
+    :math:`M_n` (free or simply supported edges).
     """
 
     kind: str = "free"
@@ -302,8 +303,9 @@ def boundary_traces(problem: PlateProblem, basis: RayBasis) -> PlateBoundary:
     geometry = plate_edges(problem.size)
     rules, rays = [None] * 4, [None] * 4
     # the tangential derivative only serves the by-parts term of a point force on a free edge
-    keys = [_TRACE_KEYS + ("tangential",) if sources and problem.condition(e.name).kind == "free"
-            else _TRACE_KEYS for e in geometry]
+    keys = [_TRACE_KEYS + ("tangential",)
+            if sources and _static_shear(problem.condition(e.name)) else _TRACE_KEYS
+            for e in geometry]
     for pair in ((0, 2), (1, 3)):
         pair_edges = [geometry[i] for i in pair]
         q = max(edge_rule_size(e.length, k_max, sources, e) for e in pair_edges)
@@ -387,7 +389,16 @@ def _edge_terms(condition: EdgeCondition) -> list[tuple[float, str, str, EdgeLoa
         return [(-1.0, "shear", "w", None), (-1.0, "slope", "moment", condition.moment)]
     if condition.kind == "free":
         return [(+1.0, "w", "shear", condition.shear), (-1.0, "slope", "moment", condition.moment)]
+    if condition.kind == "symmetric":
+        return [(+1.0, "w", "shear", condition.shear), (+1.0, "moment", "slope", None)]
     raise ValueError(f"unknown edge condition {condition.kind!r}")
+
+
+def _static_shear(condition: EdgeCondition) -> bool:
+    """Whether the edge prescribes its Kirchhoff shear (``free`` and ``symmetric``): its
+    weak form then tests with :math:`w`, and a point force needs the by-parts term of
+    :func:`_twist_remainder`."""
+    return any(trial == "shear" for _, _, trial, _ in _edge_terms(condition))
 
 
 def _twist_remainder(traces: EdgeTraces, end_w: np.ndarray) -> np.ndarray:

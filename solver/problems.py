@@ -11,13 +11,13 @@ from collections.abc import Iterable, Mapping
 
 from assembly.case import Case
 from assembly.geometry import EDGE_NAMES
-from assembly.lines import free_ends, meeting_ends, roller_ends
+from assembly.lines import free_ends, meeting_ends
 from solver.kirchhoff import complex_bending_stiffness
 from solver.plate import EdgeCondition, EdgeLoad, PlateProblem, PointForce
 from solver.rays import RayBasis, RayCounts, automatic_ray_counts, build_ray_basis
 
 __all__ = ["plate_problem", "plate_problems", "plate_ray_counts", "plate_basis", "plate_bases",
-           "joint_edge_kinds", "ROLLER_END_REACH", "roller_end_plates", "MEETING_END_REACH",
+           "joint_edge_kinds", "SINGULAR_END_REACH", "singular_end_plates", "MEETING_END_REACH",
            "meeting_end_plates", "FREE_END_REACH", "free_end_plates", "edge_reach"]
 
 
@@ -108,23 +108,23 @@ def plate_resolution(case: Case, plate_id: str,
     return float(resolution)
 
 
-ROLLER_END_REACH = 6.0
-r"""How much further than elsewhere the edge waves of a member of a moving line with an in-plane
-``roller`` end reach, bending (:math:`\tau\kappa_0`) and in-plane (:math:`\beta_{max}`) alike
-(``docs/method.md`` section 10.4): there only the members' bending supports hold the line's
-ends, under line loads that are log-singular at them. On an L fold at 1 kHz (resolution 1.5, 30
-line functions) reaches of 2.5, 5, 10, 15 and 20 bending wavenumbers left ``w`` at the
-supported corner at 2.9e-3, 3.8e-3, 6.2e-5, 1.3e-5 and 4e-6 of the largest; 6 x 2.5 = 15."""
+SINGULAR_END_REACH = 6.0
+r"""How much further than elsewhere the edge waves of a member of a moving line reach where an
+end of the line is a plane of symmetry for part of the motion only (an in-plane ``roller`` end
+simply supported in bending, say: :func:`assembly.lines.singular_ends`), bending
+(:math:`\tau\kappa_0`) and in-plane (:math:`\beta_{max}`) alike (``docs/method.md`` section
+10.4): there the line's loads are log-singular at its ends. On an L fold with roller ends at
+1 kHz (resolution 1.5, 30 line functions) reaches of 2.5, 5, 10, 15 and 20 bending wavenumbers
+left ``w`` at the supported corner at 2.9e-3, 3.8e-3, 6.2e-5, 1.3e-5 and 4e-6 of the largest;
+6 x 2.5 = 15."""
 
 
-def roller_end_plates(case: Case) -> frozenset[str]:
-    """The members of the moving lines with an in-plane ``roller`` end edge
-    (:func:`assembly.lines.roller_ends`)."""
-    in_plane = case.given_in_plane()
-    if "roller" not in in_plane.values():  # the common case, without finding the moving lines
-        return frozenset()
-    return frozenset(plate for jid in case.moving_lines()
-                     if roller_ends(case.joints[jid], in_plane)
+def singular_end_plates(case: Case) -> frozenset[str]:
+    """The members of the moving lines with an end that is a plane of symmetry for part of the
+    motion only (:meth:`assembly.Case.singular_ends`)."""
+    if not any(bc.condition == "symmetric" or bc.in_plane == "roller" for bc in case.boundaries):
+        return frozenset()  # the common case, without finding the moving lines
+    return frozenset(plate for jid in case.moving_lines() if case.singular_ends(jid)
                      for plate in case.joints[jid].plates)
 
 
@@ -173,15 +173,15 @@ def free_end_plates(case: Case) -> frozenset[str]:
 
 def edge_reach(case: Case, plate_id: str) -> float:
     r"""The largest edge-wave wavenumber of a plate in units of its bending wavenumber: the
-    description's ``edge_wavenumber_ratio`` :math:`\tau`, times :data:`ROLLER_END_REACH` on a
-    member of a moving line with a ``roller`` end (:func:`roller_end_plates`), times
+    description's ``edge_wavenumber_ratio`` :math:`\tau`, times :data:`SINGULAR_END_REACH` on a
+    member of a moving line with a singular end (:func:`singular_end_plates`), times
     :data:`MEETING_END_REACH` on a member of a moving line that meets others at its ends
     (:func:`meeting_end_plates`) or :data:`FREE_END_REACH` on one with an end on a free edge
     (:func:`free_end_plates`)."""
     tau = case.discretisation.edge_wavenumber_ratio
-    roller, meeting, free = _far_reaching_plates(case)
-    if plate_id in roller:
-        return tau * ROLLER_END_REACH
+    singular, meeting, free = _far_reaching_plates(case)
+    if plate_id in singular:
+        return tau * SINGULAR_END_REACH
     return tau * max(MEETING_END_REACH if plate_id in meeting else 1.0,
                      FREE_END_REACH if plate_id in free else 1.0)
 
@@ -190,7 +190,7 @@ _FAR_REACHING: dict[int, tuple[Case, tuple[frozenset[str], ...]]] = {}
 
 
 def _far_reaching_plates(case: Case) -> tuple[frozenset[str], ...]:
-    """:func:`roller_end_plates`, :func:`meeting_end_plates` and :func:`free_end_plates` of
+    """:func:`singular_end_plates`, :func:`meeting_end_plates` and :func:`free_end_plates` of
     ``case``, found once per case (a frozen model) for the few cases in use: they find the
     moving lines, 5 ms on a 50-bay panel, and :func:`edge_reach` is asked for every plate by
     several builders (0.5 s a pass over its 99 plates without the memo)."""
@@ -198,7 +198,7 @@ def _far_reaching_plates(case: Case) -> tuple[frozenset[str], ...]:
     if entry is None:
         if len(_FAR_REACHING) >= 8:
             _FAR_REACHING.clear()
-        entry = _FAR_REACHING[id(case)] = (case, (roller_end_plates(case),
+        entry = _FAR_REACHING[id(case)] = (case, (singular_end_plates(case),
                                                   meeting_end_plates(case),
                                                   free_end_plates(case)))
     return entry[1]

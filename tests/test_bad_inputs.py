@@ -512,7 +512,7 @@ def test_schema_command_prints_valid_json(capsys) -> None:
         schema["properties"])
     defs = schema["$defs"]
     assert defs["Boundary"]["properties"]["condition"]["enum"] == [
-        "clamped", "simply_supported", "free"]
+        "clamped", "simply_supported", "free", "symmetric"]
     assert defs["EdgeShear"]["properties"]["distribution"]["enum"] == ["uniform", "half_sine"]
     assert defs["HingeJoint"]["properties"]["kind"]["const"] == "hinge"
     assert "kind" in defs["HingeJoint"]["required"]

@@ -446,7 +446,7 @@ def test_a_line_with_roller_ends_holds_its_ends_and_converges(monkeypatch):
     edge waves of the default reach, B's rays left ``w`` at that supported corner at 4.6e-4 and
     4.8e-4 of B's largest (300 Hz, resolution 1.5), and the fields of resolutions 1.5 and 2.25
     differed by 2e-2 to 3e-1 on a three-bay panel; the members' edge waves reaching
-    :data:`solver.problems.ROLLER_END_REACH` times further, 6.4e-6 and 6.6e-6, and resolutions
+    :data:`solver.problems.SINGULAR_END_REACH` times further, 6.4e-6 and 6.6e-6, and resolutions
     1.5 and 2.25 agree to 5.5e-5 and 5.6e-5 (the same L fold at 1 kHz: 1.2e-4, was 3.3e-3)."""
     import solver.problems
 
@@ -456,7 +456,7 @@ def test_a_line_with_roller_ends_holds_its_ends_and_converges(monkeypatch):
     for name in coarse:
         difference = np.linalg.norm(coarse[name] - fine[name]) / np.linalg.norm(fine[name])
         assert difference < 3e-4, (name, difference)
-    monkeypatch.setattr(solver.problems, "ROLLER_END_REACH", 1.0)
+    monkeypatch.setattr(solver.problems, "SINGULAR_END_REACH", 1.0)
     _, corner_before = _field_and_ends(_roller_fold(False, frequency=300.0), 300.0)
     assert corner_before > 2e-4, corner_before
 

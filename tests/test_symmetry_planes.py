@@ -1,0 +1,169 @@
+"""The ``symmetric`` edge (``dw/dn = 0``, ``K_n = 0``: a plane of symmetry of the structure,
+``docs/method.md`` section 3) and the ends of junction lines on planes of symmetry
+(``docs/method.md`` section 10.4).
+
+Plate: the 1 mm steel plate 0.5 x 0.4 m of ``tests/test_plate_accuracy.py``.
+"""
+
+import numpy as np
+import pytest
+from test_plate_accuracy import (
+    D,
+    ETA,
+    FORCE_AT,
+    GRID,
+    LX,
+    LY,
+    RHO,
+    H,
+    rel_error,
+    solve_with,
+    strain_energy_density,
+)
+
+from support import folded_description
+from test_moving_lines import L_FOLD, LY as FOLD_LENGTH
+
+from assembly import AssemblyError, parse_case
+from assembly.types import EdgeId
+from solver.guards import check_description
+from solver.plate import EdgeCondition, EdgeLoad, PlateProblem, PointForce, solve_plate
+from solver.rays import automatic_ray_counts, build_ray_basis
+
+
+def navier_symmetric(frequency, x0, y0, x, y, n_terms=400):
+    r"""Simply supported on x = 0, LX and symmetric on y = 0, LY: the double series
+    :math:`w = \sum_{p\ge1}\sum_{q\ge0} c_{pq}\sin(p\pi x/L_x)\cos(q\pi y/L_y)` of a unit point
+    force at ``(x0, y0)``, each term meeting the four conditions,
+    :math:`c_{pq} = \frac{2\epsilon_q}{L_xL_y}\sin(p\pi x_0/L_x)\cos(q\pi y_0/L_y)/(D^*k_{pq}^4
+    - \rho h\omega^2)`, :math:`\epsilon_0 = 1`, :math:`\epsilon_{q>0} = 2`."""
+    omega = 2 * np.pi * frequency
+    kp = np.arange(1, n_terms + 1) * np.pi / LX
+    kq = np.arange(0, n_terms + 1) * np.pi / LY
+    eps = np.where(kq == 0.0, 1.0, 2.0)
+    denominator = D * (kp[:, None] ** 2 + kq[None, :] ** 2) ** 2 - RHO * H * omega**2
+    c = (2 / (LX * LY)) * eps * np.sin(kp * x0)[:, None] * np.cos(kq * y0) / denominator
+    return np.einsum("pq,ip,iq->i", c, np.sin(np.outer(x, kp)), np.cos(np.outer(y, kq)))
+
+
+SUPPORTED_SYMMETRIC = {"left": EdgeCondition("simply_supported"),
+                       "right": EdgeCondition("simply_supported"),
+                       "bottom": EdgeCondition("symmetric"), "top": EdgeCondition("symmetric")}
+
+
+@pytest.mark.parametrize("frequency, coarse, fine", [(155.0, 1.4e-4, 5.3e-6),
+                                                     (400.0, 4.3e-6, 1.3e-8)])
+def test_symmetric_edges_against_navier(frequency, coarse, fine):
+    """Against the double series: resolutions 1 and 1.25 measured 1.4e-4, 5.3e-6 at 155 Hz and
+    4.3e-6, 1.3e-8 at 400 Hz (the series' own tail is below 1e-9 on the grid); the bounds are
+    three times these. With the slope and moment swapped (the symmetric edge read as simply
+    supported) the error is order one."""
+    reference = navier_symmetric(frequency, *FORCE_AT, GRID[:, 0], GRID[:, 1])
+    errors = []
+    for resolution in (1.0, 1.25):
+        solution, _ = solve_with(frequency, SUPPORTED_SYMMETRIC, [(FORCE_AT, 1.0)], resolution)
+        errors.append(rel_error(solution.field(GRID)["w"], reference))
+    assert errors[0] < 3 * coarse and errors[1] < 3 * fine, errors
+
+
+def _plate(size, edges, forces, frequency=300.0, resolution=1.5):
+    problem = PlateProblem(size, D, 0.3, RHO * H, 2 * np.pi * frequency, edges,
+                           tuple(PointForce(p, 1.0) for p in forces))
+    counts = automatic_ray_counts(problem.kappa.real, problem.size, resolution)
+    return solve_plate(problem, build_ray_basis(problem.size, problem.kappa, counts))
+
+
+def test_half_plate_equals_the_symmetric_whole():
+    """A plate 0.5 x 0.8 m (simply supported but for a free right edge) under two forces placed
+    symmetrically about y = 0.4 is symmetric about that line: its lower half is the plate 0.5 x
+    0.4 m with a symmetric top edge and one force. The half has a symmetric-free corner (top
+    right), where the corner force vanishes with the free edge's twist. Measured: 1.7e-9 at 300
+    Hz (resolution 1.5), and the whole plate's own symmetry 3.0e-9; 1e-6 allows both solves'
+    discretisation errors with a wide margin."""
+    x0, y0 = FORCE_AT[0], 0.17
+    edges = {"left": EdgeCondition("simply_supported"), "right": EdgeCondition("free"),
+             "bottom": EdgeCondition("simply_supported")}
+    whole = _plate((LX, 2 * LY), edges | {"top": EdgeCondition("simply_supported")},
+                   [(x0, y0), (x0, 2 * LY - y0)])
+    half = _plate((LX, LY), edges | {"top": EdgeCondition("symmetric")}, [(x0, y0)])
+    points = np.column_stack([GRID[:, 0], GRID[:, 1] * (LY - 0.01) / LY + 0.005])
+    assert rel_error(half.field(points)["w"], whole.field(points)["w"]) < 1e-6
+    mirrored = points * [1.0, -1.0] + [0.0, 2 * LY]
+    assert rel_error(whole.field(mirrored)["w"], whole.field(points)["w"]) < 1e-6
+
+
+def test_power_balance_with_a_shear_on_a_symmetric_edge():
+    """E1 on a symmetric edge loaded by a half-sine Kirchhoff shear p: P_in = 1/2 Re int
+    conj(p) j omega w ds (the slope vanishes there, so the reacting moment does no work) equals
+    1/2 omega eta D a(w, w*); both from the field, agreeing to the discretisation error."""
+    frequency = 400.0
+    omega = 2 * np.pi * frequency
+    edges = SUPPORTED_SYMMETRIC | {"bottom": EdgeCondition("symmetric",
+                                                           EdgeLoad(1.0, "half_sine"))}
+    solution, _ = solve_with(frequency, edges, resolution=1.25)
+    x, wx = np.polynomial.legendre.leggauss(80)
+    x, wx = 0.5 * LX * (x + 1), 0.5 * LX * wx
+    edge = solution.field(np.c_[x, np.zeros_like(x)], ("w", "w_y"))
+    p = np.sin(np.pi * x / LX)
+    injected = 0.5 * np.real(np.sum(wx * np.conj(p) * 1j * omega * edge["w"]))
+    assert np.max(np.abs(edge["w_y"])) < 1e-4 * np.max(np.abs(edge["w"])) / LY
+    g, wg = np.polynomial.legendre.leggauss(120)
+    X, Y = np.meshgrid(0.5 * LX * (g + 1), 0.5 * LY * (g + 1), indexing="ij")
+    weights = np.outer(0.5 * LX * wg, 0.5 * LY * wg).ravel()
+    field = solution.field(np.c_[X.ravel(), Y.ravel()], ("w_xx", "w_xy", "w_yy"))
+    dissipated = 0.5 * omega * ETA * D.real * float(weights @ strain_energy_density(field))
+    assert injected > 0
+    assert abs(injected - dissipated) <= 1e-5 * injected
+
+
+def _fold(ends="symmetric", held=None, **edges):
+    """The L fold of ``tests/test_moving_lines.py`` with both ends as ``ends`` says
+    (``support.FOLD_ENDS``), then ``edges`` (``{"A_bottom": (condition, in_plane)}``) changed."""
+    description = folded_description(*L_FOLD, 1000.0, held, FOLD_LENGTH, ends=ends)
+    for boundary in description["boundaries"]:
+        key = boundary["edge"].replace(".", "_")
+        if key in edges:
+            boundary["condition"], boundary["in_plane"] = edges[key]
+    return parse_case(description)
+
+
+def test_lines_ending_on_planes_of_symmetry_move_and_mixed_ends_stay_held():
+    """A line moves by default where each of its ends is a plane of symmetry on every member
+    (``symmetric`` with ``roller``, the default in-plane condition of ``symmetric``) or on
+    none; one end may be one and the other not. Where an end mixes them it stays held, and
+    ``vtcr check`` names the edges and the two consistent choices."""
+    assert _fold().moving_lines() == ("F",)
+    assert check_description(_fold(), "fold.toml") == []
+    top_diaphragm = {"A_top": ("simply_supported", "diaphragm"),
+                     "B_top": ("simply_supported", "diaphragm")}
+    assert _fold(**top_diaphragm).moving_lines() == ("F",)
+    for mixed in ({"B_bottom": ("simply_supported", "diaphragm")},  # across the members
+                  {"A_bottom": ("symmetric", "fixed")},  # on one edge
+                  {"A_bottom": ("symmetric", "diaphragm"), "B_bottom": ("symmetric", "diaphragm")}):
+        case = _fold(**mixed)
+        assert case.moving_lines() == (), mixed
+        assert case.singular_ends("F") == [EdgeId("A", "bottom"), EdgeId("B", "bottom")], mixed
+        (warning,) = check_description(case, "fold.toml")
+        assert warning.startswith("fold.toml: joints.F.held: junction line F is held")
+        assert "A.bottom, B.bottom" in warning and 'condition = "symmetric"' in warning
+        assert check_description(_fold(held=True, **mixed), "fold.toml") == []
+    # B's frame turned end for end: its top edge now meets A's bottom at the line's start
+    flipped = folded_description(*L_FOLD, 1000.0, None, FOLD_LENGTH, ends="symmetric")
+    flipped["plates"]["B"]["frame"] = {"origin": [0.4, FOLD_LENGTH, 0.0],
+                                       "x_axis": [0.0, 0.0, 1.0], "y_axis": [0.0, -1.0, 0.0]}
+    for boundary in flipped["boundaries"]:
+        if boundary["edge"] == "A.bottom":
+            boundary["condition"], boundary["in_plane"] = "simply_supported", "diaphragm"
+    case = parse_case(flipped)
+    assert case.member_directions("F") == (1, 1)
+    assert case.singular_ends("F") == [EdgeId("A", "bottom"), EdgeId("B", "top")]
+
+
+def test_an_edge_moment_cannot_act_on_a_symmetric_edge():
+    """A symmetric edge fixes its slope, so its moment is a reaction; a shear may act on it."""
+    description = folded_description(*L_FOLD, 1000.0, None, FOLD_LENGTH, ends="symmetric")
+    description["loads"].append({"kind": "edge_shear", "edge": "A.bottom", "amplitude": 1.0})
+    parse_case(description)
+    description["loads"][-1]["kind"] = "edge_moment"
+    with pytest.raises(AssemblyError, match="symmetric: its rotation is fixed"):
+        parse_case(description)
