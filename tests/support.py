@@ -234,18 +234,24 @@ FoldLines = Mapping[str, Mapping[str, tuple[str, complex]]]
 reference, a complex log10 gives a lossy spring: ``log10(k (1 + j zeta))``)."""
 
 
+FOLD_ENDS = {"diaphragm": ("simply_supported", "diaphragm"), "symmetric": ("symmetric", "roller")}
+"""The ends y = 0 and y = ``ly`` of a prismatic folded plate (the exact reference's ``ends``):
+shear diaphragms, or planes of symmetry; their bending and in-plane conditions."""
+
+
 def folded_description(plates: FoldedPlates, lines: FoldLines, load: tuple[str, float, float],
                        frequencies: float | list[float], held: bool | None, ly: float,
-                       resolution: float = 1.5) -> dict:
-    """The vtcr description of a prismatic folded plate: every plate simply supported on its
-    ends y = 0 and y = ``ly`` with ``in_plane = "diaphragm"`` (the exact reference's shear
-    diaphragms), its other outer edges simply supported (fixed in-plane) or as ``plates`` says,
-    1 N at ``load``."""
+                       resolution: float = 1.5, ends: str = "diaphragm") -> dict:
+    """The vtcr description of a prismatic folded plate: every plate's ends y = 0 and y =
+    ``ly`` as ``ends`` says (:data:`FOLD_ENDS`: shear diaphragms, simply supported with
+    ``in_plane = "diaphragm"``, or planes of symmetry), its other outer edges simply supported
+    (fixed in-plane) or as ``plates`` says, 1 N at ``load``."""
     joined = {f"{p}.{edge}" for members in lines.values() for p, (edge, _) in members.items()}
     boundaries = []
+    end_condition, end_in_plane = FOLD_ENDS[ends]
     for name, (_, _, _, _, right) in plates.items():
-        for edge, condition, in_plane in (("bottom", "simply_supported", "diaphragm"),
-                                          ("top", "simply_supported", "diaphragm"),
+        for edge, condition, in_plane in (("bottom", end_condition, end_in_plane),
+                                          ("top", end_condition, end_in_plane),
                                           ("left", "simply_supported", None),
                                           ("right", right, None)):
             if f"{name}.{edge}" not in joined:
