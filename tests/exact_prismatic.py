@@ -36,11 +36,17 @@ and its couple is ``M_n (e_z \times n)`` (``exact_junction``; it has no drilling
 
 Harmonics
 ---------
-The ends ``y = 0`` and ``y = Ly`` of every plate are shear diaphragms: ``w = M_yy = 0`` and
-``u = N_yy = 0``.  With ``alpha_m = m pi / Ly`` every field is a series
+``prismatic_levy(..., ends=...)`` chooses the conditions on the ends ``y = 0`` and ``y = Ly``
+of every plate: shear diaphragms (``ends="diaphragm"``, the default, below) or planes of
+symmetry (``ends="symmetric"``, *Symmetric ends* further down).  Either way every field is a
+series in ``alpha_m = m pi / Ly`` whose ``y`` shapes are ``P`` for ``w`` and ``u`` and ``Q``
+for ``v`` (``P, Q = sin, cos`` or ``cos, sin``); ``theta``, ``M_n``, ``K_n``, ``N_xx`` and the
+normal strains go with ``P``, ``N_xy`` and ``w_xy`` with ``Q``.
+
+*Shear diaphragms*: ``w = M_yy = 0`` and ``u = N_yy = 0``.  Every field is a series
 
     w = sum_m W_m(x) sin(alpha_m y),  u = sum_m U_m(x) sin(alpha_m y),
-    v = sum_m V_m(x) cos(alpha_m y),
+    v = sum_m V_m(x) cos(alpha_m y),     m = 1, 2, ...
 
 which meets the four end conditions term by term.  A normal force ``F`` at ``(x0, y0)`` has the
 harmonics ``2 F sin(alpha_m y0) / Ly delta(x - x0)``; an in-plane force ``F_x`` along
@@ -84,6 +90,51 @@ all free of cancellation.  As ``k -> 0``, ``b -> (alpha x + (1 - nu)/(1 + nu),
 ``(a, b)`` decaying from ``r = 0``: ``V`` continuous (``V(0) = 0``) and
 ``[N_xx] = 2 A* U'(0+) = -q``; ``U`` and ``N_xy`` are then continuous.
 
+*Symmetric ends* (``ends="symmetric"``): the planes ``y = 0`` and ``y = Ly`` are planes of
+symmetry, ``w_y = 0`` and ``K_y = -D* (w_yyy + (2 - nu) w_xxy) = 0`` in bending, ``v = 0`` and
+``N_xy = 0`` in plane (a roller).  Then
+
+    w = sum_{m>=0} W_m(x) cos(alpha_m y),  u = sum_{m>=0} U_m(x) cos(alpha_m y),
+    v = sum_{m>=1} V_m(x) sin(alpha_m y),
+
+and ``w_y``, ``w_yyy``, ``w_xxy``, ``v`` and ``N_xy = A* (1 - nu)/2 (V' - alpha U)
+sin(alpha y)`` vanish term by term on both ends.  ``n_terms`` harmonics are then
+``m = 0 .. n_terms - 1``.  A normal force ``F`` at ``(x0, y0)`` has the harmonics
+``eps_m F cos(alpha_m y0) / Ly delta(x - x0)``, ``eps_0 = 1``, ``eps_m = 2`` (``m >= 1``); an
+in-plane force along ``x_axis`` the same in the first membrane equation.
+
+*Bending* keeps its harmonic equation and its edge expressions (``theta = n_x W'``,
+``M_n = -D* (W'' - nu alpha^2 W)``, ``K_n = -n_x D* (W''' - (2 - nu) alpha^2 W')``, now
+amplitudes of ``cos``): ``exact.LevyPlateField`` serves unchanged, evaluated in ``cos``.
+
+*Membrane*: ``N_xx = A* (U' + nu alpha V) cos(alpha y)`` and the harmonic equations
+
+    U'' - (1 - nu)/2 alpha^2 U + (1 + nu)/2 alpha V' + k_L^2 U = -f_m / A*,
+    (1 - nu)/2 V'' - alpha^2 V - (1 + nu)/2 alpha U' + k_L^2 V = 0
+
+are the diaphragm ones for ``(U, V~)``, ``V~ = -V``.  ``MembraneField`` solves for
+``(U, V~)`` with the diaphragm basis and Green function and returns ``V = -V~``; in
+``(U, V~)`` the edge amplitudes are ``N_xx = A* (U' - nu alpha V~)`` (as for the diaphragms),
+``v = -V~`` and ``N_xy = -A* (1 - nu)/2 (alpha U + V~')`` (both with the opposite sign), and
+the membrane energy density is the diaphragm one.
+
+*The harmonic m = 0* (``alpha = 0``) is the motion uniform in ``y``.  In bending it is
+cylindrical: ``D* W'''' - rho_h omega^2 W = f_0``, whose roots ``s_1 = kappa``,
+``s_2 = sqrt(-kappa^2)`` (``~ j kappa``) and strip Green function ``exact.LevyPlateField``
+already takes at ``alpha = 0``.  In plane the equations decouple, ``U'' + k_L^2 U = -f_0/A*``
+and ``(1 - nu)/2 V~'' + k_L^2 V~ = 0``, and the pair ``a``, ``b`` does not exist (``a``
+divides by ``alpha``); ``m = 0`` uses
+
+    a_0 = (e_L, 0),   b_0 = (0, e_S),   lambda_L,S = sqrt(-k_L,S^2)  (~ j k_L, j k_S),
+
+the outgoing longitudinal and shear waves, with the Green function
+``U = q / (2 A* lambda_L) e_L(|r|)``.  ``V_0`` multiplies ``sin(0 y) = 0``: it is no motion,
+and ``b_0`` is kept only so that ``m = 0`` has the same system as the other harmonics.  The
+rows it enters (``v`` or ``N_xy`` on each edge, the axial line unknown ``E_0`` and its
+balance) are homogeneous and, at ``alpha = 0``, decoupled from ``U_0``, ``W_0`` and the other
+line unknowns; they are the damped shear-wave problem above, so ``V_0 = 0`` and ``E_0 = 0``
+(exactly: elimination never mixes the decoupled blocks).
+
 Lines
 -----
 A line of direction ``e`` and arc length ``s`` (``exact_junction``: ``e`` is its first
@@ -124,6 +175,20 @@ At the ends ``s = 0, Ly`` the line's transverse translation and rotation vanish 
 its axial one is free (``cos``), as the diaphragms ask; the Kirchhoff corner forces act there
 along ``e_z``, on the supports.
 
+*Symmetric ends.*  With ``P, Q = cos, sin``: ``cos(alpha_m (Ly - s)) = (-1)^m cos(alpha_m s)``
+and ``sigma sin(alpha_m (Ly - s)) = -(-1)^(m+1) sin(alpha_m s) = (-1)^m sin(alpha_m s)``, so
+``P(alpha_m y) = c_m P(alpha_m s)`` and ``sigma Q(alpha_m y) = c_m Q(alpha_m s)`` with
+``c_m = 1`` or ``(-1)^m`` (``m >= 0``), and
+
+    U_J(s) = sum_m [(T1_m t_1 + T2_m t_2) cos(alpha_m s) + E_m e sin(alpha_m s)],
+    Theta_J(s) = sum_m T_m cos(alpha_m s).
+
+Every law above holds as written with these ``c_m`` (read ``sin, cos`` as ``P, Q``: the
+``t_k`` parts and the rotation go with ``P``, the ``e`` parts with ``Q``), on the physical
+amplitudes ``V``, ``N_xy`` (*Symmetric ends* above).  At the ends the line's transverse
+translation and rotation are free and its axial translation vanishes, as the planes of
+symmetry ask; there are no corner forces (``w_xy``, ``Q``-shaped, vanishes there).
+
 The force balance is the same whether a member is tied rigidly or on a translational spring
 (``F_i`` is its edge force either way), and the spring acts on the line itself, so it adds
 nothing to the moment balance.  If every member has a spring, ``U_J`` is a free node fixed
@@ -132,7 +197,8 @@ by the balance.
 ``held=True`` replaces the three force balances by ``U_J = 0``: ``w = u = v = 0`` on every
 rigidly tied member's edge (a member on a translational spring is then on a spring to the
 fixed line).  Without in-plane loads and translational springs the membrane fields then
-vanish and the bending fields are those of ``exact_junction.junction_levy``.
+vanish and, with diaphragm ends, the bending fields are those of
+``exact_junction.junction_levy``.
 
 Power
 -----
@@ -146,10 +212,17 @@ rotational spring and ``0.5 omega Im(k_t*) int |U_J - X_i|^2 ds
 ``1/2`` over ``[0, Ly]`` for ``m >= 1``).  The lines do no work (``sum_i F_i . U_J = 0``), so
 the two balance harmonic by harmonic.
 
+With symmetric ends the same sums hold with the weights of ``P = cos`` and ``Q = sin``:
+``int_0^Ly cos^2 = Ly`` and ``int_0^Ly sin^2 = 0`` for ``m = 0`` (``Ly/2`` both for
+``m >= 1``).  Each term goes with the shape of its strains: ``|U'|^2``, ``alpha^2 |V|^2``,
+``Re(U' conj V)``, ``|W''|^2``, ``alpha^4 |W|^2``, ``|Theta|^2`` and the ``t_k`` parts with
+``P``; ``|alpha U + V'|^2``, ``alpha^2 |W'|^2`` and ``|E - c V|^2`` with ``Q`` (written in
+``(U, V~)`` as for the diaphragms, *Symmetric ends* above).
+
 Public API
 ----------
 membrane_stiffness, FoldedPlate, PrismaticLine, MembraneField, prismatic_levy,
-PrismaticSolution, default_prismatic_n_terms, INPLANE_CONDITIONS.
+PrismaticSolution, CosineLevyField, default_prismatic_n_terms, INPLANE_CONDITIONS, ENDS.
 """
 
 from __future__ import annotations
@@ -170,7 +243,9 @@ from exact_junction import (
 )
 
 __all__ = [
+    "ENDS",
     "INPLANE_CONDITIONS",
+    "CosineLevyField",
     "FoldedPlate",
     "MembraneField",
     "PrismaticLine",
@@ -185,6 +260,8 @@ INPLANE_CONDITIONS = {"fixed": ("u", "v"), "free": ("Nx", "Nxy"), "diaphragm": (
                       "roller": ("u", "Nxy")}
 _BENDING_CONDITIONS = {"clamped": ("w", "theta"), "simply_supported": ("w", "M"),
                        "free": ("M", "K")}
+# Conditions on the ends y = 0 and y = Ly of every plate (module docstring, Harmonics).
+ENDS = ("diaphragm", "symmetric")
 # Number of points x harmonics evaluated at once (complex arrays stay ~ 30 MB).
 _CHUNK_ENTRIES = 2_000_000
 _GAUSS_NODES = 16
@@ -197,7 +274,8 @@ def membrane_stiffness(E, h, nu, eta):
 
 @dataclass(frozen=True)
 class FoldedPlate:
-    """One plate of a prismatic structure, shear diaphragms on its local ``y = 0, Ly``.
+    """One plate of a prismatic structure; its local ends ``y = 0, Ly`` are those chosen by
+    ``prismatic_levy(..., ends=...)`` (shear diaphragms or planes of symmetry).
 
     Attributes
     ----------
@@ -309,6 +387,9 @@ def default_prismatic_n_terms(plates, Ly, omega):
     at the force): there the tail is ``~N^-1 / |sin(pi (y - y0) / Ly)|``; off that line they
     decay like ``exp(-alpha |x - x0|)``.  The power balance holds for any truncation.
 
+    The same holds with symmetric ends: a harmonic's ``x`` dependence is the same and the
+    ``y`` factors ``cos(alpha_m y0) cos(alpha_m y)`` oscillate like the ``sin`` ones.
+
     Parameters
     ----------
     plates : iterable of FoldedPlate
@@ -316,6 +397,51 @@ def default_prismatic_n_terms(plates, Ly, omega):
     """
     kappa = max(max(p.wavenumbers(omega)) for p in plates)
     return default_junction_n_terms(Ly, kappa)
+
+
+# --------------------------------------------------------------------------------------
+# End conditions: harmonics, y shapes, line signs and energy weights
+# --------------------------------------------------------------------------------------
+
+
+def _checked_ends(ends):
+    """``ends`` if it is one of ``ENDS``, else ``ValueError``."""
+    if ends not in ENDS:
+        raise ValueError(f"ends must be one of {ENDS}, got {ends!r}")
+    return ends
+
+
+def _harmonic_indices(ends, n_terms):
+    """``m = 1 .. n_terms`` (diaphragms) or ``0 .. n_terms - 1`` (symmetric: ``cos(0 y)``)."""
+    return np.arange(1, n_terms + 1) if ends == "diaphragm" else np.arange(n_terms)
+
+
+def _end_shapes(ends):
+    """``(P, Q)``: ``y`` shape of ``w``, ``u`` and of ``v`` (``sin, cos`` or ``cos, sin``)."""
+    return (np.sin, np.cos) if ends == "diaphragm" else (np.cos, np.sin)
+
+
+def _end_signs(sigma, m, ends):
+    """Line factor ``c_m``: ``P(alpha_m y) = c_m P(alpha_m s)``, ``sigma Q(alpha_m y) = c_m
+    Q(alpha_m s)``; 1 for ``sigma = +1``, else ``(-1)^(m+1)`` (diaphragms, as
+    ``exact_junction``) or ``(-1)^m`` (symmetric: ``cos(m pi - x) = (-1)^m cos x``)."""
+    if ends == "diaphragm":
+        return _harmonic_signs(sigma, m)
+    return np.ones(m.size) if sigma > 0 else (-1.0) ** m
+
+
+def _energy_factors(alpha, ends):
+    """``(f_P, f_Q)``: ``int_0^Ly P^2 dy`` and ``int_0^Ly Q^2 dy`` in units of ``Ly / 2``.
+
+    All 1 for ``alpha > 0``; for the symmetric ``m = 0`` (``alpha = 0``) ``cos^2 = 1`` gives 2
+    and ``sin^2 = 0`` gives 0.  (Multiplying by an exact 1.0 leaves the diaphragm sums
+    bit for bit as they were.)
+    """
+    ones = np.ones(alpha.size)
+    if ends == "diaphragm":
+        return ones, ones
+    uniform = alpha == 0
+    return np.where(uniform, 2.0, 1.0), np.where(uniform, 0.0, 1.0)
 
 
 # --------------------------------------------------------------------------------------
@@ -389,34 +515,49 @@ def _series(harmonics, alpha, x, y, ny, trig, length):
 
 
 class MembraneField:
-    """In-plane response of one plate, ``u = sum U_m(x) sin(alpha_m y)``,
-    ``v = sum V_m(x) cos(alpha_m y)``.
+    """In-plane response of one plate, ``u = sum U_m(x) P(alpha_m y)``,
+    ``v = sum V_m(x) Q(alpha_m y)`` (``P, Q = sin, cos`` for diaphragm ends, ``cos, sin`` for
+    symmetric ones).
 
     Per harmonic, with the modes ``a``, ``b`` decaying from the left edge (``xi = x``) and
     their mirror images decaying from the right edge (module docstring),
 
-        (U, V) = c_1 a(x) + c_2 b(x) + c_3 a~(x) + c_4 b~(x) + sum_f (in-plane force f),
-        a~(x) = (-a_U(Lx - x), a_V(Lx - x)).
+        (U, V~) = c_1 a(x) + c_2 b(x) + c_3 a~(x) + c_4 b~(x) + sum_f (in-plane force f),
+        a~(x) = (-a_U(Lx - x), a_V(Lx - x)),
+
+    with ``V = s_v V~``, ``s_v = 1`` (diaphragms) or ``-1`` (symmetric ends, whose equations
+    are the diaphragm ones in ``(U, -V)``); ``a``, ``b`` become ``a_0``, ``b_0`` for the
+    symmetric ``m = 0`` (``alpha = 0``).  ``harmonic_derivative``, ``derivative`` and
+    ``edge_maps`` give the physical ``V``; the internal ``(U, V~)`` is ``reduced_derivative``.
 
     Attributes
     ----------
     plate : FoldedPlate
     Ly, omega : float
     alpha : numpy.ndarray
-        ``m pi / Ly``, ``m = 1..n_terms``.
+        ``m pi / Ly``, ``m = 1..n_terms`` (diaphragms) or ``0..n_terms - 1`` (symmetric).
+    ends : {'diaphragm', 'symmetric'}
     lam_long, lam_shear, d, r_long, r_shear : numpy.ndarray
-        ``lambda_L``, ``lambda_S``, ``d``, ``r_L``, ``r_S`` of each harmonic.
+        ``lambda_L``, ``lambda_S``, ``d``, ``r_L``, ``r_S`` of each harmonic (at ``alpha = 0``
+        only ``lambda_L``, ``lambda_S`` serve).
     coefficients : numpy.ndarray
         ``(n_terms, 4)`` array of ``c_1..c_4``.
     forces : list of (float, numpy.ndarray)
-        ``(x0, q_m)`` of the in-plane forces of this plate, ``q_m = 2 F_x sin(alpha_m y0) / Ly``.
+        ``(x0, q_m)`` of the in-plane forces of this plate, ``q_m = 2 F_x sin(alpha_m y0) / Ly``
+        (``eps_m F_x cos(alpha_m y0) / Ly`` for symmetric ends).
     """
 
-    def __init__(self, plate, Ly, omega, alpha, forces):
+    def __init__(self, plate, Ly, omega, alpha, forces, ends="diaphragm"):
         self.plate = plate
         self.Ly = Ly
         self.omega = omega
         self.alpha = alpha
+        self.ends = _checked_ends(ends)
+        self.shapes = _end_shapes(ends)
+        self.v_sign = 1.0 if ends == "diaphragm" else -1.0
+        self.energy_factors = _energy_factors(alpha, ends)
+        # The harmonic m = 0 (symmetric ends only) has its own modes a_0, b_0.
+        self.uniform = alpha == 0
         nu = plate.nu
         k_long2 = plate.rho_h * omega**2 / plate.A
         k_shear2 = 2.0 * k_long2 / (1.0 - nu)
@@ -433,19 +574,29 @@ class MembraneField:
     def decaying_modes(self, xi, k):
         """k-th ``xi``-derivative of the modes ``a``, ``b`` at distances ``xi`` (``(P, 1)``).
 
-        Returns ``(U, V)``, each ``(P, n_terms, 2)``:
-        ``a = (-e_S, lambda_S / alpha e_S)``, ``b = (-lambda_L h - r_L e_S, alpha h + r_S e_S)``.
+        Returns ``(U, V~)``, each ``(P, n_terms, 2)``:
+        ``a = (-e_S, lambda_S / alpha e_S)``, ``b = (-lambda_L h - r_L e_S, alpha h + r_S e_S)``;
+        at ``alpha = 0`` ``a_0 = (e_L, 0)``, ``b_0 = (0, e_S)`` (module docstring).
         """
         e_s, h = _decaying_pair(self.lam_long, self.lam_shear, self.d, xi, k)
+        # a is not defined at alpha = 0 (replaced below): divide by 1 there, not by 0.
+        alpha_safe = np.where(self.uniform, 1.0, self.alpha)
         U = np.stack([-e_s, -self.lam_long * h - self.r_long * e_s], axis=-1)
-        V = np.stack([self.lam_shear / self.alpha * e_s, self.alpha * h + self.r_shear * e_s],
+        V = np.stack([self.lam_shear / alpha_safe * e_s, self.alpha * h + self.r_shear * e_s],
                      axis=-1)
+        if np.any(self.uniform):
+            lam_long = self.lam_long[self.uniform]
+            U[:, self.uniform, 0] = (-lam_long) ** k * np.exp(-lam_long * xi)
+            V[:, self.uniform, 1] = e_s[:, self.uniform]
+            U[:, self.uniform, 1] = V[:, self.uniform, 0] = 0.0
         return U, V
 
     def _green_coefficients(self, q):
         """``(g_a, g_b)`` of the force harmonics ``q``: ``V(0) = 0``, ``U'(0+) = -q / (2 A*)``.
 
-        ``[[V_a, V_b], [U_a', U_b']] g = [0, c]`` gives ``g = c (-V_b, V_a) / det``.
+        ``[[V_a, V_b], [U_a', U_b']] g = [0, c]`` gives ``g = c (-V_b, V_a) / det``; at
+        ``alpha = 0`` (``V_a = 0``, ``V_b = 1``, ``U_a' = -lambda_L``) ``g = (q / (2 A*
+        lambda_L), 0)``.
         """
         zero = np.zeros((1, 1))
         _, V0 = self.decaying_modes(zero, 0)
@@ -456,7 +607,7 @@ class MembraneField:
         return (c / det)[:, None] * np.stack([-V0[:, 1], V0[:, 0]], axis=-1)
 
     def homogeneous_basis(self, x, k):
-        """k-th x-derivative of ``U`` and ``V`` of the four modes, each ``(P, n_terms, 4)``."""
+        """k-th x-derivative of ``U`` and ``V~`` of the four modes, each ``(P, n_terms, 4)``."""
         x = np.asarray(x, float)[:, None]
         u_left, v_left = self.decaying_modes(x, k)
         u_right, v_right = self.decaying_modes(self.plate.length - x, k)
@@ -465,7 +616,7 @@ class MembraneField:
                 np.concatenate([v_left, sign * v_right], axis=-1))
 
     def particular(self, x, k):
-        """k-th x-derivative of the in-plane force part, ``(U, V)`` each ``(P, n_terms)``."""
+        """k-th x-derivative of the in-plane force part, ``(U, V~)`` each ``(P, n_terms)``."""
         x = np.asarray(x, float)[:, None]
         U = np.zeros((x.shape[0], self.alpha.size), complex)
         V = np.zeros_like(U)
@@ -476,19 +627,25 @@ class MembraneField:
             V += _parity(np.sign(r), k + 1) * np.sum(v_modes * g, axis=-1)
         return U, V
 
-    def harmonic_derivative(self, x, k):
-        """``(U_m^(k), V_m^(k))`` (``k = 0..2``) at the points ``x``, each ``(P, n_terms)``."""
+    def reduced_derivative(self, x, k):
+        """``(U_m^(k), V~_m^(k))`` (``k = 0..2``) at the points ``x``, each ``(P, n_terms)``."""
         basis_u, basis_v = self.homogeneous_basis(x, k)
         part_u, part_v = self.particular(x, k)
         return (np.einsum("pmj,mj->pm", basis_u, self.coefficients) + part_u,
                 np.einsum("pmj,mj->pm", basis_v, self.coefficients) + part_v)
 
+    def harmonic_derivative(self, x, k):
+        """``(U_m^(k), V_m^(k))`` (``k = 0..2``) at the points ``x``, each ``(P, n_terms)``:
+        the amplitudes of ``P(alpha_m y)`` and ``Q(alpha_m y)``, ``V = s_v V~``."""
+        U, V = self.reduced_derivative(x, k)
+        return U, self.v_sign * V
+
     def derivative(self, component, x, y, nx=0, ny=0):
         """``d^(nx+ny)/dx^nx dy^ny`` of ``u`` (``component='u'``) or ``v`` (``'v'``).
 
-        ``sum_m U_m^(nx) alpha_m^ny sin(alpha_m y + ny pi/2)``, or ``V`` with ``cos``.
+        ``sum_m U_m^(nx) alpha_m^ny P(alpha_m y + ny pi/2)``, or ``V`` with ``Q``.
         """
-        index, trig = {"u": (0, np.sin), "v": (1, np.cos)}[component]
+        index, trig = {"u": (0, self.shapes[0]), "v": (1, self.shapes[1])}[component]
         return _series(lambda xs: self.harmonic_derivative(xs, nx)[index], self.alpha, x, y,
                        ny, trig, self.plate.length)
 
@@ -504,8 +661,9 @@ class MembraneField:
         """Affine maps from ``c_1..c_4`` to the edge quantities of each harmonic.
 
         Returns ``{'u', 'v', 'Nx', 'Nxy'} -> (n_terms, 5)`` arrays (column 4: the in-plane
-        forces): ``u = U``, ``v = V``, ``Nx = A* (U' - nu alpha V)``,
-        ``Nxy = A* (1 - nu)/2 (alpha U + V')`` (the ``sin`` and ``cos`` amplitudes).
+        forces), the amplitudes of ``P`` (``u``, ``Nx``) and ``Q`` (``v``, ``Nxy``); in
+        ``(U, V~)``: ``u = U``, ``v = s_v V~``, ``Nx = A* (U' - nu alpha V~)``,
+        ``Nxy = s_v A* (1 - nu)/2 (alpha U + V~')`` (module docstring, *Symmetric ends*).
         """
         x = [0.0 if end == "left" else self.plate.length]
         orders = []
@@ -516,18 +674,20 @@ class MembraneField:
         (U, V), (U1, V1) = orders
         a = self.alpha[:, None]
         A, nu = self.plate.A, self.plate.nu
-        return {"u": U, "v": V, "Nx": A * (U1 - nu * a * V),
-                "Nxy": 0.5 * A * (1 - nu) * (a * U + V1)}
+        return {"u": U, "v": self.v_sign * V, "Nx": A * (U1 - nu * a * V),
+                "Nxy": self.v_sign * (0.5 * A * (1 - nu) * (a * U + V1))}
 
     def membrane_form(self):
         """Real membrane form ``a_m(u, u*) / A*`` of the plate.
 
         ``int [|e_xx|^2 + |e_yy|^2 + 2 nu Re(e_xx conj e_yy) + (1 - nu)/2 |g_xy|^2] dA``
-        ``= Ly/2 sum_m int_0^Lx [|U'|^2 + alpha^2 |V|^2 - 2 nu alpha Re(U' conj V)
-        + (1 - nu)/2 |alpha U + V'|^2] dx``, by Gauss quadrature on panels graded from
-        ``1/(4 max |lambda|)`` at the edges and forces up to ``2 / |k_S|``.
+        ``= Ly/2 sum_m int_0^Lx [f_P (|U'|^2 + alpha^2 |V~|^2 - 2 nu alpha Re(U' conj V~))
+        + f_Q (1 - nu)/2 |alpha U + V~'|^2] dx`` (the normal strains go with ``P``, the shear
+        with ``Q``; ``f_P, f_Q`` of ``_energy_factors``), by Gauss quadrature on panels graded
+        from ``1/(4 max |lambda|)`` at the edges and forces up to ``2 / |k_S|``.
         """
         nu, alpha = self.plate.nu, self.alpha
+        f_p, f_q = self.energy_factors
         h0 = 0.25 / np.max(np.abs(np.concatenate([self.lam_long, self.lam_shear])))
         hcap = min(2.0 / self.plate.wavenumbers(self.omega)[1], self.plate.length)
         nodes, weights = _quadrature(self.plate.length, [x0 for x0, _ in self.forces], h0, hcap)
@@ -535,10 +695,10 @@ class MembraneField:
         step = max(1, _CHUNK_ENTRIES // (4 * alpha.size))
         for start in range(0, nodes.size, step):
             sl = slice(start, start + step)
-            (U, V), (U1, V1) = (self.harmonic_derivative(nodes[sl], k) for k in range(2))
-            density = (np.abs(U1) ** 2 + alpha**2 * np.abs(V) ** 2
-                       - 2 * nu * alpha * np.real(U1 * np.conj(V))
-                       + 0.5 * (1 - nu) * np.abs(alpha * U + V1) ** 2)
+            (U, V), (U1, V1) = (self.reduced_derivative(nodes[sl], k) for k in range(2))
+            density = (f_p * (np.abs(U1) ** 2 + alpha**2 * np.abs(V) ** 2
+                              - 2 * nu * alpha * np.real(U1 * np.conj(V)))
+                       + f_q * (0.5 * (1 - nu) * np.abs(alpha * U + V1) ** 2))
             total += weights[sl] @ density.sum(axis=1)
         return 0.5 * self.Ly * total
 
@@ -548,20 +708,62 @@ class MembraneField:
 
 
 # --------------------------------------------------------------------------------------
+# Bending field of one plate with symmetric ends
+# --------------------------------------------------------------------------------------
+
+
+class CosineLevyField(LevyPlateField):
+    """``exact.LevyPlateField`` for symmetric ends: ``w = sum_{m>=0} W_m(x) cos(alpha_m y)``.
+
+    The harmonics ``W_m``, their basis, Green function and ``edge_maps`` are the parent's (the
+    harmonic equation and the edge expressions do not depend on the ``y`` shape; at
+    ``alpha_0 = 0`` the roots are ``kappa`` and ``sqrt(-kappa^2)``).  Only what sees ``y``
+    changes: the series is in ``cos`` (so ``w``, ``edge_slope``, ``edge_moment``,
+    ``edge_shear`` follow) and the energy weighs ``m = 0`` by ``int cos^2 = Ly`` instead of
+    ``Ly / 2``.  ``forces`` carry ``q_m = eps_m F cos(alpha_m y0) / Ly``.
+    """
+
+    def derivative(self, x, y, nx=0, ny=0):
+        """``d^(nx+ny) w / dx^nx dy^ny = sum_m W_m^(nx) alpha_m^ny cos(alpha_m y + ny pi/2)``
+        (``nx <= 3``, any ``ny``)."""
+        return _series(lambda xs: self.harmonic_derivative(xs, nx), self.alpha, x, y, ny,
+                       np.cos, self.section.Lx)
+
+    def bending_form(self):
+        """Real bending form ``a(w, w*) / D*``: the parent's ``Ly/2 sum_m`` (``w_xx``, ``w_yy``
+        in ``cos``, ``w_xy`` in ``sin``) plus ``Ly/2 int |W_0''|^2 dx`` for the rest of
+        ``int_0^Ly cos^2(0) = Ly`` (``alpha_0 = 0``: ``w_yy = w_xy = 0``), that term computed
+        by the parent on the ``m = 0`` harmonic alone."""
+        total = super().bending_form()
+        if self.alpha[0] != 0:
+            return total
+        uniform = LevyPlateField(self.section, self.Ly, self.omega, self.alpha[:1],
+                                 [(x0, q[:1]) for x0, q in self.forces])
+        uniform.coefficients = self.coefficients[:1]
+        return total + uniform.bending_form()
+
+
+# --------------------------------------------------------------------------------------
 # Solution
 # --------------------------------------------------------------------------------------
 
 
 class PrismaticSolution(JunctionSolution):
     r"""Levy solution returned by ``prismatic_levy``: a ``JunctionSolution`` (whose bending
-    fields, line rotation, member rotations and spring dissipation it shares) with the in-plane
-    fields, the lines' translations and the translational springs' dissipation
-    (``translational_spring_dissipated_power``, included in ``dissipated_power``).
+    fields and member rotations it shares) with the in-plane fields, the lines' translations
+    and the translational springs' dissipation (``translational_spring_dissipated_power``,
+    included in ``dissipated_power``).  The line rotation and the rotational springs'
+    dissipation are the parent's written for either ends: ``y`` shapes ``P, Q`` and line
+    factors ``c_m`` of ``ends`` (module docstring).
 
     Attributes
     ----------
+    ends : {'diaphragm', 'symmetric'}
+    harmonics : numpy.ndarray
+        The ``m`` of the harmonics: ``1..n_terms`` or ``0..n_terms - 1``.
     bending : dict of str -> exact.LevyPlateField
-        Per-plate bending fields (``fields`` of ``JunctionSolution``).
+        Per-plate bending fields (``fields`` of ``JunctionSolution``; ``CosineLevyField`` for
+        symmetric ends).
     membranes : dict of str -> MembraneField
         Per-plate in-plane fields.
     plates : dict of str -> FoldedPlate
@@ -571,17 +773,23 @@ class PrismaticSolution(JunctionSolution):
     sigmas : list of dict
         ``sigma_i = y_axis_i . e`` of each line's members.
     translation_coefficients : numpy.ndarray
-        ``(n_lines, n_terms, 3)``: ``T1_m, T2_m, E_m`` of ``U_J(s)``.
+        ``(n_lines, n_terms, 3)``: ``T1_m, T2_m, E_m`` of ``U_J(s)`` (amplitudes of ``P``,
+        ``P`` and ``Q``; the symmetric ``E_0`` is 0).
     rotation_coefficients : numpy.ndarray
-        ``(n_lines, n_terms)``: ``T_m`` of ``Theta_J(s)`` (``line_coefficients``).
+        ``(n_lines, n_terms)``: ``T_m`` of ``Theta_J(s)`` (``line_coefficients``, of ``P``).
     forces, inplane_forces : list of (str, float, float, complex)
     n_terms : int
     """
 
     def __init__(self, bending, membranes, plates, lines, line_frames, sigmas,
-                 translation_coefficients, rotation_coefficients, forces, inplane_forces):
+                 translation_coefficients, rotation_coefficients, forces, inplane_forces,
+                 ends="diaphragm"):
         super().__init__(bending, plates, lines, line_frames, sigmas, rotation_coefficients,
                          None)
+        self.ends = _checked_ends(ends)
+        self.harmonics = _harmonic_indices(ends, self.n_terms)
+        self.shapes = _end_shapes(ends)
+        self.energy_factors = _energy_factors(self.alpha, ends)
         self.bending = bending
         self.membranes = membranes
         self.translation_coefficients = translation_coefficients
@@ -603,12 +811,35 @@ class PrismaticSolution(JunctionSolution):
         return (self.u(plate, x, y)[..., None] * x_axis + self.v(plate, x, y)[..., None] * y_axis
                 + self.w(plate, x, y)[..., None] * e_z)
 
+    def line_signs(self, line, plate):
+        """Factors ``c_m`` of ``plate`` on ``line`` (``_end_signs``)."""
+        return _end_signs(self.sigmas[line][plate], self.harmonics, self.ends)
+
+    def line_rotation(self, line, s):
+        r"""Rotation of line ``line`` about ``e``: ``Theta_J(s) = sum_m T_m P(alpha_m s)``."""
+        s = np.asarray(s, float)
+        return self.shapes[0](s[..., None] * self.alpha) @ self.line_coefficients[line]
+
+    def spring_dissipated_power(self, line, plate):
+        """Time-averaged power dissipated by the rotational spring tying ``plate`` to ``line``.
+
+        ``0.5 omega Im(k) int_0^Ly |Theta_J - Theta_i|^2 ds
+        = 0.5 omega Im(k) Ly/2 sum_m f_P |c_m T_m - Theta_{i,m}|^2``; 0 for a rigid tie.
+        """
+        k = self.lines[line].members[plate][1]
+        if np.isinf(k):
+            return 0.0
+        jump = (self.line_signs(line, plate) * self.line_coefficients[line]
+                - self.member_rotation_harmonics(line, plate))
+        return (0.25 * self.omega * np.imag(k) * self.Ly
+                * np.sum(self.energy_factors[0] * np.abs(jump) ** 2))
+
     def line_translation(self, line, s):
-        """``U_J(s) = sum_m (T1 t1 + T2 t2) sin(alpha s) + E e cos(alpha s)``, ``(..., 3)``."""
+        """``U_J(s) = sum_m (T1 t1 + T2 t2) P(alpha s) + E e Q(alpha s)``, ``(..., 3)``."""
         s = np.asarray(s, float)[..., None]
         _, e, t1, t2 = self.line_frames[line]
         T1, T2, E = self.translation_coefficients[line].T
-        sines, cosines = np.sin(s * self.alpha), np.cos(s * self.alpha)
+        sines, cosines = (shape(s * self.alpha) for shape in self.shapes)
         return ((sines @ T1)[..., None] * t1 + (sines @ T2)[..., None] * t2
                 + (cosines @ E)[..., None] * e)
 
@@ -616,7 +847,7 @@ class PrismaticSolution(JunctionSolution):
         """Harmonics of ``plate``'s edge displacement ``X_i`` on ``line``, in the line's frame.
 
         ``(n_terms, 3)``: ``c_m (U_m x_axis + W_m e_z) . t_k`` (``k = 1, 2``, amplitudes of
-        ``sin(alpha_m s)``) and ``c_m V_m`` (of ``cos(alpha_m s)``), comparable with
+        ``P(alpha_m s)``) and ``c_m V_m`` (of ``Q(alpha_m s)``), comparable with
         ``translation_coefficients[line]``.
         """
         end = self.lines[line].members[plate][0]
@@ -625,7 +856,7 @@ class PrismaticSolution(JunctionSolution):
         U, V = (c[0] for c in self.membranes[plate].harmonic_derivative(x_edge, 0))
         x_axis, _, e_z = self.plates[plate].axes()
         _, _, t1, t2 = self.line_frames[line]
-        signs = _harmonic_signs(self.sigmas[line][plate], np.arange(1, self.n_terms + 1))
+        signs = self.line_signs(line, plate)
         return signs[:, None] * np.stack([U * (x_axis @ t1) + W * (e_z @ t1),
                                           U * (x_axis @ t2) + W * (e_z @ t2), V], axis=-1)
 
@@ -633,15 +864,18 @@ class PrismaticSolution(JunctionSolution):
         """Time-averaged power dissipated by the translational spring of ``plate`` on ``line``.
 
         ``0.5 omega Im(k_t*) int_0^Ly |U_J - X_i|^2 ds
-        = 0.5 omega Im(k_t*) Ly/2 sum_m |(T1, T2, E)_m - X_i,m|^2`` (``sin^2`` and ``cos^2``
-        both average to 1/2 for ``m >= 1``); 0 for a rigid tie.
+        = 0.5 omega Im(k_t*) Ly/2 sum_m (f_P, f_P, f_Q) . |(T1, T2, E)_m - X_i,m|^2``
+        (``sin^2`` and ``cos^2`` both average to 1/2 for ``m >= 1``; ``_energy_factors``);
+        0 for a rigid tie.
         """
         k_t = self.lines[line].translational_stiffness(plate)
         if np.isinf(k_t):
             return 0.0
         jump = self.translation_coefficients[line] - self.member_translation_harmonics(line,
                                                                                         plate)
-        return 0.25 * self.omega * np.imag(k_t) * self.Ly * np.sum(np.abs(jump) ** 2)
+        f_p, f_q = self.energy_factors
+        weights = np.stack([f_p, f_p, f_q], axis=-1)
+        return 0.25 * self.omega * np.imag(k_t) * self.Ly * np.sum(weights * np.abs(jump) ** 2)
 
     def dissipated_power(self):
         """Total time-averaged dissipation: plates (bending and membrane), rotational springs
@@ -775,18 +1009,18 @@ def _member_equations(eqs, name, plate, end, line, stiffness, frame, sigma, sign
                 [(-stiffness * sigma_nx * signs, line, 3)])
 
 
-def _line_equations(eqs, j, line, plates, frame, sigmas, m):
+def _line_equations(eqs, j, line, plates, frame, sigmas, m, ends):
     """Balance of the massless line ``j``: moments, then forces (or ``U_J = 0`` if held).
 
     ``sum_i c_m sigma_i n_x M_n = 0``; ``sum_i c_m [n_x N_xx x_axis + K_n e_z] . t_k = 0``;
-    ``sum_i c_m n_x N_xy = 0``.
+    ``sum_i c_m n_x N_xy = 0`` (``c_m`` of ``ends``, ``_end_signs``).
     """
     _, _, t1, t2 = frame
     members = []
     for name, (end, _) in line.members.items():
         n_x = 1.0 if end == "right" else -1.0
         x_axis, _, e_z = plates[name].axes()
-        members.append((name, end, n_x, _harmonic_signs(sigmas[name], m), x_axis, e_z))
+        members.append((name, end, n_x, _end_signs(sigmas[name], m, ends), x_axis, e_z))
     eqs.add([(signs * sigmas[name] * n_x, name, end, "M")
              for name, end, n_x, signs, _, _ in members])
     if line.held:
@@ -832,23 +1066,32 @@ def _line_frame(plates, line, Ly):
     return (start, e, t1, np.cross(e, t1)), sigmas
 
 
-def _harmonic_loads(forces, name, alpha, Ly):
-    """``[(x0, 2 F sin(alpha_m y0) / Ly)]`` of the forces on plate ``name``."""
-    return [(x0, 2.0 * F * np.sin(alpha * y0) / Ly) for plate, x0, y0, F in forces
+def _harmonic_loads(forces, name, alpha, Ly, ends):
+    """``[(x0, q_m)]`` of the forces on plate ``name``: ``q_m = 2 F sin(alpha_m y0) / Ly``
+    (diaphragms) or ``eps_m F cos(alpha_m y0) / Ly``, ``eps_0 = 1``, ``eps_m = 2`` (symmetric:
+    ``int_0^Ly cos^2 = Ly`` for ``m = 0``, ``Ly / 2`` else)."""
+    if ends == "diaphragm":
+        return [(x0, 2.0 * F * np.sin(alpha * y0) / Ly) for plate, x0, y0, F in forces
+                if plate == name]
+    eps = np.where(alpha == 0, 1.0, 2.0)
+    return [(x0, eps * F * np.cos(alpha * y0) / Ly) for plate, x0, y0, F in forces
             if plate == name]
 
 
-def prismatic_levy(plates, lines, Ly, omega, forces=(), inplane_forces=(), n_terms=None):
+def prismatic_levy(plates, lines, Ly, omega, forces=(), inplane_forces=(), n_terms=None,
+                   ends="diaphragm"):
     r"""Levy solution of a prismatic folded-plate structure with moving (or held) lines.
 
-    Per harmonic ``m`` each plate has 4 bending coefficients (``exact.LevyPlateField``, with
-    the strip Green function of its normal forces) and 4 membrane ones (``MembraneField``, with
-    the Green function of its in-plane forces); each line has ``T1, T2, E`` (translation) and
-    ``T`` (rotation).  Equations (module docstring): 4 per outer edge (2 bending, 2 in-plane),
-    4 per member edge (3 translation laws: continuity, or the translational spring of
+    Per harmonic ``m`` each plate has 4 bending coefficients (``exact.LevyPlateField``, or
+    ``CosineLevyField`` for symmetric ends, with the strip Green function of its normal
+    forces) and 4 membrane ones (``MembraneField``, with the Green function of its in-plane
+    forces); each line has ``T1, T2, E`` (translation) and ``T`` (rotation).  Equations
+    (module docstring): 4 per outer edge (2 bending, 2 in-plane), 4 per member edge (3
+    translation laws: continuity, or the translational spring of
     ``PrismaticLine.translational``; 1 rotation law) and 4 per line (3 force balances or
-    ``U_J = 0``, 1 moment balance).  The ``n_terms`` square systems are solved at
-    once after scaling each row to a unit largest entry.
+    ``U_J = 0``, 1 moment balance), the same for either ``ends`` up to the line factors
+    ``c_m``.  The ``n_terms`` square systems are solved at once after scaling each row to a
+    unit largest entry.
 
     Parameters
     ----------
@@ -865,7 +1108,13 @@ def prismatic_levy(plates, lines, Ly, omega, forces=(), inplane_forces=(), n_ter
     inplane_forces : sequence of (str, float, float, complex)
         ``(plate, x0, y0, F_x)``: in-plane force along the plate's ``x_axis``.
     n_terms : int, optional
-        Number of harmonics; ``default_prismatic_n_terms`` when omitted.
+        Number of harmonics; ``default_prismatic_n_terms`` when omitted.  They are
+        ``m = 1..n_terms`` with diaphragm ends, ``m = 0..n_terms - 1`` with symmetric ones.
+    ends : {'diaphragm', 'symmetric'}
+        Conditions on the ends ``y = 0, Ly`` of every plate (module docstring, Harmonics):
+        shear diaphragms (``w = M_yy = u = N_yy = 0``, sine series in ``w``, ``u``) or planes
+        of symmetry (``w_y = K_y = v = N_xy = 0``, cosine series in ``w``, ``u`` from
+        ``m = 0``).
 
     Returns
     -------
@@ -879,6 +1128,7 @@ def prismatic_levy(plates, lines, Ly, omega, forces=(), inplane_forces=(), n_ter
     """
     if not omega > 0:
         raise ValueError(f"omega must be > 0, got {omega}")
+    _checked_ends(ends)
     lines = list(lines)
     forces = _checked_forces(plates, Ly, forces, "normal")
     inplane_forces = _checked_forces(plates, Ly, inplane_forces, "in-plane")
@@ -887,13 +1137,16 @@ def prismatic_levy(plates, lines, Ly, omega, forces=(), inplane_forces=(), n_ter
     frames, sigmas = [f for f, _ in oriented], [s for _, s in oriented]
     if n_terms is None:
         n_terms = default_prismatic_n_terms(plates.values(), Ly, omega)
-    m = np.arange(1, n_terms + 1)
+    m = _harmonic_indices(ends, n_terms)
     alpha = m * np.pi / Ly
-    bending = {name: LevyPlateField(Section(p.length, p.D, p.nu, p.rho_h), Ly, omega, alpha,
-                                    _harmonic_loads(forces, name, alpha, Ly))
+    # The bending harmonics do not depend on the ends; only their y shape does.
+    bending_field = LevyPlateField if ends == "diaphragm" else CosineLevyField
+    bending = {name: bending_field(Section(p.length, p.D, p.nu, p.rho_h), Ly, omega, alpha,
+                                   _harmonic_loads(forces, name, alpha, Ly, ends))
                for name, p in plates.items()}
     membranes = {name: MembraneField(p, Ly, omega, alpha,
-                                     _harmonic_loads(inplane_forces, name, alpha, Ly))
+                                     _harmonic_loads(inplane_forces, name, alpha, Ly, ends),
+                                     ends)
                  for name, p in plates.items()}
     maps = {(name, end): _edge_maps(bending[name], membranes[name], end)
             for name in plates for end in EDGES}
@@ -906,10 +1159,10 @@ def prismatic_levy(plates, lines, Ly, omega, forces=(), inplane_forces=(), n_ter
             j = on_line[(name, end)]
             sigma = sigmas[j][name]
             _member_equations(eqs, name, plate, end, j, lines[j].members[name][1], frames[j],
-                              sigma, _harmonic_signs(sigma, m),
+                              sigma, _end_signs(sigma, m, ends),
                               lines[j].translational_stiffness(name))
     for j, line in enumerate(lines):
-        _line_equations(eqs, j, line, plates, frames[j], sigmas[j], m)
+        _line_equations(eqs, j, line, plates, frames[j], sigmas[j], m, ends)
     solution = eqs.solve()
     for name in plates:
         start = eqs.column[name]
@@ -918,4 +1171,4 @@ def prismatic_levy(plates, lines, Ly, omega, forces=(), inplane_forces=(), n_ter
     line_part = solution[:, eqs.line_base:].reshape(n_terms, len(lines), 4).transpose(1, 0, 2)
     return PrismaticSolution(bending, membranes, dict(plates), lines, frames, sigmas,
                              line_part[:, :, :3].copy(), line_part[:, :, 3].copy(), forces,
-                             inplane_forces)
+                             inplane_forces, ends)

@@ -280,9 +280,11 @@ def folded_description(plates: FoldedPlates, lines: FoldLines, load: tuple[str, 
 
 def folded_reference(plates: FoldedPlates, lines: FoldLines, load: tuple[str, float, float],
                      frequency: float, held: bool, ly: float, n_terms: int = 600,
-                     translational: Mapping[str, Mapping[str, complex]] | None = None):
+                     translational: Mapping[str, Mapping[str, complex]] | None = None,
+                     ends: str = "diaphragm"):
     """The exact prismatic solution (``tests/exact_prismatic.py``) of
-    :func:`folded_description`'s structure, lines moving or ``held``.
+    :func:`folded_description`'s structure, lines moving or ``held``, its ends as ``ends``
+    says (:data:`FOLD_ENDS`).
 
     ``translational``: ``{joint: {plate: k_t*}}``, the complex stiffness (N/m^2, ``k_t (1 + j
     zeta_t)``) of a translational spring between that member's edge and the line
@@ -302,7 +304,7 @@ def folded_reference(plates: FoldedPlates, lines: FoldLines, load: tuple[str, fl
                                 translational=dict(translational.get(jid, {})))
                  for jid, members in lines.items()]
     return prismatic_levy(strips, prismatic, ly, 2.0 * math.pi * frequency,
-                          forces=[(*load, 1.0)], n_terms=n_terms)
+                          forces=[(*load, 1.0)], n_terms=n_terms, ends=ends)
 
 
 # The exact in-plane strip: one 2 mm steel plate 0.5 x 0.4 m of tests/exact_prismatic.py,

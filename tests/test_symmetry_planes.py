@@ -21,14 +21,17 @@ from test_plate_accuracy import (
     strain_energy_density,
 )
 
-from support import folded_description
-from test_moving_lines import L_FOLD, LY as FOLD_LENGTH
+from support import folded_description, folded_reference, folded_w, inner_grid
+from test_moving_lines import L_FOLD, SHAPES, _true_errors
+from test_moving_lines import LY as FOLD_LENGTH
 
 from assembly import AssemblyError, parse_case
 from assembly.types import EdgeId
+from solver.estimate import estimate_error
 from solver.guards import check_description
 from solver.plate import EdgeCondition, EdgeLoad, PlateProblem, PointForce, solve_plate
 from solver.rays import automatic_ray_counts, build_ray_basis
+from solver.substructure import solve_assembly
 
 
 def navier_symmetric(frequency, x0, y0, x, y, n_terms=400):
@@ -167,3 +170,51 @@ def test_an_edge_moment_cannot_act_on_a_symmetric_edge():
     description["loads"][-1]["kind"] = "edge_moment"
     with pytest.raises(AssemblyError, match="symmetric: its rotation is fixed"):
         parse_case(description)
+
+
+# the worst plate's error of w against the exact folded plate with symmetric ends, resolution
+# 1.5, 600 harmonics (the reference's tail: 1.5e-8 on these grids at 1 kHz)
+SYMMETRIC_CASES = [("L", 300.0), ("L", 3000.0), ("U", 1000.0), ("T", 3000.0)]
+
+
+@pytest.mark.parametrize("shape, frequency", SYMMETRIC_CASES)
+def test_lines_ending_on_planes_of_symmetry_match_the_exact_folded_plate(shape, frequency):
+    """The exact prismatic folded plate with symmetric ends (``tests/exact_prismatic.py``,
+    ``ends = "symmetric"``: ``w`` and ``u`` in cosines of y, ``v`` in sines, the harmonic 0
+    included), lines moving by default. Measured, worst plate at 300 Hz / 1 kHz / 3 kHz: L
+    7.4e-8 / 3.0e-9 / 1.7e-8, U 2.9e-7 / 1.2e-8 / 2.4e-8, T 1.4e-7 / 1.5e-8 / 1.9e-9 (7e-4 to
+    1.4e-2 at resolution 1), as with shear-diaphragm ends. The issue's target for moving lines
+    is 2e-3; 1e-5 bounds these with a margin of 30 to 5000, where the L fold with roller ends
+    simply supported changed by 1e-2 between resolutions."""
+    plates, lines, load = SHAPES[shape]
+    case = parse_case(folded_description(plates, lines, load, frequency, None, FOLD_LENGTH,
+                                         ends="symmetric"))
+    assert case.moving_lines() == tuple(lines)
+    solution = solve_assembly(case, frequency, residuals=False)
+    reference = folded_reference(plates, lines, load, frequency, False, FOLD_LENGTH, 600,
+                                 ends="symmetric")
+    errors = {}
+    for name, w in folded_w(solution, plates, FOLD_LENGTH).items():
+        exact = reference.w(name, *inner_grid(plates[name][0], FOLD_LENGTH).T)
+        errors[name] = float(np.linalg.norm(w - exact) / np.linalg.norm(exact))
+    assert max(errors.values()) < 1e-5, errors
+
+
+def test_the_error_estimate_stays_honest_with_symmetric_ends():
+    """The estimate against the true error at resolution 1, per plate, of ``w`` and ``(u, v)``:
+    measured 1.00 for both on every plate of the L, U and T at 300 Hz, 1 kHz and 3 kHz (true
+    errors of w 5.5e-5 to 1.4e-2, of (u, v) 3e-5 to 0.26); the issue asks [0.5, 3] above
+    1e-5."""
+    plates, lines, load = SHAPES["U"]
+    case = parse_case(folded_description(plates, lines, load, 1000.0, None, FOLD_LENGTH, 1.0,
+                                         ends="symmetric"))
+    solution = solve_assembly(case, 1000.0)
+    estimate = estimate_error(case, solution)
+    w_errors, in_plane_errors, total = _true_errors(
+        solution, folded_reference(plates, lines, load, 1000.0, False, FOLD_LENGTH, 600,
+                                   ends="symmetric"), plates)
+    assert 0.5 <= estimate.total / total <= 3.0
+    for name in plates:
+        for estimated, true in ((estimate.plates[name], w_errors[name]),
+                                (estimate.in_plane[name], in_plane_errors[name])):
+            assert true > 1e-5 and 0.5 <= estimated / true <= 3.0, (name, estimated, true)
