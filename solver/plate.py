@@ -81,6 +81,7 @@ __all__ = [
     "edge_rule_size",
     "particular_traces",
     "PlateSolution",
+    "clamped_free_corners",
     "solve_plate",
 ]
 
@@ -392,6 +393,16 @@ def _edge_terms(condition: EdgeCondition) -> list[tuple[float, str, str, EdgeLoa
     if condition.kind == "symmetric":
         return [(+1.0, "w", "shear", condition.shear), (+1.0, "moment", "slope", None)]
     raise ValueError(f"unknown edge condition {condition.kind!r}")
+
+
+def clamped_free_corners(problem: PlateProblem) -> list[str]:
+    """The plate's corners where a clamped edge meets a free one (a loaded edge, a moving
+    line's member edge, is free in its bending problem), named by their two edges
+    (``"left/bottom"``). Their fields go like non-integer powers of the distance to the corner
+    (Williams' plate wedges), which the rays follow slowly (``docs/accuracy.md`` section 8)."""
+    kinds = [problem.condition(name).kind for name in EDGE_NAMES]
+    return [f"{EDGE_NAMES[c - 1]}/{EDGE_NAMES[c]}" for c in range(4)
+            if {kinds[c - 1], kinds[c]} == {"clamped", "free"}]
 
 
 def _static_shear(condition: EdgeCondition) -> bool:

@@ -218,3 +218,4 @@ def test_the_error_estimate_stays_honest_with_symmetric_ends():
         for estimated, true in ((estimate.plates[name], w_errors[name]),
                                 (estimate.in_plane[name], in_plane_errors[name])):
             assert true > 1e-5 and 0.5 <= estimated / true <= 3.0, (name, estimated, true)
+
