@@ -46,7 +46,7 @@ from .models import FRAME_TOLERANCE
 from .types import EdgeId, parse_edge_ref
 
 __all__ = ["members_coplanar", "member_directions", "given_supports", "free_ends", "line_ends",
-           "singular_ends", "meeting_ends", "moving_lines"]
+           "symmetry_halves", "singular_ends", "meeting_ends", "moving_lines"]
 
 SYMMETRY_PLANE = ("symmetric", "roller")
 """The bending and in-plane conditions of an edge on a plane of symmetry of the structure."""
@@ -64,12 +64,18 @@ def members_coplanar(joint: JunctionJoint, plates: Mapping[str, Any]) -> bool:
                for f in frames[1:])
 
 
+def _neighbours(side: EdgeId) -> tuple[EdgeId, EdgeId]:
+    """The edges of ``side``'s plate that meet its start and its end (edge ``i`` runs from
+    corner ``i`` to corner ``i + 1``, so edge ``i - 1`` meets its start)."""
+    index = EDGE_NAMES.index(side.edge)
+    return (EdgeId(side.plate, EDGE_NAMES[index - 1]),
+            EdgeId(side.plate, EDGE_NAMES[(index + 1) % 4]))
+
+
 def _end_edges(joint: JunctionJoint) -> Iterator[EdgeId]:
     """The edges that meet the line's ends: each member edge's two neighbours."""
     for side in joint.sides:
-        index = EDGE_NAMES.index(side.edge)
-        for neighbour in (EDGE_NAMES[index - 1], EDGE_NAMES[(index + 1) % 4]):
-            yield EdgeId(side.plate, neighbour)
+        yield from _neighbours(side)
 
 
 def free_ends(joint: JunctionJoint, conditions: Mapping[EdgeId, str]) -> list[EdgeId]:
@@ -103,16 +109,21 @@ def member_directions(joint: Any, plates: Mapping[str, Any]) -> tuple[int, ...]:
 
 def line_ends(joint: JunctionJoint,
               plates: Mapping[str, Any]) -> tuple[list[EdgeId], list[EdgeId]]:
-    """The edges at the line's start and at its end: each member edge's neighbour there (edge
-    ``i`` runs from corner ``i`` to corner ``i + 1``, so edge ``i - 1`` meets its start)."""
+    """The edges at the line's start and at its end: each member edge's neighbour there
+    (:func:`_neighbours`, swapped for a member that runs against the line)."""
     ends: tuple[list[EdgeId], list[EdgeId]] = ([], [])
     for side, direction in zip(joint.sides, member_directions(joint, plates)):
-        index = EDGE_NAMES.index(side.edge)
-        before, after = EDGE_NAMES[index - 1], EDGE_NAMES[(index + 1) % 4]
+        before, after = _neighbours(side)
         first, last = (before, after) if direction > 0 else (after, before)
-        ends[0].append(EdgeId(side.plate, first))
-        ends[1].append(EdgeId(side.plate, last))
+        ends[0].append(first)
+        ends[1].append(last)
     return ends
+
+
+def symmetry_halves(support: tuple[str, str]) -> int:
+    """How many of an edge's ``(bending, in-plane)`` conditions are those of a plane of
+    symmetry (:data:`SYMMETRY_PLANE`): 2 on one, 0 on none, 1 on a mix (module notes)."""
+    return sum(given == plane for given, plane in zip(support, SYMMETRY_PLANE))
 
 
 def singular_ends(joint: JunctionJoint, plates: Mapping[str, Any],
@@ -125,7 +136,7 @@ def singular_ends(joint: JunctionJoint, plates: Mapping[str, Any],
     singular = []
     for edges in line_ends(joint, plates):
         given = [edge for edge in edges if edge in supports]
-        halves = [sum(a == b for a, b in zip(supports[edge], SYMMETRY_PLANE)) for edge in given]
+        halves = [symmetry_halves(supports[edge]) for edge in given]
         if any(halves) and any(count < 2 for count in halves):
             singular += given
     return singular

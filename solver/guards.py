@@ -501,8 +501,9 @@ def description_issues(
       error (spacing in mm instead of m?);
     * **loads** (if `need_loads`) -- a description without loads has a zero response;
     * **moving lines** -- a junction line whose end is a plane of symmetry for part of the
-      motion only warns, moving or held by default (:func:`_singular_end_issues`), and so does a plate whose fixed-free in-plane corners are
-      beyond its corner functions' reach (:func:`_corner_reach_issues`);
+      motion only warns, moving or held by default (:func:`_singular_end_issues`), and so does
+      a plate whose fixed-free in-plane corners are beyond its corner functions' reach
+      (:func:`_corner_reach_issues`);
     * **weights** -- the scale-free weights with ``misfit = "global"`` warn
       (:func:`_weights_issues`).
 

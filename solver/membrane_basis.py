@@ -24,7 +24,12 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from assembly.geometry import EdgeGeometry, plate_edges
-from solver.membrane_corners import CornerFamily, corner_displacements, corner_fields
+from solver.membrane_corners import (
+    CornerFamily,
+    corner_displacements,
+    corner_fields,
+    plane_stress_resultants,
+)
 from solver.rays import RayBasis, edge_exponentials, gauss_legendre, node_exponentials
 
 __all__ = [
@@ -266,11 +271,11 @@ def _resultant_factors(direction: np.ndarray, k: np.ndarray, stiffness: complex,
                        poisson_ratio: float) -> np.ndarray:
     r""":math:`\mathbf N` of :math:`\mathbf d\,e^{\mathbf k\cdot\mathbf x}` over its
     exponential, (nodes, 2, 2): :math:`A^*[\nu(\mathbf d\cdot\mathbf k)\mathbf I +
-    \tfrac{1-\nu}2(\mathbf d\mathbf k^T + \mathbf k\mathbf d^T)]`."""
-    outer = direction[:, :, None] * k[:, None, :]
-    divergence = np.sum(direction * k, axis=1)
-    return stiffness * (poisson_ratio * divergence[:, None, None] * np.eye(2)
-                        + 0.5 * (1.0 - poisson_ratio) * (outer + outer.transpose(0, 2, 1)))
+    \tfrac{1-\nu}2(\mathbf d\mathbf k^T + \mathbf k\mathbf d^T)]`, the plane-stress law
+    (:func:`solver.membrane_corners.plane_stress_resultants`) of the gradient
+    :math:`\mathbf d\otimes\mathbf k`."""
+    return plane_stress_resultants(direction[:, :, None] * k[:, None, :], stiffness,
+                                   poisson_ratio)
 
 
 def _traction_factors(direction: np.ndarray, k: np.ndarray, normal: np.ndarray,
@@ -344,9 +349,11 @@ def membrane_field(basis: MembraneBasis, amplitudes: np.ndarray, points: ArrayLi
     out = {"u": np.stack(means[:2], axis=-1)}
     if stiffness is not None:
         out["N"] = np.stack(means[2:], axis=-1).reshape(-1, 2, 2)
-    if basis.corners and stiffness is None:
+    if not basis.corners:
+        return out
+    if stiffness is None:
         out["u"] = out["u"] + corner_displacements(basis.corners, points) @ corner
-    elif basis.corners:
+    else:
         u, resultants = corner_fields(basis.corners, points, stiffness, poisson_ratio)
         out["u"] = out["u"] + u @ corner
         out["N"] = out["N"] + resultants @ corner

@@ -62,7 +62,7 @@ from assembly.geometry import plate_edges
 __all__ = ["CORNER_EXPONENT_LIMIT", "SERIES_REACH", "series_reach", "fixed_free_exponents",
            "CornerFamily",
            "corner_family", "fixed_free_layout", "fixed_free_corners", "corner_fields",
-           "corner_displacements"]
+           "corner_displacements", "plane_stress_resultants"]
 
 CORNER_EXPONENT_LIMIT = 4.0
 r"""Exponents :math:`\lambda` with :math:`0 < \mathrm{Re}\,\lambda <` this get a corner function
@@ -216,7 +216,8 @@ def _local_fields(series: _Series, local: np.ndarray, repeats: int,
                         np.stack([fxy[0] - fxx[1], fyy[0] - fxy[1]], axis=1)], axis=1)
 
 
-def _resultants(gradient: np.ndarray, stiffness: complex, poisson_ratio: float) -> np.ndarray:
+def plane_stress_resultants(gradient: np.ndarray, stiffness: complex,
+                            poisson_ratio: float) -> np.ndarray:
     r""":math:`\mathbf N = A^*[\nu\,\mathrm{tr}\,\boldsymbol\varepsilon\,\mathbf I
     + (1 - \nu)\boldsymbol\varepsilon]`, :math:`\boldsymbol\varepsilon` the symmetric part of
     ``gradient`` (points, 2, 2, ...)."""
@@ -242,7 +243,7 @@ def _static_null_vector(lam: complex, fixed_first: bool, poisson_ratio: float) -
         on_fixed, on_free, normal = on_free, on_fixed, np.array([0.0, -1.0])
     u, _ = _local_fields(leading, on_fixed[:, None], len(leading.alpha))
     _, gradient = _local_fields(leading, on_free[:, None], len(leading.alpha))
-    traction = np.einsum("ijn,j->in", _resultants(gradient, 1.0, poisson_ratio)[0], normal)
+    traction = np.einsum("ijn,j->in", plane_stress_resultants(gradient, 1.0, poisson_ratio)[0], normal)
     system = np.vstack([u[0], traction])
     _, singular, vh = np.linalg.svd(system)
     if singular[-1] > 1e-9 * singular[0]:
@@ -394,7 +395,7 @@ def corner_fields(families: tuple[CornerFamily, ...], points: np.ndarray, stiffn
     if not families:
         return np.zeros((len(points), 2, 0), complex), np.zeros((len(points), 2, 2, 0), complex)
     u, gradient = _plate_axes(families, points, True)
-    return u, _resultants(gradient, stiffness, poisson_ratio)
+    return u, plane_stress_resultants(gradient, stiffness, poisson_ratio)
 
 
 def corner_displacements(families: tuple[CornerFamily, ...], points: np.ndarray) -> np.ndarray:

@@ -11,7 +11,7 @@ from collections.abc import Iterable, Mapping
 
 from assembly.case import Case
 from assembly.geometry import EDGE_NAMES
-from assembly.lines import free_ends, meeting_ends
+from assembly.lines import free_ends, given_supports, meeting_ends, symmetry_halves
 from solver.kirchhoff import complex_bending_stiffness
 from solver.plate import EdgeCondition, EdgeLoad, PlateProblem, PointForce
 from solver.rays import RayBasis, RayCounts, automatic_ray_counts, build_ray_basis
@@ -122,7 +122,7 @@ left ``w`` at the supported corner at 2.9e-3, 3.8e-3, 6.2e-5, 1.3e-5 and 4e-6 of
 def singular_end_plates(case: Case) -> frozenset[str]:
     """The members of the moving lines with an end that is a plane of symmetry for part of the
     motion only (:meth:`assembly.Case.singular_ends`)."""
-    if not any(bc.condition == "symmetric" or bc.in_plane == "roller" for bc in case.boundaries):
+    if not any(map(symmetry_halves, given_supports(case.boundaries).values())):
         return frozenset()  # the common case, without finding the moving lines
     return frozenset(plate for jid in case.moving_lines() if case.singular_ends(jid)
                      for plate in case.joints[jid].plates)

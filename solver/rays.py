@@ -175,7 +175,7 @@ class RayBasis:
 
     @property
     def n_dof(self) -> int:
-        return len(self.family)
+        return self.n_rays
 
     @property
     def n_rays(self) -> int:
