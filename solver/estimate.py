@@ -78,7 +78,7 @@ from solver.errors import ToleranceError
 from solver.in_plane import in_plane_plates
 from solver.membrane import MembraneSolution
 from solver.membrane_basis import membrane_grid_displacement
-from solver.plate import PlateProblem, PlateSolution, clamped_free_corners
+from solver.plate import PlateProblem, PlateSolution
 from solver.power import grid_deflections, plate_gauss_axes
 from solver.problems import plate_resolution
 from solver.rays import QUASI_STATIC_KAPPA_R
@@ -438,12 +438,6 @@ def _tolerance_message(case: Case, frequency: float, tolerance: float,
     if not stalled:
         cause = ("it still decreases; start from a higher [discretisation] resolution than "
                  f"{history[0].resolution_of(plate):g}")
-    elif corners := clamped_free_corners(problem):
-        cause = (f"refinement converges slowly at its corners where a clamped edge meets a free "
-                 f"or loaded one ({', '.join(corners)}), whose field goes like a non-integer "
-                 "power of the distance to the corner (docs/accuracy.md section 8); accept a "
-                 "tolerance above the estimate, or simply support those edges where the "
-                 "structure allows")
     elif spans < QUASI_STATIC_KAPPA_R:
         cause = (f"the plate is far below its first resonances (its half-diagonal is "
                  f"{spans / (2 * math.pi):.2g} bending wavelength), where the ray basis converges "

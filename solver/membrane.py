@@ -38,7 +38,7 @@ from numpy.typing import ArrayLike
 from assembly.geometry import EDGE_NAMES, EdgeGeometry, plate_edges
 from solver.dense import factorise_dense
 from solver.membrane_basis import MembraneBasis, membrane_edge_traces, membrane_field
-from solver.rays import gauss_legendre
+from solver.rays import end_graded_rule, gauss_legendre
 
 __all__ = [
     "IN_PLANE_CONDITIONS",
@@ -133,25 +133,13 @@ class MembraneProblem:
         return tuple(self.condition(edge).condition for edge in EDGE_NAMES)
 
 
-CORNER_GRADING = (6, 0.15)
-r"""Panels and ratio of the edge rule's geometric grading towards a corner with corner
-functions (:func:`membrane_edge_rule`): the innermost panel is :math:`0.25\cdot0.15^5 =
-1.9\times10^{-5}` of the edge, over which :math:`\int_0^\epsilon r^{\lambda - 1}ds` is
-2.6e-4 of the whole (:math:`\lambda = 0.758`), itself integrated by that panel's Gauss rule.
-On ``cases/stiffened_panel.toml`` at 184.8 Hz the in-plane changes between resolutions are the
-same to two digits with (12, 0.2), (8, 0.2) or (4, 0.15), and up to 40 % larger without
-grading; at 1 kHz the far bay's weak in-plane field moves with the grading at the coarsest
-step (its change from resolution 1.25 to 1.875: 9e-2 here, 5.5e-1 with (4, 0.15))."""
-
-
 def membrane_edge_rule(edge: EdgeGeometry, basis: MembraneBasis) -> tuple[np.ndarray, np.ndarray]:
     r"""Gauss points (arc lengths) and weights integrating the products of two traces on an
     edge: :math:`\lceil 0.75\max|\mathbf k|L\rceil + 10` points (``docs/method.md``
     section 5.3). Towards an end where the plate has corner functions
     (:mod:`solver.membrane_corners`), whose tractions grow as :math:`r^{\lambda - 1}`, the
-    quarter of the edge next to it is cut into geometric panels (:data:`CORNER_GRADING`),
-    each with as many points per unit length as the rays need and at least 8, and the other
-    end's quarter alike."""
+    quarter of the edge next to it and the other end's quarter are cut into geometric panels
+    (:func:`solver.rays.end_graded_rule`)."""
     k_max = float(np.max(np.abs(basis.k)))
     n = math.ceil(0.75 * k_max * edge.length) + 10
     end = edge.start + edge.length * edge.tangent
@@ -162,15 +150,7 @@ def membrane_edge_rule(edge: EdgeGeometry, basis: MembraneBasis) -> tuple[np.nda
         return 0.5 * edge.length * (x + 1.0), 0.5 * edge.length * w
     # both ends graded alike: the points stay symmetric, and the rays' exponentials on them
     # factor (solver.rays.edge_exponentials)
-    panels, ratio = CORNER_GRADING
-    fractions = 0.25 * ratio ** np.arange(panels)
-    cuts = np.concatenate([[0.0], fractions[::-1], 1.0 - fractions, [1.0]]) * edge.length
-    points, weights = [], []
-    for a, b in zip(cuts[:-1], cuts[1:]):
-        x, w = gauss_legendre(max(8, math.ceil(n * (b - a) / edge.length) + 2))
-        points.append(a + 0.5 * (b - a) * (x + 1.0))
-        weights.append(0.5 * (b - a) * w)
-    return np.concatenate(points), np.concatenate(weights)
+    return end_graded_rule(edge.length, n)
 
 
 def assemble_membrane(problem: MembraneProblem, basis: MembraneBasis,

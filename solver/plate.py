@@ -59,9 +59,11 @@ from numpy.typing import ArrayLike
 from assembly.geometry import EDGE_NAMES, EdgeGeometry, edge_geometry, plate_edges
 from solver.dense import solve_dense
 from solver.kirchhoff import point_force_derivatives, wave_edge_factors
+from solver.plate_corners import touches, wedge_edge_traces
 from solver.rays import (
     RayBasis,
     edge_exponentials,
+    end_graded_rule,
     gauss_legendre,
     line_exponentials,
     ray_field,
@@ -81,7 +83,6 @@ __all__ = [
     "edge_rule_size",
     "particular_traces",
     "PlateSolution",
-    "clamped_free_corners",
     "solve_plate",
 ]
 
@@ -256,10 +257,14 @@ def _pair_traces(
     problem: PlateProblem, basis: RayBasis, edges: Sequence[EdgeGeometry], q: int,
     keys: Sequence[tuple[str, ...]],
 ) -> tuple[np.ndarray, np.ndarray, list[dict[str, np.ndarray]]]:
-    """Ray traces on two opposite edges at ``[0, s_1..s_q, L]`` along each edge.
+    r"""Traces of the shape functions on two opposite edges at ``[0, s_1..s_q, L]`` along each
+    edge.
 
     Both edges get the same Gauss rule, so that their points share the coordinate along
     the edges and the node exponentials factor through :func:`solver.rays.line_exponentials`.
+    Where a corner function's corner ends one of them, the rule is graded towards both ends
+    (:func:`solver.rays.end_graded_rule`): their Kirchhoff shear goes like
+    :math:`r^{\mu - 3}`, nearly :math:`1/r`.
 
     Returns
     -------
@@ -272,8 +277,11 @@ def _pair_traces(
     """
     axis = int(np.argmax(np.abs(edges[0].tangent)))
     length = edges[0].length
-    x, w = gauss_legendre(q)
-    s, weights = 0.5 * length * (x + 1.0), 0.5 * length * w
+    if any(touches(family, edge) for family in basis.wedges for edge in edges):
+        s, weights = end_graded_rule(length, q)
+    else:
+        x, w = gauss_legendre(q)
+        s, weights = 0.5 * length * (x + 1.0), 0.5 * length * w
     u = np.concatenate([[0.0], s, [length]])  # symmetric: u[::-1] = length - u
     shared, constants = line_exponentials(basis, axis, u, [e.start[1 - axis] for e in edges])
     # each edge's node constants fold into its trace factors: one sector-mean product serves
@@ -287,8 +295,23 @@ def _pair_traces(
         step = int(np.sign(edge.tangent[axis]))  # an edge against the axis runs backwards
         block = values[start:start + len(edge_keys), ::step]
         start += len(edge_keys)
-        traces.append(dict(zip(edge_keys, block)) | {"twist": twists[i, ::step]})
+        edge_traces = dict(zip(edge_keys, block)) | {"twist": twists[i, ::step]}
+        if basis.wedges:  # at arc lengths u along the edge itself (u is symmetric)
+            wedges = _wedge_traces(problem, basis, edge, u, edge_keys + ("twist",))
+            wedges["twist"] = wedges["twist"][[0, -1]]
+            edge_traces = {key: np.hstack([value, wedges[key]])
+                           for key, value in edge_traces.items()}
+        traces.append(edge_traces)
     return s, weights, traces
+
+
+def _wedge_traces(problem: PlateProblem, basis: RayBasis, edge: EdgeGeometry, s: np.ndarray,
+                  keys: Sequence[str]) -> dict[str, np.ndarray]:
+    """The corner functions' traces ``keys`` at arc lengths ``s`` of ``edge``
+    (:func:`solver.plate_corners.wedge_edge_traces`)."""
+    return wedge_edge_traces(basis.wedges, basis.kappa, problem.bending_stiffness,
+                             problem.poisson_ratio, edge.start + s[:, None] * edge.tangent,
+                             edge.normal, edge.tangent, keys)
 
 
 def boundary_traces(problem: PlateProblem, basis: RayBasis) -> PlateBoundary:
@@ -376,6 +399,9 @@ def edge_values(
         w, slope = basis.sector_means(nodal,
                                       _trace_factors(problem, basis, edge, ("w", "slope")))
         rays = {"w": w, "slope": slope}
+        if basis.wedges:
+            wedges = _wedge_traces(problem, basis, edge, s, ("w", "slope"))
+            rays = {key: np.hstack([value, wedges[key]]) for key, value in rays.items()}
         if cache is not None:
             cache[key] = rays
     part = particular_traces(problem, points, edge.normal, edge.tangent)
@@ -393,16 +419,6 @@ def _edge_terms(condition: EdgeCondition) -> list[tuple[float, str, str, EdgeLoa
     if condition.kind == "symmetric":
         return [(+1.0, "w", "shear", condition.shear), (+1.0, "moment", "slope", None)]
     raise ValueError(f"unknown edge condition {condition.kind!r}")
-
-
-def clamped_free_corners(problem: PlateProblem) -> list[str]:
-    """The plate's corners where a clamped edge meets a free one (a loaded edge, a moving
-    line's member edge, is free in its bending problem), named by their two edges
-    (``"left/bottom"``). Their fields go like non-integer powers of the distance to the corner
-    (Williams' plate wedges), which the rays follow slowly (``docs/accuracy.md`` section 8)."""
-    kinds = [problem.condition(name).kind for name in EDGE_NAMES]
-    return [f"{EDGE_NAMES[c - 1]}/{EDGE_NAMES[c]}" for c in range(4)
-            if {kinds[c - 1], kinds[c]} == {"clamped", "free"}]
 
 
 def _static_shear(condition: EdgeCondition) -> bool:

@@ -76,7 +76,14 @@ from solver.plate import (
     particular_field,
     particular_traces,
 )
-from solver.rays import RayBasis, gauss_legendre, node_exponentials, tensor_grid_field
+from solver.plate_corners import touches, wedge_edge_traces
+from solver.rays import (
+    RayBasis,
+    end_graded_rule,
+    gauss_legendre,
+    node_exponentials,
+    tensor_grid_field,
+)
 from solver.solution import CaseSolution
 
 __all__ = ["PowerFlow", "power_flow", "plate_powers", "kinetic_energies", "plate_gauss_axes",
@@ -151,6 +158,10 @@ def _edge_field(problem: PlateProblem, basis: RayBasis, amplitudes: np.ndarray,
     keys = ("w", "slope", "tangential", "moment", "twist", "shear_q")
     rays = basis.sector_means(node_exponentials(basis, points),
                               np.array([factors[key] for key in keys]))
+    if basis.wedges:
+        wedges = wedge_edge_traces(basis.wedges, basis.kappa, problem.bending_stiffness,
+                                   problem.poisson_ratio, points, edge.normal, edge.tangent, keys)
+        rays = np.concatenate([rays, np.array([wedges[key] for key in keys])], axis=2)
     particular = particular_traces(problem, points, edge.normal, edge.tangent)
     return {key: values @ amplitudes + particular[key] for key, values in zip(keys, rays)}
 
@@ -166,8 +177,12 @@ def plate_powers(problem: PlateProblem, basis: RayBasis,
         w = evaluate_field(problem, basis, amplitudes, np.array([force.position]))["w"][0]
         forces += force.amplitude * np.conj(w)
     for edge in plate_edges(problem.size):
-        x, wq = gauss_legendre(edge_rule_size(edge.length, k_max, sources, edge))
-        s, wq = 0.5 * edge.length * (x + 1.0), 0.5 * edge.length * wq
+        n = edge_rule_size(edge.length, k_max, sources, edge)
+        if any(touches(family, edge) for family in basis.wedges):  # singular shear at its end
+            s, wq = end_graded_rule(edge.length, n)
+        else:
+            x, wq = gauss_legendre(n)
+            s, wq = 0.5 * edge.length * (x + 1.0), 0.5 * edge.length * wq
         field = _edge_field(problem, basis, amplitudes, edge, s)
         boundary += wq @ (field["shear_q"] * np.conj(field["w"])
                           - field["twist"] * np.conj(field["tangential"])

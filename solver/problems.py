@@ -14,9 +14,11 @@ from assembly.geometry import EDGE_NAMES
 from assembly.lines import free_ends, given_supports, meeting_ends, symmetry_halves
 from solver.kirchhoff import complex_bending_stiffness
 from solver.plate import EdgeCondition, EdgeLoad, PlateProblem, PointForce
-from solver.rays import RayBasis, RayCounts, automatic_ray_counts, build_ray_basis
+from solver.plate_corners import WedgeFamily, clamped_free_wedges
+from solver.rays import RayBasis, RayCounts, WedgeBasis, automatic_ray_counts, build_ray_basis
 
 __all__ = ["plate_problem", "plate_problems", "plate_ray_counts", "plate_basis", "plate_bases",
+           "plate_wedges",
            "joint_edge_kinds", "SINGULAR_END_REACH", "singular_end_plates", "MEETING_END_REACH",
            "meeting_end_plates", "FREE_END_REACH", "free_end_plates", "edge_reach"]
 
@@ -235,14 +237,33 @@ def plate_ray_counts(case: Case, plate_id: str, problem: PlateProblem,
     )
 
 
+def plate_wedges(case: Case, plate_id: str, problem: PlateProblem) -> tuple[WedgeFamily, ...]:
+    """The corner functions of the plate's corners where a clamped edge meets a free one
+    (:func:`solver.plate_corners.clamped_free_wedges`): a free or loaded edge, or a member edge
+    of a moving line. A coplanar joint's edge does not count: the plate continues across it,
+    and the assembled field has no corner there."""
+    kinds = [problem.condition(name).kind for name in EDGE_NAMES]
+    for joint in case.joints.values():
+        if joint.kind == "coplanar":
+            for side in joint.sides:
+                if side.plate == plate_id:
+                    kinds[EDGE_NAMES.index(side.edge)] = "joined"
+    return clamped_free_wedges(problem.size, kinds, problem.poisson_ratio)
+
+
 def plate_basis(case: Case, plate_id: str, problem: PlateProblem,
                 resolution: float | Mapping[str, float] | None = None) -> RayBasis:
-    """Ray basis of one plate (counts from :func:`plate_ray_counts`)."""
+    """Shape functions of one plate: rays (counts from :func:`plate_ray_counts`), and the
+    corner functions of :func:`plate_wedges` after them."""
     counts = plate_ray_counts(case, plate_id, problem, resolution)
     settings = case.discretisation
-    return build_ray_basis(problem.size, problem.kappa, counts,
-                           n_q=settings.quadrature_per_sector,
-                           tau=edge_reach(case, plate_id))
+    rays = build_ray_basis(problem.size, problem.kappa, counts,
+                           n_q=settings.quadrature_per_sector, tau=edge_reach(case, plate_id))
+    wedges = plate_wedges(case, plate_id, problem)
+    if not wedges:
+        return rays
+    return WedgeBasis(rays.k, rays.origin, rays.weight, rays.n_q, rays.family, problem.kappa,
+                      wedges)
 
 
 def plate_bases(case: Case, problems: Mapping[str, PlateProblem],
@@ -253,7 +274,7 @@ def plate_bases(case: Case, problems: Mapping[str, PlateProblem],
     bases, shared = {}, {}
     for pid, problem in problems.items():
         key = (problem.size, problem.kappa, plate_ray_counts(case, pid, problem, resolution),
-               edge_reach(case, pid))
+               edge_reach(case, pid), plate_wedges(case, pid, problem))
         if key not in shared:
             shared[key] = plate_basis(case, pid, problem, resolution)
         bases[pid] = shared[key]

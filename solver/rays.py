@@ -56,10 +56,12 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from assembly.geometry import EdgeGeometry, plate_edges
+from solver.plate_corners import WedgeFamily, wedge_field
 
 __all__ = [
     "RayCounts",
     "RayBasis",
+    "WedgeBasis",
     "automatic_ray_counts",
     "tensor_grid_field",
     "build_ray_basis",
@@ -68,6 +70,8 @@ __all__ = [
     "line_exponentials",
     "edge_exponentials",
     "gauss_legendre",
+    "CORNER_GRADING",
+    "end_graded_rule",
 ]
 
 
@@ -178,6 +182,11 @@ class RayBasis:
         return self.n_rays
 
     @property
+    def wedges(self) -> tuple[WedgeFamily, ...]:
+        """The corner functions after the rays (none here; see :class:`WedgeBasis`)."""
+        return ()
+
+    @property
     def n_rays(self) -> int:
         """The dofs that are sector means of rays, the first ones (all of them here; a
         :class:`solver.membrane_basis.MembraneBasis` may add corner functions after them)."""
@@ -204,6 +213,62 @@ class RayBasis:
         blocks = nodal.reshape(n_points, self.n_rays, self.n_q).transpose(1, 0, 2)
         weighted = (factors * self.weight).reshape(-1, self.n_rays, self.n_q).transpose(1, 2, 0)
         return np.matmul(blocks, weighted).transpose(2, 1, 0)
+
+
+@dataclass(frozen=True)
+class WedgeBasis(RayBasis):
+    r"""A plate's rays followed by the corner functions of its clamped-free corners
+    (:mod:`solver.plate_corners`), dofs ``n_rays`` on.
+
+    Attributes
+    ----------
+    kappa : complex
+        The plate's bending wavenumber, which the corner functions are built with.
+    corner_wedges : tuple of :class:`solver.plate_corners.WedgeFamily`
+    """
+
+    kappa: complex
+    corner_wedges: tuple[WedgeFamily, ...]
+
+    @property
+    def n_dof(self) -> int:
+        return self.n_rays + sum(len(family) for family in self.corner_wedges)
+
+    @property
+    def wedges(self) -> tuple[WedgeFamily, ...]:
+        return self.corner_wedges
+
+
+CORNER_GRADING = (6, 0.15)
+r"""Panels and ratio of an edge rule's geometric grading towards a corner with corner functions
+(:func:`end_graded_rule`): the innermost panel is :math:`0.25\cdot0.15^5 = 1.9\times10^{-5}` of
+the edge. In-plane (:func:`solver.membrane.membrane_edge_rule`), where the tractions grow as
+:math:`r^{\lambda - 1}` (:math:`\lambda = 0.758`), :math:`\int_0^\epsilon r^{\lambda - 1}ds`
+is 2.6e-4 of the whole there, itself integrated by that panel's Gauss rule; on
+``cases/stiffened_panel.toml`` at 184.8 Hz the in-plane changes between resolutions are the
+same to two digits with (12, 0.2), (8, 0.2) or (4, 0.15), and up to 40 % larger without
+grading; at 1 kHz the far bay's weak in-plane field moves with the grading at the coarsest
+step (its change from resolution 1.25 to 1.875: 9e-2 here, 5.5e-1 with (4, 0.15)). In bending
+(:func:`solver.plate.boundary_traces`) the Kirchhoff shear of the corner functions grows as
+:math:`r^{\mu - 3}`, :math:`\mathrm{Re}\,\mu - 3 = -0.93`; a plate clamped on one edge,
+0.3 x 0.4 m, 2 mm, at 300 Hz: ``w`` the same to 7e-7 with 4, 6, 9 or 14 panels, 4.5e-5 off
+without grading."""
+
+
+def end_graded_rule(length: float, n: int) -> tuple[np.ndarray, np.ndarray]:
+    r"""Gauss points (arc lengths) and weights on an edge of ``length`` whose two end quarters are
+    cut into geometric panels (:data:`CORNER_GRADING`), each with as many points per unit
+    length as an ``n``-point rule on the whole edge and at least 8. Both ends are graded alike,
+    so that the points stay symmetric (:func:`line_exponentials`)."""
+    panels, ratio = CORNER_GRADING
+    fractions = 0.25 * ratio ** np.arange(panels)
+    cuts = np.concatenate([[0.0], fractions[::-1], 1.0 - fractions, [1.0]]) * length
+    points, weights = [], []
+    for a, b in zip(cuts[:-1], cuts[1:]):
+        x, w = gauss_legendre(max(8, math.ceil(n * (b - a) / length) + 2))
+        points.append(a + 0.5 * (b - a) * (x + 1.0))
+        weights.append(0.5 * (b - a) * w)
+    return np.concatenate(points), np.concatenate(weights)
 
 
 def _sector_nodes(lower: float, upper: float, n_sectors: int,
@@ -392,21 +457,21 @@ def ray_field(basis: RayBasis, points: ArrayLike,
     orders = [_DERIVATIVE_ORDERS[name] for name in quantities]
     factors = np.array([basis.k[:, 0] ** a * basis.k[:, 1] ** b for a, b in orders])
     step = max(1, FIELD_CHUNK_ENTRIES // max(1, len(basis.k)))
-    if len(points) <= step:
-        return dict(zip(quantities, basis.sector_means(node_exponentials(basis, points),
-                                                       factors)))
     out = {name: np.empty((len(points), basis.n_dof), dtype=complex) for name in quantities}
     for start in range(0, len(points), step):
         chunk = slice(start, start + step)
         means = basis.sector_means(node_exponentials(basis, points[chunk]), factors)
         for name, values in zip(quantities, means):
-            out[name][chunk] = values
+            out[name][chunk, :basis.n_rays] = values
+    if basis.wedges:
+        for name, values in wedge_field(basis.wedges, basis.kappa, points, quantities).items():
+            out[name][:, basis.n_rays:] = values
     return out
 
 
 def tensor_grid_field(basis: RayBasis, amplitudes: ArrayLike, xs: ArrayLike,
                       ys: ArrayLike) -> np.ndarray:
-    r"""The rays' part of :math:`w` on the tensor grid ``xs`` x ``ys``, shape (len(xs), len(ys));
+    r"""The shape functions' part of :math:`w` on the tensor grid ``xs`` x ``ys``, shape (len(xs), len(ys));
     for amplitudes of shape (n_dof, m), m fields of one basis, shape (m, len(xs), len(ys)).
 
     Every node exponential separates, :math:`e^{k_x(x - x_r) + k_y(y - y_r)} =
@@ -419,10 +484,15 @@ def tensor_grid_field(basis: RayBasis, amplitudes: ArrayLike, xs: ArrayLike,
     """
     amplitudes = np.asarray(amplitudes)
     columns = amplitudes.reshape(len(amplitudes), -1)
-    node_amplitudes = basis.weight[:, None] * np.repeat(columns, basis.n_q, axis=0)
+    node_amplitudes = basis.weight[:, None] * np.repeat(columns[:basis.n_rays], basis.n_q, axis=0)
     ex = np.exp(basis.k[:, 0, None] * (np.asarray(xs)[None, :] - basis.origin[:, 0, None]))
     ey = np.exp(basis.k[:, 1, None] * (np.asarray(ys)[None, :] - basis.origin[:, 1, None]))
     fields = np.stack([ex.T @ (a[:, None] * ey) for a in node_amplitudes.T])
+    if basis.wedges:  # the corner functions point by point: they do not separate
+        x, y = np.meshgrid(xs, ys, indexing="ij")
+        values = wedge_field(basis.wedges, basis.kappa, np.column_stack([x.ravel(), y.ravel()]))
+        fields += np.moveaxis((values["w"] @ columns[basis.n_rays:]).reshape(
+            x.shape + (-1,)), -1, 0)
     return fields[0] if amplitudes.ndim == 1 else fields
 
 
