@@ -290,16 +290,23 @@ def _pair_traces(
                for e, edge_keys, c in zip(edges, keys, constants)]
     values = basis.sector_means(shared, np.concatenate([f[:-1] for f in factors]))
     twists = basis.sector_means(shared[[0, -1]], np.array([f[-1] for f in factors]))
+    if basis.wedges:  # both edges at once, at arc lengths u along each (u is symmetric)
+        wedges = wedge_edge_traces(
+            basis.wedges, basis.kappa, problem.bending_stiffness, problem.poisson_ratio,
+            np.concatenate([e.start + u[:, None] * e.tangent for e in edges]),
+            np.repeat([e.normal for e in edges], len(u), axis=0),
+            np.repeat([e.tangent for e in edges], len(u), axis=0),
+            tuple(set().union(*keys)) + ("twist",))
     traces, start = [], 0
     for i, (edge, edge_keys) in enumerate(zip(edges, keys)):
         step = int(np.sign(edge.tangent[axis]))  # an edge against the axis runs backwards
         block = values[start:start + len(edge_keys), ::step]
         start += len(edge_keys)
         edge_traces = dict(zip(edge_keys, block)) | {"twist": twists[i, ::step]}
-        if basis.wedges:  # at arc lengths u along the edge itself (u is symmetric)
-            wedges = _wedge_traces(problem, basis, edge, u, edge_keys + ("twist",))
-            wedges["twist"] = wedges["twist"][[0, -1]]
-            edge_traces = {key: np.hstack([value, wedges[key]])
+        if basis.wedges:
+            rows = slice(i * len(u), (i + 1) * len(u))
+            edge_traces = {key: np.hstack([value, wedges[key][rows][[0, -1]] if key == "twist"
+                                           else wedges[key][rows]])
                            for key, value in edge_traces.items()}
         traces.append(edge_traces)
     return s, weights, traces

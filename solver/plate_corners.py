@@ -65,6 +65,7 @@ from dataclasses import dataclass
 
 import numpy as np
 import scipy.special
+from numpy.typing import ArrayLike
 
 from assembly.geometry import EdgeGeometry, plate_edges
 
@@ -192,7 +193,7 @@ Request = tuple[float, float, complex, int]
 r"""A value wanted of :func:`_values`: :math:`\alpha J_\nu e^{j\nu\theta} + \beta R_\nu` at
 the angles ``sign * theta``, as ``(alpha, beta, nu, sign)``."""
 
-_CHUNK = 2000  # points at a time: the integrands are (points, nodes, orders) arrays
+_CHUNK = 2000  # points at a time: the series terms are (points, terms, orders) arrays
 
 
 def _series_values(z: np.ndarray, theta: np.ndarray, requests: Sequence[Request]) -> np.ndarray:
@@ -319,14 +320,13 @@ def _values(z: np.ndarray, theta: np.ndarray, r: np.ndarray,
         betas, orders = np.array([(r[1], r[2]) for r in requests]).T
         out[corner] = -betas * np.sinc(orders)
     small = ~corner & (np.abs(z) < SERIES_BELOW)
-    if small.any():
-        out[small] = _series_values(z[small], theta[small], requests)
     for start in range(0, len(z), _CHUNK):
         chunk = np.zeros(len(z), bool)
         chunk[start:start + _CHUNK] = True
-        large = chunk & ~corner & ~small
-        if large.any():
-            out[large] = _integral_values(z[large], theta[large], requests)
+        for part, values in ((chunk & small, _series_values),
+                             (chunk & ~corner & ~small, _integral_values)):
+            if part.any():
+                out[part] = values(z[part], theta[part], requests)
     return out
 
 
@@ -385,25 +385,30 @@ def _product(*operators: dict) -> dict[tuple[int, int], complex]:
 
 
 def _apply(operator: dict, derivatives: dict) -> np.ndarray:
-    return sum(c * derivatives[key] for key, c in operator.items())
+    """``operator`` applied: its coefficients are numbers, or one per point (n,)."""
+    return sum(np.reshape(c, (-1, 1)) * derivatives[key] for key, c in operator.items())
 
 
-def _local_direction(family: WedgeFamily, vector: Sequence[float]) -> complex:
-    return complex(vector[0], vector[1]) * complex(math.cos(family.angle),
-                                                   -math.sin(family.angle))
+def _local_direction(family: WedgeFamily, vector: np.ndarray) -> np.ndarray:
+    """Unit vectors (n, 2) of the plate's frame as complex numbers in the wedge's frame."""
+    return (vector[:, 0] + 1j * vector[:, 1]) * complex(math.cos(family.angle),
+                                                        -math.sin(family.angle))
 
 
 def wedge_edge_traces(families: Sequence[WedgeFamily], kappa: complex,
                       bending_stiffness: complex, poisson_ratio: float, points: np.ndarray,
-                      normal: Sequence[float], tangent: Sequence[float],
+                      normal: ArrayLike, tangent: ArrayLike,
                       keys: Sequence[str]) -> dict[str, np.ndarray]:
-    r"""Edge quantities of the corner functions at ``points`` of an edge (``normal``,
-    ``tangent``), any of ``w``, ``slope`` (:math:`\partial_nw`), ``tangential``
+    r"""Edge quantities of the corner functions at ``points`` on edges (``normal``,
+    ``tangent``: one unit vector (2,), or one per point (n, 2)), any of ``w``, ``slope`` (:math:`\partial_nw`), ``tangential``
     (:math:`\partial_sw`), ``moment`` (:math:`M_n = -D^*(w_{nn} + \nu w_{tt})`), ``twist``
     (:math:`M_{nt} = -D^*(1-\nu)w_{nt}`), ``shear`` (:math:`K_n = -D^*(w_{nnn} +
     (2-\nu)w_{ntt})`), ``shear_q`` (:math:`Q_n = -D^*(w_{nnn} + w_{ntt})`): each
     (len(points), total functions), families side by side."""
     d, nu = bending_stiffness, poisson_ratio
+    points = np.asarray(points, float)
+    normal = np.broadcast_to(np.asarray(normal, float), points.shape)
+    tangent = np.broadcast_to(np.asarray(tangent, float), points.shape)
     columns: dict[str, list[np.ndarray]] = {key: [] for key in keys}
     for family in families:
         n = _directional(_local_direction(family, normal))
