@@ -91,14 +91,14 @@ class MeshTrial:
 
 
 @BilinearForm
-def _bending(u, v, w):
+def bending_form(u, v, w):
     """Bending form with unit rigidity: (1-nu) u_,ab v_,ab + nu lap u lap v."""
     nu = w.nu
     return (1.0 - nu) * ddot(dd(u), dd(v)) + nu * trace(dd(u)) * trace(dd(v))
 
 
 @BilinearForm
-def _mass(u, v, _):
+def mass_form(u, v, _):
     """Unit mass form: u v."""
     return u * v
 
@@ -209,8 +209,8 @@ def solve_fem(
     # A fresh element per mesh: ElementGlobal caches its inverse Vandermonde
     # matrices (one per triangle) on the instance.
     basis = Basis(mesh, ElementTriArgyris())
-    K = bending_stiffness(E, nu, h) * asm(_bending, basis, nu=nu)
-    M = rho * h * asm(_mass, basis)
+    K = bending_stiffness(E, nu, h) * asm(bending_form, basis, nu=nu)
+    M = rho * h * asm(mass_form, basis)
     load = force * basis.point_source(np.asarray(force_at, dtype=float))
 
     x_edges = basis.get_dofs(lambda x: np.isclose(x[1], 0.0) | np.isclose(x[1], Ly))

@@ -29,8 +29,8 @@ import time
 import numpy as np
 from scipy.sparse import coo_matrix
 from scipy.sparse.linalg import splu
-from skfem import Basis, BilinearForm, ElementTriArgyris, MeshTri, asm
-from skfem.helpers import dd, ddot, trace
+from fem_argyris import bending_form, mass_form
+from skfem import Basis, ElementTriArgyris, MeshTri, asm
 
 
 class ArgyrisLocal(ElementTriArgyris):
@@ -114,17 +114,6 @@ class ArgyrisLocal(ElementTriArgyris):
             for jtr in range(N):
                 V[:, jtr, itr] = self.gdof(F, w, jtr)
         return V
-
-
-@BilinearForm
-def bending_form(u, v, w):
-    nu = w.nu
-    return (1.0 - nu) * ddot(dd(u), dd(v)) + nu * trace(dd(u)) * trace(dd(v))
-
-
-@BilinearForm
-def mass_form(u, v, _):
-    return u * v
 
 
 class PlateFE:
