@@ -14,8 +14,6 @@ from dataclasses import dataclass
 from assembly.case import Case
 from assembly.errors import DescriptionError, Issue, format_path
 from assembly.lines import members_coplanar
-from solver.in_plane import membrane_problems
-from solver.membrane_corners import SERIES_REACH, fixed_free_layout, series_reach
 from solver.problems import SINGULAR_END_REACH, plate_problems, plate_ray_counts
 from solver.rays import RayCounts, automatic_ray_counts
 from solver.sizing import available_memory, estimate_size
@@ -440,25 +438,6 @@ def _singular_end_issues(case: Case) -> list[tuple[_Loc, str]]:
     return warnings
 
 
-def _corner_reach_issues(case: Case, frequency: float, loc: _Loc) -> list[tuple[_Loc, str]]:
-    r"""A warning per in-plane plate with a fixed-free corner (an in-plane ``fixed`` edge
-    meeting a free or loaded one) whose shear wavenumber times its diagonal exceeds
-    :data:`solver.membrane_corners.SERIES_REACH` at ``frequency``: the corner functions that
-    follow such a corner's singular field are not used there (``docs/method.md`` section
-    10.5), and its in-plane field converges slowly near it."""
-    warnings = []
-    for pid, problem in membrane_problems(case, frequency).items():
-        reach = series_reach(problem.size, problem.wavenumbers[1])
-        if fixed_free_layout(problem.conditions) and reach > SERIES_REACH:
-            warnings.append((loc, f"at {frequency:g} Hz plate {pid}'s in-plane shear "
-                                  f"wavenumber times its diagonal is {reach:.1f}, beyond the "
-                                  f"{SERIES_REACH:g} up to which its fixed-free corners have "
-                                  "corner functions: its in-plane field converges slowly near "
-                                  "them (docs/accuracy.md section 8); split the plate with "
-                                  "coplanar joints, or lower the frequency"))
-    return warnings
-
-
 def _weights_issues(case: Case) -> list[tuple[_Loc, str]]:
     r"""A warning when the scale-free weights (``[updating] r = "auto"``) meet
     ``misfit = "global"``. The weights balance each joint's law against its own plates' data
@@ -501,9 +480,7 @@ def description_issues(
       error (spacing in mm instead of m?);
     * **loads** (if `need_loads`) -- a description without loads has a zero response;
     * **moving lines** -- a junction line whose end is a plane of symmetry for part of the
-      motion only warns, moving or held by default (:func:`_singular_end_issues`), and so does
-      a plate whose fixed-free in-plane corners are beyond its corner functions' reach
-      (:func:`_corner_reach_issues`);
+      motion only warns, moving or held by default (:func:`_singular_end_issues`);
     * **weights** -- the scale-free weights with ``misfit = "global"`` warn
       (:func:`_weights_issues`).
 
@@ -548,7 +525,6 @@ def description_issues(
         override_errors, override_warnings = _override_issues(rays)
         errors += override_errors
         warnings += override_warnings + _thin_plate_issues(rays, f, f_loc)
-    warnings += _corner_reach_issues(case, f, f_loc)
     errors += _size_issues(plates, f, f_loc)
     resolution_errors, resolution_warnings = _resolution_issues(case, plates)
     errors += resolution_errors

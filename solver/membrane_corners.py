@@ -56,10 +56,12 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
+import scipy.special
 
 from assembly.geometry import plate_edges
+from solver.plate_corners import bessel_waves
 
-__all__ = ["CORNER_EXPONENT_LIMIT", "SERIES_REACH", "series_reach", "fixed_free_exponents",
+__all__ = ["CORNER_EXPONENT_LIMIT", "CLOSED_FORMS_BEYOND", "fixed_free_exponents",
            "CornerFamily",
            "corner_family", "fixed_free_layout", "fixed_free_corners", "corner_fields",
            "corner_displacements", "plane_stress_resultants"]
@@ -71,11 +73,10 @@ in-plane change between resolutions 1.25 and 1.875 on the worst plate: 1.8e-1 wi
 functions, 1.1e-1 with the first exponent, 1.2e-2 with three, 7.9e-4 with five
 (``docs/method.md`` section 10.5)."""
 
-SERIES_REACH = 15.0
-r"""Corner functions are used where :math:`|k_S|` times the plate's diagonal is at most this
-(a 0.5 x 0.4 m steel plate to about 12 kHz): the series alternate, and their largest terms,
-about :math:`e^{|k_S|r}`, would cost more than :math:`e^{15}\epsilon\approx 7\times10^{-10}`
-to cancellation beyond."""
+CLOSED_FORMS_BEYOND = 4.0
+r"""Beyond :math:`|k_S|r =` this the corner functions are evaluated in closed form, from
+Bessel functions (:func:`solver.plate_corners.bessel_waves`), and below it by their series,
+whose largest terms are then about :math:`I_0(4) = 11`."""
 
 SERIES_TOLERANCE = 1e-17
 """The series are summed until a term of the largest radius falls below this fraction."""
@@ -269,12 +270,19 @@ class CornerFamily:
         The four series of each exponent (:func:`_wedge_functions`), exponent after exponent.
     combinations : ndarray of complex, shape (4 n_exponents, n_exponents)
         Column :math:`e`: the static eigenfunction of exponent :math:`e` on its four series.
+    exponents, wavenumbers : the exponents :math:`\lambda` and :math:`(k_L, k_S)`
+    series_radius : float
+        Beyond this distance from the corner the four functions are evaluated in closed form
+        (:func:`_closed_fields`), where their series would lose digits to cancellation.
     """
 
     point: np.ndarray
     frame: np.ndarray
     functions: _Series
     combinations: np.ndarray
+    exponents: tuple[complex, ...] = ()
+    wavenumbers: tuple[complex, complex] = (0j, 0j)
+    series_radius: float = math.inf
 
     @property
     def n_functions(self) -> int:
@@ -303,20 +311,16 @@ def corner_family(point: np.ndarray, fixed_direction: np.ndarray, free_direction
     fixed_first = bool(np.allclose(turned, free_direction))
     first, second = ((fixed_direction, free_direction) if fixed_first
                      else (free_direction, fixed_direction))
-    n_terms = _series_length(k_shear, radius)
+    series_radius = CLOSED_FORMS_BEYOND / abs(k_shear)
+    n_terms = _series_length(k_shear, min(radius, series_radius))
     exponents = fixed_free_exponents(float(poisson_ratio))
     functions, combinations = [], np.zeros((4 * len(exponents), len(exponents)), complex)
     for e, lam in enumerate(exponents):
         functions.append(_wedge_functions(lam, k_long**2, k_shear**2, n_terms))
         combinations[4 * e:4 * e + 4, e] = _static_null_vector(lam, fixed_first, poisson_ratio)
     return CornerFamily(np.asarray(point, float), np.column_stack([first, second]),
-                        _Series.stack(functions), combinations)
-
-
-def series_reach(size: Sequence[float], k_shear: complex) -> float:
-    """:math:`|k_S|` times the plate's diagonal: what the series must reach (against
-    :data:`SERIES_REACH`)."""
-    return abs(k_shear) * math.hypot(*size)
+                        _Series.stack(functions), combinations, exponents,
+                        (complex(k_long), complex(k_shear)), series_radius)
 
 
 def fixed_free_layout(conditions: Sequence[str]) -> tuple[tuple[int, bool], ...]:
@@ -332,10 +336,7 @@ def fixed_free_layout(conditions: Sequence[str]) -> tuple[tuple[int, bool], ...]
 def fixed_free_corners(size: tuple[float, float], conditions: Sequence[str],
                        poisson_ratio: float, k_long: complex, k_shear: complex
                        ) -> tuple[CornerFamily, ...]:
-    """The :class:`CornerFamily` of every corner of :func:`fixed_free_layout`; none beyond
-    :data:`SERIES_REACH`."""
-    if series_reach(size, k_shear) > SERIES_REACH:
-        return ()
+    """The :class:`CornerFamily` of every corner of :func:`fixed_free_layout`."""
     diagonal = math.hypot(*size)
     edges = plate_edges(size)
     families = []
@@ -346,6 +347,79 @@ def fixed_free_corners(size: tuple[float, float], conditions: Sequence[str],
         families.append(corner_family(edges[i].start, fixed, free, poisson_ratio, k_long,
                                       k_shear, diagonal))
     return tuple(families)
+
+
+def _potential_derivatives(mu: complex, k: complex, sign: int, z: np.ndarray,
+                           theta: np.ndarray, order: int) -> dict[tuple[int, int], np.ndarray]:
+    r""":math:`D^a\bar D^b P` (:math:`D = \partial_x + j\partial_y`, :math:`a + b\le` ``order``)
+    of :math:`P = \Gamma(\mu+1)(2/k)^\mu J_\mu(kr)e^{\pm j\mu\theta}` (``sign``), whose
+    series is :math:`\sum_m c_m(k^2)z^{\mu+m}\bar z^m` (or its mirror): with the ladders
+    :math:`D(J_\nu e^{j\nu\theta}) = -kJ_{\nu+1}e^{j(\nu+1)\theta}`,
+    :math:`\bar D(J_\nu e^{j\nu\theta}) = kJ_{\nu-1}e^{j(\nu-1)\theta}`, and the mirror's with
+    :math:`D` and :math:`\bar D` exchanged."""
+    scale = np.exp(scipy.special.loggamma(mu + 1.0) + mu * np.log(2.0 / k))
+    steps = [(a, n - a) for n in range(order + 1) for a in range(n + 1)]
+    shifts = [(a - b) if sign > 0 else (b - a) for a, b in steps]
+    waves = bessel_waves([mu + d for d in sorted(set(shifts))], k * z, sign * theta)
+    column = {d: i for i, d in enumerate(sorted(set(shifts)))}
+    return {(a, b): scale * k ** (a + b) * (-1.0) ** (a if sign > 0 else b)
+            * waves[:, column[d]] for (a, b), d in zip(steps, shifts)}
+
+
+def _cartesian(derivatives: dict[tuple[int, int], np.ndarray]) -> dict[str, np.ndarray]:
+    """``f_x, f_y, f_xx, f_xy, f_yy`` from :math:`D^a\bar D^b f`."""
+    d = derivatives
+    out = {"x": 0.5 * (d[1, 0] + d[0, 1]), "y": -0.5j * (d[1, 0] - d[0, 1])}
+    if (2, 0) in d:
+        out |= {"xx": 0.25 * (d[2, 0] + 2 * d[1, 1] + d[0, 2]),
+                "yy": -0.25 * (d[2, 0] - 2 * d[1, 1] + d[0, 2]),
+                "xy": -0.25j * (d[2, 0] - d[0, 2])}
+    return out
+
+
+def _closed_fields(family: CornerFamily, local: np.ndarray, gradient: bool
+                   ) -> tuple[np.ndarray, np.ndarray | None]:
+    r"""The four functions of each exponent of ``family`` (those of :func:`_wedge_functions`,
+    in its order) in closed form at ``local`` (points, 2), the corner's frame: ``u`` (points,
+    2, 4 n) and, if ``gradient``, :math:`\partial_ju_i` (points, 2, 2, 4 n). With
+    :math:`P_\pm(\mu, k)` of :func:`_potential_derivatives`:
+    :math:`F_1^\pm = \nabla P_\pm(\lambda+1, k_L)` and
+    :math:`F_2^\pm = (\nabla P_\pm(\lambda-1, k_L) \pm j\nabla\times P_\pm(\lambda-1, k_S))
+    / (k_S^2 - k_L^2)`, exactly the sums of their series (the cancelling :math:`m = 0` terms
+    included: :math:`\nabla h \pm j\nabla\times h = 0` for those static terms)."""
+    k_long, k_shear = family.wavenumbers
+    r = np.hypot(local[:, 0], local[:, 1])
+    theta = np.arctan2(local[:, 1], local[:, 0])
+    order = 2 if gradient else 1
+
+    def gradient_of(f):  # u = grad f
+        u = np.stack([f["x"], f["y"]], axis=1)
+        return u, (np.stack([np.stack([f["xx"], f["xy"]], axis=1),
+                             np.stack([f["xy"], f["yy"]], axis=1)], axis=1) if gradient else None)
+
+    def curl_of(g):  # u = curl (g e_z)
+        u = np.stack([g["y"], -g["x"]], axis=1)
+        return u, (np.stack([np.stack([g["xy"], g["yy"]], axis=1),
+                             np.stack([-g["xx"], -g["xy"]], axis=1)], axis=1)
+                   if gradient else None)
+
+    fields = []
+    for lam in family.exponents:
+        for sign in (1, -1):
+            fields.append(gradient_of(_cartesian(_potential_derivatives(
+                lam + 1.0, k_long, sign, r, theta, order))))
+        for sign in (1, -1):
+            u_l, g_l = gradient_of(_cartesian(_potential_derivatives(
+                lam - 1.0, k_long, sign, r, theta, order)))
+            u_s, g_s = curl_of(_cartesian(_potential_derivatives(
+                lam - 1.0, k_shear, sign, r, theta, order)))
+            denominator = k_shear**2 - k_long**2
+            fields.append(((u_l + sign * 1j * u_s) / denominator,
+                           (g_l + sign * 1j * g_s) / denominator if gradient else None))
+    # F_1^+, F_1^-, F_2^+, F_2^- per exponent, as the series are stacked
+    fields = [fields[4 * e + i] for e in range(len(family.exponents)) for i in (0, 1, 2, 3)]
+    u = np.stack([f[0] for f in fields], axis=-1)
+    return u, (np.stack([f[1] for f in fields], axis=-1) if gradient else None)
 
 
 def _stacked(families: tuple[CornerFamily, ...]
@@ -377,7 +451,15 @@ def _plate_axes(families: tuple[CornerFamily, ...], points: np.ndarray, gradient
     :math:`\nabla\mathbf u = Q\nabla'\mathbf u'Q^T`."""
     series, corners, frames, combinations, rotations = _stacked(families)
     local = np.einsum("nfa,fab->nfb", points[:, None, :] - corners[None], frames)
-    u, derivatives = _local_fields(series, local, len(series.alpha) // len(families), gradient)
+    repeats = len(series.alpha) // len(families)
+    u, derivatives = _local_fields(series, local, repeats, gradient)
+    for f, family in enumerate(families):
+        far = np.hypot(local[:, f, 0], local[:, f, 1]) > family.series_radius
+        if far.any():
+            columns = slice(f * repeats, (f + 1) * repeats)
+            u[far, :, columns], closed = _closed_fields(family, local[far, f], gradient)
+            if gradient:
+                derivatives[far, :, :, columns] = closed
     u = np.einsum("fia,naf->nif", rotations, u @ combinations)
     if derivatives is None:
         return u, None

@@ -71,7 +71,7 @@ from assembly.geometry import EdgeGeometry, plate_edges
 
 __all__ = ["CLAMPED_FREE_EXPONENT_LIMIT", "SERIES_BELOW", "clamped_free_exponents",
            "WedgeFamily", "clamped_free_wedges", "touches", "wedge_derivatives", "wedge_field",
-           "wedge_edge_traces"]
+           "wedge_edge_traces", "bessel_waves"]
 
 CLAMPED_FREE_EXPONENT_LIMIT = 4.0
 r"""Exponents :math:`\mu` (:math:`w\sim r^\mu`) with :math:`1 < \mathrm{Re}\,\mu <` this get
@@ -328,6 +328,15 @@ def _values(z: np.ndarray, theta: np.ndarray, r: np.ndarray,
             if part.any():
                 out[part] = values(z[part], theta[part], requests)
     return out
+
+
+def bessel_waves(orders: Sequence[complex], z: np.ndarray, theta: np.ndarray) -> np.ndarray:
+    r""":math:`J_\nu(z)e^{j\nu\theta}` for every order ``nu`` at the points (``z``, ``theta``),
+    (len(z), len(orders)), ``z`` in the right half-plane and away from 0: by series below
+    :data:`SERIES_BELOW`, by the bounded integrals of the module docstring above it, where a
+    series would lose its digits to cancellation (about :math:`e^{|z|}\epsilon`)."""
+    z, theta = np.asarray(z, complex), np.asarray(theta, float)
+    return _values(z, theta, np.abs(z), [(1.0, 0.0, complex(order), 1) for order in orders])
 
 
 def wedge_derivatives(family: WedgeFamily, kappa: complex, points: np.ndarray,
