@@ -20,6 +20,15 @@ members rigid, simply supported ends, 1 N on A), the in-plane condition of the e
   ``bench/bench_moving_lines.py`` with both ends planes of symmetry or shear diaphragms, 1 ->
   1.5 -> 2.25 -> 3.4 at 1 and 2.5 kHz, with the time of each solve. ``--symmetry`` runs this
   part alone (about a minute).
+* **logarithmic families** (``--log-families``, alone, about three minutes; ``docs/method.md``
+  section 10.4): ``simply_supported`` + ``roller`` ends, the usual reach, with and without two
+  families switched on for the run: in bending, the corner functions of
+  ``solver.plate_corners`` at orders ``mu +- 1e-3``, ``mu = 2, 3, 4`` (their span holds the
+  derivative in the order, ``r^mu ln r`` in the static limit) at every corner where a simply
+  supported edge meets a free one; in-plane, the four series of
+  ``solver.membrane_corners`` at degrees ``1 +- 1e-3`` and ``2 +- 1e-3``, differenced, at every
+  roller-free corner. The L fold, 1.5 -> 2.25 -> 3.4 at 300 Hz, 1 and 3 kHz, and the three-bay
+  panel at 1 and 2.5 kHz.
 
 Run: ``OPENBLAS_NUM_THREADS=1 python bench/bench_roller_ends.py [--quick]`` (the full run takes
 about fifteen minutes on two cores, most of it at the largest reaches).
@@ -28,6 +37,7 @@ about fifteen minutes on two cores, most of it at the largest reaches).
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 import time
 from pathlib import Path
@@ -152,11 +162,131 @@ def planes_of_symmetry() -> None:
             print(f"  {ends:9s} {frequency:6.0f} Hz: " + "; ".join(cells), flush=True)
 
 
+LOG_STEP = 1e-3
+"""Half the step of the order differences of :func:`log_families`."""
+
+
+def _bending_log_families(case, plate_id, problem):
+    """Corner functions at orders ``mu +- LOG_STEP``, ``mu = 2, 3, 4``, at every corner where a
+    simply supported edge meets a free one (a replacement of ``solver.problems.plate_wedges``)."""
+    from assembly.geometry import EDGE_NAMES, plate_edges
+    from solver.plate_corners import WedgeFamily
+
+    kinds = [problem.condition(name).kind for name in EDGE_NAMES]
+    edges = plate_edges(problem.size)
+    functions = tuple((mu + step, reflected, kind) for mu in (2.0, 3.0, 4.0)
+                      for step in (-LOG_STEP, LOG_STEP) for reflected in (False, True)
+                      for kind in range(3))
+    return tuple(WedgeFamily(tuple(map(float, edges[c].start)),
+                             math.atan2(edges[c].tangent[1], edges[c].tangent[0]), functions)
+                 for c in range(4) if {kinds[c - 1], kinds[c]} == {"simply_supported", "free"})
+
+
+def _membrane_log_family(point, first, second, k_long, k_shear, radius):
+    """The four series of ``solver.membrane_corners`` at degrees ``lambda +- LOG_STEP``,
+    ``lambda = 1, 2``, differenced: exact solutions whose static limits carry
+    ``r^lambda ln r``."""
+    import solver.membrane_corners as corners
+
+    n_terms = corners._series_length(k_shear, radius)
+    series, columns = [], []
+    for degree in (1.0, 2.0):
+        series += [corners._wedge_functions(degree + step, k_long**2, k_shear**2, n_terms)
+                   for step in (LOG_STEP, -LOG_STEP)]
+    for block in range(2):
+        for j in range(4):
+            column = np.zeros(16, complex)
+            column[8 * block + j], column[8 * block + 4 + j] = 0.5 / LOG_STEP, -0.5 / LOG_STEP
+            columns.append(column)
+    return corners.CornerFamily(np.asarray(point, float), np.column_stack([first, second]),
+                                corners._Series.stack(series), np.column_stack(columns))
+
+
+def _roller_panel_fields(frequency: float, resolution: float) -> tuple[dict, float]:
+    """The three-bay panel of ``bench_moving_lines.py`` with simply supported, in-plane
+    ``roller`` ends, its lines moving (``held = false``): per plate ``(w, (u, v))`` on a
+    15 x 15 grid, and the solve's time (s)."""
+    from bench_moving_lines import LOAD as PANEL_LOAD
+    from bench_moving_lines import MODEL_LOG_K
+    from bench_moving_lines import PLATES as PANEL
+    from bench_moving_lines import lines
+
+    description = folded_description(PANEL, lines(MODEL_LOG_K), PANEL_LOAD, frequency, False,
+                                     LY, resolution)
+    for boundary in description["boundaries"]:
+        if boundary["edge"].endswith(("bottom", "top")):
+            boundary["condition"], boundary["in_plane"] = "simply_supported", "roller"
+    start = time.perf_counter()
+    solution = solve_assembly(parse_case(description), frequency, residuals=False)
+    seconds = time.perf_counter() - start
+    return {name: (solution.plates[name].field(inner_grid(length, LY))["w"],
+                   solution.in_plane(name, inner_grid(length, LY)))
+            for name, (length, *_) in PANEL.items()}, seconds
+
+
+def log_families() -> None:
+    """The L fold and the three-bay panel with ``simply_supported`` + ``roller`` ends, the usual
+    reach, with and without the two logarithmic families (module notes)."""
+    import solver.in_plane as in_plane
+    from assembly.geometry import plate_edges
+
+    fixed_free_corners, fixed_free_layout = in_plane.fixed_free_corners, in_plane.fixed_free_layout
+    plate_wedges = solver.problems.plate_wedges
+
+    def corners_with_logs(size, conditions, poisson_ratio, k_long, k_shear):
+        families = list(fixed_free_corners(size, conditions, poisson_ratio, k_long, k_shear))
+        edges = plate_edges(size)
+        for i in range(4):
+            if {conditions[i - 1], conditions[i]} == {"roller", "free"}:
+                first, second = edges[i].tangent, -edges[i - 1].tangent
+                families.append(_membrane_log_family(edges[i].start, first, second, k_long,
+                                                     k_shear, math.hypot(*size)))
+        return tuple(families)
+
+    def switch(on: bool) -> None:
+        in_plane.fixed_free_corners = corners_with_logs if on else fixed_free_corners
+        in_plane.fixed_free_layout = ((lambda c: tuple(
+            (i, c[i - 1]) for i in range(4)
+            if {c[i - 1], c[i]} in ({"fixed", "free"}, {"roller", "free"})))
+            if on else fixed_free_layout)
+        solver.problems.plate_wedges = _bending_log_families if on else plate_wedges
+
+    rule = solver.problems.SINGULAR_END_REACH
+    solver.problems.SINGULAR_END_REACH = 1.0
+    print("logarithmic families: simply supported + roller ends, the usual reach; change of w, "
+          "then of (u, v), on each plate between resolutions 1.5 -> 2.25 -> 3.4")
+    try:
+        for label, frequencies in (("L fold", (300.0, 1000.0, 3000.0)),
+                                   ("panel", (1000.0, 2500.0))):
+            for frequency in frequencies:
+                for on in (False, True):
+                    switch(on)
+                    previous, cells = None, []
+                    for resolution in (1.5, 2.25, 3.4):
+                        if label == "L fold":
+                            fields, seconds, _ = fold_fields(frequency, "roller", resolution)
+                        else:
+                            fields, seconds = _roller_panel_fields(frequency, resolution)
+                        if previous is not None:
+                            cells.append(f"{differences(previous, fields)} ({seconds:.1f} s)")
+                        previous = fields
+                    print(f"  {label} {frequency:6.0f} Hz, {'with' if on else 'without'}: "
+                          + " | ".join(cells), flush=True)
+    finally:
+        switch(False)
+        solver.problems.SINGULAR_END_REACH = rule
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true")
     parser.add_argument("--symmetry", action="store_true", help="the planes of symmetry only")
+    parser.add_argument("--log-families", action="store_true",
+                        help="the logarithmic families of a mixed end only")
     args = parser.parse_args()
+    if args.log_families:
+        log_families()
+        return
     planes_of_symmetry()
     if args.symmetry:
         return
