@@ -28,7 +28,8 @@ members rigid, simply supported ends, 1 N on A), the in-plane condition of the e
   supported edge meets a free one; in-plane, the four series of
   ``solver.membrane_corners`` at degrees ``1 +- 1e-3`` and ``2 +- 1e-3``, differenced, at every
   roller-free corner. The L fold, 1.5 -> 2.25 -> 3.4 at 300 Hz, 1 and 3 kHz, and the three-bay
-  panel at 1 and 2.5 kHz.
+  panel at 1 and 2.5 kHz; ``--reach 3`` makes the members' edge waves reach three times
+  further (about fifteen minutes, most of it on the panel at 2.5 kHz).
 
 Run: ``OPENBLAS_NUM_THREADS=1 python bench/bench_roller_ends.py [--quick]`` (the full run takes
 about fifteen minutes on two cores, most of it at the largest reaches).
@@ -224,9 +225,10 @@ def _roller_panel_fields(frequency: float, resolution: float) -> tuple[dict, flo
             for name, (length, *_) in PANEL.items()}, seconds
 
 
-def log_families() -> None:
-    """The L fold and the three-bay panel with ``simply_supported`` + ``roller`` ends, the usual
-    reach, with and without the two logarithmic families (module notes)."""
+def log_families(reach: float = 1.0) -> None:
+    """The L fold and the three-bay panel with ``simply_supported`` + ``roller`` ends, the edge
+    waves of the members reaching ``reach`` times the usual, with and without the two
+    logarithmic families (module notes)."""
     import solver.in_plane as in_plane
     from assembly.geometry import plate_edges
 
@@ -252,9 +254,9 @@ def log_families() -> None:
         solver.problems.plate_wedges = _bending_log_families if on else plate_wedges
 
     rule = solver.problems.SINGULAR_END_REACH
-    solver.problems.SINGULAR_END_REACH = 1.0
-    print("logarithmic families: simply supported + roller ends, the usual reach; change of w, "
-          "then of (u, v), on each plate between resolutions 1.5 -> 2.25 -> 3.4")
+    solver.problems.SINGULAR_END_REACH = reach
+    print(f"logarithmic families: simply supported + roller ends, reach x {reach:g}; change of "
+          "w, then of (u, v), on each plate between resolutions 1.5 -> 2.25 -> 3.4")
     try:
         for label, frequencies in (("L fold", (300.0, 1000.0, 3000.0)),
                                    ("panel", (1000.0, 2500.0))):
@@ -283,9 +285,12 @@ def main() -> None:
     parser.add_argument("--symmetry", action="store_true", help="the planes of symmetry only")
     parser.add_argument("--log-families", action="store_true",
                         help="the logarithmic families of a mixed end only")
+    parser.add_argument("--reach", type=float, default=1.0,
+                        help="with --log-families: the members' edge waves' reach, times the "
+                             "usual (default 1)")
     args = parser.parse_args()
     if args.log_families:
-        log_families()
+        log_families(args.reach)
         return
     planes_of_symmetry()
     if args.symmetry:
