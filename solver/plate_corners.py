@@ -28,7 +28,8 @@ The functions added are exact solutions of :math:`\Delta^2w - \kappa^4w = 0`. Wi
   \int_0^\infty e^{-z\cosh t - \nu t}dt`, :math:`\mathrm{Re}\,z > 0`), is bounded for
   :math:`|\theta|\le\pi/2` (:math:`\cos s\ge 0` there), decays like :math:`e^{-z\cos\theta}`,
   solves :math:`(\Delta - \kappa^2)R_\nu = 0` and has the same non-integer powers of
-  :math:`r` as :math:`I_\nu e^{j\nu\theta}`; it vanishes for integer :math:`\nu`.
+  :math:`r` as :math:`I_\nu e^{j\nu\theta}`; it vanishes for integer :math:`\nu`, and not at
+  the corner: :math:`R_\nu(0) = -F_\nu(0) = -\mathrm{sinc}\,\nu`.
 
 Per exponent :math:`\mu` and per orientation (:math:`\theta` and :math:`-\theta`: the
 functions of :math:`e^{-j\nu\theta}`), three functions: :math:`J_\mu e^{j\mu\theta}`,
@@ -54,6 +55,8 @@ two summed term by term, so that cancelling leading terms cancel exactly) and
 quadrature of the integrals above and of Schläfli's
 :math:`J_\nu(z) = \frac1\pi\int_0^\pi\cos(\nu t - z\sin t)dt
 - \frac{\sin\nu\pi}\pi\int_0^\infty e^{-z\sinh t - \nu t}dt`, every integrand bounded.
+The in-plane corner functions use the same Bessel functions beyond the reach of their own
+series (:func:`bessel_waves`, :mod:`solver.membrane_corners`).
 """
 
 from __future__ import annotations
