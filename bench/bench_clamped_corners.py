@@ -31,8 +31,8 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path[:0] = [str(ROOT), str(ROOT / "tests"), str(ROOT / "bench")]
 
-from support import folded_description, folded_w  # noqa: E402
-from test_moving_lines import LY, SHAPES  # noqa: E402
+from support import folded_w  # noqa: E402
+from test_moving_lines import LY, SHAPES, clamped_t_junction  # noqa: E402
 
 import solver.problems  # noqa: E402
 from assembly import parse_case  # noqa: E402
@@ -66,8 +66,7 @@ def plate_solve(problem: PlateProblem, resolution: float, wedges: bool):
         if wedges:
             families = clamped_free_wedges(SIZE, [problem.condition(n).kind for n in EDGE_NAMES],
                                            NU)
-            basis = WedgeBasis(rays.k, rays.origin, rays.weight, rays.n_q, rays.family,
-                               problem.kappa, families)
+            basis = WedgeBasis.extending(rays, problem.kappa, families)
         solution = solve_plate(problem, basis)
         times.append(time.process_time() - start)
     return solution.field(GRID)["w"], min(times), basis.n_dof
@@ -105,16 +104,6 @@ def plate_study(frequencies: list[float], fem: bool) -> None:
                       f"{errors}")
 
 
-def stiffener(frequency: float, resolution: float) -> dict:
-    plates, lines, load = SHAPES["T"]
-    description = folded_description(plates, lines, load, frequency, None, LY, resolution)
-    for boundary in description["boundaries"]:
-        if boundary["edge"].endswith(("bottom", "top")):
-            boundary["condition"] = "clamped"
-            boundary.pop("in_plane")
-    return description
-
-
 def stiffener_study(frequencies: list[float]) -> None:
     print("A stiffener with clamped ends (the T junction of tests/test_moving_lines.py): "
           "change of T1's w between resolutions; time of one solve at 1.5")
@@ -125,7 +114,7 @@ def stiffener_study(frequencies: list[float]) -> None:
             solver.problems.plate_wedges = wedges if on else (lambda *args: ())
             fields, seconds = [], 0.0
             for resolution in RESOLUTIONS:
-                case = parse_case(stiffener(frequency, resolution))
+                case = parse_case(clamped_t_junction(frequency, resolution))
                 times = []
                 for _ in range(3 if resolution == 1.5 else 1):
                     start = time.process_time()

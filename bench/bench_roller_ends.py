@@ -109,17 +109,25 @@ def largest_change(a: dict, b: dict, component: int) -> float:
                / np.linalg.norm(b[name][component]) for name in a)
 
 
-def panel_fields(frequency: float, ends: str, resolution: float) -> tuple[dict, float]:
+def panel_fields(frequency: float, ends: str, resolution: float,
+                 supports: tuple[str, str] | None = None) -> tuple[dict, float]:
     """The three-bay panel of ``bench_moving_lines.py`` with both ends ``ends``
-    (``support.FOLD_ENDS``), its lines moving by default: per plate ``(w, (u, v))`` on a 15 x
-    15 grid, and the solve's time (s)."""
+    (``support.FOLD_ENDS``), its lines moving by default, or with the end edges' ``(bending,
+    in-plane)`` conditions ``supports`` and its lines moving (``held = false``): per plate
+    ``(w, (u, v))`` on a 15 x 15 grid, and the solve's time (s)."""
     from bench_moving_lines import LOAD as PANEL_LOAD
     from bench_moving_lines import MODEL_LOG_K
     from bench_moving_lines import PLATES as PANEL
     from bench_moving_lines import lines
 
-    case = parse_case(folded_description(PANEL, lines(MODEL_LOG_K), PANEL_LOAD, frequency, None,
-                                         LY, resolution, ends=ends))
+    description = folded_description(PANEL, lines(MODEL_LOG_K), PANEL_LOAD, frequency,
+                                     None if supports is None else False, LY, resolution,
+                                     ends=ends)
+    if supports is not None:
+        for boundary in description["boundaries"]:
+            if boundary["edge"].endswith(("bottom", "top")):
+                boundary["condition"], boundary["in_plane"] = supports
+    case = parse_case(description)
     assert case.moving_lines() == ("W1", "W2")
     start = time.perf_counter()
     solution = solve_assembly(case, frequency, residuals=False)
@@ -203,28 +211,6 @@ def _membrane_log_family(point, first, second, k_long, k_shear, radius):
                                 corners._Series.stack(series), np.column_stack(columns))
 
 
-def _roller_panel_fields(frequency: float, resolution: float) -> tuple[dict, float]:
-    """The three-bay panel of ``bench_moving_lines.py`` with simply supported, in-plane
-    ``roller`` ends, its lines moving (``held = false``): per plate ``(w, (u, v))`` on a
-    15 x 15 grid, and the solve's time (s)."""
-    from bench_moving_lines import LOAD as PANEL_LOAD
-    from bench_moving_lines import MODEL_LOG_K
-    from bench_moving_lines import PLATES as PANEL
-    from bench_moving_lines import lines
-
-    description = folded_description(PANEL, lines(MODEL_LOG_K), PANEL_LOAD, frequency, False,
-                                     LY, resolution)
-    for boundary in description["boundaries"]:
-        if boundary["edge"].endswith(("bottom", "top")):
-            boundary["condition"], boundary["in_plane"] = "simply_supported", "roller"
-    start = time.perf_counter()
-    solution = solve_assembly(parse_case(description), frequency, residuals=False)
-    seconds = time.perf_counter() - start
-    return {name: (solution.plates[name].field(inner_grid(length, LY))["w"],
-                   solution.in_plane(name, inner_grid(length, LY)))
-            for name, (length, *_) in PANEL.items()}, seconds
-
-
 def log_families(reach: float = 1.0) -> None:
     """The L fold and the three-bay panel with ``simply_supported`` + ``roller`` ends, the edge
     waves of the members reaching ``reach`` times the usual, with and without the two
@@ -268,7 +254,9 @@ def log_families(reach: float = 1.0) -> None:
                         if label == "L fold":
                             fields, seconds, _ = fold_fields(frequency, "roller", resolution)
                         else:
-                            fields, seconds = _roller_panel_fields(frequency, resolution)
+                            fields, seconds = panel_fields(
+                                frequency, "diaphragm", resolution,
+                                ("simply_supported", "roller"))
                         if previous is not None:
                             cells.append(f"{differences(previous, fields)} ({seconds:.1f} s)")
                         previous = fields

@@ -38,7 +38,7 @@ from numpy.typing import ArrayLike
 from assembly.geometry import EDGE_NAMES, EdgeGeometry, plate_edges
 from solver.dense import factorise_dense
 from solver.membrane_basis import MembraneBasis, membrane_edge_traces, membrane_field
-from solver.rays import end_graded_rule, gauss_legendre
+from solver.rays import edge_rule
 
 __all__ = [
     "IN_PLANE_CONDITIONS",
@@ -139,18 +139,9 @@ def membrane_edge_rule(edge: EdgeGeometry, basis: MembraneBasis) -> tuple[np.nda
     section 5.3). Towards an end where the plate has corner functions
     (:mod:`solver.membrane_corners`), whose tractions grow as :math:`r^{\lambda - 1}`, the
     quarter of the edge next to it and the other end's quarter are cut into geometric panels
-    (:func:`solver.rays.end_graded_rule`)."""
-    k_max = float(np.max(np.abs(basis.k)))
-    n = math.ceil(0.75 * k_max * edge.length) + 10
-    end = edge.start + edge.length * edge.tangent
-    graded = [any(np.allclose(point, family.point) for family in basis.corners)
-              for point in (edge.start, end)]
-    if not any(graded):
-        x, w = gauss_legendre(n)
-        return 0.5 * edge.length * (x + 1.0), 0.5 * edge.length * w
-    # both ends graded alike: the points stay symmetric, and the rays' exponentials on them
-    # factor (solver.rays.edge_exponentials)
-    return end_graded_rule(edge.length, n)
+    (:func:`solver.rays.edge_rule`)."""
+    n = math.ceil(0.75 * float(np.max(np.abs(basis.k))) * edge.length) + 10
+    return edge_rule([edge], n, [family.point for family in basis.corners])
 
 
 def assemble_membrane(problem: MembraneProblem, basis: MembraneBasis,

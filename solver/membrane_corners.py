@@ -59,7 +59,7 @@ import numpy as np
 import scipy.special
 
 from assembly.geometry import plate_edges
-from solver.plate_corners import bessel_waves
+from solver.plate_corners import WedgeFamily, newton_roots, wedge_field
 
 __all__ = ["CORNER_EXPONENT_LIMIT", "CLOSED_FORMS_BEYOND", "fixed_free_exponents",
            "CornerFamily",
@@ -75,7 +75,7 @@ functions, 1.1e-1 with the first exponent, 1.2e-2 with three, 7.9e-4 with five
 
 CLOSED_FORMS_BEYOND = 4.0
 r"""Beyond :math:`|k_S|r =` this the corner functions are evaluated in closed form, from
-Bessel functions (:func:`solver.plate_corners.bessel_waves`), and below it by their series,
+Bessel functions (:func:`solver.plate_corners.wedge_field`), and below it by their series,
 whose largest terms are then about :math:`I_0(4) = 11`."""
 
 SERIES_TOLERANCE = 1e-17
@@ -86,9 +86,10 @@ SERIES_TOLERANCE = 1e-17
 def fixed_free_exponents(poisson_ratio: float) -> tuple[complex, ...]:
     r"""The roots :math:`\lambda` of :math:`f(\lambda) = 1 + \kappa^2 + 2\kappa\cos(\pi\lambda)
     - 4\lambda^2` with :math:`0 < \mathrm{Re}\,\lambda <` :data:`CORNER_EXPONENT_LIMIT`,
-    :math:`\kappa = (3 - \nu)/(1 + \nu)`, by Newton's method from a grid of starts, sorted by
-    real part (conjugate pairs, negative imaginary part first); integer roots (1 and 2 at
-    :math:`\nu = 0`) are left out, their fields being polynomials."""
+    :math:`\kappa = (3 - \nu)/(1 + \nu)`, by Newton's method from a grid of starts
+    (:func:`solver.plate_corners.newton_roots`), sorted by real part (conjugate pairs, negative
+    imaginary part first); integer roots (1 and 2 at :math:`\nu = 0`) are left out, their
+    fields being polynomials."""
     kappa = (3.0 - poisson_ratio) / (1.0 + poisson_ratio)
 
     def f(lam: complex) -> complex:
@@ -97,20 +98,9 @@ def fixed_free_exponents(poisson_ratio: float) -> tuple[complex, ...]:
     def slope(lam: complex) -> complex:
         return -2.0 * np.pi * kappa * np.sin(np.pi * lam) - 8.0 * lam
 
-    roots: list[complex] = []
-    for start in (complex(x, y) for x in np.arange(0.1, CORNER_EXPONENT_LIMIT + 1.0, 0.25)
-                  for y in (-1.5, -0.5, 0.0, 0.5, 1.5)):
-        lam = start
-        for _ in range(100):
-            step = f(lam) / slope(lam)
-            lam -= step
-            if abs(step) < 1e-15 * max(1.0, abs(lam)):
-                break
-        integer = abs(lam - round(lam.real)) < 1e-9  # a polynomial field: the rays have it
-        if (abs(f(lam)) < 1e-11 and 0.0 < lam.real < CORNER_EXPONENT_LIMIT and not integer
-                and all(abs(lam - r) > 1e-8 for r in roots)):
-            roots.append(complex(lam.real, 0.0 if abs(lam.imag) < 1e-12 else lam.imag))
-    return tuple(sorted(roots, key=lambda r: (round(r.real, 8), r.imag)))
+    starts = (complex(x, y) for x in np.arange(0.1, CORNER_EXPONENT_LIMIT + 1.0, 0.25)
+              for y in (-1.5, -0.5, 0.0, 0.5, 1.5))
+    return newton_roots(f, slope, starts, 0.0, CORNER_EXPONENT_LIMIT, 1e-15)
 
 
 @dataclass(frozen=True)
@@ -349,48 +339,28 @@ def fixed_free_corners(size: tuple[float, float], conditions: Sequence[str],
     return tuple(families)
 
 
-def _potential_derivatives(mu: complex, k: complex, sign: int, z: np.ndarray,
-                           theta: np.ndarray, order: int) -> dict[tuple[int, int], np.ndarray]:
-    r""":math:`D^a\bar D^b P` (:math:`D = \partial_x + j\partial_y`, :math:`a + b\le` ``order``)
-    of :math:`P = \Gamma(\mu+1)(2/k)^\mu J_\mu(kr)e^{\pm j\mu\theta}` (``sign``), whose
-    series is :math:`\sum_m c_m(k^2)z^{\mu+m}\bar z^m` (or its mirror): with the ladders
-    :math:`D(J_\nu e^{j\nu\theta}) = -kJ_{\nu+1}e^{j(\nu+1)\theta}`,
-    :math:`\bar D(J_\nu e^{j\nu\theta}) = kJ_{\nu-1}e^{j(\nu-1)\theta}`, and the mirror's with
-    :math:`D` and :math:`\bar D` exchanged."""
-    scale = np.exp(scipy.special.loggamma(mu + 1.0) + mu * np.log(2.0 / k))
-    steps = [(a, n - a) for n in range(order + 1) for a in range(n + 1)]
-    shifts = [(a - b) if sign > 0 else (b - a) for a, b in steps]
-    waves = bessel_waves([mu + d for d in sorted(set(shifts))], k * z, sign * theta)
-    column = {d: i for i, d in enumerate(sorted(set(shifts)))}
-    return {(a, b): scale * k ** (a + b) * (-1.0) ** (a if sign > 0 else b)
-            * waves[:, column[d]] for (a, b), d in zip(steps, shifts)}
-
-
-def _cartesian(derivatives: dict[tuple[int, int], np.ndarray]) -> dict[str, np.ndarray]:
-    """``f_x, f_y, f_xx, f_xy, f_yy`` from :math:`D^a\bar D^b f`."""
-    d = derivatives
-    out = {"x": 0.5 * (d[1, 0] + d[0, 1]), "y": -0.5j * (d[1, 0] - d[0, 1])}
-    if (2, 0) in d:
-        out |= {"xx": 0.25 * (d[2, 0] + 2 * d[1, 1] + d[0, 2]),
-                "yy": -0.25 * (d[2, 0] - 2 * d[1, 1] + d[0, 2]),
-                "xy": -0.25j * (d[2, 0] - d[0, 2])}
-    return out
-
-
 def _closed_fields(family: CornerFamily, local: np.ndarray, gradient: bool
                    ) -> tuple[np.ndarray, np.ndarray | None]:
     r"""The four functions of each exponent of ``family`` (those of :func:`_wedge_functions`,
     in its order) in closed form at ``local`` (points, 2), the corner's frame: ``u`` (points,
     2, 4 n) and, if ``gradient``, :math:`\partial_ju_i` (points, 2, 2, 4 n). With
-    :math:`P_\pm(\mu, k)` of :func:`_potential_derivatives`:
-    :math:`F_1^\pm = \nabla P_\pm(\lambda+1, k_L)` and
-    :math:`F_2^\pm = (\nabla P_\pm(\lambda-1, k_L) \pm j\nabla\times P_\pm(\lambda-1, k_S))
+    :math:`P_\pm(\mu, k) = \Gamma(\mu+1)(2/k)^\mu J_\mu(kr)e^{\pm j\mu\theta}`, whose series
+    is :math:`\sum_m c_m(k^2)z^{\mu+m}\bar z^m` (or its mirror), and its derivatives from
+    :func:`solver.plate_corners.wedge_field`: :math:`F_1^\pm = \nabla P_\pm(\lambda+1, k_L)`
+    and :math:`F_2^\pm = (\nabla P_\pm(\lambda-1, k_L) \pm j\nabla\times P_\pm(\lambda-1, k_S))
     / (k_S^2 - k_L^2)`, exactly the sums of their series (the cancelling :math:`m = 0` terms
     included: :math:`\nabla h \pm j\nabla\times h = 0` for those static terms)."""
     k_long, k_shear = family.wavenumbers
-    r = np.hypot(local[:, 0], local[:, 1])
-    theta = np.arctan2(local[:, 1], local[:, 0])
-    order = 2 if gradient else 1
+    names = ("w_x", "w_y") + (("w_xx", "w_xy", "w_yy") if gradient else ())
+
+    def potentials(orders: list[complex], k: complex) -> dict[str, np.ndarray]:
+        """The derivatives ``names`` of :math:`P_+` and :math:`P_-` of each order, side by
+        side (points, 2 orders)."""
+        functions = tuple((order, reflected, 0) for order in orders for reflected in (False, True))
+        values = wedge_field((WedgeFamily((0.0, 0.0), 0.0, functions),), k, local, names)
+        scale = np.repeat([np.exp(scipy.special.loggamma(order + 1.0) + order * np.log(2.0 / k))
+                           for order in orders], 2)
+        return {name.removeprefix("w_"): value * scale for name, value in values.items()}
 
     def gradient_of(f):  # u = grad f
         u = np.stack([f["x"], f["y"]], axis=1)
@@ -403,23 +373,20 @@ def _closed_fields(family: CornerFamily, local: np.ndarray, gradient: bool
                              np.stack([-g["xx"], -g["xy"]], axis=1)], axis=1)
                    if gradient else None)
 
-    fields = []
-    for lam in family.exponents:
-        for sign in (1, -1):
-            fields.append(gradient_of(_cartesian(_potential_derivatives(
-                lam + 1.0, k_long, sign, r, theta, order))))
-        for sign in (1, -1):
-            u_l, g_l = gradient_of(_cartesian(_potential_derivatives(
-                lam - 1.0, k_long, sign, r, theta, order)))
-            u_s, g_s = curl_of(_cartesian(_potential_derivatives(
-                lam - 1.0, k_shear, sign, r, theta, order)))
-            denominator = k_shear**2 - k_long**2
-            fields.append(((u_l + sign * 1j * u_s) / denominator,
-                           (g_l + sign * 1j * g_s) / denominator if gradient else None))
-    # F_1^+, F_1^-, F_2^+, F_2^- per exponent, as the series are stacked
-    fields = [fields[4 * e + i] for e in range(len(family.exponents)) for i in (0, 1, 2, 3)]
-    u = np.stack([f[0] for f in fields], axis=-1)
-    return u, (np.stack([f[1] for f in fields], axis=-1) if gradient else None)
+    lams = list(family.exponents)
+    u_first, g_first = gradient_of(potentials([lam + 1.0 for lam in lams], k_long))
+    u_long, g_long = gradient_of(potentials([lam - 1.0 for lam in lams], k_long))
+    u_shear, g_shear = curl_of(potentials([lam - 1.0 for lam in lams], k_shear))
+    signs = np.tile([1.0, -1.0], len(lams))  # F_2^+ and F_2^- of each exponent
+    u_second = (u_long + 1j * signs * u_shear) / (k_shear**2 - k_long**2)
+    # per exponent F_1^+, F_1^-, F_2^+, F_2^-, as the series are stacked
+    order = np.concatenate([[2 * e, 2 * e + 1, 2 * len(lams) + 2 * e, 2 * len(lams) + 2 * e + 1]
+                            for e in range(len(lams))])
+    u = np.concatenate([u_first, u_second], axis=-1)[..., order]
+    if not gradient:
+        return u, None
+    g_second = (g_long + 1j * signs * g_shear) / (k_shear**2 - k_long**2)
+    return u, np.concatenate([g_first, g_second], axis=-1)[..., order]
 
 
 def _stacked(families: tuple[CornerFamily, ...]

@@ -59,12 +59,11 @@ from numpy.typing import ArrayLike
 from assembly.geometry import EDGE_NAMES, EdgeGeometry, edge_geometry, plate_edges
 from solver.dense import solve_dense
 from solver.kirchhoff import point_force_derivatives, wave_edge_factors
-from solver.plate_corners import touches, wedge_edge_traces
+from solver.plate_corners import wedge_edge_traces
 from solver.rays import (
     RayBasis,
     edge_exponentials,
-    end_graded_rule,
-    gauss_legendre,
+    edge_rule,
     line_exponentials,
     ray_field,
 )
@@ -80,6 +79,7 @@ __all__ = [
     "assemble_plate",
     "edge_projection",
     "edge_values",
+    "shape_traces",
     "edge_rule_size",
     "particular_traces",
     "PlateSolution",
@@ -247,9 +247,12 @@ _TRACE_KEYS = ("w", "slope", "moment", "shear")
 
 def _trace_factors(problem: PlateProblem, basis: RayBasis, edge: EdgeGeometry,
                    keys: Iterable[str]) -> np.ndarray:
-    """Factor of each node for each trace in ``keys``, shape (len(keys), n_nodes)."""
+    r"""Factor of each node for each trace in ``keys``, shape (len(keys), n_nodes): those of
+    :func:`solver.kirchhoff.wave_edge_factors`, ``w`` and ``shear_q`` (:math:`Q_n = K_n -
+    \partial_sM_{nt}`)."""
     factors = wave_edge_factors(basis.k, edge.normal, edge.tangent, problem.bending_stiffness,
                                 problem.poisson_ratio) | {"w": np.ones(len(basis.k))}
+    factors["shear_q"] = factors["shear"] - factors["tangential"] * factors["twist"]
     return np.array([factors[key] for key in keys])
 
 
@@ -277,11 +280,7 @@ def _pair_traces(
     """
     axis = int(np.argmax(np.abs(edges[0].tangent)))
     length = edges[0].length
-    if any(touches(family, edge) for family in basis.wedges for edge in edges):
-        s, weights = end_graded_rule(length, q)
-    else:
-        x, w = gauss_legendre(q)
-        s, weights = 0.5 * length * (x + 1.0), 0.5 * length * w
+    s, weights = edge_rule(edges, q, [family.point for family in basis.wedges])
     u = np.concatenate([[0.0], s, [length]])  # symmetric: u[::-1] = length - u
     shared, constants = line_exponentials(basis, axis, u, [e.start[1 - axis] for e in edges])
     # each edge's node constants fold into its trace factors: one sector-mean product serves
@@ -312,13 +311,20 @@ def _pair_traces(
     return s, weights, traces
 
 
-def _wedge_traces(problem: PlateProblem, basis: RayBasis, edge: EdgeGeometry, s: np.ndarray,
-                  keys: Sequence[str]) -> dict[str, np.ndarray]:
-    """The corner functions' traces ``keys`` at arc lengths ``s`` of ``edge``
-    (:func:`solver.plate_corners.wedge_edge_traces`)."""
-    return wedge_edge_traces(basis.wedges, basis.kappa, problem.bending_stiffness,
-                             problem.poisson_ratio, edge.start + s[:, None] * edge.tangent,
-                             edge.normal, edge.tangent, keys)
+def shape_traces(problem: PlateProblem, basis: RayBasis, edge: EdgeGeometry, s: np.ndarray,
+                 keys: Sequence[str]) -> dict[str, np.ndarray]:
+    """The traces ``keys`` (those of :func:`_trace_factors`) of every shape function, rays and
+    corner functions (:func:`solver.plate_corners.wedge_edge_traces`), at arc lengths ``s`` of
+    ``edge``: each (len(s), n_dof)."""
+    values = basis.sector_means(edge_exponentials(basis, edge, s),
+                                _trace_factors(problem, basis, edge, keys))
+    traces = dict(zip(keys, values))
+    if basis.wedges:
+        wedges = wedge_edge_traces(basis.wedges, basis.kappa, problem.bending_stiffness,
+                                   problem.poisson_ratio, edge.start + s[:, None] * edge.tangent,
+                                   edge.normal, edge.tangent, keys)
+        traces = {key: np.hstack([value, wedges[key]]) for key, value in traces.items()}
+    return traces
 
 
 def boundary_traces(problem: PlateProblem, basis: RayBasis) -> PlateBoundary:
@@ -402,13 +408,7 @@ def edge_values(
     key = (id(basis), problem.bending_stiffness, problem.poisson_ratio, edge_name, s.tobytes())
     rays = None if cache is None else cache.get(key)
     if rays is None:
-        nodal = edge_exponentials(basis, edge, s)
-        w, slope = basis.sector_means(nodal,
-                                      _trace_factors(problem, basis, edge, ("w", "slope")))
-        rays = {"w": w, "slope": slope}
-        if basis.wedges:
-            wedges = _wedge_traces(problem, basis, edge, s, ("w", "slope"))
-            rays = {key: np.hstack([value, wedges[key]]) for key, value in rays.items()}
+        rays = shape_traces(problem, basis, edge, s, ("w", "slope"))
         if cache is not None:
             cache[key] = rays
     part = particular_traces(problem, points, edge.normal, edge.tangent)

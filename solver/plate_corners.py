@@ -56,25 +56,25 @@ quadrature of the integrals above and of Schläfli's
 :math:`J_\nu(z) = \frac1\pi\int_0^\pi\cos(\nu t - z\sin t)dt
 - \frac{\sin\nu\pi}\pi\int_0^\infty e^{-z\sinh t - \nu t}dt`, every integrand bounded.
 The in-plane corner functions use the same Bessel functions beyond the reach of their own
-series (:func:`bessel_waves`, :mod:`solver.membrane_corners`).
+series (:func:`wedge_field` of :math:`J_\nu` alone, :mod:`solver.membrane_corners`).
 """
 
 from __future__ import annotations
 
 import functools
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
 import scipy.special
 from numpy.typing import ArrayLike
 
-from assembly.geometry import EdgeGeometry, plate_edges
+from assembly.geometry import plate_edges
 
 __all__ = ["CLAMPED_FREE_EXPONENT_LIMIT", "SERIES_BELOW", "clamped_free_exponents",
-           "WedgeFamily", "clamped_free_wedges", "touches", "wedge_derivatives", "wedge_field",
-           "wedge_edge_traces", "bessel_waves"]
+           "WedgeFamily", "clamped_free_wedges", "wedge_derivatives", "wedge_field",
+           "wedge_edge_traces", "newton_roots"]
 
 CLAMPED_FREE_EXPONENT_LIMIT = 4.0
 r"""Exponents :math:`\mu` (:math:`w\sim r^\mu`) with :math:`1 < \mathrm{Re}\,\mu <` this get
@@ -104,28 +104,39 @@ def clamped_free_exponents(poisson_ratio: float) -> tuple[complex, ...]:
     .. math:: F'' + \mu F + \nu\mu(\mu-1)F = 0\ (M_{\theta\theta} = 0),\qquad
         F''' + \mu^2F' + (1-\nu)(\mu-1)(\mu-2)F' = 0\ (V_\theta = 0),
 
-    by Newton's method from a grid of starts. At :math:`\mu = 1` and 2 the four functions are
+    by Newton's method from a grid of starts (:func:`newton_roots`). At :math:`\mu = 1` and 2 the four functions are
     not independent and the determinant vanishes for every wedge: those roots are dropped with
     the other integers (polynomial fields, which the rays carry)."""
     def det(mu: complex) -> complex:
         return complex(np.linalg.det(_wedge_conditions(mu, poisson_ratio)))
 
+    def slope(mu: complex, h: float = 1e-6) -> complex:
+        return (det(mu + h) - det(mu - h)) / (2 * h)
+
+    starts = (complex(x, y) for x in np.arange(1.1, CLAMPED_FREE_EXPONENT_LIMIT + 1.0, 0.2)
+              for y in (-1.0, -0.4, 0.0, 0.4, 1.0))
+    return newton_roots(det, slope, starts, 1.0, CLAMPED_FREE_EXPONENT_LIMIT, 1e-14)
+
+
+def newton_roots(f: Callable[[complex], complex], derivative: Callable[[complex], complex],
+                 starts: Iterable[complex], lower: float, upper: float,
+                 tolerance: float) -> tuple[complex, ...]:
+    """The distinct roots of the analytic ``f`` with ``lower < Re < upper``, not integers (the
+    wedge exponents whose fields are polynomials, which the rays carry), by Newton's method
+    from each of ``starts`` until a step falls below ``tolerance`` times the root (a start whose
+    step grows past 10 is given up); sorted by real part, then imaginary, a negligible
+    imaginary part dropped."""
     roots: list[complex] = []
-    for start in (complex(x, y) for x in np.arange(1.1, CLAMPED_FREE_EXPONENT_LIMIT + 1.0, 0.2)
-                  for y in (-1.0, -0.4, 0.0, 0.4, 1.0)):
-        mu = start
-        for _ in range(60):
-            h = 1e-6
-            step = det(mu) / ((det(mu + h) - det(mu - h)) / (2 * h))
-            mu -= step
-            if not abs(step) < 10.0:  # diverging (or nan): give this start up
+    for start in starts:
+        x = start
+        for _ in range(100):
+            step = f(x) / derivative(x)
+            x -= step
+            if not abs(step) < 10.0 or abs(step) < tolerance * max(1.0, abs(x)):
                 break
-            if abs(step) < 1e-14 * abs(mu):
-                break
-        integer = abs(mu - round(mu.real)) < 1e-6
-        if (abs(step) < 1e-10 and 1.0 < mu.real < CLAMPED_FREE_EXPONENT_LIMIT and not integer
-                and all(abs(mu - r) > 1e-7 for r in roots)):
-            roots.append(complex(mu.real, 0.0 if abs(mu.imag) < 1e-10 else mu.imag))
+        if (abs(step) < 1e-10 and lower < x.real < upper and abs(x - round(x.real)) > 1e-6
+                and all(abs(x - r) > 1e-7 for r in roots)):
+            roots.append(complex(x.real, 0.0 if abs(x.imag) < 1e-10 else x.imag))
     return tuple(sorted(roots, key=lambda r: (round(r.real, 8), r.imag)))
 
 
@@ -179,12 +190,6 @@ def clamped_free_wedges(size: Sequence[float], kinds: Sequence[str],
             families.append(WedgeFamily(tuple(map(float, edges[c].start)),
                                         math.atan2(outgoing[1], outgoing[0]), functions))
     return tuple(families)
-
-
-def touches(family: WedgeFamily, edge: EdgeGeometry) -> bool:
-    """Whether the corner of ``family`` is an end of ``edge``."""
-    return any(np.allclose(family.point, end)
-               for end in (edge.start, edge.start + edge.length * edge.tangent))
 
 
 def _gauss(n: int) -> tuple[np.ndarray, np.ndarray]:
@@ -331,15 +336,6 @@ def _values(z: np.ndarray, theta: np.ndarray, r: np.ndarray,
             if part.any():
                 out[part] = values(z[part], theta[part], requests)
     return out
-
-
-def bessel_waves(orders: Sequence[complex], z: np.ndarray, theta: np.ndarray) -> np.ndarray:
-    r""":math:`J_\nu(z)e^{j\nu\theta}` for every order ``nu`` at the points (``z``, ``theta``),
-    (len(z), len(orders)), ``z`` in the right half-plane and away from 0: by series below
-    :data:`SERIES_BELOW`, by the bounded integrals of the module docstring above it, where a
-    series would lose its digits to cancellation (about :math:`e^{|z|}\epsilon`)."""
-    z, theta = np.asarray(z, complex), np.asarray(theta, float)
-    return _values(z, theta, np.abs(z), [(1.0, 0.0, complex(order), 1) for order in orders])
 
 
 def wedge_derivatives(family: WedgeFamily, kappa: complex, points: np.ndarray,

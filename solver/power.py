@@ -58,7 +58,6 @@ from solver.joint_rules import (
     legendre_values,
     translational_stiffness,
 )
-from solver.kirchhoff import wave_edge_factors
 from solver.layout import (
     FORCE_COMPONENTS,
     LoadTerms,
@@ -75,15 +74,9 @@ from solver.plate import (
     evaluate_field,
     particular_field,
     particular_traces,
+    shape_traces,
 )
-from solver.plate_corners import touches, wedge_edge_traces
-from solver.rays import (
-    RayBasis,
-    end_graded_rule,
-    gauss_legendre,
-    node_exponentials,
-    tensor_grid_field,
-)
+from solver.rays import RayBasis, edge_rule, gauss_legendre, tensor_grid_field
 from solver.solution import CaseSolution
 
 __all__ = ["PowerFlow", "power_flow", "plate_powers", "kinetic_energies", "plate_gauss_axes",
@@ -150,20 +143,12 @@ def _edge_field(problem: PlateProblem, basis: RayBasis, amplitudes: np.ndarray,
     """Field quantities on an edge at arc lengths ``s``: ``w``, ``slope`` (outward
     :math:`\\partial_nw`), ``tangential`` (:math:`\\partial_sw`), ``moment`` (:math:`M_n`),
     ``twist`` (:math:`M_{nt}`) and ``shear_q`` (:math:`Q_n`)."""
-    points = edge.start + np.asarray(s)[:, None] * edge.tangent
-    factors = wave_edge_factors(basis.k, edge.normal, edge.tangent, problem.bending_stiffness,
-                                problem.poisson_ratio)
-    factors["w"] = np.ones(len(basis.k))
-    factors["shear_q"] = factors["shear"] - factors["tangential"] * factors["twist"]
+    s = np.asarray(s, dtype=float)
     keys = ("w", "slope", "tangential", "moment", "twist", "shear_q")
-    rays = basis.sector_means(node_exponentials(basis, points),
-                              np.array([factors[key] for key in keys]))
-    if basis.wedges:
-        wedges = wedge_edge_traces(basis.wedges, basis.kappa, problem.bending_stiffness,
-                                   problem.poisson_ratio, points, edge.normal, edge.tangent, keys)
-        rays = np.concatenate([rays, np.array([wedges[key] for key in keys])], axis=2)
-    particular = particular_traces(problem, points, edge.normal, edge.tangent)
-    return {key: values @ amplitudes + particular[key] for key, values in zip(keys, rays)}
+    traces = shape_traces(problem, basis, edge, s, keys)
+    particular = particular_traces(problem, edge.start + s[:, None] * edge.tangent, edge.normal,
+                                   edge.tangent)
+    return {key: traces[key] @ amplitudes + particular[key] for key in keys}
 
 
 def plate_powers(problem: PlateProblem, basis: RayBasis,
@@ -177,12 +162,8 @@ def plate_powers(problem: PlateProblem, basis: RayBasis,
         w = evaluate_field(problem, basis, amplitudes, np.array([force.position]))["w"][0]
         forces += force.amplitude * np.conj(w)
     for edge in plate_edges(problem.size):
-        n = edge_rule_size(edge.length, k_max, sources, edge)
-        if any(touches(family, edge) for family in basis.wedges):  # singular shear at its end
-            s, wq = end_graded_rule(edge.length, n)
-        else:
-            x, wq = gauss_legendre(n)
-            s, wq = 0.5 * edge.length * (x + 1.0), 0.5 * edge.length * wq
+        s, wq = edge_rule([edge], edge_rule_size(edge.length, k_max, sources, edge),
+                          [family.point for family in basis.wedges])
         field = _edge_field(problem, basis, amplitudes, edge, s)
         boundary += wq @ (field["shear_q"] * np.conj(field["w"])
                           - field["twist"] * np.conj(field["tangential"])

@@ -243,6 +243,8 @@ def plate_wedges(case: Case, plate_id: str, problem: PlateProblem) -> tuple[Wedg
     of a moving line. A coplanar joint's edge does not count: the plate continues across it,
     and the assembled field has no corner there."""
     kinds = [problem.condition(name).kind for name in EDGE_NAMES]
+    if "clamped" not in kinds:  # the common case, without a pass over the joints
+        return ()
     for joint in case.joints.values():
         if joint.kind == "coplanar":
             for side in joint.sides:
@@ -262,8 +264,7 @@ def plate_basis(case: Case, plate_id: str, problem: PlateProblem,
     wedges = plate_wedges(case, plate_id, problem)
     if not wedges:
         return rays
-    return WedgeBasis(rays.k, rays.origin, rays.weight, rays.n_q, rays.family, problem.kappa,
-                      wedges)
+    return WedgeBasis.extending(rays, problem.kappa, wedges)
 
 
 def plate_bases(case: Case, problems: Mapping[str, PlateProblem],

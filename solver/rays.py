@@ -49,7 +49,7 @@ from __future__ import annotations
 
 import functools
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -72,6 +72,7 @@ __all__ = [
     "gauss_legendre",
     "CORNER_GRADING",
     "end_graded_rule",
+    "edge_rule",
 ]
 
 
@@ -230,6 +231,12 @@ class WedgeBasis(RayBasis):
     kappa: complex
     corner_wedges: tuple[WedgeFamily, ...]
 
+    @classmethod
+    def extending(cls, rays: RayBasis, kappa: complex,
+                  wedges: tuple[WedgeFamily, ...]) -> WedgeBasis:
+        """``rays`` followed by the corner functions ``wedges``."""
+        return cls(rays.k, rays.origin, rays.weight, rays.n_q, rays.family, kappa, wedges)
+
     @property
     def n_dof(self) -> int:
         return self.n_rays + sum(len(family) for family in self.corner_wedges)
@@ -269,6 +276,20 @@ def end_graded_rule(length: float, n: int) -> tuple[np.ndarray, np.ndarray]:
         points.append(a + 0.5 * (b - a) * (x + 1.0))
         weights.append(0.5 * (b - a) * w)
     return np.concatenate(points), np.concatenate(weights)
+
+
+def edge_rule(edges: Sequence[EdgeGeometry], n: int,
+              corners: Iterable[ArrayLike] = ()) -> tuple[np.ndarray, np.ndarray]:
+    """Gauss points (arc lengths) and weights of an ``n``-point rule on edges of one length (an
+    edge, or two opposite ones that share their rule): uniform, or graded towards both ends
+    (:func:`end_graded_rule`) where one of ``corners`` (points of the plate with corner
+    functions, whose tractions are singular there) ends one of the edges."""
+    length = edges[0].length
+    if any(np.allclose(corner, end) for corner in corners for edge in edges
+           for end in (edge.start, edge.start + edge.length * edge.tangent)):
+        return end_graded_rule(length, n)
+    x, w = gauss_legendre(n)
+    return 0.5 * length * (x + 1.0), 0.5 * length * w
 
 
 def _sector_nodes(lower: float, upper: float, n_sectors: int,

@@ -249,6 +249,18 @@ PANEL = ({"S1": (0.5, (0.0, 0.0, 0.0), ALONG_X, 0.001, "simply_supported"),
          ("S1", 0.17, 0.13))
 
 
+def clamped_t_junction(frequency: float, resolution: float) -> dict:
+    """The T junction of :data:`SHAPES` with its ends clamped (its line moving by default):
+    four clamped-free corners on its stiffener T1."""
+    plates, lines, load = SHAPES["T"]
+    description = folded_description(plates, lines, load, frequency, None, LY, resolution)
+    for boundary in description["boundaries"]:
+        if boundary["edge"].endswith(("bottom", "top")):
+            boundary["condition"] = "clamped"
+            boundary.pop("in_plane")
+    return description
+
+
 def test_a_stiffener_with_clamped_ends_converges_with_its_corner_functions():
     """The T junction of ``tests/test_moving_lines.py`` with clamped ends: its stiffener T1's
     free top and its moving line's edge meet the clamped ends at four clamped-free corners,
@@ -257,21 +269,12 @@ def test_a_stiffener_with_clamped_ends_converges_with_its_corner_functions():
     at 300 Hz and 1 kHz, resolutions 1 and 1.5, the estimate is 0.76 to 1.5 times the error),
     and T1's w changes by 1.9e-6 between resolutions 1.5 and 2.25. Without the functions it changed by 7.4e-3, 6.2e-3
     between resolutions 1.5, 2.25, 3.4, and the tolerance stopped."""
-    plates, lines, load = SHAPES["T"]
-
-    def clamped(resolution: float) -> dict:
-        description = folded_description(plates, lines, load, 300.0, None, LY, resolution)
-        for boundary in description["boundaries"]:
-            if boundary["edge"].endswith(("bottom", "top")):
-                boundary["condition"] = "clamped"
-                boundary.pop("in_plane")
-        return description
-
-    case = parse_case(clamped(1.0))
+    plates = SHAPES["T"][0]
+    case = parse_case(clamped_t_junction(300.0, 1.0))
     assert len(plate_wedges(case, "T1", plate_problems(case, 300.0)["T1"])) == 4
     solution, estimate = solve_to_tolerance(case, 300.0, 1e-3)
     assert estimate.resolution_of("T1") == 1.0 and estimate.plates["T1"] < 1e-4
-    fields = [folded_w(solve_assembly(parse_case(clamped(resolution)), 300.0,
+    fields = [folded_w(solve_assembly(parse_case(clamped_t_junction(300.0, resolution)), 300.0,
                                       residuals=False), plates, LY)["T1"]
               for resolution in (1.5, 2.25)]
     assert np.linalg.norm(fields[1] - fields[0]) < 1e-5 * np.linalg.norm(fields[1])

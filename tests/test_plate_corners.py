@@ -200,8 +200,7 @@ def _basis(problem: PlateProblem, resolution: float, wedges: bool):
     families = clamped_free_wedges(problem.size, [problem.condition(n).kind
                                                   for n in EDGE_NAMES], NU)
     assert len(families) == 2
-    return WedgeBasis(rays.k, rays.origin, rays.weight, rays.n_q, rays.family, problem.kappa,
-                      families)
+    return WedgeBasis.extending(rays, problem.kappa, families)
 
 
 GRID = np.array([(a, b) for a in np.linspace(0.01, 0.29, 15) for b in np.linspace(0.01, 0.39, 19)])
