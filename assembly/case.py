@@ -18,7 +18,8 @@ from .checks import View, cross_check
 from .errors import AssemblyError, CrossReferenceError, listing
 from .grid import grid_points
 from .joints import CoplanarJoint, HingeJoint, Joint, JunctionJoint
-from .lines import given_supports, member_directions, moving_lines, singular_ends
+from .lines import (given_supports, hanging_members, member_directions, moving_lines,
+                    singular_ends)
 from .models import Boundary, Load, Material, Plate
 from .settings import Compute, Discretisation, Measurement, Truth, Updating, default_spacing
 from .types import (
@@ -295,6 +296,14 @@ class Case(FrozenModel):
         if not isinstance(joint, JunctionJoint):
             return []
         return singular_ends(joint, self.plates, given_supports(self.boundaries))
+
+    def hanging_members(self, joint_id: str) -> list[str]:
+        """The members of a junction line held across it in their plane by no boundary of
+        their own (:func:`assembly.lines.hanging_members`); none for another joint."""
+        joint = self.joints[joint_id]
+        if not isinstance(joint, JunctionJoint):
+            return []
+        return hanging_members(joint, self.plates, given_supports(self.boundaries))
 
     def member_directions(self, joint_id: str) -> tuple[int, ...]:
         """For each edge of a joint, +1 if it runs (counter-clockwise) along the joint line's

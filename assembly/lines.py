@@ -27,7 +27,11 @@ three-bay panel with roller ends), and the members' edge waves then reach
 :data:`solver.problems.SINGULAR_END_REACH` times further, at 10 to 100 times the cost.
 ``held = false`` moves such a line; ``vtcr check`` warns either way, of the cost or of what the
 held line leaves out, unless ``held = true`` is given
-(:func:`solver.guards.description_issues`).
+(:func:`solver.guards.description_issues`). Its warning names the members that *hang* on the
+line (:func:`hanging_members`): held across the line in their plane by no boundary edge of
+their own, as a stiffener with a free top and ``roller`` ends is. With mixed ends the line's
+end holds such a member only at a point, through another member's bending support, and
+refinement does not converge (an L fold at 1 kHz, ``bench/bench_roller_ends.py --hanging``).
 
 ``fixed`` ends, the default of a supported edge, converge since a moving line's functions stop
 at what every member's rays answer (:func:`solver.joint_rules.interface_function_count`).
@@ -46,7 +50,7 @@ from .models import FRAME_TOLERANCE
 from .types import EdgeId, parse_edge_ref
 
 __all__ = ["members_coplanar", "member_directions", "given_supports", "free_ends", "line_ends",
-           "symmetry_halves", "singular_ends", "meeting_ends", "moving_lines"]
+           "symmetry_halves", "singular_ends", "hanging_members", "meeting_ends", "moving_lines"]
 
 SYMMETRY_PLANE = ("symmetric", "roller")
 """The bending and in-plane conditions of an edge on a plane of symmetry of the structure."""
@@ -140,6 +144,42 @@ def singular_ends(joint: JunctionJoint, plates: Mapping[str, Any],
         if any(halves) and any(count < 2 for count in halves):
             singular += given
     return singular
+
+
+HOLDS_ACROSS = {"end": ("fixed", "diaphragm"), "far": ("fixed", "roller")}
+"""The in-plane conditions that hold a member's displacement across its line (along its in-plane
+normal there): on an end edge, whose tangent that normal is (``diaphragm``: :math:`u_t = 0`),
+and on the far edge, whose normal it is (``roller``: :math:`u_n = 0`)."""
+
+
+def _held_across(side: EdgeId, supports: Mapping[EdgeId, tuple[str, str]]) -> bool:
+    """Whether one of ``side``'s plate's own boundary edges holds its in-plane displacement
+    across ``side`` (:data:`HOLDS_ACROSS`); joined and free edges do not."""
+    index = EDGE_NAMES.index(side.edge)
+    far = EdgeId(side.plate, EDGE_NAMES[(index + 2) % 4])
+    ends = _neighbours(side)
+    return (any(supports[e][1] in HOLDS_ACROSS["end"] for e in ends if e in supports)
+            or (far in supports and supports[far][1] in HOLDS_ACROSS["far"]))
+
+
+def hanging_members(joint: JunctionJoint, plates: Mapping[str, Any],
+                    supports: Mapping[EdgeId, tuple[str, str]]) -> list[str]:
+    """The members of a line that hang on it (module notes): held across the line in their
+    plane by no boundary edge of their own (:func:`_held_across`), nor of a member coplanar
+    with them (the line ties their translations, and their in-plane normals are one). A
+    stiffener with a free top and ``roller`` ends hangs; the skin bays beside it, their far
+    edges fixed in-plane, do not. ``supports`` as for :func:`singular_ends`."""
+    held = [_held_across(side, supports) for side in joint.sides]
+    frames = [getattr(plates.get(side.plate), "frame", None) for side in joint.sides]
+    hanging = []
+    for i, side in enumerate(joint.sides):
+        if held[i] or frames[i] is None:
+            continue
+        if not any(held[j] and frames[j] is not None
+                   and np.linalg.norm(np.cross(frames[i].normal, frames[j].normal))
+                   < FRAME_TOLERANCE for j in range(len(held)) if j != i):
+            hanging.append(side.plate)
+    return hanging
 
 
 def meeting_ends(joint: JunctionJoint, line_of: Mapping[EdgeId, str],

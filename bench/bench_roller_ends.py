@@ -30,6 +30,12 @@ members rigid, simply supported ends, 1 N on A), the in-plane condition of the e
   roller-free corner. The L fold, 1.5 -> 2.25 -> 3.4 at 300 Hz, 1 and 3 kHz, and the three-bay
   panel at 1 and 2.5 kHz; ``--reach 3`` makes the members' edge waves reach three times
   further (about fifteen minutes, most of it on the panel at 2.5 kHz).
+* **a member hanging on the line** (``--hanging``, alone, about four minutes;
+  ``docs/method.md`` section 10.4): the same ends and families, the usual reach; the L fold
+  with B's far edge ``roller`` in-plane (B held across the line in its plane) or ``diaphragm``
+  (B held by the line alone: it hangs), and the T junction of the tests with its stiffener's
+  top simply supported and fixed or free (it hangs); 1.5 -> 2.25 -> 3.4 at 300 Hz, 1 and
+  3 kHz, then the L fold's last change at five frequencies between.
 
 Run: ``OPENBLAS_NUM_THREADS=1 python bench/bench_roller_ends.py [--quick]`` (the full run takes
 about fifteen minutes on two cores, most of it at the largest reaches).
@@ -38,6 +44,7 @@ about fifteen minutes on two cores, most of it at the largest reaches).
 from __future__ import annotations
 
 import argparse
+import contextlib
 import math
 import sys
 import time
@@ -49,7 +56,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path[:0] = [str(ROOT), str(ROOT / "tests"), str(ROOT / "bench")]
 
 from support import folded_description, inner_grid  # noqa: E402
-from test_moving_lines import L_FOLD, LY  # noqa: E402
+from test_moving_lines import L_FOLD, LY, SHAPES  # noqa: E402
 
 import solver.problems  # noqa: E402
 from assembly import parse_case  # noqa: E402
@@ -211,15 +218,16 @@ def _membrane_log_family(point, first, second, k_long, k_shear, radius):
                                 corners._Series.stack(series), np.column_stack(columns))
 
 
-def log_families(reach: float = 1.0) -> None:
-    """The L fold and the three-bay panel with ``simply_supported`` + ``roller`` ends, the edge
-    waves of the members reaching ``reach`` times the usual, with and without the two
-    logarithmic families (module notes)."""
+@contextlib.contextmanager
+def logarithmic_families(reach: float = 1.0, on: bool = True):
+    """Within the block, the members of lines with mixed ends reach ``reach`` times the usual
+    and, if ``on``, the two logarithmic families of the module notes are added (in place of
+    ``solver.in_plane``'s corner choice and ``solver.problems.plate_wedges``)."""
     import solver.in_plane as in_plane
     from assembly.geometry import plate_edges
 
     fixed_free_corners, fixed_free_layout = in_plane.fixed_free_corners, in_plane.fixed_free_layout
-    plate_wedges = solver.problems.plate_wedges
+    plate_wedges, rule = solver.problems.plate_wedges, solver.problems.SINGULAR_END_REACH
 
     def corners_with_logs(size, conditions, poisson_ratio, k_long, k_shear):
         families = list(fixed_free_corners(size, conditions, poisson_ratio, k_long, k_shear))
@@ -231,24 +239,32 @@ def log_families(reach: float = 1.0) -> None:
                                                      k_shear, math.hypot(*size)))
         return tuple(families)
 
-    def switch(on: bool) -> None:
-        in_plane.fixed_free_corners = corners_with_logs if on else fixed_free_corners
-        in_plane.fixed_free_layout = ((lambda c: tuple(
+    if on:
+        in_plane.fixed_free_corners = corners_with_logs
+        in_plane.fixed_free_layout = lambda c: tuple(
             (i, c[i - 1]) for i in range(4)
-            if {c[i - 1], c[i]} in ({"fixed", "free"}, {"roller", "free"})))
-            if on else fixed_free_layout)
-        solver.problems.plate_wedges = _bending_log_families if on else plate_wedges
-
-    rule = solver.problems.SINGULAR_END_REACH
+            if {c[i - 1], c[i]} in ({"fixed", "free"}, {"roller", "free"}))
+        solver.problems.plate_wedges = _bending_log_families
     solver.problems.SINGULAR_END_REACH = reach
+    try:
+        yield
+    finally:
+        in_plane.fixed_free_corners, in_plane.fixed_free_layout = (fixed_free_corners,
+                                                                   fixed_free_layout)
+        solver.problems.plate_wedges, solver.problems.SINGULAR_END_REACH = plate_wedges, rule
+
+
+def log_families(reach: float = 1.0) -> None:
+    """The L fold and the three-bay panel with ``simply_supported`` + ``roller`` ends, the edge
+    waves of the members reaching ``reach`` times the usual, with and without the two
+    logarithmic families (module notes)."""
     print(f"logarithmic families: simply supported + roller ends, reach x {reach:g}; change of "
           "w, then of (u, v), on each plate between resolutions 1.5 -> 2.25 -> 3.4")
-    try:
-        for label, frequencies in (("L fold", (300.0, 1000.0, 3000.0)),
-                                   ("panel", (1000.0, 2500.0))):
-            for frequency in frequencies:
-                for on in (False, True):
-                    switch(on)
+    for label, frequencies in (("L fold", (300.0, 1000.0, 3000.0)),
+                               ("panel", (1000.0, 2500.0))):
+        for frequency in frequencies:
+            for on in (False, True):
+                with logarithmic_families(reach, on):
                     previous, cells = None, []
                     for resolution in (1.5, 2.25, 3.4):
                         if label == "L fold":
@@ -260,11 +276,67 @@ def log_families(reach: float = 1.0) -> None:
                         if previous is not None:
                             cells.append(f"{differences(previous, fields)} ({seconds:.1f} s)")
                         previous = fields
-                    print(f"  {label} {frequency:6.0f} Hz, {'with' if on else 'without'}: "
-                          + " | ".join(cells), flush=True)
-    finally:
-        switch(False)
-        solver.problems.SINGULAR_END_REACH = rule
+                print(f"  {label} {frequency:6.0f} Hz, {'with' if on else 'without'}: "
+                      + " | ".join(cells), flush=True)
+
+
+def hanging_fields(shape: str, far: tuple[str, str] | None, frequency: float,
+                   resolution: float) -> dict:
+    """Per plate ``(w, (u, v))`` on a 15 x 15 grid of the L fold (``shape`` "L") or the T
+    junction ("T") of ``tests/test_moving_lines.py`` with ``simply_supported`` + ``roller``
+    ends and its line moving; ``far``: the ``(bending, in-plane)`` conditions of the far edge
+    of the member that may hang (B of the L, the stiffener T1 of the T; ``None``: as the
+    shape has it, a free top on T1)."""
+    plates, lines, load = SHAPES[shape]
+    hanging = {"L": "B", "T": "T1"}[shape]
+    if far is not None:
+        plates = dict(plates)
+        plates[hanging] = plates[hanging][:4] + (far[0],)
+    description = folded_description(plates, lines, load, frequency, False, LY, resolution)
+    for boundary in description["boundaries"]:
+        if boundary["edge"].endswith(("bottom", "top")):
+            boundary["condition"], boundary["in_plane"] = "simply_supported", "roller"
+        elif far is not None and boundary["edge"] == f"{hanging}.right":
+            boundary["in_plane"] = far[1]
+    solution = solve_assembly(parse_case(description), frequency, residuals=False)
+    return {name: (solution.plates[name].field(inner_grid(length, LY))["w"],
+                   solution.in_plane(name, inner_grid(length, LY)))
+            for name, (length, *_) in plates.items()}
+
+
+def hanging() -> None:
+    """Mixed ends with and without a member that hangs on the line (``docs/method.md`` section
+    10.4): the L fold with B's far edge held across the line in B's plane (``roller``) or not
+    (``diaphragm``), both simply supported; the T junction with its stiffener's top free (as in
+    the tests) or simply supported and fixed. Both logarithmic families, the usual reach;
+    largest change of ``w``, then of ``(u, v)``, over the plates between resolutions 1.5 ->
+    2.25 -> 3.4."""
+    print("a member hanging on the line: simply supported + roller ends, both logarithmic "
+          "families, usual reach; largest change of w, then (u, v), resolutions 1.5 -> 2.25 "
+          "-> 3.4")
+    cases = (("L", ("simply_supported", "roller"), "L fold, B's far edge roller (held)"),
+             ("L", ("simply_supported", "diaphragm"), "L fold, B's far edge diaphragm (hangs)"),
+             ("T", ("simply_supported", "fixed"), "T junction, T1's top fixed (held)"),
+             ("T", None, "T junction, T1's top free (hangs)"))
+    with logarithmic_families():
+        for shape, far, label in cases:
+            cells = []
+            for frequency in (300.0, 1000.0, 3000.0):
+                fields = [hanging_fields(shape, far, frequency, r) for r in (1.5, 2.25, 3.4)]
+                steps = list(zip(fields[1:], fields))
+                cells.append(f"{frequency:.0f} Hz: w " + ", ".join(
+                    f"{largest_change(a, b, 0):.1e}" for a, b in steps) + "; (u, v) "
+                    + ", ".join(f"{largest_change(a, b, 1):.1e}" for a, b in steps))
+            print(f"  {label}: " + " | ".join(cells), flush=True)
+        print("  the L fold across the band, change of w from 2.25 to 3.4, B's far edge roller "
+              "/ diaphragm:", flush=True)
+        for frequency in (600.0, 800.0, 1200.0, 1500.0, 2000.0):
+            cells = []
+            for far in ("roller", "diaphragm"):
+                coarse, fine = (hanging_fields("L", ("simply_supported", far), frequency, r)
+                                for r in (2.25, 3.4))
+                cells.append(f"{largest_change(fine, coarse, 0):.1e}")
+            print(f"    {frequency:6.0f} Hz: " + " / ".join(cells), flush=True)
 
 
 def main() -> None:
@@ -273,12 +345,17 @@ def main() -> None:
     parser.add_argument("--symmetry", action="store_true", help="the planes of symmetry only")
     parser.add_argument("--log-families", action="store_true",
                         help="the logarithmic families of a mixed end only")
+    parser.add_argument("--hanging", action="store_true",
+                        help="mixed ends with and without a member hanging on the line only")
     parser.add_argument("--reach", type=float, default=1.0,
                         help="with --log-families: the members' edge waves' reach, times the "
                              "usual (default 1)")
     args = parser.parse_args()
     if args.log_families:
         log_families(args.reach)
+        return
+    if args.hanging:
+        hanging()
         return
     planes_of_symmetry()
     if args.symmetry:

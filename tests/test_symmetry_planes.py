@@ -158,6 +158,36 @@ def test_lines_ending_on_planes_of_symmetry_move_and_mixed_ends_stay_held():
     assert case.singular_ends("F") == [EdgeId("A", "bottom"), EdgeId("B", "top")]
 
 
+ROLLER_ENDS = {f"{plate}_{end}": ("simply_supported", "roller")
+               for plate in ("A", "B") for end in ("bottom", "top")}
+
+
+def test_a_member_that_nothing_holds_across_the_line_hangs_on_it():
+    """A member hangs on a line when no boundary edge of its own, nor of a coplanar member,
+    holds it across the line in its plane (``docs/method.md`` section 10.4): its end edges not
+    ``fixed`` or ``diaphragm``, its far edge not ``fixed`` or ``roller``. With mixed ends
+    ``vtcr check`` names it: moving such a line does not converge."""
+    assert _fold(**ROLLER_ENDS).hanging_members("F") == []  # B's far edge fixed in-plane
+    for far, hangs in (("diaphragm", ["B"]), ("roller", []), ("free", ["B"])):
+        case = _fold(**ROLLER_ENDS, B_right=("simply_supported", far))
+        assert case.hanging_members("F") == hangs, far
+        (warning,) = check_description(case, "fold.toml")
+        assert ("B hangs on it" in warning) == bool(hangs), warning
+    # B's far edge free, but its ends hold it: diaphragm on one end edge is enough
+    held_end = _fold(**ROLLER_ENDS | {"B_bottom": ("simply_supported", "diaphragm")},
+                     B_right=("simply_supported", "diaphragm"))
+    assert held_end.hanging_members("F") == []
+    # with roller ends the T junction's stiffener (free top) hangs; its skin bays, fixed at
+    # their far edges, do not, and the inner bay of a panel is held through the coplanar bay
+    # beside it; diaphragm ends hold every member
+    from test_moving_lines import PANEL
+    for ends, hanging in (("symmetric", ["T1"]), ("diaphragm", [])):
+        tee = parse_case(folded_description(*SHAPES["T"], 1000.0, None, FOLD_LENGTH, ends=ends))
+        assert tee.hanging_members("W") == hanging, ends
+    panel = parse_case(folded_description(*PANEL, 1000.0, None, FOLD_LENGTH, ends="symmetric"))
+    assert (panel.hanging_members("W1"), panel.hanging_members("W2")) == (["T1"], ["T2"])
+
+
 def test_an_edge_moment_cannot_act_on_a_symmetric_edge():
     """A symmetric edge fixes its slope, so its moment is a reaction; a shear may act on it."""
     description = folded_description(*L_FOLD, 1000.0, None, FOLD_LENGTH, ends="symmetric")
