@@ -23,15 +23,18 @@ simply supported in bending, say), the line's translation along one member's in-
 even across the plane, is another member's deflection, odd across it: the line's data have a
 kink at the end and its loads are log-singular there (``docs/method.md`` section 10.4). With
 the usual rays refinement did not converge (2e-2 to 3e-1 between resolutions 1.5 and 2.25 on a
-three-bay panel with roller ends), and the members' edge waves then reach
-:data:`solver.problems.SINGULAR_END_REACH` times further, at 10 to 100 times the cost.
-``held = false`` moves such a line; ``vtcr check`` warns either way, of the cost or of what the
-held line leaves out, unless ``held = true`` is given
-(:func:`solver.guards.description_issues`). Its warning names the members that *hang* on the
-line (:func:`hanging_members`): held across the line in their plane by no boundary edge of
+three-bay panel with roller ends); the members of a moving line with such an end carry
+logarithmic corner functions there and reach further with their edge waves
+(:func:`solver.problems.singular_end_corners`, :data:`solver.problems.SINGULAR_END_REACH`), at
+30 to 40 times the cost of the held line. ``held = false`` moves such a line; ``vtcr check``
+warns either way, of the cost or of what the held line leaves out, unless ``held = true`` is
+given (:func:`solver.guards.description_issues`). Its warning names the members that *hang* on
+the line (:func:`hanging_members`): held across the line in their plane by no boundary edge of
 their own, as a stiffener with a free top and ``roller`` ends is. With mixed ends the line's
 end holds such a member only at a point, through another member's bending support, and
-refinement does not converge (an L fold at 1 kHz, ``bench/bench_roller_ends.py --hanging``).
+refinement converges more slowly (an L fold at 1.2 kHz, ``bench/bench_roller_ends.py
+--hanging``: 1.1e-3 between resolutions 2.25 and 3.4; the same fold held across the line,
+4.5e-7).
 
 ``fixed`` ends, the default of a supported edge, converge since a moving line's functions stop
 at what every member's rays answer (:func:`solver.joint_rules.interface_function_count`).

@@ -1,41 +1,40 @@
-"""Why a moving line with in-plane ``roller`` ends does not converge (``docs/method.md``
-section 10.4): the measurements behind the diagnosis, on the L fold of
-``tests/test_moving_lines.py`` (plates A 0.4 m and B 0.3 m, 2 mm steel, 0.5 m long line, both
-members rigid, simply supported ends, 1 N on A), the in-plane condition of the end edges
-``roller`` or ``diaphragm``, ``held = false``.
+"""Moving lines whose ends mix the halves of a plane of symmetry (in-plane ``roller`` ends
+simply supported in bending, say; ``docs/method.md`` section 10.4): the measurements behind the
+diagnosis and behind the rule (the logarithmic corner functions at such ends,
+``solver.problems.singular_end_corners``, and three times the reach,
+``solver.problems.SINGULAR_END_REACH``), on the L fold of ``tests/test_moving_lines.py``
+(plates A 0.4 m and B 0.3 m, 2 mm steel, 0.5 m long line, both members rigid, simply supported
+ends, 1 N on A), the in-plane condition of the end edges ``roller`` or ``diaphragm``,
+``held = false``. :func:`end_treatment` switches the rule's two parts for a run.
 
-* **refinement with the usual reach** (``solver.problems.SINGULAR_END_REACH`` set to 1, as
-  before the rule): the relative L2 differences of ``w`` and ``(u, v)`` on each plate between
-  resolutions 1 -> 1.5 -> 2.25 -> 3.4;
+* **refinement, the rays alone with the usual reach** (as before the rule): the relative L2
+  differences of ``w`` and ``(u, v)`` on each plate between resolutions 1 -> 1.5 -> 2.25 -> 3.4;
 * **reach of the rays** (the same): at resolution 1.5 with the line's functions fixed at 30
   (``interface_functions``), ``edge_wavenumber_ratio`` (the edge waves' reach, in bending
   wavenumbers) raised from 2.5 to 20, with ``w`` of plate B at the line's ends (a simply
   supported corner: 0 exactly) relative to B's largest ``w``; ``--quick`` stops at 10;
-* **refinement with the rule** (``SINGULAR_END_REACH`` = 6): roller ends, 1.5 -> 2.25 -> 3.4;
-* **planes of symmetry** (``docs/method.md`` section 10.4, the usual reach): the same fold with
-  the end edges' bending and in-plane conditions in each pair of the method's table (a plane of
+* **refinement with the rule**: roller ends, 1.5 -> 2.25 -> 3.4;
+* **planes of symmetry** (``--symmetry`` alone, about two minutes): the same fold with the end
+  edges' bending and in-plane conditions in each pair of the method's table (a plane of
   symmetry, ``symmetric`` with ``roller``; of antisymmetry, ``simply_supported`` with
   ``diaphragm``; and their mixes), the largest change over the plates between resolutions 1.5
-  -> 2.25 -> 3.4 at 300 Hz and 1 kHz; and the three-bay stiffened panel of
-  ``bench/bench_moving_lines.py`` with both ends planes of symmetry or shear diaphragms, 1 ->
-  1.5 -> 2.25 -> 3.4 at 1 and 2.5 kHz, with the time of each solve. ``--symmetry`` runs this
-  part alone (about a minute).
-* **logarithmic families** (``--log-families``, alone, about three minutes; ``docs/method.md``
-  section 10.4): ``simply_supported`` + ``roller`` ends, the usual reach, with and without two
-  families switched on for the run: in bending, the corner functions of
-  ``solver.plate_corners`` at orders ``mu +- 1e-3``, ``mu = 2, 3, 4`` (their span holds the
-  derivative in the order, ``r^mu ln r`` in the static limit) at every corner where a simply
-  supported edge meets a free one; in-plane, the four series of
-  ``solver.membrane_corners`` at degrees ``1 +- 1e-3`` and ``2 +- 1e-3``, differenced, at every
-  roller-free corner. The L fold, 1.5 -> 2.25 -> 3.4 at 300 Hz, 1 and 3 kHz, and the three-bay
-  panel at 1 and 2.5 kHz; ``--reach 3`` makes the members' edge waves reach three times
-  further (about fifteen minutes, most of it on the panel at 2.5 kHz).
-* **a member hanging on the line** (``--hanging``, alone, about four minutes;
-  ``docs/method.md`` section 10.4): the same ends and families, the usual reach; the L fold
-  with B's far edge ``roller`` in-plane (B held across the line in its plane) or ``diaphragm``
-  (B held by the line alone: it hangs), and the T junction of the tests with its stiffener's
-  top simply supported and fixed or free (it hangs); 1.5 -> 2.25 -> 3.4 at 300 Hz, 1 and
-  3 kHz, then the L fold's last change at five frequencies between.
+  -> 2.25 -> 3.4 at 300 Hz and 1 kHz, the rays alone, then the mixes under the rule; and the
+  three-bay stiffened panel of ``bench/bench_moving_lines.py`` with both ends planes of
+  symmetry or shear diaphragms, 1 -> 1.5 -> 2.25 -> 3.4 at 1 and 2.5 kHz, with the time of
+  each solve;
+* **logarithmic families** (``--log-families`` alone, about three minutes): ``simply_supported``
+  + ``roller`` ends, the usual reach (``--reach 3``: the rule's), with and without the rule's
+  families; the L fold, 1.5 -> 2.25 -> 3.4 at 300 Hz, 1 and 3 kHz, and the three-bay panel at
+  1 and 2.5 kHz;
+* **a member hanging on the line** (``--hanging`` alone, about six minutes): the same ends;
+  the L fold with B's far edge ``roller`` in-plane (B held across the line in its plane) or
+  ``diaphragm`` (B held by the line alone: it hangs), and the T junction of the tests with its
+  stiffener's top simply supported and fixed or free (it hangs); 1.5 -> 2.25 -> 3.4 at 300 Hz,
+  1 and 3 kHz, then the L fold's last change at five frequencies between; with the families
+  and the usual reach, then under the rule;
+* **what the rule costs** (``--rule`` alone, about five minutes): one solve at resolution 1.5
+  moving under the rule and held, on the L fold, the T junction and the panel, then the
+  panel's refinement under the rule.
 
 Run: ``OPENBLAS_NUM_THREADS=1 python bench/bench_roller_ends.py [--quick]`` (the full run takes
 about fifteen minutes on two cores, most of it at the largest reaches).
@@ -45,7 +44,6 @@ from __future__ import annotations
 
 import argparse
 import contextlib
-import math
 import sys
 import time
 from pathlib import Path
@@ -144,26 +142,37 @@ def panel_fields(frequency: float, ends: str, resolution: float,
             for name, (length, *_) in PANEL.items()}, seconds
 
 
+def symmetry_mixed(condition: str, in_plane: str) -> bool:
+    """Whether an end edge with these conditions mixes the halves of a plane of symmetry."""
+    from assembly.lines import symmetry_halves
+
+    return symmetry_halves((condition, in_plane)) == 1
+
+
 def planes_of_symmetry() -> None:
-    """The end edges' conditions by pairs, the usual reach (module notes)."""
-    rule = solver.problems.SINGULAR_END_REACH
-    solver.problems.SINGULAR_END_REACH = 1.0
-    print("planes of symmetry: the L fold, usual reach, largest change of w, then of (u, v), "
-          "over the plates (resolution 1.5 -> 2.25 -> 3.4)")
-    for condition, ends in (("symmetric", "roller"), ("simply_supported", "diaphragm"),
-                            ("simply_supported", "fixed"), ("simply_supported", "roller"),
-                            ("symmetric", "diaphragm"), ("symmetric", "fixed"),
-                            ("clamped", "roller"), ("clamped", "fixed")):
-        cells = []
-        for frequency in (300.0, 1000.0):
-            fields = [fold_fields(frequency, ends, r, condition=condition)[0]
-                      for r in (1.5, 2.25, 3.4)]
-            steps = list(zip(fields[1:], fields))
-            cells.append(f"{frequency:.0f} Hz: w " + ", ".join(
-                f"{largest_change(a, b, 0):.1e}" for a, b in steps) + "; (u, v) " + ", ".join(
-                f"{largest_change(a, b, 1):.1e}" for a, b in steps))
-        print(f"  {condition} + {ends}: " + " | ".join(cells), flush=True)
-    solver.problems.SINGULAR_END_REACH = rule
+    """The end edges' conditions by pairs, the rays alone with the usual reach, then the rule
+    at the mixed ends (module notes)."""
+    pairs = (("symmetric", "roller"), ("simply_supported", "diaphragm"),
+             ("simply_supported", "fixed"), ("simply_supported", "roller"),
+             ("symmetric", "diaphragm"), ("symmetric", "fixed"), ("clamped", "roller"),
+             ("clamped", "fixed"))
+    for label, treatment in (("the rays alone, usual reach", lambda: end_treatment(1.0, False)),
+                             ("the rule at mixed ends", contextlib.nullcontext)):
+        print(f"planes of symmetry: the L fold, {label}, largest change of w, then of (u, v), "
+              "over the plates (resolution 1.5 -> 2.25 -> 3.4)")
+        with treatment():
+            for condition, ends in pairs:
+                if label.startswith("the rule") and not symmetry_mixed(condition, ends):
+                    continue
+                cells = []
+                for frequency in (300.0, 1000.0):
+                    fields = [fold_fields(frequency, ends, r, condition=condition)[0]
+                              for r in (1.5, 2.25, 3.4)]
+                    steps = list(zip(fields[1:], fields))
+                    cells.append(f"{frequency:.0f} Hz: w " + ", ".join(
+                        f"{largest_change(a, b, 0):.1e}" for a, b in steps) + "; (u, v) "
+                        + ", ".join(f"{largest_change(a, b, 1):.1e}" for a, b in steps))
+                print(f"  {condition} + {ends}: " + " | ".join(cells), flush=True)
     print("the three-bay panel, lines moving by default (resolution 1 -> 1.5 -> 2.25 -> 3.4; "
           "the time of each solve)")
     for frequency in (1000.0, 2500.0):
@@ -178,80 +187,24 @@ def planes_of_symmetry() -> None:
             print(f"  {ends:9s} {frequency:6.0f} Hz: " + "; ".join(cells), flush=True)
 
 
-LOG_STEP = 1e-3
-"""Half the step of the order differences of :func:`log_families`."""
-
-
-def _bending_log_families(case, plate_id, problem):
-    """Corner functions at orders ``mu +- LOG_STEP``, ``mu = 2, 3, 4``, at every corner where a
-    simply supported edge meets a free one (a replacement of ``solver.problems.plate_wedges``)."""
-    from assembly.geometry import EDGE_NAMES, plate_edges
-    from solver.plate_corners import WedgeFamily
-
-    kinds = [problem.condition(name).kind for name in EDGE_NAMES]
-    edges = plate_edges(problem.size)
-    functions = tuple((mu + step, reflected, kind) for mu in (2.0, 3.0, 4.0)
-                      for step in (-LOG_STEP, LOG_STEP) for reflected in (False, True)
-                      for kind in range(3))
-    return tuple(WedgeFamily(tuple(map(float, edges[c].start)),
-                             math.atan2(edges[c].tangent[1], edges[c].tangent[0]), functions)
-                 for c in range(4) if {kinds[c - 1], kinds[c]} == {"simply_supported", "free"})
-
-
-def _membrane_log_family(point, first, second, k_long, k_shear, radius):
-    """The four series of ``solver.membrane_corners`` at degrees ``lambda +- LOG_STEP``,
-    ``lambda = 1, 2``, differenced: exact solutions whose static limits carry
-    ``r^lambda ln r``."""
-    import solver.membrane_corners as corners
-
-    n_terms = corners._series_length(k_shear, radius)
-    series, columns = [], []
-    for degree in (1.0, 2.0):
-        series += [corners._wedge_functions(degree + step, k_long**2, k_shear**2, n_terms)
-                   for step in (LOG_STEP, -LOG_STEP)]
-    for block in range(2):
-        for j in range(4):
-            column = np.zeros(16, complex)
-            column[8 * block + j], column[8 * block + 4 + j] = 0.5 / LOG_STEP, -0.5 / LOG_STEP
-            columns.append(column)
-    return corners.CornerFamily(np.asarray(point, float), np.column_stack([first, second]),
-                                corners._Series.stack(series), np.column_stack(columns))
-
-
 @contextlib.contextmanager
-def logarithmic_families(reach: float = 1.0, on: bool = True):
+def end_treatment(reach: float, families: bool = True):
     """Within the block, the members of lines with mixed ends reach ``reach`` times the usual
-    and, if ``on``, the two logarithmic families of the module notes are added (in place of
-    ``solver.in_plane``'s corner choice and ``solver.problems.plate_wedges``)."""
-    import solver.in_plane as in_plane
-    from assembly.geometry import plate_edges
+    (``solver.problems.SINGULAR_END_REACH``) and carry the logarithmic families at those ends
+    (``solver.problems.singular_end_corners``) only if ``families``: the rule's two parts
+    switched one at a time."""
+    import solver.in_plane
 
-    fixed_free_corners, fixed_free_layout = in_plane.fixed_free_corners, in_plane.fixed_free_layout
-    plate_wedges, rule = solver.problems.plate_wedges, solver.problems.SINGULAR_END_REACH
-
-    def corners_with_logs(size, conditions, poisson_ratio, k_long, k_shear):
-        families = list(fixed_free_corners(size, conditions, poisson_ratio, k_long, k_shear))
-        edges = plate_edges(size)
-        for i in range(4):
-            if {conditions[i - 1], conditions[i]} == {"roller", "free"}:
-                first, second = edges[i].tangent, -edges[i - 1].tangent
-                families.append(_membrane_log_family(edges[i].start, first, second, k_long,
-                                                     k_shear, math.hypot(*size)))
-        return tuple(families)
-
-    if on:
-        in_plane.fixed_free_corners = corners_with_logs
-        in_plane.fixed_free_layout = lambda c: tuple(
-            (i, c[i - 1]) for i in range(4)
-            if {c[i - 1], c[i]} in ({"fixed", "free"}, {"roller", "free"}))
-        solver.problems.plate_wedges = _bending_log_families
+    reach_before, corners = solver.problems.SINGULAR_END_REACH, solver.problems.singular_end_corners
     solver.problems.SINGULAR_END_REACH = reach
+    if not families:
+        solver.problems.singular_end_corners = solver.in_plane.singular_end_corners = (
+            lambda case, plate_id: ())
     try:
         yield
     finally:
-        in_plane.fixed_free_corners, in_plane.fixed_free_layout = (fixed_free_corners,
-                                                                   fixed_free_layout)
-        solver.problems.plate_wedges, solver.problems.SINGULAR_END_REACH = plate_wedges, rule
+        solver.problems.SINGULAR_END_REACH = reach_before
+        solver.problems.singular_end_corners = solver.in_plane.singular_end_corners = corners
 
 
 def log_families(reach: float = 1.0) -> None:
@@ -264,7 +217,7 @@ def log_families(reach: float = 1.0) -> None:
                                ("panel", (1000.0, 2500.0))):
         for frequency in frequencies:
             for on in (False, True):
-                with logarithmic_families(reach, on):
+                with end_treatment(reach, on):
                     previous, cells = None, []
                     for resolution in (1.5, 2.25, 3.4):
                         if label == "L fold":
@@ -307,36 +260,106 @@ def hanging_fields(shape: str, far: tuple[str, str] | None, frequency: float,
 def hanging() -> None:
     """Mixed ends with and without a member that hangs on the line (``docs/method.md`` section
     10.4): the L fold with B's far edge held across the line in B's plane (``roller``) or not
-    (``diaphragm``), both simply supported; the T junction with its stiffener's top free (as in
-    the tests) or simply supported and fixed. Both logarithmic families, the usual reach;
-    largest change of ``w``, then of ``(u, v)``, over the plates between resolutions 1.5 ->
-    2.25 -> 3.4."""
-    print("a member hanging on the line: simply supported + roller ends, both logarithmic "
-          "families, usual reach; largest change of w, then (u, v), resolutions 1.5 -> 2.25 "
-          "-> 3.4")
+    (``diaphragm``), both simply supported; the T junction with its stiffener's top simply
+    supported and fixed, or free (as in the tests). ``simply_supported`` + ``roller`` ends;
+    the logarithmic families with the usual reach, then the rule (the families and three
+    times the reach); largest change of ``w``, then of ``(u, v)``, over the plates between
+    resolutions 1.5 -> 2.25 -> 3.4, and the time of the finest solve."""
     cases = (("L", ("simply_supported", "roller"), "L fold, B's far edge roller (held)"),
              ("L", ("simply_supported", "diaphragm"), "L fold, B's far edge diaphragm (hangs)"),
              ("T", ("simply_supported", "fixed"), "T junction, T1's top fixed (held)"),
              ("T", None, "T junction, T1's top free (hangs)"))
-    with logarithmic_families():
-        for shape, far, label in cases:
-            cells = []
-            for frequency in (300.0, 1000.0, 3000.0):
-                fields = [hanging_fields(shape, far, frequency, r) for r in (1.5, 2.25, 3.4)]
-                steps = list(zip(fields[1:], fields))
-                cells.append(f"{frequency:.0f} Hz: w " + ", ".join(
-                    f"{largest_change(a, b, 0):.1e}" for a, b in steps) + "; (u, v) "
-                    + ", ".join(f"{largest_change(a, b, 1):.1e}" for a, b in steps))
-            print(f"  {label}: " + " | ".join(cells), flush=True)
-        print("  the L fold across the band, change of w from 2.25 to 3.4, B's far edge roller "
-              "/ diaphragm:", flush=True)
-        for frequency in (600.0, 800.0, 1200.0, 1500.0, 2000.0):
-            cells = []
-            for far in ("roller", "diaphragm"):
-                coarse, fine = (hanging_fields("L", ("simply_supported", far), frequency, r)
-                                for r in (2.25, 3.4))
-                cells.append(f"{largest_change(fine, coarse, 0):.1e}")
-            print(f"    {frequency:6.0f} Hz: " + " / ".join(cells), flush=True)
+    for label, treatment in (("the families, usual reach", lambda: end_treatment(1.0)),
+                             ("the rule", contextlib.nullcontext)):
+        print(f"a member hanging on the line, {label}: simply supported + roller ends; largest "
+              "change of w, then (u, v), resolutions 1.5 -> 2.25 -> 3.4", flush=True)
+        with treatment():
+            for shape, far, case in cases:
+                cells = []
+                for frequency in (300.0, 1000.0, 3000.0):
+                    fields = []
+                    for resolution in (1.5, 2.25, 3.4):
+                        start = time.perf_counter()
+                        fields.append(hanging_fields(shape, far, frequency, resolution))
+                        seconds = time.perf_counter() - start
+                    steps = list(zip(fields[1:], fields))
+                    cells.append(f"{frequency:.0f} Hz: w " + ", ".join(
+                        f"{largest_change(a, b, 0):.1e}" for a, b in steps) + "; (u, v) "
+                        + ", ".join(f"{largest_change(a, b, 1):.1e}" for a, b in steps)
+                        + f" ({seconds:.1f} s)")
+                print(f"  {case}: " + " | ".join(cells), flush=True)
+            print("  the L fold across the band, change of w from 2.25 to 3.4, B's far edge "
+                  "roller / diaphragm:", flush=True)
+            for frequency in (600.0, 800.0, 1200.0, 1500.0, 2000.0):
+                cells = []
+                for far in ("roller", "diaphragm"):
+                    coarse, fine = (hanging_fields("L", ("simply_supported", far), frequency, r)
+                                    for r in (2.25, 3.4))
+                    cells.append(f"{largest_change(fine, coarse, 0):.1e}")
+                print(f"    {frequency:6.0f} Hz: " + " / ".join(cells), flush=True)
+
+
+def best_time(solve, repeats: int = 3) -> float:
+    """The best of ``repeats`` processor times of ``solve()`` (s)."""
+    times = []
+    for _ in range(repeats):
+        start = time.process_time()
+        solve()
+        times.append(time.process_time() - start)
+    return min(times)
+
+
+def rule_cost() -> None:
+    """What the rule costs (``--rule``): one solve at resolution 1.5 with the line moving
+    under the rule and held (``held = true``), processor time, best of three, on the L fold,
+    the T junction and the three-bay panel with ``simply_supported`` + ``roller`` ends; then the
+    panel's refinement under the rule, 1.5 -> 2.25 -> 3.4."""
+    def fold(shape, frequency, held):
+        plates, lines, load = SHAPES[shape]
+        description = folded_description(plates, lines, load, frequency, held, LY, 1.5)
+        for boundary in description["boundaries"]:
+            if boundary["edge"].endswith(("bottom", "top")):
+                boundary["condition"], boundary["in_plane"] = "simply_supported", "roller"
+        return parse_case(description)
+
+    def panel(frequency, held):
+        from bench_moving_lines import LOAD as PANEL_LOAD
+        from bench_moving_lines import MODEL_LOG_K
+        from bench_moving_lines import PLATES as PANEL
+        from bench_moving_lines import lines
+
+        description = folded_description(PANEL, lines(MODEL_LOG_K), PANEL_LOAD, frequency,
+                                         held, LY, 1.5)
+        for boundary in description["boundaries"]:
+            if boundary["edge"].endswith(("bottom", "top")):
+                boundary["condition"], boundary["in_plane"] = "simply_supported", "roller"
+        return parse_case(description)
+
+    print("the rule's cost: one solve at resolution 1.5, moving under the rule / held "
+          "(processor time, best of three)", flush=True)
+    for label, build, frequencies in (("L fold", lambda f, h: fold("L", f, h), (300.0, 1000.0,
+                                                                                 3000.0)),
+                                      ("T junction", lambda f, h: fold("T", f, h), (1000.0,
+                                                                                     3000.0)),
+                                      ("panel", panel, (1000.0, 2500.0))):
+        for frequency in frequencies:
+            seconds = [best_time(lambda: solve_assembly(build(frequency, held), frequency,
+                                                        residuals=False))
+                       for held in (False, True)]
+            print(f"  {label} {frequency:6.0f} Hz: {seconds[0]:.2f} / {seconds[1]:.2f} s "
+                  f"({seconds[0] / seconds[1]:.0f}x)", flush=True)
+    print("the panel under the rule, largest change of w, then (u, v), resolutions 1.5 -> 2.25 "
+          "-> 3.4 (the time of each solve)", flush=True)
+    for frequency in (1000.0, 2500.0):
+        previous, cells = None, []
+        for resolution in (1.5, 2.25, 3.4):
+            fields, seconds = panel_fields(frequency, "diaphragm", resolution,
+                                           ("simply_supported", "roller"))
+            if previous is not None:
+                cells.append(f"w {largest_change(fields, previous, 0):.1e} (u, v) "
+                             f"{largest_change(fields, previous, 1):.1e} ({seconds:.1f} s)")
+            previous = fields
+        print(f"  {frequency:6.0f} Hz: " + "; ".join(cells), flush=True)
 
 
 def main() -> None:
@@ -347,6 +370,8 @@ def main() -> None:
                         help="the logarithmic families of a mixed end only")
     parser.add_argument("--hanging", action="store_true",
                         help="mixed ends with and without a member hanging on the line only")
+    parser.add_argument("--rule", action="store_true",
+                        help="the rule's cost against held lines, and the panel under it, only")
     parser.add_argument("--reach", type=float, default=1.0,
                         help="with --log-families: the members' edge waves' reach, times the "
                              "usual (default 1)")
@@ -357,28 +382,32 @@ def main() -> None:
     if args.hanging:
         hanging()
         return
+    if args.rule:
+        rule_cost()
+        return
     planes_of_symmetry()
     if args.symmetry:
         return
-    rule = solver.problems.SINGULAR_END_REACH
-    solver.problems.SINGULAR_END_REACH = 1.0
-    print("refinement with the usual reach (resolution 1 -> 1.5 -> 2.25 -> 3.4)")
-    for ends in ("diaphragm", "roller"):
-        for frequency in (300.0, 1000.0):
-            refinement(ends, frequency, (1.0, 1.5, 2.25, 3.4))
-    print("reach of the edge waves (resolution 1.5, 30 line functions)")
-    reaches = (2.5, 5.0, 10.0) if args.quick else (2.5, 5.0, 10.0, 15.0, 20.0)
-    for ends, frequency in (("diaphragm", 1000.0), ("roller", 1000.0), ("roller", 2500.0)):
-        previous = None
-        for tau in reaches:
-            fields, seconds, corner = fold_fields(
-                frequency, ends, 1.5, {"edge_wavenumber_ratio": tau, "interface_functions": 30})
-            change = "" if previous is None else differences(previous, fields)
-            print(f"  {ends:9s} {frequency:6.0f} Hz  tau {tau:4.1f}  {seconds:5.1f} s  "
-                  f"w_B(end)/max {corner:.1e}  {change}", flush=True)
-            previous = fields
-    solver.problems.SINGULAR_END_REACH = rule
-    print(f"refinement with the rule (reach x {rule:g}; resolution 1.5 -> 2.25 -> 3.4)")
+    with end_treatment(1.0, families=False):
+        print("refinement, the rays alone with the usual reach (resolution 1 -> 1.5 -> 2.25 "
+              "-> 3.4)")
+        for ends in ("diaphragm", "roller"):
+            for frequency in (300.0, 1000.0):
+                refinement(ends, frequency, (1.0, 1.5, 2.25, 3.4))
+        print("reach of the edge waves, the rays alone (resolution 1.5, 30 line functions)")
+        reaches = (2.5, 5.0, 10.0) if args.quick else (2.5, 5.0, 10.0, 15.0, 20.0)
+        for ends, frequency in (("diaphragm", 1000.0), ("roller", 1000.0), ("roller", 2500.0)):
+            previous = None
+            for tau in reaches:
+                fields, seconds, corner = fold_fields(
+                    frequency, ends, 1.5,
+                    {"edge_wavenumber_ratio": tau, "interface_functions": 30})
+                change = "" if previous is None else differences(previous, fields)
+                print(f"  {ends:9s} {frequency:6.0f} Hz  tau {tau:4.1f}  {seconds:5.1f} s  "
+                      f"w_B(end)/max {corner:.1e}  {change}", flush=True)
+                previous = fields
+    print(f"refinement with the rule (the logarithmic families, reach x "
+          f"{solver.problems.SINGULAR_END_REACH:g}; resolution 1.5 -> 2.25 -> 3.4)")
     for frequency in (300.0, 1000.0):
         refinement("roller", frequency, (1.5, 2.25, 3.4))
 

@@ -402,13 +402,14 @@ def _singular_end_issues(case: Case) -> list[tuple[_Loc, str]]:
     r"""A warning per junction line between non-coplanar plates whose end is a plane of
     symmetry for part of the motion only (:meth:`assembly.Case.singular_ends`: an in-plane
     ``roller`` edge simply supported in bending, say). There the line's loads are log-singular
-    at its ends, and the members' edge waves reach :data:`solver.problems.SINGULAR_END_REACH`
-    times further to follow them (``docs/method.md`` section 10.4), at 10 to 100 times the
-    cost. Such a line moves only when ``held = false`` is given, with a warning of that cost;
-    held by default, it is warned of what the held line leaves out (``held = true`` says the
-    choice is made). Both name the two consistent choices: a plane of symmetry on every
-    member (``symmetric`` with ``roller``) or none, and the members that hang on the line
-    (:meth:`assembly.Case.hanging_members`), where moving it does not converge."""
+    at its ends; its members carry logarithmic corner functions there and edge waves reaching
+    :data:`solver.problems.SINGULAR_END_REACH` times further (``docs/method.md`` section
+    10.4), at 30 to 40 times the cost of the held line. Such a line moves only when
+    ``held = false`` is given, with a warning of that cost; held by default, it is warned of
+    what the held line leaves out (``held = true`` says the choice is made). Both name the two
+    consistent choices, a plane of symmetry on every member (``symmetric`` with ``roller``) or
+    none, and the members that hang on the line (:meth:`assembly.Case.hanging_members`), where
+    refinement converges more slowly."""
     moving = set(case.moving_lines())
     warnings = []
     for jid, joint in case.joints.items():
@@ -422,25 +423,23 @@ def _singular_end_issues(case: Case) -> list[tuple[_Loc, str]]:
                'is a plane of symmetry of the structure, or in_plane = "diaphragm" or "fixed" '
                "where it is not")
         hanging = case.hanging_members(jid)
-        hangs = (f"{', '.join(hanging)} {'hangs' if len(hanging) == 1 else 'hang'} on it (no "
-                 "edge of its own holds it across the line in its plane), so the line's ends hold "
-                 "it only at a point, through another member's bending support, and "
-                 "refinement does not converge near some frequencies") if hanging else ""
+        hangs = (f"; {', '.join(hanging)} {'hangs' if len(hanging) == 1 else 'hang'} on it (no "
+                 "edge of its own holds it across the line in its plane), so the line's ends "
+                 "hold it only at a point, through another member's bending support, and "
+                 "refinement converges more slowly") if hanging else ""
         if jid in moving:
-            cost = ("at 10 to 100 times the cost; " + hangs) if hanging else (
-                "at 10 to 100 times the cost and not always to convergence")
             message = (f"junction line {jid} moves but {why}: its line loads are singular at "
-                       f"its ends, and its members' edge waves reach {SINGULAR_END_REACH:g} "
-                       f"times further to follow them, {cost} (docs/method.md section 10.4); "
+                       "its ends, where its members carry logarithmic corner functions and edge "
+                       f"waves reaching {SINGULAR_END_REACH:g} times further, at 30 to 40 "
+                       f"times the cost of the held line{hangs} (docs/method.md section 10.4); "
                        f"set held = true, or {fix}")
         elif joint.held is None and not members_coplanar(joint, case.plates):
-            cost = "moving it costs 10 to 100 times more" + (f", and {hangs}" if hanging
-                                                             else "")
             message = (f"junction line {jid} is held in translation by default: {why}, where "
-                       f"{cost} (docs/method.md section 10.4), and the held line leaves out "
-                       "its members' in-plane motion (on a three-bay stiffened panel, 2 to "
-                       "110 % of w); set held = false to move it, held = true to keep it held "
-                       f"without this warning, or {fix}")
+                       f"moving it costs 30 to 40 times more{hangs} "
+                       "(docs/method.md section 10.4), and the held line leaves out its "
+                       "members' in-plane motion (on a three-bay stiffened panel, 2 to 110 % of "
+                       "w); set held = false to move it, held = true to keep it held without "
+                       f"this warning, or {fix}")
         else:
             continue
         warnings.append((("joints", jid, "held"), message))

@@ -59,11 +59,12 @@ import numpy as np
 import scipy.special
 
 from assembly.geometry import plate_edges
-from solver.plate_corners import WedgeFamily, newton_roots, wedge_field
+from solver.plate_corners import ORDER_STEP, WedgeFamily, newton_roots, wedge_field
 
 __all__ = ["CORNER_EXPONENT_LIMIT", "CLOSED_FORMS_BEYOND", "fixed_free_exponents",
            "CornerFamily",
-           "corner_family", "fixed_free_layout", "fixed_free_corners", "corner_fields",
+           "corner_family", "fixed_free_layout", "fixed_free_corners", "LOGARITHMIC_DEGREES",
+           "logarithmic_family", "logarithmic_corners", "corner_fields",
            "corner_displacements", "plane_stress_resultants"]
 
 CORNER_EXPONENT_LIMIT = 4.0
@@ -178,11 +179,12 @@ def _wirtinger(series: _Series, log_r: np.ndarray, theta: np.ndarray, powers: np
     return (sums * np.stack(prefactors)).transpose(1, 0, 2, 3)
 
 
-def _local_fields(series: _Series, local: np.ndarray, repeats: int,
+def _local_fields(series: _Series, local: np.ndarray, repeats: int | Sequence[int],
                   gradient: bool = True) -> tuple[np.ndarray, np.ndarray | None]:
     r"""``u`` (points, 2, n) and, if ``gradient``, :math:`\partial_ju_i` (points, 2, 2, n) of
     the functions of ``series`` at ``local`` (points, corners, 2), the points in each corner's
-    frame (the plate in the quadrant x, y >= 0), the series ``repeats`` per corner: with
+    frame (the plate in the quadrant x, y >= 0), ``repeats`` series per corner (one count
+    for all, or one per corner): with
     :math:`f_x = \partial f + \bar\partial f`, :math:`f_y = j(\partial f - \bar\partial f)`,
     :math:`f_{xx} = \partial^2f + 2\partial\bar\partial f + \bar\partial^2f`,
     :math:`f_{yy} = -\partial^2f + 2\partial\bar\partial f - \bar\partial^2f`,
@@ -313,6 +315,46 @@ def corner_family(point: np.ndarray, fixed_direction: np.ndarray, free_direction
                         (complex(k_long), complex(k_shear)), series_radius)
 
 
+LOGARITHMIC_DEGREES = (1.0, 2.0)
+r"""The degrees :math:`\lambda` of the in-plane logarithmic family (:func:`logarithmic_family`):
+a displacement datum with a kink at a corner gives the membrane :math:`r\ln r` terms, and
+their followers :math:`r^2\ln r`; adding degree 3 changed nothing on the L fold
+(``docs/method.md`` section 10.4)."""
+
+
+def logarithmic_family(point: np.ndarray, first: np.ndarray, second: np.ndarray,
+                       k_long: complex, k_shear: complex, radius: float) -> CornerFamily:
+    r"""The in-plane logarithmic family of a right-angle corner at ``point`` whose edges leave
+    it along ``first`` and ``second`` (right-handed): per degree :math:`\lambda` of
+    :data:`LOGARITHMIC_DEGREES`, the four functions of :func:`_wedge_functions` differenced in
+    the degree, :math:`(F(\lambda + h) - F(\lambda - h))/2h`,
+    :math:`h` = :data:`solver.plate_corners.ORDER_STEP`: exact solutions whose static limits
+    carry :math:`r^\lambda\ln r` (their values at :math:`\lambda` are polynomials, in the
+    rays' span). ``radius`` as for :func:`corner_family`."""
+    series_radius = CLOSED_FORMS_BEYOND / abs(k_shear)
+    n_terms = _series_length(k_shear, min(radius, series_radius))
+    exponents = tuple(complex(degree + step) for degree in LOGARITHMIC_DEGREES
+                      for step in (ORDER_STEP, -ORDER_STEP))
+    functions = [_wedge_functions(lam, k_long**2, k_shear**2, n_terms) for lam in exponents]
+    combinations = np.zeros((4 * len(exponents), 4 * len(LOGARITHMIC_DEGREES)), complex)
+    for d in range(len(LOGARITHMIC_DEGREES)):
+        for j in range(4):
+            combinations[8 * d + j, 4 * d + j] = 0.5 / ORDER_STEP
+            combinations[8 * d + 4 + j, 4 * d + j] = -0.5 / ORDER_STEP
+    return CornerFamily(np.asarray(point, float), np.column_stack([first, second]),
+                        _Series.stack(functions), combinations, exponents,
+                        (complex(k_long), complex(k_shear)), series_radius)
+
+
+def logarithmic_corners(size: tuple[float, float], corners: Sequence[int], k_long: complex,
+                        k_shear: complex) -> tuple[CornerFamily, ...]:
+    """The :func:`logarithmic_family` of each of a plate's ``corners`` (corner ``c`` joins
+    edges ``c - 1`` and ``c``)."""
+    edges = plate_edges(size)
+    return tuple(logarithmic_family(edges[c].start, edges[c].tangent, -edges[c - 1].tangent,
+                                    k_long, k_shear, math.hypot(*size)) for c in corners)
+
+
 def fixed_free_layout(conditions: Sequence[str]) -> tuple[tuple[int, bool], ...]:
     """The fixed-free corners of a plate whose edges' in-plane conditions are ``conditions``
     (in the order of :data:`assembly.geometry.EDGE_NAMES`): ``(i, incoming_fixed)`` for each
@@ -418,12 +460,13 @@ def _plate_axes(families: tuple[CornerFamily, ...], points: np.ndarray, gradient
     :math:`\nabla\mathbf u = Q\nabla'\mathbf u'Q^T`."""
     series, corners, frames, combinations, rotations = _stacked(families)
     local = np.einsum("nfa,fab->nfb", points[:, None, :] - corners[None], frames)
-    repeats = len(series.alpha) // len(families)
+    repeats = [len(family.functions.alpha) for family in families]
+    starts = np.cumsum([0] + repeats)
     u, derivatives = _local_fields(series, local, repeats, gradient)
     for f, family in enumerate(families):
         far = np.hypot(local[:, f, 0], local[:, f, 1]) > family.series_radius
         if far.any():
-            columns = slice(f * repeats, (f + 1) * repeats)
+            columns = slice(starts[f], starts[f + 1])
             u[far, :, columns], closed = _closed_fields(family, local[far, f], gradient)
             if gradient:
                 derivatives[far, :, :, columns] = closed

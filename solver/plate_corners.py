@@ -73,7 +73,8 @@ from numpy.typing import ArrayLike
 from assembly.geometry import plate_edges
 
 __all__ = ["CLAMPED_FREE_EXPONENT_LIMIT", "SERIES_BELOW", "clamped_free_exponents",
-           "WedgeFamily", "clamped_free_wedges", "wedge_derivatives", "wedge_field",
+           "WedgeFamily", "clamped_free_wedges", "ORDER_STEP", "LOGARITHMIC_ORDERS",
+           "logarithmic_wedges", "wedge_derivatives", "wedge_field",
            "wedge_edge_traces", "newton_roots"]
 
 CLAMPED_FREE_EXPONENT_LIMIT = 4.0
@@ -190,6 +191,35 @@ def clamped_free_wedges(size: Sequence[float], kinds: Sequence[str],
             families.append(WedgeFamily(tuple(map(float, edges[c].start)),
                                         math.atan2(outgoing[1], outgoing[0]), functions))
     return tuple(families)
+
+
+ORDER_STEP = 1e-3
+r"""Half the distance :math:`h` between the two orders :math:`\mu\pm h` that stand for the
+derivative in the order, :math:`\partial_\mu f = (f(\mu + h) - f(\mu - h))/2h + O(h^2)`, of
+a logarithmic family (:func:`logarithmic_wedges`, and the in-plane one of
+:func:`solver.membrane_corners.logarithmic_family`); the difference loses three of sixteen
+digits."""
+
+LOGARITHMIC_ORDERS = (2.0, 3.0, 4.0)
+r"""The integer orders :math:`\mu` of the bending logarithmic family (``docs/method.md``
+section 10.4): a log-singular edge load on a plate carries :math:`r^\mu\ln r` terms from
+:math:`\mu = 2` on (shear :math:`\sim\ln r` gives :math:`r^3\ln r`, moment :math:`r^2\ln
+r`). Adding :math:`\mu = 1` spoils the solve (changes of order 1 on the L fold)."""
+
+
+def logarithmic_wedges(point: Sequence[float], direction: Sequence[float]) -> WedgeFamily:
+    r"""The bending logarithmic family of a right-angle corner at ``point``, the plate to the
+    left of ``direction`` (the edge leaving the corner): the functions of
+    :class:`WedgeFamily` of every kind and orientation at the orders :math:`\mu\pm h`,
+    :math:`\mu` in :data:`LOGARITHMIC_ORDERS`, :math:`h` = :data:`ORDER_STEP`. Both orders
+    are kept, so their span holds :math:`f(\mu)` and :math:`\partial_\mu f`, whose static
+    limits carry :math:`r^\mu\ln r`: exact, bounded plate solutions for a corner where a
+    moving line's log-singular loads meet a supported end (``docs/method.md`` section 10.4)."""
+    functions = tuple((mu + step, reflected, kind) for mu in LOGARITHMIC_ORDERS
+                      for step in (-ORDER_STEP, ORDER_STEP)
+                      for reflected in (False, True) for kind in range(3))
+    return WedgeFamily(tuple(map(float, point)), math.atan2(direction[1], direction[0]),
+                       functions)
 
 
 def _gauss(n: int) -> tuple[np.ndarray, np.ndarray]:

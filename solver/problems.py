@@ -10,17 +10,17 @@ import math
 from collections.abc import Iterable, Mapping
 
 from assembly.case import Case
-from assembly.geometry import EDGE_NAMES
+from assembly.geometry import EDGE_NAMES, plate_edges
 from assembly.lines import free_ends, given_supports, meeting_ends, symmetry_halves
 from solver.kirchhoff import complex_bending_stiffness
 from solver.plate import EdgeCondition, EdgeLoad, PlateProblem, PointForce
-from solver.plate_corners import WedgeFamily, clamped_free_wedges
+from solver.plate_corners import WedgeFamily, clamped_free_wedges, logarithmic_wedges
 from solver.rays import RayBasis, RayCounts, WedgeBasis, automatic_ray_counts, build_ray_basis
 
 __all__ = ["plate_problem", "plate_problems", "plate_ray_counts", "plate_basis", "plate_bases",
-           "plate_wedges",
-           "joint_edge_kinds", "SINGULAR_END_REACH", "singular_end_plates", "MEETING_END_REACH",
-           "meeting_end_plates", "FREE_END_REACH", "free_end_plates", "edge_reach"]
+           "plate_wedges", "joint_edge_kinds", "SINGULAR_END_REACH", "singular_end_plates",
+           "singular_end_corners", "MEETING_END_REACH", "meeting_end_plates", "FREE_END_REACH",
+           "free_end_plates", "edge_reach"]
 
 
 def joint_edge_kinds(case: Case) -> dict[tuple[str, str], str]:
@@ -110,15 +110,16 @@ def plate_resolution(case: Case, plate_id: str,
     return float(resolution)
 
 
-SINGULAR_END_REACH = 6.0
+SINGULAR_END_REACH = 3.0
 r"""How much further than elsewhere the edge waves of a member of a moving line reach where an
 end of the line is a plane of symmetry for part of the motion only (an in-plane ``roller`` end
 simply supported in bending, say: :func:`assembly.lines.singular_ends`), bending
-(:math:`\tau\kappa_0`) and in-plane (:math:`\beta_{max}`) alike (``docs/method.md`` section
-10.4): there the line's loads are log-singular at its ends. On an L fold with roller ends at
-1 kHz (resolution 1.5, 30 line functions) reaches of 2.5, 5, 10, 15 and 20 bending wavenumbers
-left ``w`` at the supported corner at 2.9e-3, 3.8e-3, 6.2e-5, 1.3e-5 and 4e-6 of the largest;
-6 x 2.5 = 15."""
+(:math:`\tau\kappa_0`) and in-plane (:math:`\beta_{max}`) alike, beside the logarithmic
+families at those ends (:func:`singular_end_corners`; ``docs/method.md`` section 10.4): there
+the line's loads are log-singular. Neither alone converges where a member hangs on the line
+(:func:`assembly.lines.hanging_members`): an L fold so at 1 kHz changed by 6.8e-2 between
+resolutions 2.25 and 3.4 with the families and the usual reach, by 3.8e-3 between 3.4 and 5
+with six times the reach and no families, by 7.9e-5 with both at three times."""
 
 
 def singular_end_plates(case: Case) -> frozenset[str]:
@@ -237,20 +238,42 @@ def plate_ray_counts(case: Case, plate_id: str, problem: PlateProblem,
     )
 
 
+def singular_end_corners(case: Case, plate_id: str) -> tuple[int, ...]:
+    """The corners of a plate where its edge on a moving line with a singular end meets that
+    end's edge (:meth:`assembly.Case.singular_ends`), where the line's loads are log-singular:
+    corner ``c`` joins edges ``c - 1`` and ``c``."""
+    if plate_id not in _far_reaching_plates(case)[0]:  # the common case
+        return ()
+    corners = set()
+    for jid in case.moving_lines():
+        ends = {edge.edge for edge in case.singular_ends(jid) if edge.plate == plate_id}
+        for side in case.joints[jid].sides:
+            if side.plate == plate_id:
+                i = EDGE_NAMES.index(side.edge)
+                corners.update(c for c, other in ((i, i - 1), ((i + 1) % 4, (i + 1) % 4))
+                               if EDGE_NAMES[other] in ends)
+    return tuple(sorted(corners))
+
+
 def plate_wedges(case: Case, plate_id: str, problem: PlateProblem) -> tuple[WedgeFamily, ...]:
     """The corner functions of the plate's corners where a clamped edge meets a free one
     (:func:`solver.plate_corners.clamped_free_wedges`): a free or loaded edge, or a member edge
     of a moving line. A coplanar joint's edge does not count: the plate continues across it,
-    and the assembled field has no corner there."""
+    and the assembled field has no corner there. Then the bending logarithmic family
+    (:func:`solver.plate_corners.logarithmic_wedges`) at every corner of
+    :func:`singular_end_corners`."""
+    edges = plate_edges(problem.size)
+    logarithmic = tuple(logarithmic_wedges(edges[c].start, edges[c].tangent)
+                        for c in singular_end_corners(case, plate_id))
     kinds = [problem.condition(name).kind for name in EDGE_NAMES]
     if "clamped" not in kinds:  # the common case, without a pass over the joints
-        return ()
+        return logarithmic
     for joint in case.joints.values():
         if joint.kind == "coplanar":
             for side in joint.sides:
                 if side.plate == plate_id:
                     kinds[EDGE_NAMES.index(side.edge)] = "joined"
-    return clamped_free_wedges(problem.size, kinds, problem.poisson_ratio)
+    return clamped_free_wedges(problem.size, kinds, problem.poisson_ratio) + logarithmic
 
 
 def plate_basis(case: Case, plate_id: str, problem: PlateProblem,
