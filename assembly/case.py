@@ -8,7 +8,7 @@ cross_check`, run once by the validator of :class:`Case`, which reports every pr
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from typing import Annotated, Any
 
 import numpy as np
@@ -292,18 +292,19 @@ class Case(FrozenModel):
     def singular_ends(self, joint_id: str) -> list[EdgeId]:
         """The end edges of a junction line that are a plane of symmetry for part of the
         motion only (:func:`assembly.lines.singular_ends`); none for another joint."""
-        joint = self.joints[joint_id]
-        if not isinstance(joint, JunctionJoint):
-            return []
-        return singular_ends(joint, self.plates, given_supports(self.boundaries))
+        return self._of_line(joint_id, singular_ends)
 
     def hanging_members(self, joint_id: str) -> list[str]:
         """The members of a junction line held across it in their plane by no boundary of
         their own (:func:`assembly.lines.hanging_members`); none for another joint."""
+        return self._of_line(joint_id, hanging_members)
+
+    def _of_line(self, joint_id: str, find: Callable[..., list]) -> list:
+        """``find(joint, plates, supports)`` for a junction line, none for another joint."""
         joint = self.joints[joint_id]
         if not isinstance(joint, JunctionJoint):
             return []
-        return hanging_members(joint, self.plates, given_supports(self.boundaries))
+        return find(joint, self.plates, given_supports(self.boundaries))
 
     def member_directions(self, joint_id: str) -> tuple[int, ...]:
         """For each edge of a joint, +1 if it runs (counter-clockwise) along the joint line's
