@@ -262,9 +262,9 @@ def plate_wedges(case: Case, plate_id: str, problem: PlateProblem) -> tuple[Wedg
     and the assembled field has no corner there. Then the bending logarithmic family
     (:func:`solver.plate_corners.logarithmic_wedges`) at every corner of
     :func:`singular_end_corners`."""
-    edges = plate_edges(problem.size)
-    logarithmic = tuple(logarithmic_wedges(edges[c].start, edges[c].tangent)
-                        for c in singular_end_corners(case, plate_id))
+    corners = singular_end_corners(case, plate_id)
+    edges = plate_edges(problem.size) if corners else ()
+    logarithmic = tuple(logarithmic_wedges(edges[c].start, edges[c].tangent) for c in corners)
     kinds = [problem.condition(name).kind for name in EDGE_NAMES]
     if "clamped" not in kinds:  # the common case, without a pass over the joints
         return logarithmic
