@@ -34,7 +34,10 @@ ends, 1 N on A), the in-plane condition of the end edges ``roller`` or ``diaphra
   and the usual reach, then under the rule;
 * **what the rule costs** (``--rule`` alone, about five minutes): one solve at resolution 1.5
   moving under the rule and held, on the L fold, the T junction and the panel, then the
-  panel's refinement under the rule.
+  panel's refinement under the rule;
+* **against finite elements** (``--fem`` alone, about five minutes; needs the ``bench`` extra,
+  scikit-fem): the L fold with roller ends under the rule against ``bench/fem_folded.py``'s
+  independent solution, by resolution and by the line's count of functions.
 
 Run: ``OPENBLAS_NUM_THREADS=1 python bench/bench_roller_ends.py [--quick]`` (the full run takes
 about fifteen minutes on two cores, most of it at the largest reaches).
@@ -362,6 +365,41 @@ def rule_cost() -> None:
         print(f"  {frequency:6.0f} Hz: " + "; ".join(cells), flush=True)
 
 
+def against_finite_elements(level: int = 6) -> None:
+    """The L fold with ``simply_supported`` + ``roller`` ends under the rule against the
+    independent finite elements of ``bench/fem_folded.py`` (mesh ``level``; its fields change
+    by 1e-8 to 6e-7 from level 4 to 6, and with shear-diaphragm ends it meets the exact
+    prismatic solution to 1e-9 to 3e-8): relative L2 difference of ``w`` and ``(u, v)`` per
+    plate, at resolutions 1.5, 2.25 and 3.4, then at resolution 2.25 with the line's functions
+    set to 30, 40, 50 and 60 (``interface_functions``); the same with shear-diaphragm ends at
+    resolution 2.25, where both are exact to 1e-8."""
+    from fem_folded import folded_fields as finite_element_fields
+
+    def cells(fields: dict, w_fe: dict, uv_fe: dict) -> str:
+        return "; ".join(
+            f"{name}: w {np.linalg.norm(fields[name][0] - w_fe[name]) / np.linalg.norm(w_fe[name]):.1e}"
+            f" (u, v) {np.linalg.norm(fields[name][1] - uv_fe[name]) / np.linalg.norm(uv_fe[name]):.1e}"
+            for name in fields)
+
+    print(f"against the finite elements of fem_folded.py (level {level}): the L fold, relative "
+          "L2 difference per plate", flush=True)
+    for frequency in (300.0, 1000.0):
+        w_fe, uv_fe = finite_element_fields(frequency, "roller", level)
+        for resolution in (1.5, 2.25, 3.4):
+            fields, seconds, _ = fold_fields(frequency, "roller", resolution)
+            print(f"  roller {frequency:6.0f} Hz, resolution {resolution:4.2f} ({seconds:.1f} s):"
+                  f" {cells(fields, w_fe, uv_fe)}", flush=True)
+        for functions in (30, 40, 50, 60):
+            fields, _, _ = fold_fields(frequency, "roller", 2.25,
+                                       {"interface_functions": functions})
+            print(f"  roller {frequency:6.0f} Hz, resolution 2.25, {functions} line functions: "
+                  f"{cells(fields, w_fe, uv_fe)}", flush=True)
+        w_fe, uv_fe = finite_element_fields(frequency, "diaphragm", level)
+        fields, _, _ = fold_fields(frequency, "diaphragm", 2.25)
+        print(f"  diaphragm {frequency:6.0f} Hz, resolution 2.25: {cells(fields, w_fe, uv_fe)}",
+              flush=True)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true")
@@ -370,6 +408,8 @@ def main() -> None:
                         help="the logarithmic families of a mixed end only")
     parser.add_argument("--hanging", action="store_true",
                         help="mixed ends with and without a member hanging on the line only")
+    parser.add_argument("--fem", action="store_true",
+                        help="the L fold against the finite elements of fem_folded.py only")
     parser.add_argument("--rule", action="store_true",
                         help="the rule's cost against held lines, and the panel under it, only")
     parser.add_argument("--reach", type=float, default=1.0,
@@ -384,6 +424,9 @@ def main() -> None:
         return
     if args.rule:
         rule_cost()
+        return
+    if args.fem:
+        against_finite_elements()
         return
     planes_of_symmetry()
     if args.symmetry:
