@@ -66,9 +66,13 @@ def members_coplanar(joint: JunctionJoint, plates: Mapping[str, Any]) -> bool:
     frames = [getattr(plates.get(p), "frame", None) for p in joint.plates]
     if any(frame is None for frame in frames):
         return True
-    first = frames[0].normal
-    return all(np.linalg.norm(np.cross(first, f.normal)) < FRAME_TOLERANCE
-               for f in frames[1:])
+    return all(_parallel(frames[0], frame) for frame in frames[1:])
+
+
+def _parallel(first: Any, second: Any) -> bool:
+    """Whether two plate frames' normals are parallel, to
+    :data:`assembly.models.FRAME_TOLERANCE`."""
+    return bool(np.linalg.norm(np.cross(first.normal, second.normal)) < FRAME_TOLERANCE)
 
 
 def _neighbours(side: EdgeId) -> tuple[EdgeId, EdgeId]:
@@ -178,9 +182,8 @@ def hanging_members(joint: JunctionJoint, plates: Mapping[str, Any],
     for i, side in enumerate(joint.sides):
         if held[i] or frames[i] is None:
             continue
-        if not any(held[j] and frames[j] is not None
-                   and np.linalg.norm(np.cross(frames[i].normal, frames[j].normal))
-                   < FRAME_TOLERANCE for j in range(len(held)) if j != i):
+        if not any(held[j] and frames[j] is not None and _parallel(frames[i], frames[j])
+                   for j in range(len(held)) if j != i):
             hanging.append(side.plate)
     return hanging
 

@@ -433,8 +433,9 @@ def _singular_end_issues(case: Case) -> list[tuple[_Loc, str]]:
             message = (f"junction line {jid} moves but {why}: its line loads are singular at "
                        "its ends, where its members carry logarithmic corner functions and edge "
                        f"waves reaching {SINGULAR_END_REACH:g} times further, at 30 to 40 "
-                       "times the cost of the held line, and its field keeps an error of about "
-                       "1e-4 in w (10 % in-plane) that the error estimate does not show"
+                       "times the cost of the held line, and its field keeps an error that the "
+                       "error estimate does not show (on an L fold against finite elements, "
+                       "about 1e-4 in w and 10 % in-plane)"
                        f"{hangs} (docs/method.md section 10.4); set held = true, or {fix}")
         elif joint.held is None and not members_coplanar(joint, case.plates):
             message = (f"junction line {jid} is held in translation by default: {why}, where "

@@ -303,15 +303,25 @@ def corner_family(point: np.ndarray, fixed_direction: np.ndarray, free_direction
     fixed_first = bool(np.allclose(turned, free_direction))
     first, second = ((fixed_direction, free_direction) if fixed_first
                      else (free_direction, fixed_direction))
+    exponents = fixed_free_exponents(float(poisson_ratio))
+    combinations = np.zeros((4 * len(exponents), len(exponents)), complex)
+    for e, lam in enumerate(exponents):
+        combinations[4 * e:4 * e + 4, e] = _static_null_vector(lam, fixed_first, poisson_ratio)
+    return _family(point, first, second, exponents, combinations, k_long, k_shear, radius)
+
+
+def _family(point: np.ndarray, first: np.ndarray, second: np.ndarray,
+            exponents: Sequence[complex], combinations: np.ndarray, k_long: complex,
+            k_shear: complex, radius: float) -> CornerFamily:
+    """The :class:`CornerFamily` at ``point``, its frame's columns ``first`` and ``second``,
+    of the four series of each of ``exponents`` cut at the distance where their closed forms
+    take over (or ``radius``, the farthest point of the plate), combined by
+    ``combinations``."""
     series_radius = CLOSED_FORMS_BEYOND / abs(k_shear)
     n_terms = _series_length(k_shear, min(radius, series_radius))
-    exponents = fixed_free_exponents(float(poisson_ratio))
-    functions, combinations = [], np.zeros((4 * len(exponents), len(exponents)), complex)
-    for e, lam in enumerate(exponents):
-        functions.append(_wedge_functions(lam, k_long**2, k_shear**2, n_terms))
-        combinations[4 * e:4 * e + 4, e] = _static_null_vector(lam, fixed_first, poisson_ratio)
+    functions = [_wedge_functions(lam, k_long**2, k_shear**2, n_terms) for lam in exponents]
     return CornerFamily(np.asarray(point, float), np.column_stack([first, second]),
-                        _Series.stack(functions), combinations, exponents,
+                        _Series.stack(functions), combinations, tuple(exponents),
                         (complex(k_long), complex(k_shear)), series_radius)
 
 
@@ -331,19 +341,14 @@ def logarithmic_family(point: np.ndarray, first: np.ndarray, second: np.ndarray,
     :math:`h` = :data:`solver.plate_corners.ORDER_STEP`: exact solutions whose static limits
     carry :math:`r^\lambda\ln r` (their values at :math:`\lambda` are polynomials, in the
     rays' span). ``radius`` as for :func:`corner_family`."""
-    series_radius = CLOSED_FORMS_BEYOND / abs(k_shear)
-    n_terms = _series_length(k_shear, min(radius, series_radius))
-    exponents = tuple(complex(degree + step) for degree in LOGARITHMIC_DEGREES
-                      for step in (ORDER_STEP, -ORDER_STEP))
-    functions = [_wedge_functions(lam, k_long**2, k_shear**2, n_terms) for lam in exponents]
+    exponents = [complex(degree + step) for degree in LOGARITHMIC_DEGREES
+                 for step in (ORDER_STEP, -ORDER_STEP)]
     combinations = np.zeros((4 * len(exponents), 4 * len(LOGARITHMIC_DEGREES)), complex)
     for d in range(len(LOGARITHMIC_DEGREES)):
         for j in range(4):
             combinations[8 * d + j, 4 * d + j] = 0.5 / ORDER_STEP
             combinations[8 * d + 4 + j, 4 * d + j] = -0.5 / ORDER_STEP
-    return CornerFamily(np.asarray(point, float), np.column_stack([first, second]),
-                        _Series.stack(functions), combinations, exponents,
-                        (complex(k_long), complex(k_shear)), series_radius)
+    return _family(point, first, second, exponents, combinations, k_long, k_shear, radius)
 
 
 def logarithmic_corners(size: tuple[float, float], corners: Sequence[int], k_long: complex,

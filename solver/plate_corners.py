@@ -1,5 +1,6 @@
 r"""Corner functions of the bending field where a clamped edge meets a free one
-(``docs/method.md`` section 5.5).
+(``docs/method.md`` section 5.5), and the same functions at orders near 2, 3 and 4 for the
+logarithmic family of a moving line's mixed ends (:func:`logarithmic_wedges`, section 10.4).
 
 Near such a right-angle corner the static plate's local solutions are :math:`r^\mu F(\theta)`
 with the exponents of the clamped-free wedge (Williams, 1952): :math:`\mu = 2.069 \pm 0.439j`,
@@ -161,7 +162,8 @@ def _wedge_conditions(mu: complex, poisson_ratio: float) -> np.ndarray:
 
 @dataclass(frozen=True)
 class WedgeFamily:
-    r"""The corner functions of one clamped-free corner: the corner ``point`` and the angle
+    r"""The corner functions of one corner (clamped-free, or a logarithmic family): the corner
+    ``point`` and the angle
     ``angle`` of the edge from which :math:`\theta` is measured (the plate lies in
     :math:`0\le\theta\le\pi/2` of it), and per function ``(mu, reflected, kind)``: kind 0
     :math:`J_\mu e^{j\mu\theta}`, 1 :math:`R_\mu`, 2 :math:`J_{\mu-2}e^{j(\mu-2)\theta} -
@@ -379,8 +381,10 @@ def wedge_derivatives(family: WedgeFamily, kappa: complex, points: np.ndarray,
     \beta R_{\nu'}]`, :math:`\nu' = \nu + a - b`; a reflected function
     :math:`\Phi(r, -\theta)` swaps :math:`a` and :math:`b`. At the corner itself
     (:math:`r = 0`) the values are the limits of ``w``, its slopes and its moments (the only
-    quantities used there): the powers of :math:`r` vanish (:math:`\mathrm{Re}\,\mu > 2`),
-    and :math:`F_\nu` leaves :math:`\beta\,\mathrm{sinc}\,\nu'` (``R`` does not vanish at
+    quantities used there): the powers of :math:`r` vanish (:math:`\mathrm{Re}\,\mu > 2`;
+    the logarithmic family's order :math:`2 - 10^{-3}` gives moments like
+    :math:`r^{-10^{-3}}`, 1.03 at :math:`r = 10^{-12}`, whose power is dropped there too), and
+    :math:`F_\nu` leaves :math:`\beta\,\mathrm{sinc}\,\nu'` (``R`` does not vanish at
     the corner: its entire part :math:`-F_\nu` does not)."""
     local = (np.asarray(points, float) - family.point) @ np.array(
         [[math.cos(family.angle), -math.sin(family.angle)],
@@ -448,10 +452,10 @@ def wedge_edge_traces(families: Sequence[WedgeFamily], kappa: complex,
     normal = np.broadcast_to(np.asarray(normal, float), points.shape)
     tangent = np.broadcast_to(np.asarray(tangent, float), points.shape)
     columns: dict[str, list[np.ndarray]] = {key: [] for key in keys}
+    order = 3 if {"shear", "shear_q"} & set(keys) else 2
     for family in families:
         n = _directional(_local_direction(family, normal))
         t = _directional(_local_direction(family, tangent))
-        order = 3 if {"shear", "shear_q"} & set(keys) else 2
         derivatives = wedge_derivatives(family, kappa, points, order)
         operators = {"w": {(0, 0): 1.0}, "slope": n, "tangential": t}
 

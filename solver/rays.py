@@ -218,8 +218,9 @@ class RayBasis:
 
 @dataclass(frozen=True)
 class WedgeBasis(RayBasis):
-    r"""A plate's rays followed by the corner functions of its clamped-free corners
-    (:mod:`solver.plate_corners`), dofs ``n_rays`` on.
+    r"""A plate's rays followed by its corner functions (:mod:`solver.plate_corners`: at
+    clamped-free corners, and the logarithmic families at a moving line's mixed ends), dofs
+    ``n_rays`` on.
 
     Attributes
     ----------

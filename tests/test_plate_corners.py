@@ -1,4 +1,5 @@
-"""Corner functions of the bending field at clamped-free corners (``solver.plate_corners``).
+"""Corner functions of the bending field at clamped-free corners, and the logarithmic family of
+a moving line's mixed ends (``solver.plate_corners``).
 
 Checked against what they must be, not against themselves: the static wedge eigenfunctions by
 Cartesian finite differences of their edge conditions; the functions by finite differences of
