@@ -19,7 +19,7 @@ from .errors import AssemblyError, CrossReferenceError, listing
 from .grid import grid_points
 from .joints import CoplanarJoint, HingeJoint, Joint, JunctionJoint
 from .lines import (given_supports, hanging_members, member_directions, moving_lines,
-                    singular_ends)
+                    singular_ends, singular_line_ends)
 from .models import Boundary, Load, Material, Plate
 from .settings import Compute, Discretisation, Measurement, Truth, Updating, default_spacing
 from .types import (
@@ -293,6 +293,11 @@ class Case(FrozenModel):
         """The end edges of a junction line that are a plane of symmetry for part of the
         motion only (:func:`assembly.lines.singular_ends`); none for another joint."""
         return self._of_line(joint_id, singular_ends)
+
+    def singular_line_ends(self, joint_id: str) -> tuple[bool, bool]:
+        """Whether a junction line's start and end (along the line) are singular
+        (:func:`assembly.lines.singular_line_ends`); neither for another joint."""
+        return tuple(self._of_line(joint_id, singular_line_ends)) or (False, False)
 
     def hanging_members(self, joint_id: str) -> list[str]:
         """The members of a junction line held across it in their plane by no boundary of

@@ -25,8 +25,10 @@ kink at the end and its loads are log-singular there (``docs/method.md`` section
 the usual rays refinement did not converge (2e-2 to 3e-1 between resolutions 1.5 and 2.25 on a
 three-bay panel with roller ends); the members of a moving line with such an end carry
 logarithmic corner functions there and reach further with their edge waves
-(:func:`solver.problems.singular_end_corners`, :data:`solver.problems.SINGULAR_END_REACH`), at
-30 to 40 times the cost of the held line. ``held = false`` moves such a line; ``vtcr check``
+(:func:`solver.problems.singular_end_corners`, :data:`solver.problems.SINGULAR_END_REACH`), and
+the line's load functions gain the loads' logarithmic terms at that end
+(:func:`singular_line_ends`, :func:`solver.joint_rules.load_function_values`), at 30 to 40
+times the cost of the held line. ``held = false`` moves such a line; ``vtcr check``
 warns either way, of the cost or of what the held line leaves out, unless ``held = true`` is
 given (:func:`solver.guards.description_issues`). Its warning names the members that *hang* on
 the line (:func:`hanging_members`): held across the line in their plane by no boundary edge of
@@ -53,7 +55,8 @@ from .models import FRAME_TOLERANCE
 from .types import EdgeId, parse_edge_ref
 
 __all__ = ["members_coplanar", "member_directions", "given_supports", "free_ends", "line_ends",
-           "symmetry_halves", "singular_ends", "hanging_members", "meeting_ends", "moving_lines"]
+           "symmetry_halves", "singular_ends", "singular_line_ends",
+           "hanging_members", "meeting_ends", "moving_lines"]
 
 SYMMETRY_PLANE = ("symmetric", "roller")
 """The bending and in-plane conditions of an edge on a plane of symmetry of the structure."""
@@ -137,6 +140,14 @@ def symmetry_halves(support: tuple[str, str]) -> int:
     return sum(given == plane for given, plane in zip(support, SYMMETRY_PLANE))
 
 
+def _mixed_end(edges: list[EdgeId], supports: Mapping[EdgeId, tuple[str, str]]) -> list[EdgeId]:
+    """The end edges ``edges`` at one end of a line if that end is a plane of symmetry for part
+    of the motion only (:func:`singular_ends`), else none."""
+    given = [edge for edge in edges if edge in supports]
+    halves = [symmetry_halves(supports[edge]) for edge in given]
+    return given if any(halves) and any(count < 2 for count in halves) else []
+
+
 def singular_ends(joint: JunctionJoint, plates: Mapping[str, Any],
                   supports: Mapping[EdgeId, tuple[str, str]]) -> list[EdgeId]:
     """The end edges of a line whose end is a plane of symmetry for part of the motion only
@@ -144,13 +155,15 @@ def singular_ends(joint: JunctionJoint, plates: Mapping[str, Any],
     ``symmetric`` in bending, and not every member's edge there is both. ``supports`` holds
     the ``(bending, in-plane)`` conditions of the edges with a boundary condition; edges
     without one (joined, or free by default) take no part."""
-    singular = []
-    for edges in line_ends(joint, plates):
-        given = [edge for edge in edges if edge in supports]
-        halves = [symmetry_halves(supports[edge]) for edge in given]
-        if any(halves) and any(count < 2 for count in halves):
-            singular += given
-    return singular
+    return [edge for edges in line_ends(joint, plates) for edge in _mixed_end(edges, supports)]
+
+
+def singular_line_ends(joint: JunctionJoint, plates: Mapping[str, Any],
+                       supports: Mapping[EdgeId, tuple[str, str]]) -> tuple[bool, bool]:
+    """Whether the line's start and its end (along the line, :func:`line_ends`) are singular
+    (:func:`singular_ends`). ``supports`` as there."""
+    start, end = line_ends(joint, plates)
+    return bool(_mixed_end(start, supports)), bool(_mixed_end(end, supports))
 
 
 HOLDS_ACROSS = {"end": ("fixed", "diaphragm"), "far": ("fixed", "roller")}

@@ -1,11 +1,12 @@
 """Moving lines whose ends mix the halves of a plane of symmetry (in-plane ``roller`` ends
 simply supported in bending, say; ``docs/method.md`` section 10.4): the measurements behind the
 diagnosis and behind the rule (the logarithmic corner functions at such ends,
-``solver.problems.singular_end_corners``, and three times the reach,
-``solver.problems.SINGULAR_END_REACH``), on the L fold of ``tests/test_moving_lines.py``
-(plates A 0.4 m and B 0.3 m, 2 mm steel, 0.5 m long line, both members rigid, simply supported
-ends, 1 N on A), the in-plane condition of the end edges ``roller`` or ``diaphragm``,
-``held = false``. :func:`end_treatment` switches the rule's two parts for a run.
+``solver.problems.singular_end_corners``, three times the reach,
+``solver.problems.SINGULAR_END_REACH``, and the logarithmic terms of the line's load
+functions, ``solver.joint_rules.load_function_values``), on the L fold of
+``tests/test_moving_lines.py`` (plates A 0.4 m and B 0.3 m, 2 mm steel, 0.5 m long line, both
+members rigid, simply supported ends, 1 N on A), the in-plane condition of the end edges
+``roller`` or ``diaphragm``, ``held = false``. :func:`end_treatment` switches the rule's three parts for a run.
 
 * **refinement, the rays alone with the usual reach** (as before the rule): the relative L2
   differences of ``w`` and ``(u, v)`` on each plate between resolutions 1 -> 1.5 -> 2.25 -> 3.4;
@@ -24,8 +25,8 @@ ends, 1 N on A), the in-plane condition of the end edges ``roller`` or ``diaphra
   each solve;
 * **logarithmic families** (``--log-families`` alone, about three minutes): ``simply_supported``
   + ``roller`` ends, the usual reach (``--reach 3``: the rule's), with and without the rule's
-  families; the L fold, 1.5 -> 2.25 -> 3.4 at 300 Hz, 1 and 3 kHz, and the three-bay panel at
-  1 and 2.5 kHz;
+  families, the line's functions Legendre alone (as when the families were measured); the L
+  fold, 1.5 -> 2.25 -> 3.4 at 300 Hz, 1 and 3 kHz, and the three-bay panel at 1 and 2.5 kHz;
 * **a member hanging on the line** (``--hanging`` alone, about six minutes): the same ends;
   the L fold with B's far edge ``roller`` in-plane (B held across the line in its plane) or
   ``diaphragm`` (B held by the line alone: it hangs), and the T junction of the tests with its
@@ -37,7 +38,8 @@ ends, 1 N on A), the in-plane condition of the end edges ``roller`` or ``diaphra
   panel's refinement under the rule;
 * **against finite elements** (``--fem`` alone, about five minutes; needs the ``bench`` extra,
   scikit-fem): the L fold with roller ends under the rule against ``bench/fem_folded.py``'s
-  independent solution, by resolution and by the line's count of functions.
+  independent solution, by resolution, by the line's count of Legendre functions, and on
+  Legendre functions alone (as before the logarithmic ones).
 
 Run: ``OPENBLAS_NUM_THREADS=1 python bench/bench_roller_ends.py [--quick]`` (the full run takes
 about fifteen minutes on two cores, most of it at the largest reaches).
@@ -61,6 +63,7 @@ from test_moving_lines import L_FOLD, LY, SHAPES  # noqa: E402
 
 import solver.problems  # noqa: E402
 from assembly import parse_case  # noqa: E402
+from solver.problems import SINGULAR_END_REACH  # noqa: E402
 from solver.substructure import solve_assembly  # noqa: E402
 
 PLATES, LINES, LOAD = L_FOLD
@@ -124,9 +127,8 @@ def panel_fields(frequency: float, ends: str, resolution: float,
     in-plane)`` conditions ``supports`` and its lines moving (``held = false``): per plate
     ``(w, (u, v))`` on a 15 x 15 grid, and the solve's time (s)."""
     from bench_moving_lines import LOAD as PANEL_LOAD
-    from bench_moving_lines import MODEL_LOG_K
+    from bench_moving_lines import MODEL_LOG_K, lines
     from bench_moving_lines import PLATES as PANEL
-    from bench_moving_lines import lines
 
     description = folded_description(PANEL, lines(MODEL_LOG_K), PANEL_LOAD, frequency,
                                      None if supports is None else False, LY, resolution,
@@ -159,7 +161,8 @@ def planes_of_symmetry() -> None:
              ("simply_supported", "fixed"), ("simply_supported", "roller"),
              ("symmetric", "diaphragm"), ("symmetric", "fixed"), ("clamped", "roller"),
              ("clamped", "fixed"))
-    for label, treatment in (("the rays alone, usual reach", lambda: end_treatment(1.0, False)),
+    for label, treatment in (("the rays alone, usual reach",
+                              lambda: end_treatment(1.0, False, False)),
                              ("the rule at mixed ends", contextlib.nullcontext)):
         print(f"planes of symmetry: the L fold, {label}, largest change of w, then of (u, v), "
               "over the plates (resolution 1.5 -> 2.25 -> 3.4)")
@@ -191,23 +194,29 @@ def planes_of_symmetry() -> None:
 
 
 @contextlib.contextmanager
-def end_treatment(reach: float, families: bool = True):
+def end_treatment(reach: float, families: bool = True, load_functions: bool = True):
     """Within the block, the members of lines with mixed ends reach ``reach`` times the usual
-    (``solver.problems.SINGULAR_END_REACH``) and carry the logarithmic families at those ends
-    (``solver.problems.singular_end_corners``) only if ``families``: the rule's two parts
-    switched one at a time."""
+    (``solver.problems.SINGULAR_END_REACH``), carry the logarithmic families at those ends
+    (``solver.problems.singular_end_corners``) only if ``families``, and the line's load
+    functions have their logarithmic terms there (``solver.joint_rules.load_function_values``)
+    only if ``load_functions``: the rule's three parts switched one at a time."""
+    import assembly.case
     import solver.in_plane
 
     reach_before, corners = solver.problems.SINGULAR_END_REACH, solver.problems.singular_end_corners
+    line_ends = assembly.case.Case.singular_line_ends
     solver.problems.SINGULAR_END_REACH = reach
     if not families:
         solver.problems.singular_end_corners = solver.in_plane.singular_end_corners = (
             lambda case, plate_id: ())
+    if not load_functions:
+        assembly.case.Case.singular_line_ends = lambda case, joint_id: (False, False)
     try:
         yield
     finally:
         solver.problems.SINGULAR_END_REACH = reach_before
         solver.problems.singular_end_corners = solver.in_plane.singular_end_corners = corners
+        assembly.case.Case.singular_line_ends = line_ends
 
 
 def log_families(reach: float = 1.0) -> None:
@@ -220,7 +229,7 @@ def log_families(reach: float = 1.0) -> None:
                                ("panel", (1000.0, 2500.0))):
         for frequency in frequencies:
             for on in (False, True):
-                with end_treatment(reach, on):
+                with end_treatment(reach, on, load_functions=False):
                     previous, cells = None, []
                     for resolution in (1.5, 2.25, 3.4):
                         if label == "L fold":
@@ -327,9 +336,8 @@ def rule_cost() -> None:
 
     def panel(frequency, held):
         from bench_moving_lines import LOAD as PANEL_LOAD
-        from bench_moving_lines import MODEL_LOG_K
+        from bench_moving_lines import MODEL_LOG_K, lines
         from bench_moving_lines import PLATES as PANEL
-        from bench_moving_lines import lines
 
         description = folded_description(PANEL, lines(MODEL_LOG_K), PANEL_LOAD, frequency,
                                          held, LY, 1.5)
@@ -370,9 +378,10 @@ def against_finite_elements(level: int = 6) -> None:
     independent finite elements of ``bench/fem_folded.py`` (mesh ``level``; its fields change
     by 1e-8 to 6e-7 from level 4 to 6, and with shear-diaphragm ends it meets the exact
     prismatic solution to 1e-9 to 3e-8): relative L2 difference of ``w`` and ``(u, v)`` per
-    plate, at resolutions 1.5, 2.25 and 3.4, then at resolution 2.25 with the line's functions
-    set to 30, 40, 50 and 60 (``interface_functions``); the same with shear-diaphragm ends at
-    resolution 2.25, where both are exact to 1e-8."""
+    plate, at resolutions 1.5, 2.25 and 3.4; at resolution 2.25 with the line's Legendre
+    functions set to 30, 40 and 50 (``interface_functions``, the logarithmic ones added), then
+    on Legendre functions alone (as before them) at their usual count and at 30 to 60; the
+    same with shear-diaphragm ends at resolution 2.25, where both are exact to 1e-8."""
     from fem_folded import folded_fields as finite_element_fields
 
     def cells(fields: dict, w_fe: dict, uv_fe: dict) -> str:
@@ -389,11 +398,19 @@ def against_finite_elements(level: int = 6) -> None:
             fields, seconds, _ = fold_fields(frequency, "roller", resolution)
             print(f"  roller {frequency:6.0f} Hz, resolution {resolution:4.2f} ({seconds:.1f} s):"
                   f" {cells(fields, w_fe, uv_fe)}", flush=True)
-        for functions in (30, 40, 50, 60):
+        for functions in (30, 40, 50):
             fields, _, _ = fold_fields(frequency, "roller", 2.25,
                                        {"interface_functions": functions})
-            print(f"  roller {frequency:6.0f} Hz, resolution 2.25, {functions} line functions: "
-                  f"{cells(fields, w_fe, uv_fe)}", flush=True)
+            print(f"  roller {frequency:6.0f} Hz, resolution 2.25, {functions} Legendre "
+                  f"functions: {cells(fields, w_fe, uv_fe)}", flush=True)
+        with end_treatment(SINGULAR_END_REACH, load_functions=False):
+            for functions in (None, 30, 40, 50, 60):
+                fields, _, _ = fold_fields(frequency, "roller", 2.25,
+                                           {"interface_functions": functions} if functions
+                                           else {})
+                print(f"  roller {frequency:6.0f} Hz, resolution 2.25, Legendre functions alone"
+                      f" ({functions or 'the usual count'}): {cells(fields, w_fe, uv_fe)}",
+                      flush=True)
         w_fe, uv_fe = finite_element_fields(frequency, "diaphragm", level)
         fields, _, _ = fold_fields(frequency, "diaphragm", 2.25)
         print(f"  diaphragm {frequency:6.0f} Hz, resolution 2.25: {cells(fields, w_fe, uv_fe)}",
@@ -431,7 +448,7 @@ def main() -> None:
     planes_of_symmetry()
     if args.symmetry:
         return
-    with end_treatment(1.0, families=False):
+    with end_treatment(1.0, families=False, load_functions=False):
         print("refinement, the rays alone with the usual reach (resolution 1 -> 1.5 -> 2.25 "
               "-> 3.4)")
         for ends in ("diaphragm", "roller"):

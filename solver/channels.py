@@ -26,8 +26,9 @@ from solver.admissibility import CornerDeflections, PlateAdmissibility
 from solver.interface import Block, residual_weight, squared_norm
 from solver.joint_rules import (
     joint_gauss,
-    legendre_values,
     load_function_projection,
+    load_function_values,
+    singular_load_ends,
     translational_stiffness,
 )
 from solver.layout import (
@@ -126,7 +127,7 @@ class JointBuild:
     case : Case
     plates : PlateAdmissibility
     counts : mapping of str to int
-        Legendre functions per unknown function of each joint.
+        Load functions per unknown function of each joint (:func:`load_function_values`).
     k_max : mapping of str to float
         Per plate, the largest ray wavenumber (what a joint's quadrature must resolve).
     traces_cache : dict
@@ -168,7 +169,7 @@ def two_plate_joint(build: JointBuild, jid: str, group: int
     a, b = joint.sides
     length = case.edge_length(a)
     sigma, wq = joint_gauss(length, max(build.k_max[a.plate], build.k_max[b.plate]))
-    psi = legendre_values(sigma, length, build.counts[jid])
+    psi = load_function_values(sigma, length, build.counts[jid])
     slots = plates.layout[jid]
     on_functions = load_function_projection(np.sqrt(wq), psi)
     projections = {"slope": ("slope", on_functions)}
@@ -242,9 +243,10 @@ def junction_line(build: JointBuild, jid: str, group: int) -> tuple[list[Block],
     joint = case.joints[jid]
     sides, directions = joint.sides, case.member_directions(jid)
     length = case.edge_length(sides[0])
-    sigma, wq = joint_gauss(length, max(build.k_max[p] for p in joint.plates))
+    ends = singular_load_ends(case, jid)
+    sigma, wq = joint_gauss(length, max(build.k_max[p] for p in joint.plates), ends)
     root_w = np.sqrt(wq)
-    psi = legendre_values(sigma, length, counts[jid])
+    psi = load_function_values(sigma, length, counts[jid], ends)
     slots = plates.layout[jid]
     # Theta_i of every member, unweighted, over its plate's unknowns
     rotation: dict[str, Block] = {}

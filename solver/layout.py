@@ -20,7 +20,12 @@ from assembly import Case, EdgeId
 from assembly.geometry import EDGE_NAMES, edge_geometry
 from assembly.joints import Joint
 from solver.in_plane import in_plane_edge_conditions, in_plane_plates
-from solver.joint_rules import interface_function_count, legendre_values
+from solver.joint_rules import (
+    extra_load_functions,
+    interface_function_count,
+    load_function_values,
+    singular_load_ends,
+)
 from solver.membrane import MembraneProblem, membrane_edge_rule
 from solver.membrane_basis import MembraneBasis, membrane_edge_traces
 from solver.plate import PlateBoundary, PlateProblem, edge_projection
@@ -269,7 +274,8 @@ def interface_layout(case: Case, problems: Mapping[str, PlateProblem],
         counts[jid] = (case.discretisation.interface_functions
                        or interface_function_count(max(kappas), length, joint_scale,
                                                    case.discretisation.edge_wavenumber_ratio,
-                                                   min(kappas) if jid in moving else None))
+                                                   min(kappas) if jid in moving else None)
+                       ) + extra_load_functions(singular_load_ends(case, jid))
     layout, n_s = _layout(case, counts, moving)
     junctions = _junctions(case, problems)
     corner_columns = {}
@@ -407,7 +413,8 @@ def plate_loads(case: Case, boundary: PlateBoundary, sides: Sequence[JointSide],
         traces = boundary.edges[side.edge]
         direction = case.member_directions(jid)[side_index]
         sigma = traces.s if direction > 0 else length - traces.s
-        psi = legendre_values(sigma, length, counts[jid])
+        psi = load_function_values(sigma, length, counts[jid],
+                                   singular_load_ends(case, jid))
         if case.joints[jid].kind == "junction":  # M_n = s_i C_i and, moving, K_n = K_i
             add_terms(member_load(case, jid, layout[jid], side.plate, "C"),
                       direction * edge_projection(traces, "moment", psi))
@@ -446,7 +453,8 @@ def membrane_loads(case: Case, problem: MembraneProblem, basis: MembraneBasis,
                                       cache)
         direction = case.member_directions(jid)[side_index]
         sigma = s if direction > 0 else edge.length - s
-        psi = legendre_values(sigma, edge.length, counts[jid])
+        psi = load_function_values(sigma, edge.length, counts[jid],
+                                   singular_load_ends(case, jid))
         for terms, displacement in zip(tractions, ("u_n", "u_t")):
             work = traces[displacement].conj().T @ (weights[:, None] * psi)
             for part, coefficient in terms:

@@ -55,7 +55,8 @@ from assembly.geometry import EdgeGeometry, plate_edges
 from solver.joint_rules import (
     joint_gauss,
     joint_parameters,
-    legendre_values,
+    load_function_values,
+    singular_load_ends,
     translational_stiffness,
 )
 from solver.layout import (
@@ -241,10 +242,11 @@ def _joint_rule(case: Case, system: Any, jid: str
     joint = case.joints[jid]
     length = case.edge_length(joint.sides[0])
     k_max = max(float(np.max(np.abs(system.bases[side.plate].k))) for side in joint.sides)
-    sigma, wq = joint_gauss(length, k_max)
+    ends = singular_load_ends(case, jid)
+    sigma, wq = joint_gauss(length, k_max, ends)
     slots = system.layout[jid]
     count = next(iter(slots.values())).stop - next(iter(slots.values())).start
-    return length, sigma, wq, legendre_values(sigma, length, count)
+    return length, sigma, wq, load_function_values(sigma, length, count, ends)
 
 
 def _side_powers(case: Case, system: Any, jid: str, amplitudes: Mapping[str, np.ndarray],

@@ -115,11 +115,14 @@ r"""How much further than elsewhere the edge waves of a member of a moving line 
 end of the line is a plane of symmetry for part of the motion only (an in-plane ``roller`` end
 simply supported in bending, say: :func:`assembly.lines.singular_ends`), bending
 (:math:`\tau\kappa_0`) and in-plane (:math:`\beta_{max}`) alike, beside the logarithmic
-families at those ends (:func:`singular_end_corners`; ``docs/method.md`` section 10.4): there
-the line's loads are log-singular. Neither alone converges where a member hangs on the line
-(:func:`assembly.lines.hanging_members`): an L fold so at 1 kHz changed by 6.8e-2 between
-resolutions 2.25 and 3.4 with the families and the usual reach, by 3.8e-3 between 3.4 and 5
-with six times the reach and no families, by 7.9e-5 with both at three times."""
+families at those ends (:func:`singular_end_corners`) and the line's logarithmic load
+functions (:func:`solver.joint_rules.load_function_values`; ``docs/method.md`` section 10.4):
+there the line's loads are log-singular. Neither families nor reach alone converges where a
+member hangs on the line (:func:`assembly.lines.hanging_members`): an L fold so at 1 kHz
+changed by 6.8e-2 between resolutions 2.25 and 3.4 with the families and the usual reach, by
+3.8e-3 between 3.4 and 5 with six times the reach and no families, by 7.9e-5 with both at
+three times; with the logarithmic load functions as well, the usual reach leaves 1.9e-2 in
+``(u, v)``, three times 9.6e-4 (and 2.9e-5 in ``w``)."""
 
 
 def singular_end_plates(case: Case) -> frozenset[str]:

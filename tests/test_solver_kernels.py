@@ -358,3 +358,52 @@ def test_truncated_dense_solve_against_lapack():
     np.testing.assert_allclose(residual, best, rtol=1e-10)
     assert np.all(np.count_nonzero(x, axis=0) == 40)
     np.testing.assert_allclose(solve(rhs[:, 1]), x[:, 1], rtol=0, atol=1e-14 * np.abs(x).max())
+
+
+def _decade_rule(points: int = 60) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``t``, ``1 - t`` (kept apart: near 1 ``t`` rounds before ``1 - t``) and weights of a rule
+    on (0, 1) cut at every decade from 1e-40 towards both ends, ``points`` Gauss points a
+    panel: another rule than the solver's for integrands with logarithmic ends."""
+    x, w = np.polynomial.legendre.leggauss(points)
+    cuts = np.concatenate([[0.0], 10.0 ** -np.arange(40.0, 0.0, -1.0), [0.25, 0.5]])
+    half = 0.5 * np.diff(cuts)
+    near = ((cuts[:-1] + half)[:, None] + half[:, None] * x).ravel()
+    weights = (half[:, None] * w).ravel()
+    return (np.concatenate([near, 1.0 - near]), np.concatenate([1.0 - near, near]),
+            np.tile(weights, 2))
+
+
+@pytest.mark.parametrize("n", [21, 70])
+def test_a_lines_logarithmic_load_functions_are_orthonormal_parts_that_span_the_singular_terms(n):
+    r""":func:`solver.joint_rules.load_function_values` at mixed ends: the functions after the
+    Legendre ones are orthonormal and orthogonal to them in :math:`L^2(0, 1)` (Gram matrix
+    within 1e-10 of the identity, by a rule graded by decades, not the solver's), and with the
+    Legendre ones they span :math:`\ln t`, :math:`t\ln t` at a singular start and
+    :math:`\ln(1 - t)`, :math:`(1 - t)\ln(1 - t)` at a singular end (a least-squares fit of
+    a combination leaves 1e-10 of it). Without singular ends they are the Legendre
+    functions."""
+    from solver.joint_rules import (
+        _orthonormal_singular_parts,
+        _singular_functions,
+        load_function_values,
+    )
+
+    t, s, weights = _decade_rule()
+    for ends in ((True, False), (False, True), (True, True)):
+        k = n - 2 * sum(ends)
+        legendre = np.polynomial.legendre.legvander(2.0 * t - 1.0, k - 1)
+        singular = np.column_stack([legendre, *_singular_functions(t, s, ends)])
+        values = np.column_stack([legendre, singular @ _orthonormal_singular_parts(k, ends)])
+        gram = values.T @ (weights[:, None] * values)
+        assert np.abs(gram[k:, k:] - np.eye(n - k)).max() < 1e-10, ends
+        assert np.abs(gram[:k, k:]).max() < 1e-10, ends
+        # on a line of 0.8 m, as the solver evaluates them
+        u = np.linspace(0.001, 0.999, 400)
+        functions = load_function_values(0.8 * u, 0.8, n, ends)
+        target = np.column_stack([np.polynomial.legendre.legvander(2.0 * u - 1.0, k - 1),
+                                  *_singular_functions(u, 1.0 - u, ends)]) @ np.linspace(1, 2, n)
+        fit = functions @ np.linalg.lstsq(functions, target, rcond=None)[0]
+        assert np.linalg.norm(fit - target) < 1e-10 * np.linalg.norm(target), ends
+    sigma = np.linspace(0.05, 0.75, 9)
+    assert np.array_equal(load_function_values(sigma, 0.8, n),
+                          np.polynomial.legendre.legvander(2.0 * sigma / 0.8 - 1.0, n - 1))
