@@ -27,7 +27,7 @@ three-bay panel with roller ends); the members of a moving line with such an end
 logarithmic corner functions there and reach further with their edge waves
 (:func:`solver.problems.singular_end_corners`, :data:`solver.problems.SINGULAR_END_REACH`), and
 the line's load functions gain the loads' logarithmic terms at that end
-(:func:`singular_line_ends`, :func:`solver.joint_rules.load_function_values`), at 30 to 40
+(:func:`singular_line_ends`, :func:`solver.joint_rules.load_function_values`), at 30 to 50
 times the cost of the held line. ``held = false`` moves such a line; ``vtcr check``
 warns either way, of the cost or of what the held line leaves out, unless ``held = true`` is
 given (:func:`solver.guards.description_issues`). Its warning names the members that *hang* on
@@ -158,12 +158,26 @@ def singular_ends(joint: JunctionJoint, plates: Mapping[str, Any],
     return [edge for edges in line_ends(joint, plates) for edge in _mixed_end(edges, supports)]
 
 
+def _kinked(edges: list[EdgeId], supports: Mapping[EdgeId, tuple[str, str]]) -> bool:
+    r"""Whether, at one end of a line, an end edge is ``roller`` in-plane (a member's in-plane
+    displacement across the line even about the end plane) and one is ``simply_supported``
+    (another's deflection odd, its slope free): the line ties the two, so its data have a kink
+    at the end and its loads go like :math:`a\ln t + b + c\,t\ln t` (module notes)."""
+    given = [supports[edge] for edge in edges if edge in supports]
+    return (any(in_plane == "roller" for _, in_plane in given)
+            and any(bending == "simply_supported" for bending, _ in given))
+
+
 def singular_line_ends(joint: JunctionJoint, plates: Mapping[str, Any],
                        supports: Mapping[EdgeId, tuple[str, str]]) -> tuple[bool, bool]:
-    """Whether the line's start and its end (along the line, :func:`line_ends`) are singular
-    (:func:`singular_ends`). ``supports`` as there."""
-    start, end = line_ends(joint, plates)
-    return bool(_mixed_end(start, supports)), bool(_mixed_end(end, supports))
+    """Whether the line's loads are log-singular at its start and at its end (along the line,
+    :func:`line_ends`): a mixed end (:func:`singular_ends`) with a kink (:func:`_kinked`).
+    The other mixes (``symmetric`` with ``diaphragm`` or ``fixed``, ``clamped`` with
+    ``roller``) converge under the rule without the logarithmic load functions, which there
+    slowed refinement three to forty times and have no reference to be checked against
+    (``docs/method.md`` section 10.4). ``supports`` as for :func:`singular_ends`."""
+    return tuple(bool(_mixed_end(edges, supports)) and _kinked(edges, supports)
+                 for edges in line_ends(joint, plates))
 
 
 HOLDS_ACROSS = {"end": ("fixed", "diaphragm"), "far": ("fixed", "roller")}

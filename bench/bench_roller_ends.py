@@ -39,7 +39,8 @@ members rigid, simply supported ends, 1 N on A), the in-plane condition of the e
 * **against finite elements** (``--fem`` alone, about five minutes; needs the ``bench`` extra,
   scikit-fem): the L fold with roller ends under the rule against ``bench/fem_folded.py``'s
   independent solution, by resolution, by the line's count of Legendre functions, and on
-  Legendre functions alone (as before the logarithmic ones).
+  Legendre functions alone (as before the logarithmic ones); then the T junction against
+  ``bench/fem_junction.py``'s (its finest mesh: ten more minutes and 7 GB).
 
 Run: ``OPENBLAS_NUM_THREADS=1 python bench/bench_roller_ends.py [--quick]`` (the full run takes
 about fifteen minutes on two cores, most of it at the largest reaches).
@@ -417,6 +418,37 @@ def against_finite_elements(level: int = 6) -> None:
               flush=True)
 
 
+def junction_against_finite_elements(level: int = 8) -> None:
+    """The T junction of the tests with ``simply_supported`` + ``roller`` ends, its stiffener's
+    top simply supported and fixed or free (it hangs), under the rule and on Legendre load
+    functions alone, against the independent finite elements of ``bench/fem_junction.py``
+    (mesh ``level``; estimated error 6e-9 to 2e-8 in ``w`` at 1 kHz, 6e-7 to 9e-7 at 3 kHz at
+    level 8): the largest relative L2 difference of ``w``, then of ``(u, v)``, over the three
+    plates at resolutions 1.5, 2.25 and 3.4."""
+    from fem_junction import junction_fields
+
+    def largest(fields: dict, reference: dict, component: int) -> float:
+        return max(np.linalg.norm(fields[name][component] - reference[name])
+                   / np.linalg.norm(reference[name]) for name in fields)
+
+    print(f"against the finite elements of fem_junction.py (level {level}): the T junction, "
+          "largest relative L2 difference over the plates, resolutions 1.5, 2.25, 3.4",
+          flush=True)
+    for top, far in (("fixed", ("simply_supported", "fixed")), ("free", None)):
+        for frequency in (1000.0, 3000.0):
+            w_fe, uv_fe = junction_fields(frequency, "roller", top, level)
+            for label, treatment in (
+                    ("the rule", contextlib.nullcontext),
+                    ("Legendre load functions alone",
+                     lambda: end_treatment(SINGULAR_END_REACH, load_functions=False))):
+                with treatment():
+                    fields = [hanging_fields("T", far, frequency, resolution)
+                              for resolution in (1.5, 2.25, 3.4)]
+                print(f"  T1's top {top}, {frequency:6.0f} Hz, {label}: w "
+                      + ", ".join(f"{largest(f, w_fe, 0):.1e}" for f in fields) + "; (u, v) "
+                      + ", ".join(f"{largest(f, uv_fe, 1):.1e}" for f in fields), flush=True)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true")
@@ -444,6 +476,7 @@ def main() -> None:
         return
     if args.fem:
         against_finite_elements()
+        junction_against_finite_elements()
         return
     planes_of_symmetry()
     if args.symmetry:

@@ -382,17 +382,8 @@ class FoldPlate:
 
     def probes(self, points: np.ndarray, cells: np.ndarray | None = None):
         """Sparse (n x n_m) values of the P5 basis at ``points`` (2, n) in ``cells``
-        (``Basis.probes`` with the cells given)."""
-        basis = self.membrane
-        if cells is None:
-            cells = self.mesh.element_finder(mapping=basis.mapping)(*points)
-        X = basis.mapping.invF(points[:, :, None], tind=cells)
-        values = np.array([basis.elem.gbasis(basis.mapping, X, k, tind=cells)[0].value[:, 0]
-                           for k in range(basis.Nbfun)])
-        rows = np.tile(np.arange(points.shape[1]), basis.Nbfun)
-        cols = basis.element_dofs[:, cells].ravel()
-        return coo_matrix((values.ravel(), (rows, cols)),
-                          shape=(points.shape[1], self.n_m)).tocsr()
+        (:func:`p5_probes`)."""
+        return p5_probes(self.membrane, self.mesh, points, cells)
 
     def values(self, x: np.ndarray, points: np.ndarray, cells: np.ndarray | None = None):
         """``w``, ``w_x``, ``u``, ``v`` of the plate's part ``x`` of the solution at local
@@ -405,13 +396,33 @@ class FoldPlate:
                 "v": probe @ x[self.n_w + self.n_m:]}
 
     def normal_x(self, facets) -> np.ndarray:
-        """``n_x`` of the normal in the ``u_n`` dof of each line facet: the gradient of that
-        dof's basis function at the facet midpoint (its trace vanishes there, so the gradient
-        is the normal)."""
-        mid = self.mesh.p[:, self.mesh.facets[:, facets]].mean(axis=1)
-        dx = self.bending.eval_matrix(mid, self.mesh.f2t[0, facets], what="dx")
-        dofs = self.bending.basis.facet_dofs[0, facets]
-        return np.asarray(dx[np.arange(len(facets)), dofs]).ravel()
+        """``n_x`` of the normal in the ``u_n`` dof of each line facet
+        (:func:`facet_normal_x`)."""
+        return facet_normal_x(self.mesh, self.bending, facets)
+
+
+def p5_probes(basis, mesh: MeshTri, points: np.ndarray, cells: np.ndarray | None = None):
+    """Sparse (n x dofs) values of the P5 ``basis`` at ``points`` (2, n) in ``cells``, found
+    in ``mesh`` when not given (``Basis.probes`` with the cells given)."""
+    if cells is None:
+        cells = mesh.element_finder(mapping=basis.mapping)(*points)
+    X = basis.mapping.invF(points[:, :, None], tind=cells)
+    values = np.array([basis.elem.gbasis(basis.mapping, X, k, tind=cells)[0].value[:, 0]
+                       for k in range(basis.Nbfun)])
+    rows = np.tile(np.arange(points.shape[1]), basis.Nbfun)
+    cols = basis.element_dofs[:, cells].ravel()
+    return coo_matrix((values.ravel(), (rows, cols)),
+                      shape=(points.shape[1], basis.N)).tocsr()
+
+
+def facet_normal_x(mesh: MeshTri, bending, facets) -> np.ndarray:
+    """``n_x`` of the normal in the ``u_n`` dof of each of ``facets``: the gradient of that
+    dof's Argyris basis function (``bending``) at the facet midpoint (its trace vanishes
+    there, so the gradient is the normal)."""
+    mid = mesh.p[:, mesh.facets[:, facets]].mean(axis=1)
+    dx = bending.eval_matrix(mid, mesh.f2t[0, facets], what="dx")
+    dofs = bending.basis.facet_dofs[0, facets]
+    return np.asarray(dx[np.arange(len(facets)), dofs]).ravel()
 
 
 # ---------------------------------------------------------------------------------------------
@@ -568,11 +579,16 @@ class FoldModel:
             points = np.column_stack([np.full(n, plate.line_x), y])
             side[name] = plate.values(xp, points, plate.line_cells(y))
         A, B = side["A"], side["B"]
-        out = {}
-        for key, a, b in (("u_A + w_B", A["u"], -B["w"]), ("v_A - v_B", A["v"], B["v"]),
-                          ("w_A - u_B", A["w"], B["u"]), ("w_A,x - w_B,x", A["w_x"], B["w_x"])):
-            out[key] = float(np.abs(a - b).max() / max(np.abs(a).max(), np.abs(b).max()))
-        return out
+        return relative_mismatch([("u_A + w_B", A["u"], -B["w"]), ("v_A - v_B", A["v"], B["v"]),
+                                  ("w_A - u_B", A["w"], B["u"]),
+                                  ("w_A,x - w_B,x", A["w_x"], B["w_x"])])
+
+
+def relative_mismatch(pairs) -> dict[str, float]:
+    """``{key: max |a - b| / max(max |a|, max |b|)}`` for each ``(key, a, b)`` of ``pairs``:
+    how well a constraint ``a = b`` sampled along a line holds."""
+    return {key: float(np.abs(a - b).max() / max(np.abs(a).max(), np.abs(b).max()))
+            for key, a, b in pairs}
 
 
 @dataclass
@@ -679,6 +695,30 @@ def run_levels(ends: str, levels, frequencies) -> dict[tuple[float, int], FoldSo
     return solutions
 
 
+def field_columns(fields: list[str], levels, values: dict, exact: dict | None = None
+                  ) -> tuple[list[str], dict, dict]:
+    """The field columns of a convergence table, one row per level ``n`` of ``levels``
+    (``values[n]``: ``{field: array}``): each field's relative change from the previous level
+    (blank at the first) and, with ``exact``, its error. Returns the rows, the changes
+    ``{field: [one per step]}`` and the finest level's errors."""
+    changes = {f: [] for f in fields}
+    errors, rows, previous = {}, [], None
+    for n in levels:
+        row = ""
+        for f in fields:
+            if previous is None:
+                row += f" {'':>9}"
+            else:
+                changes[f].append(relative(values[n][f], previous[f]))
+                row += f" {changes[f][-1]:>9.2e}"
+        if exact is not None:
+            errors = {f: relative(values[n][f], exact[f]) for f in fields}
+            row += "".join(f" {errors[f]:>9.2e}" for f in fields)
+        rows.append(row)
+        previous = values[n]
+    return rows, changes, errors
+
+
 def print_table(ends: str, frequency: float, levels, solutions, exact=None) -> dict:
     """One convergence table; returns the finest level's error estimates (and, with
     ``exact``, its true errors) per field."""
@@ -689,25 +729,14 @@ def print_table(ends: str, frequency: float, levels, solutions, exact=None) -> d
     if exact is not None:
         head += "".join(f" {'err ' + f:>9}" for f in fields)
     print(head)
-    changes = {f: [] for f in fields}
-    errors = {}
-    previous = None
-    for n in levels:
+    values = {n: {"w_A": solutions[frequency, n].w["A"], "w_B": solutions[frequency, n].w["B"],
+                  "uv_A": solutions[frequency, n].uv["A"], "uv_B": solutions[frequency, n].uv["B"]}
+              for n in levels}
+    rows, changes, errors = field_columns(fields, levels, values, exact)
+    for n, columns in zip(levels, rows):
         s = solutions[frequency, n]
-        values = {"w_A": s.w["A"], "w_B": s.w["B"], "uv_A": s.uv["A"], "uv_B": s.uv["B"]}
-        row = (f"  {n:>2} {s.n_triangles:>6} {s.n_dofs:>7} {s.t_setup:>5.1f}s"
-               f" {s.t_solve:>5.1f}s {max(s.mismatch.values()):>7.1e} {s.residual:>7.1e}")
-        for f in fields:
-            if previous is None:
-                row += f" {'':>9}"
-            else:
-                changes[f].append(relative(values[f], previous[f]))
-                row += f" {changes[f][-1]:>9.2e}"
-        if exact is not None:
-            errors = {f: relative(values[f], exact[f]) for f in fields}
-            row += "".join(f" {errors[f]:>9.2e}" for f in fields)
-        print(row)
-        previous = values
+        print(f"  {n:>2} {s.n_triangles:>6} {s.n_dofs:>7} {s.t_setup:>5.1f}s"
+              f" {s.t_solve:>5.1f}s {max(s.mismatch.values()):>7.1e} {s.residual:>7.1e}" + columns)
     estimates = {f: richardson(list(levels[-3:]), changes[f][-2:]) for f in fields}
     print(f"  error estimate of n = {levels[-1]} (Richardson on the last two changes): "
           + ", ".join(f"{f} {estimates[f]:.1e}" for f in fields))

@@ -404,10 +404,10 @@ def _singular_end_issues(case: Case) -> list[tuple[_Loc, str]]:
     ``roller`` edge simply supported in bending, say). There the line's loads are log-singular
     at its ends; its members carry logarithmic corner functions there and edge waves reaching
     :data:`solver.problems.SINGULAR_END_REACH` times further (``docs/method.md`` section
-    10.4), and its line's loads carry their logarithmic terms there, at 30 to 40 times the cost
-    of the held line; its field keeps an error of up to about 1e-5 in ``w`` and 1e-3 in-plane
-    against an independent finite-element solution, which the estimate does not see (the
-    count of the line's Legendre functions). Such a line moves only when
+    10.4), and its line's loads carry their logarithmic terms there, at 30 to 50 times the cost
+    of the held line; its field keeps an error of up to about 1.5e-4 in ``w`` and 1e-3
+    in-plane against independent finite-element solutions of an L fold and a T junction,
+    which the estimate does not see (the count of the line's Legendre functions). Such a line moves only when
     ``held = false`` is given, with a warning of that cost; held by default, it is warned of
     what the held line leaves out (``held = true`` says the choice is made). Both name the two
     consistent choices, a plane of symmetry on every member (``symmetric`` with ``roller``) or
@@ -433,14 +433,14 @@ def _singular_end_issues(case: Case) -> list[tuple[_Loc, str]]:
         if jid in moving:
             message = (f"junction line {jid} moves but {why}: its line loads are singular at "
                        "its ends, where its members carry logarithmic corner functions and edge "
-                       f"waves reaching {SINGULAR_END_REACH:g} times further, at 30 to 40 "
+                       f"waves reaching {SINGULAR_END_REACH:g} times further, at 30 to 50 "
                        "times the cost of the held line, and its field keeps an error that the "
-                       "error estimate does not show (on an L fold against finite elements, "
-                       "up to 1e-5 in w and 1e-3 in-plane)"
+                       "error estimate does not show (on an L fold and a T junction against "
+                       "finite elements, up to 1.5e-4 in w and 1e-3 in-plane)"
                        f"{hangs} (docs/method.md section 10.4); set held = true, or {fix}")
         elif joint.held is None and not members_coplanar(joint, case.plates):
             message = (f"junction line {jid} is held in translation by default: {why}, where "
-                       f"moving it costs 30 to 40 times more{hangs} "
+                       f"moving it costs 30 to 50 times more{hangs} "
                        "(docs/method.md section 10.4), and the held line leaves out its "
                        "members' in-plane motion (on a three-bay stiffened panel, 2 to 110 % of "
                        "w); set held = false to move it, held = true to keep it held without "

@@ -130,18 +130,24 @@ def test_lines_ending_on_planes_of_symmetry_move_and_mixed_ends_stay_held():
     """A line moves by default where each of its ends is a plane of symmetry on every member
     (``symmetric`` with ``roller``, the default in-plane condition of ``symmetric``) or on
     none; one end may be one and the other not. Where an end mixes them it stays held, and
-    ``vtcr check`` names the edges and the two consistent choices."""
+    ``vtcr check`` names the edges and the two consistent choices. The line's loads are
+    log-singular at a mixed end where a ``roller`` edge meets a ``simply_supported`` one
+    (:func:`assembly.lines.singular_line_ends`: the kink of ``docs/method.md`` section 10.4),
+    at no other mix."""
     assert _fold().moving_lines() == ("F",)
     assert check_description(_fold(), "fold.toml") == []
     top_diaphragm = {"A_top": ("simply_supported", "diaphragm"),
                      "B_top": ("simply_supported", "diaphragm")}
     assert _fold(**top_diaphragm).moving_lines() == ("F",)
-    for mixed in ({"B_bottom": ("simply_supported", "diaphragm")},  # across the members
-                  {"A_bottom": ("symmetric", "fixed")},  # on one edge
-                  {"A_bottom": ("symmetric", "diaphragm"), "B_bottom": ("symmetric", "diaphragm")}):
+    for mixed, kinked in (
+            ({"B_bottom": ("simply_supported", "diaphragm")}, True),  # across the members
+            ({"A_bottom": ("symmetric", "fixed")}, False),  # on one edge
+            ({"A_bottom": ("symmetric", "diaphragm"), "B_bottom": ("symmetric", "diaphragm")},
+             False)):
         case = _fold(**mixed)
         assert case.moving_lines() == (), mixed
         assert case.singular_ends("F") == [EdgeId("A", "bottom"), EdgeId("B", "bottom")], mixed
+        assert case.singular_line_ends("F") == (kinked, False), mixed
         (warning,) = check_description(case, "fold.toml")
         assert warning.startswith("fold.toml: joints.F.held: junction line F is held")
         assert "A.bottom, B.bottom" in warning and 'condition = "symmetric"' in warning
@@ -156,6 +162,10 @@ def test_lines_ending_on_planes_of_symmetry_move_and_mixed_ends_stay_held():
     case = parse_case(flipped)
     assert case.member_directions("F") == (1, 1)
     assert case.singular_ends("F") == [EdgeId("A", "bottom"), EdgeId("B", "top")]
+    assert case.singular_line_ends("F") == (True, False)
+    assert _fold(**ROLLER_ENDS).singular_line_ends("F") == (True, True)
+    clamped = {key: ("clamped", "roller") for key in ROLLER_ENDS}
+    assert _fold(**clamped).singular_line_ends("F") == (False, False)
 
 
 ROLLER_ENDS = {f"{plate}_{end}": ("simply_supported", "roller")
