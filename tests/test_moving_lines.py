@@ -681,6 +681,44 @@ def test_a_t_junction_with_mixed_ends_meets_independent_finite_elements(top, mon
     assert w_before > 1e-3 and uv_before > 3e-2, (w_before, uv_before)
 
 
+@pytest.mark.parametrize("mixed", ["bottom", "top"])
+def test_the_logarithmic_loads_sit_at_the_mixed_end_of_a_line_with_one(mixed, monkeypatch):
+    """The L fold at 1 kHz with one end ``simply_supported`` + ``roller`` (mixed) and the
+    other ``simply_supported`` + ``diaphragm``: the logarithmic load functions go to the
+    mixed end only (:func:`assembly.lines.singular_line_ends`, in the line's direction, which
+    B runs against). The reference is the same fold with 50 Legendre functions and no
+    logarithmic ones, a finer discretisation of the loads (with both ends mixed it is within
+    7.6e-7 and 1.7e-6 of the finite elements, ``bench/bench_roller_ends.py --fem``). Measured
+    at resolution 2.25: the rule 9.4e-7 (mixed bottom) and 2.8e-6 (top) from it; the
+    logarithmic functions at the other end, or none, 1.1e-4 and 1.9e-4."""
+    description = _description(*L_FOLD, 1000.0, False)
+    description["discretisation"]["resolution"] = 2.25
+    for boundary in description["boundaries"]:
+        if "in_plane" in boundary:
+            boundary["in_plane"] = "roller" if boundary["edge"].endswith(mixed) else "diaphragm"
+    expected = (True, False) if mixed == "bottom" else (False, True)
+    assert parse_case(description).singular_line_ends("F") == expected
+
+    def fields(settings: dict | None = None) -> dict[str, np.ndarray]:
+        case = parse_case(description | {"discretisation": description["discretisation"]
+                                         | (settings or {})})
+        return folded_w(solve_assembly(case, 1000.0, residuals=False), L_FOLD[0], LY)
+
+    def difference(a: dict, b: dict) -> float:
+        return max(np.linalg.norm(a[name] - b[name]) / np.linalg.norm(b[name]) for name in b)
+
+    rule = fields()
+    import assembly.case
+
+    monkeypatch.setattr(assembly.case.Case, "singular_line_ends",
+                        lambda self, joint_id: (False, False))
+    finer = fields({"interface_functions": 50})
+    assert difference(rule, finer) < 5e-6
+    monkeypatch.setattr(assembly.case.Case, "singular_line_ends",
+                        lambda self, joint_id: expected[::-1])
+    assert difference(fields(), finer) > 5e-5
+
+
 def test_the_logarithmic_families_sit_where_a_moving_line_meets_its_mixed_end():
     """:func:`solver.problems.singular_end_corners`: on the T junction with roller ends and
     its line moving, the corners of each member's line edge (S1's right edge: corners 1 and 2;
