@@ -6,7 +6,8 @@ diagnosis and behind the rule (the logarithmic corner functions at such ends,
 functions, ``solver.joint_rules.load_function_values``), on the L fold of
 ``tests/test_moving_lines.py`` (plates A 0.4 m and B 0.3 m, 2 mm steel, 0.5 m long line, both
 members rigid, simply supported ends, 1 N on A), the in-plane condition of the end edges
-``roller`` or ``diaphragm``, ``held = false``. :func:`end_treatment` switches the rule's three parts for a run.
+``roller`` or ``diaphragm``, ``held = false``. :func:`end_treatment` switches the rule's three
+parts for a run.
 
 * **refinement, the rays alone with the usual reach** (as before the rule): the relative L2
   differences of ``w`` and ``(u, v)`` on each plate between resolutions 1 -> 1.5 -> 2.25 -> 3.4;

@@ -407,10 +407,10 @@ def _singular_end_issues(case: Case) -> list[tuple[_Loc, str]]:
     10.4), and its line's loads carry their logarithmic terms there, at 30 to 50 times the cost
     of the held line; its field keeps an error of up to about 1.5e-4 in ``w`` and 1e-3
     in-plane against independent finite-element solutions of an L fold and a T junction,
-    which the estimate does not see (the count of the line's Legendre functions). Such a line moves only when
-    ``held = false`` is given, with a warning of that cost; held by default, it is warned of
-    what the held line leaves out (``held = true`` says the choice is made). Both name the two
-    consistent choices, a plane of symmetry on every member (``symmetric`` with ``roller``) or
+    which the estimate does not see (the count of the line's Legendre functions). Such a
+    line moves only when ``held = false`` is given, with a warning of that cost; held by
+    default, it is warned of what the held line leaves out (``held = true`` says the choice is
+    made). Both name the two consistent choices, a plane of symmetry on every member (``symmetric`` with ``roller``) or
     none, and the members that hang on the line (:meth:`assembly.Case.hanging_members`), where
     refinement converges more slowly."""
     moving = set(case.moving_lines())
