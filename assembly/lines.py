@@ -174,8 +174,9 @@ def singular_line_ends(joint: JunctionJoint, plates: Mapping[str, Any],
     :func:`line_ends`): a mixed end (:func:`singular_ends`) with a kink (:func:`_kinked`).
     The other mixes (``symmetric`` with ``diaphragm`` or ``fixed``, ``clamped`` with
     ``roller``) converge under the rule without the logarithmic load functions, which there
-    slowed refinement three to forty times and have no reference to be checked against
-    (``docs/method.md`` section 10.4). ``supports`` as for :func:`singular_ends`."""
+    slowed refinement three to forty times, and against finite elements of a fold with
+    ``symmetric`` + ``diaphragm`` ends were no better (``docs/method.md`` section 10.4).
+    ``supports`` as for :func:`singular_ends`."""
     return tuple(bool(_mixed_end(edges, supports)) and _kinked(edges, supports)
                  for edges in line_ends(joint, plates))
 
