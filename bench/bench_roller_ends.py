@@ -37,11 +37,12 @@ parts for a run.
 * **what the rule costs** (``--rule`` alone, about five minutes): one solve at resolution 1.5
   moving under the rule and held, on the L fold, the T junction and the panel, then the
   panel's refinement under the rule;
-* **against finite elements** (``--fem`` alone, about five minutes; needs the ``bench`` extra,
-  scikit-fem): the L fold with roller ends under the rule against ``bench/fem_folded.py``'s
-  independent solution, by resolution, by the line's count of Legendre functions, and on
-  Legendre functions alone (as before the logarithmic ones); then the T junction against
-  ``bench/fem_junction.py``'s (its finest mesh: ten more minutes and 7 GB).
+* **against finite elements** (``--fem`` alone, fifteen to thirty minutes, 7 GB; needs the
+  ``bench`` extra, scikit-fem): the L fold with roller ends under the rule against
+  ``bench/fem_folded.py``'s independent solution, by resolution, by the line's count of
+  Legendre functions, and on Legendre functions alone (as before the logarithmic ones), and
+  with ``symmetric`` + ``diaphragm`` ends; then the T junction against
+  ``bench/fem_junction.py``'s, at its finest mesh.
 
 Run: ``OPENBLAS_NUM_THREADS=1 python bench/bench_roller_ends.py [--quick]`` (the full run takes
 about fifteen minutes on two cores, most of it at the largest reaches).
