@@ -410,9 +410,9 @@ def _singular_end_issues(case: Case) -> list[tuple[_Loc, str]]:
     which the estimate does not see (the count of the line's Legendre functions). Such a
     line moves only when ``held = false`` is given, with a warning of that cost; held by
     default, it is warned of what the held line leaves out (``held = true`` says the choice is
-    made). Both name the two consistent choices, a plane of symmetry on every member (``symmetric`` with ``roller``) or
-    none, and the members that hang on the line (:meth:`assembly.Case.hanging_members`), where
-    refinement converges more slowly."""
+    made). Both name the two consistent choices, a plane of symmetry on every member
+    (``symmetric`` with ``roller``) or none, and the members that hang on the line
+    (:meth:`assembly.Case.hanging_members`), where refinement converges more slowly."""
     moving = set(case.moving_lines())
     warnings = []
     for jid, joint in case.joints.items():

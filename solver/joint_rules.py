@@ -84,8 +84,11 @@ def singular_load_ends(case: Case, joint_id: str) -> tuple[bool, bool]:
     """Whether a joint's loads are log-singular at its start and its end (along the line): the
     mixed ends of a moving line (:meth:`assembly.Case.singular_line_ends`,
     ``docs/method.md`` section 10.4). A held line's loads are not: without the in-plane field
-    no member's deflection is tied to another's translation."""
-    if case.joints[joint_id].kind != "junction" or joint_id not in case.moving_lines():
+    no member's deflection is tied to another's translation. A line with a mixed end moves
+    only with ``held = false`` (:func:`assembly.lines.moving_lines`), so that is all this
+    reads of the assembly: one joint, called per joint side, stays independent of its size."""
+    joint = case.joints[joint_id]
+    if joint.kind != "junction" or joint.held is not False:
         return NO_SINGULAR_ENDS
     return case.singular_line_ends(joint_id)
 
@@ -130,11 +133,11 @@ def _orthonormal_singular_parts(n_legendre: int, ends: tuple[bool, bool]) -> np.
     legendre = np.polynomial.legendre.legvander(2.0 * t - 1.0, n_legendre - 1)
     values = np.column_stack([legendre, *_singular_functions(t, s, ends)])
     coefficients = np.eye(values.shape[1])[:, n_legendre:]
+    inverse_norms = 2.0 * np.arange(n_legendre) + 1.0  # the Legendre functions': 1/(2i + 1)
     for _ in range(2):  # a second pass restores the orthogonality the first loses in rounding
         for j in range(coefficients.shape[1]):
             column = values @ coefficients[:, j]
-            for i in range(n_legendre):  # the Legendre functions are orthogonal: 1/(2i + 1)
-                coefficients[i, j] -= (2 * i + 1) * np.sum(weights * legendre[:, i] * column)
+            coefficients[:n_legendre, j] -= inverse_norms * (legendre.T @ (weights * column))
             for i in range(j):
                 other = values @ coefficients[:, i]
                 coefficients[:, j] -= np.sum(weights * other * column) * coefficients[:, i]

@@ -590,6 +590,21 @@ With them, the same fold with ``symmetric`` + ``diaphragm`` ends (level 6, chang
 ``python bench/fem_folded.py`` then ``python bench/fem_folded.py --test-data``."""
 
 
+def _finite_element_errors(solution, plates, reference, key: str
+                           ) -> dict[str, tuple[float, float]]:
+    """Per plate, the relative L2 differences of ``w`` and ``(u, v)`` on its
+    :func:`inner_grid` to the finite-element fields ``reference[f"w_{plate}{key}"]`` and
+    ``reference[f"uv_{plate}{key}"]``."""
+    errors = {}
+    for name, (length, *_) in plates.items():
+        points = inner_grid(length, LY)
+        w, uv = reference[f"w_{name}{key}"], reference[f"uv_{name}{key}"]
+        errors[name] = (np.linalg.norm(solution.plates[name].field(points)["w"] - w)
+                        / np.linalg.norm(w),
+                        np.linalg.norm(solution.in_plane(name, points) - uv) / np.linalg.norm(uv))
+    return errors
+
+
 @pytest.mark.parametrize("frequency", [300.0, 1000.0])
 def test_symmetric_and_diaphragm_ends_meet_independent_finite_elements(frequency):
     """The other mix of the halves of a plane of symmetry that the finite elements take:
@@ -605,14 +620,11 @@ def test_symmetric_and_diaphragm_ends_meet_independent_finite_elements(frequency
     case = parse_case(description)
     assert case.singular_ends("F") and case.singular_line_ends("F") == (False, False)
     solution = solve_assembly(case, frequency, residuals=False)
-    reference = np.load(FINITE_ELEMENT_FOLD)
-    for name, (length, *_) in L_FOLD[0].items():
-        points = inner_grid(length, LY)
-        w = reference[f"symmetric_diaphragm_w_{name}_{frequency:.0f}"]
-        uv = reference[f"symmetric_diaphragm_uv_{name}_{frequency:.0f}"]
-        w_error = (np.linalg.norm(solution.plates[name].field(points)["w"] - w)
-                   / np.linalg.norm(w))
-        uv_error = np.linalg.norm(solution.in_plane(name, points) - uv) / np.linalg.norm(uv)
+    # the symmetric + diaphragm fields are keyed symmetric_diaphragm_w_A_300, ...
+    reference = {key.removeprefix("symmetric_diaphragm_"): value
+                 for key, value in np.load(FINITE_ELEMENT_FOLD).items()}
+    errors = _finite_element_errors(solution, L_FOLD[0], reference, f"_{frequency:.0f}")
+    for name, (w_error, uv_error) in errors.items():
         assert w_error < 2e-5 and uv_error < 1.2e-3, (name, w_error, uv_error)
 
 
@@ -636,20 +648,11 @@ def test_mixed_ends_meet_independent_finite_elements_with_the_lines_logarithmic_
     solve converged under refinement to a field 1e-4 off in ``w`` and 1e-2 to 1e-1 in
     ``(u, v)``. Tolerances three times the measured errors, below the Legendre ones."""
     reference = np.load(FINITE_ELEMENT_FOLD)
-    tag = f"{frequency:.0f}"
 
     def errors() -> dict[str, tuple[float, float]]:
         solution = solve_assembly(_roller_fold(False, frequency=frequency), frequency,
                                   residuals=False)
-        out = {}
-        for name, (length, *_) in L_FOLD[0].items():
-            points = inner_grid(length, LY)
-            w, uv = reference[f"w_{name}_{tag}"], reference[f"uv_{name}_{tag}"]
-            out[name] = (np.linalg.norm(solution.plates[name].field(points)["w"] - w)
-                         / np.linalg.norm(w),
-                         np.linalg.norm(solution.in_plane(name, points) - uv)
-                         / np.linalg.norm(uv))
-        return out
+        return _finite_element_errors(solution, L_FOLD[0], reference, f"_{frequency:.0f}")
 
     with_terms = errors()
     for name, (w_error, uv_error) in with_terms.items():
@@ -691,15 +694,8 @@ def test_a_t_junction_with_mixed_ends_meets_independent_finite_elements(top, mon
             if boundary["edge"].endswith(("bottom", "top")):
                 boundary["in_plane"] = "roller"
         solution = solve_assembly(parse_case(description), 1000.0, residuals=False)
-        w_errors, uv_errors = [], []
-        for name, (length, *_) in plates.items():
-            points = inner_grid(length, LY)
-            w, uv = reference[f"w_{name}_{top}"], reference[f"uv_{name}_{top}"]
-            w_errors.append(np.linalg.norm(solution.plates[name].field(points)["w"] - w)
-                            / np.linalg.norm(w))
-            uv_errors.append(np.linalg.norm(solution.in_plane(name, points) - uv)
-                             / np.linalg.norm(uv))
-        return max(w_errors), max(uv_errors)
+        errors = _finite_element_errors(solution, plates, reference, f"_{top}").values()
+        return max(w_error for w_error, _ in errors), max(uv_error for _, uv_error in errors)
 
     w_error, uv_error = errors()
     assert w_error < (5e-5 if top == "free" else 3e-5) and uv_error < 2e-3, (w_error, uv_error)
@@ -729,11 +725,8 @@ def test_the_estimate_of_a_line_with_mixed_ends_is_honest_against_finite_element
     solution = solve_assembly(case, frequency)
     estimate = estimate_error(case, solution)
     reference = np.load(FINITE_ELEMENT_FOLD if shape == "L" else FINITE_ELEMENT_JUNCTION)
-    key = f"{frequency:.0f}" if shape == "L" else top
-    for name, (length, *_) in plates.items():
-        exact = reference[f"w_{name}_{key}"]
-        true = (np.linalg.norm(solution.plates[name].field(inner_grid(length, LY))["w"] - exact)
-                / np.linalg.norm(exact))
+    key = f"_{frequency:.0f}" if shape == "L" else f"_{top}"
+    for name, (true, _) in _finite_element_errors(solution, plates, reference, key).items():
         assert true > 1e-5 and 0.5 <= estimate.plates[name] / true <= 3.0, (
             name, estimate.plates[name], true)
 
@@ -765,12 +758,11 @@ def test_the_logarithmic_loads_sit_at_the_mixed_end_of_a_line_with_one(mixed, mo
         return max(np.linalg.norm(a[name] - b[name]) / np.linalg.norm(b[name]) for name in b)
 
     rule = fields()
-    import assembly.case
-
-    monkeypatch.setattr(assembly.case.Case, "singular_line_ends",
-                        lambda self, joint_id: (False, False))
+    _singular_load_functions_off(monkeypatch)
     finer = fields({"interface_functions": 50})
     assert difference(rule, finer) < 5e-6
+    import assembly.case
+
     monkeypatch.setattr(assembly.case.Case, "singular_line_ends",
                         lambda self, joint_id: expected[::-1])
     assert difference(fields(), finer) > 5e-5
