@@ -385,8 +385,9 @@ def against_finite_elements(level: int = 6) -> None:
     functions set to 30, 40 and 50 (``interface_functions``, the logarithmic ones added), then
     on Legendre functions alone (as before them) at their usual count and at 30 to 60; the
     same with shear-diaphragm ends at resolution 2.25, where both are exact to 1e-8; and the
-    other mix the finite elements take, ``symmetric`` + ``diaphragm`` ends (no logarithmic
-    load functions under the rule), at resolutions 1.5, 2.25 and 3.4."""
+    other mixes the finite elements take, ``symmetric`` + ``diaphragm`` and ``symmetric`` +
+    ``fixed`` ends (no logarithmic load functions under the rule), at resolutions 1.5, 2.25
+    and 3.4."""
     from fem_folded import folded_fields as finite_element_fields
 
     def cells(fields: dict, w_fe: dict, uv_fe: dict) -> str:
@@ -420,11 +421,13 @@ def against_finite_elements(level: int = 6) -> None:
         fields, _, _ = fold_fields(frequency, "diaphragm", 2.25)
         print(f"  diaphragm {frequency:6.0f} Hz, resolution 2.25: {cells(fields, w_fe, uv_fe)}",
               flush=True)
-        w_fe, uv_fe = finite_element_fields(frequency, "symmetric_diaphragm", level)
-        for resolution in (1.5, 2.25, 3.4):
-            fields, _, _ = fold_fields(frequency, "diaphragm", resolution, condition="symmetric")
-            print(f"  symmetric + diaphragm {frequency:6.0f} Hz, resolution {resolution:4.2f}: "
-                  f"{cells(fields, w_fe, uv_fe)}", flush=True)
+        for in_plane in ("diaphragm", "fixed"):
+            w_fe, uv_fe = finite_element_fields(frequency, f"symmetric_{in_plane}", level)
+            for resolution in (1.5, 2.25, 3.4):
+                fields, _, _ = fold_fields(frequency, in_plane, resolution,
+                                           condition="symmetric")
+                print(f"  symmetric + {in_plane} {frequency:6.0f} Hz, resolution "
+                      f"{resolution:4.2f}: {cells(fields, w_fe, uv_fe)}", flush=True)
 
 
 def junction_against_finite_elements(level: int = 8) -> None:

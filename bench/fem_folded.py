@@ -104,7 +104,9 @@ symmetry plane: ``w_y = 0`` and the roller in-plane condition), the last only to
 roller's in-plane condition against the exact solution, which exists for diaphragm and
 symmetric ends but not for roller ends; or 'symmetric_diaphragm' (``w_y = 0`` with the
 diaphragm's in-plane condition, another mix of the halves of a plane of symmetry than
-'roller'; not in :func:`main`'s self-checks: level 4 to 6 changes ``w`` by 6e-9 to 3e-7).
+'roller'; not in :func:`main`'s self-checks: level 4 to 6 changes ``w`` by 6e-9 to 3e-7) or
+'symmetric_fixed' (``w_y = 0`` with ``u = v = 0``, the third such mix; level 4 to 6
+changes ``w`` by 6e-9 to 2.9e-7 and ``(u, v)`` by 2.8e-7 to 1.4e-5).
 
 Self-checks
 -----------
@@ -167,7 +169,8 @@ LOAD = (0.15, 0.2)  # on A, along A's e_z, 1 N
 ENDS = {"diaphragm": (["u", "u_x", "u_xx"], "u"),
         "roller": (["u", "u_x", "u_xx"], "v"),
         "symmetric": (["u_y", "u_xy", "u_n"], "v"),
-        "symmetric_diaphragm": (["u_y", "u_xy", "u_n"], "u")}
+        "symmetric_diaphragm": (["u_y", "u_xy", "u_n"], "u"),
+        "symmetric_fixed": (["u_y", "u_xy", "u_n"], "uv")}
 SELF_CHECKED_ENDS = ("diaphragm", "roller", "symmetric")
 OUT = Path("/tmp/fem_folded")
 
@@ -354,12 +357,13 @@ class FoldPlate:
         """Far edge: simply supported (``w`` and its tangential derivatives at the vertices),
         ``u = v = 0``; ends ``y = 0, LY`` as ``ENDS[ends]``: simply supported (``w, w_x,
         w_xx``) or symmetric (``w_y, w_xy`` at the vertices and the midpoint ``w_n``, so the
-        quartic trace of ``w_y`` vanishes), and ``u = 0`` or ``v = 0``."""
+        quartic trace of ``w_y`` vanishes), and ``u = 0``, ``v = 0`` or both."""
         far = self.edge(0, far_x)
         end = np.concatenate([self.edge(1, 0.0), self.edge(1, LY)])
         argyris = self.bending.basis
         bending, in_plane = ENDS[ends]
-        in_plane = self.u_dofs(end) if in_plane == "u" else self.v_dofs(end)
+        in_plane = np.concatenate([self.u_dofs(end)] * ("u" in in_plane)
+                                  + [self.v_dofs(end)] * ("v" in in_plane))
         return np.unique(np.concatenate([
             argyris.get_dofs(facets=far).all(SS_X_EDGE),
             argyris.get_dofs(facets=end).all(bending),
@@ -791,6 +795,7 @@ def main(levels=LEVELS) -> None:
 
 
 TEST_DATA = ROOT / "tests" / "data" / "fem_fold_mixed_ends.npz"
+SYMMETRIC_MIXES = ("symmetric_diaphragm", "symmetric_fixed")
 
 
 def write_test_data(mixed_level: int = 6) -> None:
@@ -798,18 +803,20 @@ def write_test_data(mixed_level: int = 6) -> None:
     into ``tests/data/fem_fold_mixed_ends.npz``, the reference of
     ``tests/test_moving_lines.py``: ``w_A_300``, ``uv_B_1000``, ... and the error estimates
     ``error_estimate_300``, ``error_estimate_1000``; and, solved here at ``mixed_level``
-    (level 4 to 6 changes them by 6e-9 to 3e-7 in ``w``), the ``symmetric_diaphragm`` fields,
-    ``symmetric_diaphragm_w_A_300``, ... (five minutes)."""
+    (level 4 to 6 changes them by 6e-9 to 3e-7 in ``w``), the fields of the
+    :data:`SYMMETRIC_MIXES`, ``symmetric_diaphragm_w_A_300``, ``symmetric_fixed_uv_B_1000``,
+    ... (ten minutes)."""
     packed = {}
     for frequency in FREQUENCIES:
         saved = np.load(OUT / f"fields_roller_{frequency:g}.npz")
         for key in ("w_A", "w_B", "uv_A", "uv_B"):
             packed[f"{key}_{frequency:g}"] = saved[key]
         packed[f"error_estimate_{frequency:g}"] = saved["error_estimate"]
-        w, uv = folded_fields(frequency, "symmetric_diaphragm", mixed_level)
-        for plate in LENGTHS:
-            packed[f"symmetric_diaphragm_w_{plate}_{frequency:g}"] = w[plate]
-            packed[f"symmetric_diaphragm_uv_{plate}_{frequency:g}"] = uv[plate]
+        for ends in SYMMETRIC_MIXES:
+            w, uv = folded_fields(frequency, ends, mixed_level)
+            for plate in LENGTHS:
+                packed[f"{ends}_w_{plate}_{frequency:g}"] = w[plate]
+                packed[f"{ends}_uv_{plate}_{frequency:g}"] = uv[plate]
     np.savez_compressed(TEST_DATA, **packed)
     print(f"wrote {TEST_DATA}")
 
