@@ -35,7 +35,7 @@ from solver.plate import (
 from solver.rays import RayBasis
 
 __all__ = ["PlateAdmissibility", "PlateBlock", "MembraneBlock", "plate_block",
-           "plate_admissibility", "membrane_blocks"]
+           "plate_admissibility", "membrane_blocks", "factorised_sizes"]
 
 CornerDeflections = tuple[np.ndarray, np.ndarray]
 """A plate's corner deflections: per corner, the rays' ``w`` (4, n_i) and the particular
@@ -189,12 +189,32 @@ def _with_force(block: PlateBlock, loads: np.ndarray) -> np.ndarray:
     return block.solve(np.column_stack([block.force, loads]))
 
 
-def _plate_signature(problem: PlateProblem, basis: RayBasis) -> tuple:
+def _plate_signature(problem: PlateProblem, basis: RayBasis) -> tuple | None:
     """What a plate's VTCR block depends on besides its point forces: its basis object
     (:func:`solver.problems.plate_bases`), material, frequency and edge conditions with their
-    data."""
+    data; None for a forced plate, whose block is its own."""
+    if problem.point_forces:
+        return None
     return (id(basis), problem.size, problem.bending_stiffness, problem.poisson_ratio,
             problem.mass_per_area, problem.omega, tuple(sorted(problem.edges.items())))
+
+
+def factorised_sizes(problems: Mapping[str, PlateProblem], bases: Mapping[str, RayBasis],
+                     membranes: Mapping[str, MembraneProblem] | None = None,
+                     membrane_bases: Mapping[str, MembraneBasis] | None = None
+                     ) -> tuple[list[int], list[int]]:
+    """The orders of the dense matrices a build factorises, bending and in-plane: one per
+    group of identical plates (:func:`plate_admissibility`, :func:`membrane_blocks`), one per
+    forced plate. What :mod:`solver.sizing` counts the plates' cost from."""
+    bending, seen = [], set()
+    for pid, problem in problems.items():
+        key = _plate_signature(problem, bases[pid])
+        if key is None or key not in seen:
+            seen.add(key)
+            bending.append(bases[pid].n_dof)
+    in_plane = {_membrane_signature(problem, membrane_bases[pid]): membrane_bases[pid].n_dof
+                for pid, problem in (membranes or {}).items()}
+    return bending, list(in_plane.values())
 
 
 def plate_admissibility(case: Case, frequency: float, problems: Mapping[str, PlateProblem],
@@ -212,7 +232,7 @@ def plate_admissibility(case: Case, frequency: float, problems: Mapping[str, Pla
     solved = _SharedSolves()
     for pid in case.plates:
         problem = problems[pid]
-        key = None if problem.point_forces else _plate_signature(problem, bases[pid])
+        key = _plate_signature(problem, bases[pid])
         block = shared.get(key) or plate_block(problem, bases[pid])
         if key is not None:
             shared[key] = block

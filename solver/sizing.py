@@ -33,6 +33,11 @@ enriched_size`; 0.43 GB estimated on the 10 x 10 grid, 0.46-0.48 GB measured, 0.
 once a forward solve factorised the square system by SuperLU, 0.32 GB since it factorises it
 by groups, :mod:`solver.grouped_lu`, from one copy of its entries).
 
+The plates' blocks and transfer operators are counted from the orders of the dense matrices
+a build factorises (:data:`CUBED_ORDER_SECONDS`, :data:`MEMBRANE_BLOCK_SECONDS`,
+:data:`PLATE_SECONDS`): a solve's estimate is 0.53 to 1.26 times its measured time on the 21
+cases of ``bench/bench_sizing.py``, from one plate to a 12-bay panel with moving lines.
+
 All on one core of the 2-core reference machine. These are estimates to a factor of about
 two, for deciding before a run whether it fits, not measurements.
 """
@@ -47,6 +52,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from assembly.case import Case
+from solver.admissibility import factorised_sizes
 from solver.in_plane import membrane_bases, membrane_problems
 from solver.interface import GROUPED_MIN_SIZE
 from solver.layout import interface_layout
@@ -60,7 +66,27 @@ FACTOR_SECONDS = (0.52, 2.8e6, 1.22)  # SuperLU: seconds for a fill, and the exp
 GROUPED_FILL_PER_LOG_PLATES = 0.58  # factor entries / matrix entries, per ln P
 GROUPED_BYTES = 31.0  # per factor entry
 GROUPED_FACTOR_SECONDS = (0.14, 1.31e6, 1.10)
-PLATE_SECONDS = 0.02  # rays, traces, dense plate solve and transfer operator, per plate
+CUBED_ORDER_SECONDS = 8.7e-10
+"""Seconds per cubed order :math:`n^3` of each dense matrix a build factorises
+(:func:`solver.admissibility.factorised_sizes`): its traces, assembly, pivoted QR and transfer
+operators, which grow like the rays' count cubed."""
+MEMBRANE_BLOCK_SECONDS = 0.014
+"""Seconds per distinct in-plane block beyond its cubed order: its edge traces and the corner
+functions of its fixed-free corners, costly for small orders."""
+PLATE_SECONDS = 0.0015
+"""Seconds per plate, shared or not: its loads and the solve of its transfer operator.
+
+The three were fitted (relative least squares) to the plate blocks' time of one solve
+(``timings["plates"]``, best of three, one BLAS thread, 2-core Intel Xeon) on 21 cases:
+every case of ``cases/`` at its highest frequency, the four plates at 2 kHz, the single plate
+at 1 and 3 kHz, the 4 x 4 and 6 x 6 grids and the stiffened panel of
+``bench/bench_moving_lines.py`` moving and held at 600 and 2500 Hz and widened to 6 and 12
+bays (``bench/bench_sizing.py``). Estimate / time: 0.59 to 1.56 (0.003 s to 0.68 s
+measured). One plate per group of identical ones is what makes the 10 x 10 grid's plates
+cheap (0.10 s: nine distinct blocks for 100 plates) and a moving-line box dear (0.68 s:
+sixteen, of orders up to 370). The constant
+0.02 s a plate it replaces (2026-11-27) had them at 0.23 to 19 times their time: 2.0 s for the
+grid, 0.22 s for the box."""
 LOCALISATION_SOLVES = 3  # per frequency: modified problem, direct model, the noise draws (one)
 PLAN_SECONDS_PER_ENTRY = 1.2e-7
 """``vtcr plan``'s work per joint and frequency per factor entry (its two condensations and its
@@ -89,6 +115,9 @@ class SizeEstimate:
     frequencies: int
     max_steps: int
     channels: int = 0  # updatable joints (a junction's finite members each)
+    factorised: tuple[tuple[int, ...], tuple[int, ...]] = ((), ())
+    """The orders of the dense bending and in-plane matrices a build factorises
+    (:func:`solver.admissibility.factorised_sizes`)."""
 
     @property
     def grouped(self) -> bool:
@@ -116,14 +145,28 @@ class SizeEstimate:
         return t * (self.factor_entries / fill) ** power
 
     @property
-    def solve_seconds(self) -> float:
-        return PLATE_SECONDS * self.plates + self.factorisation_seconds
+    def plate_seconds(self) -> float:
+        r"""The plates' blocks and transfer operators:
+        :math:`c_3\sum n^3 + c_m N_m + c_p P` over the factorised orders :math:`n`, the
+        :math:`N_m` distinct in-plane blocks and the :math:`P` plates
+        (:data:`CUBED_ORDER_SECONDS`, :data:`MEMBRANE_BLOCK_SECONDS`, :data:`PLATE_SECONDS`)."""
+        bending, in_plane = self.factorised
+        return (CUBED_ORDER_SECONDS * sum(float(n) ** 3 for n in bending + in_plane)
+                + MEMBRANE_BLOCK_SECONDS * len(in_plane) + PLATE_SECONDS * self.plates)
 
     @property
-    def update_seconds(self) -> float:
-        """At most ``2 max_steps + 1`` localisations (accepted or undone corrections)."""
+    def solve_seconds(self) -> float:
+        return self.plate_seconds + self.factorisation_seconds
+
+    def update_seconds(self, enriched: SizeEstimate | None = None) -> float:
+        """At most ``2 max_steps + 1`` localisations (accepted or undone corrections) after the
+        set-up: per frequency a solve and, with ``enriched`` (the estimate of the error
+        estimate's enriched solve), two solves of about its size, the error estimate that sets
+        the floors and the simulated experiment (``[measurement] resolution``, 1.6 times the
+        rule's counts against the enriched 1.5)."""
         localisations = 2 * self.max_steps + 1
-        return self.frequencies * (self.solve_seconds + localisations * LOCALISATION_SOLVES
+        set_up = self.solve_seconds + (0.0 if enriched is None else 2.0 * enriched.solve_seconds)
+        return self.frequencies * (set_up + localisations * LOCALISATION_SOLVES
                                    * self.factorisation_seconds)
 
     @property
@@ -136,7 +179,7 @@ class SizeEstimate:
     def plan_seconds(self, joints: int | None = None) -> float:
         """``vtcr plan`` of ``joints`` updatable joints (default every one)."""
         joints = self.channels if joints is None else joints
-        return (PLATE_SECONDS * self.plates + self.frequencies * PLAN_SOLVES
+        return (self.plate_seconds + self.frequencies * PLAN_SOLVES
                 * self.factorisation_seconds + joints * self.plan_seconds_per_joint)
 
     def lines(self, enriched: SizeEstimate | None = None) -> list[str]:
@@ -155,7 +198,8 @@ class SizeEstimate:
             f"{with_estimate} (sparse interface matrix {self.matrix_entries:.3g} entries, "
             f"{'LDL^H by groups' if self.grouped else 'LU'} factors about "
             f"{self.factor_entries:.2g}); update at most about "
-            f"{self.update_seconds:.2g} s ({self.frequencies} frequencies, "
+            f"{self.update_seconds(enriched):.2g} s ({self.frequencies} frequencies"
+            f"{'' if enriched is None else ', each set up by a solve, its error estimate and a simulated experiment'}, "
             f"{LOCALISATION_SOLVES} factorisations per localisation, at most "
             f"{2 * self.max_steps + 1} localisations); plan about "
             f"{self.plan_seconds():.2g} s, {self.plan_seconds_per_joint:.2g} s per joint "
@@ -189,8 +233,8 @@ def estimate_size(case: Case, frequency: float | None = None,
     entries = samples = constraints = 0
     moving = set(case.moving_lines())
     in_plane = membrane_problems(case, frequency)
-    n_rays = sum(b.n_dof for b in bases.values()) + sum(
-        b.n_dof for b in membrane_bases(case, in_plane, problems, resolution).values())
+    in_plane_bases = membrane_bases(case, in_plane, problems, resolution)
+    n_rays = sum(b.n_dof for b in bases.values()) + sum(b.n_dof for b in in_plane_bases.values())
     for jid, joint in case.joints.items():
         seen = len(np.unique(np.concatenate([unknowns[p] for p in joint.plates])))
         n_f = counts[jid]  # a channel's samples: its residual on the load functions
@@ -217,7 +261,9 @@ def estimate_size(case: Case, frequency: float | None = None,
     return SizeEstimate(frequency, len(case.plates), len(case.joints), n_rays, n_s, constraints,
                         samples,
                         matrix_entries, len(case.frequencies), case.updating.max_steps,
-                        len(case.updatable_joints()))
+                        len(case.updatable_joints()),
+                        tuple(map(tuple, factorised_sizes(problems, bases, in_plane,
+                                                          in_plane_bases))))
 
 
 def _measured_points(case: Case) -> dict[str, int]:

@@ -95,3 +95,26 @@ def test_large_arrays_are_returned_to_the_system_for_problems_factorised_by_grou
     grid.write_text(description_toml(plate_grid(5, 5)))
     assert main(["check", str(grid)]) == 0
     assert calls == [True]
+
+
+@pytest.mark.parametrize("name", ["stiffened_panel.toml", "closed_box.toml"])
+def test_the_plates_cost_counts_the_matrices_the_build_factorises(name, monkeypatch):
+    """The plates' time is estimated from the orders of the dense matrices a build factorises,
+    one per group of identical plates (``solver.sizing.CUBED_ORDER_SECONDS``): those orders,
+    bending and in-plane, are the ones the build passes to its factorisation."""
+    import solver.admissibility
+
+    case = load_case(CASES / name)
+    frequency = max(case.frequencies)
+    orders = []
+    factorise = solver.admissibility.factorise_dense
+
+    def counted(matrix):
+        orders.append(matrix.shape[1])
+        return factorise(matrix)
+
+    monkeypatch.setattr(solver.admissibility, "factorise_dense", counted)
+    build_assembly_system(case, frequency)
+    bending, in_plane = estimate_size(case, frequency).factorised
+    assert sorted(orders) == sorted(bending + in_plane)
+
