@@ -4,7 +4,9 @@ the measured time, on the cases its plate constants were fitted to.
 For each case, at the frequency given: the orders of the dense matrices the build factorises
 (bending + in-plane, one per group of identical plates), the plate blocks' time of one solve
 (``timings["plates"]``) and the whole solve's (plates, interface rows, interface solve;
-processor time, best of three) against ``SizeEstimate.plate_seconds`` and ``solve_seconds``.
+processor time, best of three) against ``SizeEstimate.plate_seconds`` and ``solve_seconds``;
+and the solve's peak memory above the start-up (numpy's arrays, traced) against
+``solve_bytes`` less ``START_UP_BYTES``, with the build's part ``build_bytes``.
 
 Run: ``OPENBLAS_NUM_THREADS=1 python bench/bench_sizing.py`` (about a minute).
 """
@@ -13,6 +15,7 @@ from __future__ import annotations
 
 import sys
 import time
+import tracemalloc
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -23,7 +26,7 @@ from support import folded_description  # noqa: E402
 
 from assembly import load_case, parse_case  # noqa: E402
 from assembly.generate import plate_grid  # noqa: E402
-from solver.sizing import estimate_size  # noqa: E402
+from solver.sizing import START_UP_BYTES, estimate_size  # noqa: E402
 from solver.substructure import solve_assembly  # noqa: E402
 
 
@@ -54,7 +57,7 @@ def cases():
 
 def main() -> None:
     print(f"{'case':30} {'f [Hz]':>7} {'plates':>6} {'orders':>14} {'plates [s]':>17} "
-          f"{'solve [s]':>17}   (measured / estimated, ratio)")
+          f"{'solve [s]':>17} {'peak above start-up':>32}   (measured / estimated, ratio)")
     ratios = []
     for label, case, frequency in cases():
         size = estimate_size(case, frequency)
@@ -64,13 +67,20 @@ def main() -> None:
             solution = solve_assembly(case, frequency, residuals=False)
             solve = min(solve, time.process_time() - start)
             plates = min(plates, solution.timings["plates"])
+        tracemalloc.start()
+        solve_assembly(case, frequency, residuals=False)
+        peak = tracemalloc.get_traced_memory()[1] / 1e6
+        tracemalloc.stop()
+        memory = (size.solve_bytes - START_UP_BYTES) / 1e6
         bending, in_plane = size.factorised
-        ratios.append((size.plate_seconds / plates, size.solve_seconds / solve))
+        ratios.append((size.plate_seconds / plates, size.solve_seconds / solve, memory / peak))
         print(f"{label:30} {frequency:7.0f} {len(case.plates):6d} "
               f"{f'{len(bending)}+{len(in_plane)}, max {max(bending + in_plane)}':>14} "
               f"{plates:6.3f} / {size.plate_seconds:5.3f} {ratios[-1][0]:4.2f} "
-              f"{solve:6.3f} / {size.solve_seconds:5.3f} {ratios[-1][1]:4.2f}", flush=True)
-    for name, column in (("plates", 0), ("solve", 1)):
+              f"{solve:6.3f} / {size.solve_seconds:5.3f} {ratios[-1][1]:4.2f} "
+              f"{peak:5.0f} / {memory:5.0f} MB (build {size.build_bytes / 1e6:4.0f}) "
+              f"{ratios[-1][2]:4.2f}", flush=True)
+    for name, column in (("plates", 0), ("solve", 1), ("memory", 2)):
         values = [ratio[column] for ratio in ratios]
         print(f"estimate / measured, {name}: {min(values):.2f} to {max(values):.2f}")
 

@@ -33,6 +33,10 @@ enriched_size`; 0.43 GB estimated on the 10 x 10 grid, 0.46-0.48 GB measured, 0.
 once a forward solve factorised the square system by SuperLU, 0.32 GB since it factorises it
 by groups, :mod:`solver.grouped_lu`, from one copy of its entries).
 
+The memory is the start-up and the larger of those factors and the plates' build
+(:data:`BUILD_BYTES_PER_SQUARED_ORDER`), which peaks before the factorisation: the traces of a
+moving-line box (orders up to 370) took 112 MB where its factors take 14.
+
 The plates' blocks and transfer operators are counted from the orders of the dense matrices
 a build factorises (:data:`CUBED_ORDER_SECONDS`, :data:`MEMBRANE_BLOCK_SECONDS`,
 :data:`PLATE_SECONDS`): a solve's estimate is 0.53 to 1.26 times its measured time on the 21
@@ -87,6 +91,10 @@ cheap (0.10 s: nine distinct blocks for 100 plates) and a moving-line box dear (
 sixteen, of orders up to 370). The constant
 0.02 s a plate it replaces (2026-11-27) had them at 0.23 to 19 times their time: 2.0 s for the
 grid, 0.22 s for the box."""
+BUILD_BYTES_PER_SQUARED_ORDER = 100.0
+"""The plates' build's peak per squared order of the matrices it factorises: each block's
+edge traces (Gauss points, in number about proportional to the order, times the order) and,
+for the in-plane blocks, the traces that identical plates share until the last is built."""
 LOCALISATION_SOLVES = 3  # per frequency: modified problem, direct model, the noise draws (one)
 PLAN_SECONDS_PER_ENTRY = 1.2e-7
 """``vtcr plan``'s work per joint and frequency per factor entry (its two condensations and its
@@ -135,9 +143,18 @@ class SizeEstimate:
         return self.matrix_entries * fill
 
     @property
+    def build_bytes(self) -> float:
+        """The plates' build at its peak: :data:`BUILD_BYTES_PER_SQUARED_ORDER` times the sum
+        of the squared orders of the matrices it factorises."""
+        bending, in_plane = self.factorised
+        return BUILD_BYTES_PER_SQUARED_ORDER * sum(float(n) ** 2 for n in bending + in_plane)
+
+    @property
     def solve_bytes(self) -> float:
+        """The start-up and the larger of the plates' build and the interface factors: the
+        build's traces are freed before the interface problem is factorised."""
         per_entry = GROUPED_BYTES if self.grouped else BYTES_PER_FACTOR_ENTRY
-        return START_UP_BYTES + per_entry * self.factor_entries
+        return START_UP_BYTES + max(self.build_bytes, per_entry * self.factor_entries)
 
     @property
     def factorisation_seconds(self) -> float:
