@@ -74,7 +74,7 @@ import networkx as nx
 import numpy as np
 
 from assembly.case import Case
-from solver.errors import ToleranceError
+from solver.errors import ToleranceError, check_finite
 from solver.in_plane import in_plane_plates
 from solver.membrane import MembraneSolution
 from solver.membrane_basis import membrane_grid_displacement
@@ -84,6 +84,7 @@ from solver.problems import plate_resolution
 from solver.rays import QUASI_STATIC_KAPPA_R
 from solver.sizing import SizeEstimate, available_memory, estimate_size
 from solver.solution import CaseSolution
+from solver.substructure import solve_assembly
 from solver.vtcr import solve_case
 
 __all__ = ["ENRICHMENT", "EnrichedSolve", "ErrorEstimate", "ToleranceError", "enriched_size",
@@ -232,15 +233,33 @@ def enriched_solve(case: Case, frequency: float,
     """The enriched solve (every count of the rule at ``resolution`` times
     :data:`ENRICHMENT`) as an :class:`EnrichedSolve`, or none and why (:mod:`solver.sizing`
     estimates it too long or too large)."""
+    return _enriched_solution(case, frequency, resolution)[0]
+
+
+def _enriched_solution(case: Case, frequency: float,
+                       resolution: float | Mapping[str, float] | None
+                       ) -> tuple[EnrichedSolve, CaseSolution | None]:
+    """:func:`enriched_solve`, and the whole solution it was taken from (without joint
+    residuals; None where the solve was not made)."""
     t0 = time.perf_counter()
     _, enriched_resolution = _resolutions(case, resolution)
     if case.joints:
         reason = _enriched_solve_unaffordable(case, frequency, enriched_resolution)
         if reason:
-            return EnrichedSolve(None, {}, reason, time.perf_counter() - t0)
+            return EnrichedSolve(None, {}, reason, time.perf_counter() - t0), None
     solution = solve_case(case, frequency, resolution=enriched_resolution, residuals=False,
                           check=False)
-    return EnrichedSolve(solution.plates, solution.membranes, "", time.perf_counter() - t0)
+    return (EnrichedSolve(solution.plates, solution.membranes, "", time.perf_counter() - t0),
+            solution)
+
+
+def _with_residuals(case: Case, solution: CaseSolution) -> CaseSolution:
+    """A solve made without joint residuals as :func:`solver.vtcr.solve_case` returns it: an
+    assembly's interface problem solved again on the solve's system (its plates' blocks, the
+    cost of a solve, are not rebuilt) with the residuals and their reference energy."""
+    if not case.joints:
+        return solution
+    return check_finite(solve_assembly(case, solution.frequency, system=solution.system))
 
 
 def estimate_error(
@@ -344,7 +363,9 @@ def solve_to_tolerance(
     their joints), starting from ``resolution`` (default the description's): :func:`_to_refine`,
     with the plates :func:`refined_together` ties to them.
     The total over the assembly is then below ``tolerance`` too (it is a weighted mean of the
-    plates' squared errors of ``w``).
+    plates' squared errors of ``w``). Where every plate is refined, the next solve is the
+    estimate's enriched solve, already made: only its interface problem is solved again, for
+    the joint residuals (:func:`_with_residuals`).
 
     Returns
     -------
@@ -364,7 +385,8 @@ def solve_to_tolerance(
     solution = solve_case(case, frequency, resolution=resolution, check=False)
     history = []
     for refinement in range(max_refinements + 1):
-        estimate = estimate_error(case, solution, resolution)
+        enriched, finer = _enriched_solution(case, frequency, resolution)
+        estimate = estimate_error(case, solution, resolution, enriched)
         if estimate.total is None:
             raise ToleranceError(f"{frequency:g} Hz: the tolerance cannot be checked: "
                                  f"{estimate.reason}; solve without a tolerance")
@@ -379,7 +401,12 @@ def solve_to_tolerance(
         refine = set().union(*(together[pid] for pid in _to_refine(case, estimate, tolerance)))
         resolution = {pid: r * (ENRICHMENT if pid in refine else 1.0)
                       for pid, r in resolution.items()}
-        solution = solve_case(case, frequency, resolution=resolution, check=False)
+        # where every plate is refined the next solve is the enriched one, already made
+        if refine == set(case.plates) and finer is not None:
+            solution = _with_residuals(case, finer)
+        else:
+            solution = finer = None  # both freed before the next solve
+            solution = solve_case(case, frequency, resolution=resolution, check=False)
     raise AssertionError("unreachable")
 
 

@@ -152,6 +152,32 @@ def test_tolerance_is_reached_and_true():
     assert math.sqrt(num / den) <= EFFECTIVITY[1] * 1e-3
 
 
+def test_a_refinement_of_every_plate_takes_the_enriched_solve_as_its_next_solve(monkeypatch):
+    """Where every plate is refined, the next solve is the one the estimate just made (every
+    count times ENRICHMENT): solve_to_tolerance solves each resolution once, and returns what a
+    solve at its final resolution returns."""
+    import solver.estimate
+
+    joint = {"kind": "hinge", "log10_stiffness": 2.5}
+    case = parse_case(chain_description([joint], 0.85))
+    resolutions = []
+    original = solver.estimate.solve_case
+
+    def recording(*args, **kwargs):
+        resolutions.append(tuple(sorted(kwargs["resolution"].items())))
+        return original(*args, **kwargs)
+
+    monkeypatch.setattr(solver.estimate, "solve_case", recording)
+    solution, estimate = solve_to_tolerance(case, case.frequencies[0], 1e-3)
+    assert len(resolutions) == len(set(resolutions)) == 3, resolutions  # 0.85, 1.275, 1.9125
+    monkeypatch.undo()
+    again = solve_case(case, case.frequencies[0], resolution=estimate.resolution, check=False)
+    points = np.array([[0.1, 0.2], [0.3, 0.1]])
+    for plate in case.plates:
+        assert np.array_equal(solution.w(plate, points), again.w(plate, points))
+    assert solution.residuals == again.residuals
+
+
 def test_unreachable_tolerance_names_the_plate_and_the_cause():
     case = parse_case(plate_description())
     with pytest.raises(ToleranceError, match=r"0.01 Hz.*plate P1.*far below its first resonances"):
