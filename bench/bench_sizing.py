@@ -23,6 +23,7 @@ sys.path[:0] = [str(ROOT), str(ROOT / "tests"), str(ROOT / "bench")]
 
 import bench_moving_lines as panel  # noqa: E402
 from support import folded_description  # noqa: E402
+from test_moving_lines import LY, SHAPES  # noqa: E402
 
 from assembly import load_case, parse_case  # noqa: E402
 from assembly.generate import plate_grid  # noqa: E402
@@ -32,8 +33,10 @@ from solver.substructure import solve_assembly  # noqa: E402
 
 def cases():
     """``(label, case, frequency)``: every case of ``cases/`` at its highest frequency, a few
-    at higher ones, two grids and the stiffened panel of ``bench_moving_lines.py``, moving and
-    held, widened to 6 and 12 bays."""
+    at higher ones, two grids, the L fold and the T junction of ``tests/test_moving_lines.py``
+    with mixed ends moved (``simply_supported`` + ``roller``, ``held = false``: the rule of
+    ``docs/method.md`` section 10.4, not in the fit), and the stiffened panel of
+    ``bench_moving_lines.py``, moving and held, widened to 6 and 12 bays."""
     for path in sorted((ROOT / "cases").glob("*.toml")):
         case = load_case(path)
         yield path.stem, case, max(case.frequencies)
@@ -47,6 +50,13 @@ def cases():
         for held in (False, True):
             yield (f"panel, {'held' if held else 'moving'}",
                    parse_case(panel.description([frequency], held)), frequency)
+    for shape, frequency in (("L", 300.0), ("L", 1000.0), ("T", 1000.0), ("T", 3000.0)):
+        plates, lines, load = SHAPES[shape]
+        description = folded_description(plates, lines, load, frequency, False, LY, 1.5)
+        for boundary in description["boundaries"]:
+            if boundary["edge"].endswith(("bottom", "top")):
+                boundary["condition"], boundary["in_plane"] = "simply_supported", "roller"
+        yield f"{shape}, mixed ends moved", parse_case(description), frequency
     for bays in (6, 12):
         plates, lines = panel.wider_panel(bays)
         for held in (False, True):

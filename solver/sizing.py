@@ -39,8 +39,10 @@ moving-line box (orders up to 370) took 112 MB where its factors take 14.
 
 The plates' blocks and transfer operators are counted from the orders of the dense matrices
 a build factorises (:data:`CUBED_ORDER_SECONDS`, :data:`MEMBRANE_BLOCK_SECONDS`,
-:data:`PLATE_SECONDS`): a solve's estimate is 0.53 to 1.26 times its measured time on the 21
-cases of ``bench/bench_sizing.py``, from one plate to a 12-bay panel with moving lines.
+:data:`PLATE_SECONDS`): a solve's estimate is 0.54 to 1.23 times its measured time on the 21
+cases of ``bench/bench_sizing.py`` it was fitted to, from one plate to a 12-bay panel with
+moving lines (0.41 to 1.03 on folds whose mixed ends move under the rule of
+``docs/method.md`` section 10.4: their corner functions cost more than rays).
 
 All on one core of the 2-core reference machine. These are estimates to a factor of about
 two, for deciding before a run whether it fits, not measurements.
@@ -85,7 +87,7 @@ The three were fitted (relative least squares) to the plate blocks' time of one 
 every case of ``cases/`` at its highest frequency, the four plates at 2 kHz, the single plate
 at 1 and 3 kHz, the 4 x 4 and 6 x 6 grids and the stiffened panel of
 ``bench/bench_moving_lines.py`` moving and held at 600 and 2500 Hz and widened to 6 and 12
-bays (``bench/bench_sizing.py``). Estimate / time: 0.59 to 1.56 (0.003 s to 0.68 s
+bays (``bench/bench_sizing.py``). Estimate / time: 0.56 to 1.50 (0.004 s to 0.68 s
 measured). One plate per group of identical ones is what makes the 10 x 10 grid's plates
 cheap (0.10 s: nine distinct blocks for 100 plates) and a moving-line box dear (0.68 s:
 sixteen, of orders up to 370). The constant
