@@ -67,7 +67,8 @@ def cases():
 
 def main() -> None:
     print(f"{'case':30} {'f [Hz]':>7} {'plates':>6} {'orders':>14} {'plates [s]':>17} "
-          f"{'solve [s]':>17} {'peak above start-up':>32}   (measured / estimated, ratio)")
+          f"{'solve [s]':>17} {'peak above start-up':>32}   (measured / estimated, then "
+          "estimated / measured)")
     ratios = []
     for label, case, frequency in cases():
         size = estimate_size(case, frequency)

@@ -361,13 +361,13 @@ class FoldPlate:
         far = self.edge(0, far_x)
         end = np.concatenate([self.edge(1, 0.0), self.edge(1, LY)])
         argyris = self.bending.basis
-        bending, in_plane = ENDS[ends]
-        in_plane = np.concatenate([self.u_dofs(end)] * ("u" in in_plane)
-                                  + [self.v_dofs(end)] * ("v" in in_plane))
+        bending, held = ENDS[ends]
+        held_in_plane = [dofs(end) for component, dofs in (("u", self.u_dofs), ("v", self.v_dofs))
+                         if component in held]
         return np.unique(np.concatenate([
             argyris.get_dofs(facets=far).all(SS_X_EDGE),
             argyris.get_dofs(facets=end).all(bending),
-            self.u_dofs(far), self.v_dofs(far), in_plane]))
+            self.u_dofs(far), self.v_dofs(far), *held_in_plane]))
 
     def line(self):
         """The line's vertices (sorted by y), its facets (sorted by midpoint y) and the P5

@@ -200,8 +200,8 @@ def _plate_signature(problem: PlateProblem, basis: RayBasis) -> tuple | None:
 
 
 def factorised_sizes(problems: Mapping[str, PlateProblem], bases: Mapping[str, RayBasis],
-                     membranes: Mapping[str, MembraneProblem] | None = None,
-                     membrane_bases: Mapping[str, MembraneBasis] | None = None
+                     membranes: Mapping[str, MembraneProblem],
+                     membrane_bases: Mapping[str, MembraneBasis]
                      ) -> tuple[list[int], list[int]]:
     """The orders of the dense matrices a build factorises, bending and in-plane: one per
     group of identical plates (:func:`plate_admissibility`, :func:`membrane_blocks`), one per
@@ -213,7 +213,7 @@ def factorised_sizes(problems: Mapping[str, PlateProblem], bases: Mapping[str, R
             seen.add(key)
             bending.append(bases[pid].n_dof)
     in_plane = {_membrane_signature(problem, membrane_bases[pid]): membrane_bases[pid].n_dof
-                for pid, problem in (membranes or {}).items()}
+                for pid, problem in membranes.items()}
     return bending, list(in_plane.values())
 
 

@@ -178,7 +178,9 @@ class EnrichedSolve:
     """What the estimate keeps of the enriched solve (:func:`enriched_solve`): every plate's
     :class:`solver.plate.PlateSolution` and every in-plane plate's
     :class:`solver.membrane.MembraneSolution` (not the system, whose transfer operators would
-    double the peak memory), or None and why the solve was not made, and its time (s)."""
+    stay alive beside the solution's own), or None and why the solve was not made, and its
+    time (s). :func:`solve_to_tolerance` keeps the system while it may take the enriched
+    solve as its next one; that solve's build overlapped the solution's system anyway."""
 
     plates: dict[str, PlateSolution] | None
     membranes: dict[str, MembraneSolution]
@@ -401,11 +403,12 @@ def solve_to_tolerance(
         refine = set().union(*(together[pid] for pid in _to_refine(case, estimate, tolerance)))
         resolution = {pid: r * (ENRICHMENT if pid in refine else 1.0)
                       for pid, r in resolution.items()}
-        # where every plate is refined the next solve is the enriched one, already made
-        if refine == set(case.plates) and finer is not None:
+        # where every plate is refined the next solve is the enriched one, already made (it
+        # was: an estimate without it has no total, and stopped above)
+        if refine == set(case.plates):
             solution = _with_residuals(case, finer)
         else:
-            solution = finer = None  # both freed before the next solve
+            solution = finer = enriched = None  # freed before the next solve
             solution = solve_case(case, frequency, resolution=resolution, check=False)
     raise AssertionError("unreachable")
 

@@ -97,6 +97,7 @@ BUILD_BYTES_PER_SQUARED_ORDER = 100.0
 """The plates' build's peak per squared order of the matrices it factorises: each block's
 edge traces (Gauss points, in number about proportional to the order, times the order) and,
 for the in-plane blocks, the traces that identical plates share until the last is built."""
+SET_UP = ", each set up by a solve, its error estimate and a simulated experiment"
 LOCALISATION_SOLVES = 3  # per frequency: modified problem, direct model, the noise draws (one)
 PLAN_SECONDS_PER_ENTRY = 1.2e-7
 """``vtcr plan``'s work per joint and frequency per factor entry (its two condensations and its
@@ -127,7 +128,8 @@ class SizeEstimate:
     channels: int = 0  # updatable joints (a junction's finite members each)
     factorised: tuple[tuple[int, ...], tuple[int, ...]] = ((), ())
     """The orders of the dense bending and in-plane matrices a build factorises
-    (:func:`solver.admissibility.factorised_sizes`)."""
+    (:func:`solver.admissibility.factorised_sizes`; :func:`estimate_size` counts them, and
+    without them the plates cost :data:`PLATE_SECONDS` each only)."""
 
     @property
     def grouped(self) -> bool:
@@ -218,7 +220,7 @@ class SizeEstimate:
             f"{'LDL^H by groups' if self.grouped else 'LU'} factors about "
             f"{self.factor_entries:.2g}); update at most about "
             f"{self.update_seconds(enriched):.2g} s ({self.frequencies} frequencies"
-            f"{'' if enriched is None else ', each set up by a solve, its error estimate and a simulated experiment'}, "
+            f"{'' if enriched is None else SET_UP}, "
             f"{LOCALISATION_SOLVES} factorisations per localisation, at most "
             f"{2 * self.max_steps + 1} localisations); plan about "
             f"{self.plan_seconds():.2g} s, {self.plan_seconds_per_joint:.2g} s per joint "

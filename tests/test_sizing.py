@@ -97,7 +97,8 @@ def test_large_arrays_are_returned_to_the_system_for_problems_factorised_by_grou
     assert calls == [True]
 
 
-@pytest.mark.parametrize("name", ["stiffened_panel.toml", "closed_box.toml"])
+@pytest.mark.parametrize("name", ["stiffened_panel.toml", "closed_box.toml",
+                                  "box_with_wall.toml"])
 def test_the_plates_cost_counts_the_matrices_the_build_factorises(name, monkeypatch):
     """The plates' time is estimated from the orders of the dense matrices a build factorises,
     one per group of identical plates (``solver.sizing.CUBED_ORDER_SECONDS``): those orders,
@@ -119,15 +120,14 @@ def test_the_plates_cost_counts_the_matrices_the_build_factorises(name, monkeypa
     assert sorted(orders) == sorted(bending + in_plane)
 
 
-
 def test_the_memory_counts_the_plates_build_of_a_moving_line_box():
     """A moving-line box's solve peaks in its plates' build (the in-plane traces, 112 MB of
     numpy's arrays), not in its interface factors (14 MB): the estimate above the start-up,
     the larger of the two (``SizeEstimate.build_bytes``), is 156 MB; within a factor of two
-    asserted (the factors alone were 8 times below)."""
+    asserted (the factors alone, all the estimate counted before, were 8 times below)."""
     import tracemalloc
 
-    from solver.sizing import BYTES_PER_FACTOR_ENTRY, GROUPED_BYTES, START_UP_BYTES
+    from solver.sizing import START_UP_BYTES
     from solver.substructure import solve_assembly
 
     case = load_case(CASES / "box_with_wall.toml")
@@ -140,5 +140,3 @@ def test_the_memory_counts_the_plates_build_of_a_moving_line_box():
     finally:
         tracemalloc.stop()
     assert 0.5 < (estimate.solve_bytes - START_UP_BYTES) / peak < 2.0
-    per_entry = GROUPED_BYTES if estimate.grouped else BYTES_PER_FACTOR_ENTRY
-    assert per_entry * estimate.factor_entries < 0.25 * peak
