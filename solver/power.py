@@ -80,8 +80,8 @@ from solver.plate import (
 from solver.rays import RayBasis, edge_rule, gauss_legendre, tensor_grid_field
 from solver.solution import CaseSolution
 
-__all__ = ["PowerFlow", "power_flow", "plate_powers", "kinetic_energies", "plate_gauss_axes",
-           "grid_deflections"]
+__all__ = ["PowerFlow", "power_flow", "plate_powers", "injected_power", "kinetic_energies",
+           "plate_gauss_axes", "grid_deflections"]
 
 _Key = TypeVar("_Key", bound=Hashable)
 
@@ -152,28 +152,55 @@ def _edge_field(problem: PlateProblem, basis: RayBasis, amplitudes: np.ndarray,
     return {key: traces[key] @ amplitudes + particular[key] for key in keys}
 
 
+def _power_edges(problem: PlateProblem, basis: RayBasis, amplitudes: np.ndarray,
+                 loaded_only: bool):
+    """``(edge, weights, field, condition)`` per edge of the plate (only those with an edge
+    load if ``loaded_only``), the field on the edge's rule of the VTCR's size."""
+    k_max = float(np.max(np.abs(basis.k)))
+    sources = [f.position for f in problem.point_forces]
+    for edge in plate_edges(problem.size):
+        condition = problem.condition(edge.name)
+        if loaded_only and condition.shear is None and condition.moment is None:
+            continue
+        s, wq = edge_rule([edge], edge_rule_size(edge.length, k_max, sources, edge),
+                          [family.point for family in basis.wedges])
+        yield s, wq, _edge_field(problem, basis, amplitudes, edge, s), condition, edge.length
+
+
+def _load_work(problem: PlateProblem, basis: RayBasis, amplitudes: np.ndarray,
+               edges) -> tuple[complex, complex]:
+    r"""The loads' pairings with the field, :math:`\sum_fF_far w(\mathbf x_f)` and
+    :math:`\int(Tar w - M\,\partial_nar w)\,ds` over ``edges`` (:func:`_power_edges`)."""
+    forces, edge_loads = 0j, 0j
+    for force in problem.point_forces:
+        w = evaluate_field(problem, basis, amplitudes, np.array([force.position]))["w"][0]
+        forces += force.amplitude * np.conj(w)
+    for s, wq, field, condition, length in edges:
+        if condition.shear is not None:
+            edge_loads += wq @ (condition.shear.values(s, length) * np.conj(field["w"]))
+        if condition.moment is not None:
+            edge_loads -= wq @ (condition.moment.values(s, length) * np.conj(field["slope"]))
+    return forces, edge_loads
+
+
+def injected_power(problem: PlateProblem, basis: RayBasis, amplitudes: np.ndarray) -> float:
+    r"""The power one plate's loads inject (W), :math:`P_{in}` of the module docstring: the
+    field evaluated at its point forces and on its loaded edges only."""
+    forces, edge_loads = _load_work(problem, basis, amplitudes,
+                                    _power_edges(problem, basis, amplitudes, loaded_only=True))
+    return 0.5 * problem.omega * float((forces + edge_loads).imag)
+
+
 def plate_powers(problem: PlateProblem, basis: RayBasis,
                  amplitudes: np.ndarray) -> tuple[float, float]:
     """``(injected, dissipated)`` power of one plate (W): its loads' and, by the Green identity,
     its bending dissipation (module docstring)."""
-    k_max = float(np.max(np.abs(basis.k)))
-    sources = [f.position for f in problem.point_forces]
-    forces, edge_loads, boundary = 0j, 0j, 0j
-    for force in problem.point_forces:
-        w = evaluate_field(problem, basis, amplitudes, np.array([force.position]))["w"][0]
-        forces += force.amplitude * np.conj(w)
-    for edge in plate_edges(problem.size):
-        s, wq = edge_rule([edge], edge_rule_size(edge.length, k_max, sources, edge),
-                          [family.point for family in basis.wedges])
-        field = _edge_field(problem, basis, amplitudes, edge, s)
-        boundary += wq @ (field["shear_q"] * np.conj(field["w"])
-                          - field["twist"] * np.conj(field["tangential"])
-                          - field["moment"] * np.conj(field["slope"]))
-        condition = problem.condition(edge.name)
-        if condition.shear is not None:
-            edge_loads += wq @ (condition.shear.values(s, edge.length) * np.conj(field["w"]))
-        if condition.moment is not None:
-            edge_loads -= wq @ (condition.moment.values(s, edge.length) * np.conj(field["slope"]))
+    edges = list(_power_edges(problem, basis, amplitudes, loaded_only=False))
+    boundary = sum(wq @ (field["shear_q"] * np.conj(field["w"])
+                         - field["twist"] * np.conj(field["tangential"])
+                         - field["moment"] * np.conj(field["slope"]))
+                   for _, wq, field, _, _ in edges)
+    forces, edge_loads = _load_work(problem, basis, amplitudes, edges)
     # an edge load is a boundary traction: the boundary pairing already holds its power
     half_omega = 0.5 * problem.omega
     return (half_omega * float((forces + edge_loads).imag),

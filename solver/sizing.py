@@ -103,12 +103,13 @@ PLAN_SECONDS_PER_ENTRY = 1.2e-7
 """``vtcr plan``'s work per joint and frequency per factor entry (its two condensations and its
 expected interval), measured with SuperLU on the 6 x 6 and 10 x 10 grids of
 ``bench/bench_scale.py``."""
-GROUPED_PLAN_SECONDS_PER_ENTRY = 1.2e-7
-"""The same through the grouped factorisation: the whole plan of ``cases/grid_10x10.toml``
-(180 joints, 5.4e6 factor entries of :math:`LDL^H` with L packed, estimated 120 s) took 135 s
-on the 2-core AMD EPYC."""
-PLAN_SOLVES = 6  # per frequency: the model response, its enriched solve (three), the modified
-# problem and the model again
+GROUPED_PLAN_SECONDS_PER_ENTRY = 6e-8
+"""The same through the grouped factorisation: per joint 0.22 s on ``cases/grid_10x10.toml``
+(180 joints, 5.4e6 factor entries of :math:`LDL^H` with L packed; the whole plan 44 s) and
+0.125 s on ``cases/box_with_wall.toml`` (20 joints, 4.4e5 entries, three frequencies), 2-core
+Intel Xeon, 2026-11-27. It was 1.2e-7 while each joint recomputed the injected power of every
+plate (the grid's plan 93 s, 135 s on the 2-core AMD EPYC)."""
+PLAN_SOLVES = 3  # per frequency: the model response, the modified problem and the model again
 
 
 @dataclass(frozen=True)
@@ -197,11 +198,15 @@ class SizeEstimate:
         per_entry = GROUPED_PLAN_SECONDS_PER_ENTRY if self.grouped else PLAN_SECONDS_PER_ENTRY
         return self.frequencies * per_entry * self.factor_entries
 
-    def plan_seconds(self, joints: int | None = None) -> float:
-        """``vtcr plan`` of ``joints`` updatable joints (default every one)."""
+    def plan_seconds(self, joints: int | None = None,
+                     enriched: SizeEstimate | None = None) -> float:
+        """``vtcr plan`` of ``joints`` updatable joints (default every one): per frequency the
+        plates' blocks, :data:`PLAN_SOLVES` factorisations and, with ``enriched`` (the estimate
+        of the error estimate's enriched solve), that solve; then each joint's work."""
         joints = self.channels if joints is None else joints
-        return (self.plate_seconds + self.frequencies * PLAN_SOLVES
-                * self.factorisation_seconds + joints * self.plan_seconds_per_joint)
+        per_frequency = (self.plate_seconds + PLAN_SOLVES * self.factorisation_seconds
+                         + (0.0 if enriched is None else enriched.solve_seconds))
+        return self.frequencies * per_frequency + joints * self.plan_seconds_per_joint
 
     def lines(self, enriched: SizeEstimate | None = None) -> list[str]:
         """Human-readable lines for ``vtcr check``; ``enriched``, the estimate of the error
@@ -223,8 +228,8 @@ class SizeEstimate:
             f"{'' if enriched is None else SET_UP}, "
             f"{LOCALISATION_SOLVES} factorisations per localisation, at most "
             f"{2 * self.max_steps + 1} localisations); plan about "
-            f"{self.plan_seconds():.2g} s, {self.plan_seconds_per_joint:.2g} s per joint "
-            f"(plan --joints plans some)",
+            f"{self.plan_seconds(enriched=enriched):.2g} s, "
+            f"{self.plan_seconds_per_joint:.2g} s per joint (plan --joints plans some)",
         ]
 
 

@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from rich.table import Table
 
+from solver.estimate import enriched_size
 from solver.sizing import estimate_size
 from updating.cli.common import (
     NOT_CONVERGED,
@@ -159,7 +160,8 @@ def cmd_plan(args: argparse.Namespace) -> int:
                        "noise; state the planned test's, e.g. noise = 0.05")
     level = case.updating.confidence if args.confidence is None else args.confidence
     count = len(joints or case.updatable_joints())
-    seconds = estimate_size(case).plan_seconds(count)
+    seconds = estimate_size(case).plan_seconds(
+        count, None if args.no_estimate else enriched_size(case))
     if seconds > LONG_PLAN_SECONDS:
         joints_text = f"{count} joint" + ("s" if count != 1 else "")
         warn(console, f"{args.case}: planning {joints_text} takes about {seconds / 60:.0f} min "

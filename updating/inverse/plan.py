@@ -34,7 +34,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from solver.power import plate_powers
+from solver.power import injected_power
 from updating.inverse.confidence import (
     ConfidenceInterval,
     NoiseModel,
@@ -129,7 +129,7 @@ def identifiability_plan(case: Case, layout_measurements: Measurements,
     n_values = sum(len(v) for f in problem.frequencies.values() for v in f.data)
     threshold = 2.0 * noise.deviation / math.sqrt(max(n_values, 1))
     direct = problem.direct_factors(parameters)
-    plans = {}
+    plans, injected = {}, {}
     planned = problem.joints if joints is None else set(joints)
     for joint in (j for j in problem.joints if j in planned):
         target = (joint, "log10_stiffness")
@@ -152,9 +152,12 @@ def identifiability_plan(case: Case, layout_measurements: Measurements,
                 information[frequency, pid] = float(
                     np.sum(np.abs(derivative) ** 2 / np.maximum(variance * np.abs(b) ** 2,
                                                                 np.finfo(float).tiny)))
+            if frequency not in injected:  # the model's response: the same for every joint
+                injected[frequency] = _injected_power(freq.system, responses["base"])
             share[frequency] = _dissipated_share(freq.system, responses["base"], at.own,
                                                  channel_parameters(parameters,
-                                                                    freq.system.omega), joint)
+                                                                    freq.system.omega), joint,
+                                                 injected[frequency])
         total = sum(information.values()) or 1.0
         interval = confidence_interval(problem, parameters, target, [target], noise, level,
                                        case.updating.bounds, test=test, expected=True)
@@ -171,15 +174,21 @@ def _relative_change(moved: Sequence[np.ndarray], base: Sequence[np.ndarray],
     return math.sqrt(sum(float(np.vdot(m - b, m - b).real) for m, b in zip(moved, base))) / norm
 
 
+def _injected_power(system: AssemblySystem, s: np.ndarray) -> float:
+    """The power the loads inject at interface unknowns ``s`` (:func:`solver.power.
+    injected_power` summed over the plates)."""
+    amplitudes = system.plate_amplitudes(s)
+    return sum(injected_power(system.problems[pid], system.bases[pid], amplitudes[pid])
+               for pid in system.problems)
+
+
 def _dissipated_share(system: AssemblySystem, s: np.ndarray, own: Iterable[Channel],
-                      params: Mapping[tuple[str, str], complex], joint: str) -> float:
+                      params: Mapping[tuple[str, str], complex], joint: str,
+                      injected: float) -> float:
     r"""Power the joint dissipates at interface unknowns ``s``,
     :math:`\tfrac12\omega\,\mathrm{Im}\,c\,\|\Pi_\psi[q]\|^2`
-    (:meth:`solver.channels.Channel.dissipated_power`), over the power the loads inject
-    (the plates' and the joints' dissipation together, the model's power balance)."""
+    (:meth:`solver.channels.Channel.dissipated_power`), over the power ``injected`` by the
+    loads (the plates' and the joints' dissipation together, the model's power balance)."""
     joint_power = sum(ch.dissipated_power(s, params[joint, ch.kind], system.omega)
                       for ch in own)
-    amplitudes = system.plate_amplitudes(s)
-    injected = sum(plate_powers(system.problems[pid], system.bases[pid], amplitudes[pid])[0]
-                   for pid in system.problems)
     return joint_power / injected if injected > 0 else math.nan
