@@ -169,8 +169,8 @@ def _power_edges(problem: PlateProblem, basis: RayBasis, amplitudes: np.ndarray,
 
 def _load_work(problem: PlateProblem, basis: RayBasis, amplitudes: np.ndarray,
                edges) -> tuple[complex, complex]:
-    r"""The loads' pairings with the field, :math:`\sum_fF_far w(\mathbf x_f)` and
-    :math:`\int(Tar w - M\,\partial_nar w)\,ds` over ``edges`` (:func:`_power_edges`)."""
+    r"""The loads' pairings with the field, :math:`\sum_fF_f\bar w(\mathbf x_f)` and
+    :math:`\int(T\bar w - M\,\partial_n\bar w)\,ds` over ``edges`` (:func:`_power_edges`)."""
     forces, edge_loads = 0j, 0j
     for force in problem.point_forces:
         w = evaluate_field(problem, basis, amplitudes, np.array([force.position]))["w"][0]
