@@ -14,7 +14,7 @@ from __future__ import annotations
 import functools
 import hashlib
 import math
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -109,10 +109,11 @@ class PlateAdmissibility:
     def omega(self) -> float:
         return 2.0 * math.pi * self.frequency
 
-    def plate_amplitudes(self, s: np.ndarray) -> dict[str, np.ndarray]:
-        """Ray amplitudes of every plate for interface unknowns ``s``."""
+    def plate_amplitudes(self, s: np.ndarray,
+                         plates: Iterable[str] | None = None) -> dict[str, np.ndarray]:
+        """Ray amplitudes of every plate (or of ``plates``) for interface unknowns ``s``."""
         return {pid: self.u0[pid] + self.transfer[pid] @ s[self.unknowns[pid]]
-                for pid in self.problems}
+                for pid in (self.problems if plates is None else plates)}
 
     def membrane_amplitudes(self, s: np.ndarray) -> dict[str, np.ndarray]:
         """Membrane amplitudes of every in-plane plate for interface unknowns ``s``."""

@@ -80,8 +80,8 @@ from solver.plate import (
 from solver.rays import RayBasis, edge_rule, gauss_legendre, tensor_grid_field
 from solver.solution import CaseSolution
 
-__all__ = ["PowerFlow", "power_flow", "plate_powers", "injected_power", "kinetic_energies",
-           "plate_gauss_axes", "grid_deflections"]
+__all__ = ["PowerFlow", "power_flow", "plate_powers", "injected_power", "carries_loads",
+           "kinetic_energies", "plate_gauss_axes", "grid_deflections"]
 
 _Key = TypeVar("_Key", bound=Hashable)
 
@@ -152,15 +152,27 @@ def _edge_field(problem: PlateProblem, basis: RayBasis, amplitudes: np.ndarray,
     return {key: traces[key] @ amplitudes + particular[key] for key in keys}
 
 
+def _loaded(condition) -> bool:
+    """Whether an edge condition prescribes a shear or a moment (an edge load)."""
+    return condition.shear is not None or condition.moment is not None
+
+
+def carries_loads(problem: PlateProblem) -> bool:
+    """Whether a plate has point forces or edge loads: only such a plate injects power."""
+    return bool(problem.point_forces) or any(_loaded(problem.condition(edge.name))
+                                             for edge in plate_edges(problem.size))
+
+
 def _power_edges(problem: PlateProblem, basis: RayBasis, amplitudes: np.ndarray,
                  loaded_only: bool):
-    """``(edge, weights, field, condition)`` per edge of the plate (only those with an edge
-    load if ``loaded_only``), the field on the edge's rule of the VTCR's size."""
+    """``(s, weights, field, condition, length)`` per edge of the plate (only those with an
+    edge load if ``loaded_only``): the field at the points ``s`` of the edge's rule of the
+    VTCR's size."""
     k_max = float(np.max(np.abs(basis.k)))
     sources = [f.position for f in problem.point_forces]
     for edge in plate_edges(problem.size):
         condition = problem.condition(edge.name)
-        if loaded_only and condition.shear is None and condition.moment is None:
+        if loaded_only and not _loaded(condition):
             continue
         s, wq = edge_rule([edge], edge_rule_size(edge.length, k_max, sources, edge),
                           [family.point for family in basis.wedges])

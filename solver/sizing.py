@@ -97,7 +97,6 @@ BUILD_BYTES_PER_SQUARED_ORDER = 100.0
 """The plates' build's peak per squared order of the matrices it factorises: each block's
 edge traces (Gauss points, in number about proportional to the order, times the order) and,
 for the in-plane blocks, the traces that identical plates share until the last is built."""
-SET_UP = ", each set up by a solve, its error estimate and a simulated experiment"
 LOCALISATION_SOLVES = 3  # per frequency: modified problem, direct model, the noise draws (one)
 PLAN_SECONDS_PER_ENTRY = 1.2e-7
 """``vtcr plan``'s work per joint and frequency per factor entry (its two condensations and its
@@ -213,6 +212,7 @@ class SizeEstimate:
         estimate's enriched solve, adds what ``vtcr solve`` takes with it (its peak memory is
         the enriched solve's, its time the sum of both)."""
         gb = self.solve_bytes / 1e9
+        set_up = ", each set up by a solve, its error estimate and a simulated experiment"
         with_estimate = "" if enriched is None else (
             f", with its error estimate about {enriched.solve_bytes / 1e9:.2g} GB and "
             f"{self.solve_seconds + enriched.solve_seconds:.2g} s")
@@ -225,7 +225,7 @@ class SizeEstimate:
             f"{'LDL^H by groups' if self.grouped else 'LU'} factors about "
             f"{self.factor_entries:.2g}); update at most about "
             f"{self.update_seconds(enriched):.2g} s ({self.frequencies} frequencies"
-            f"{'' if enriched is None else SET_UP}, "
+            f"{'' if enriched is None else set_up}, "
             f"{LOCALISATION_SOLVES} factorisations per localisation, at most "
             f"{2 * self.max_steps + 1} localisations); plan about "
             f"{self.plan_seconds(enriched=enriched):.2g} s, "

@@ -34,7 +34,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from solver.power import injected_power
+from solver.power import carries_loads, injected_power
 from updating.inverse.confidence import (
     ConfidenceInterval,
     NoiseModel,
@@ -129,7 +129,11 @@ def identifiability_plan(case: Case, layout_measurements: Measurements,
     n_values = sum(len(v) for f in problem.frequencies.values() for v in f.data)
     threshold = 2.0 * noise.deviation / math.sqrt(max(n_values, 1))
     direct = problem.direct_factors(parameters)
-    plans, injected = {}, {}
+    # the power the loads inject, every joint's damping share's denominator: the model's
+    # response, the same for every joint
+    injected = {frequency: _injected_power(freq.system, direct[frequency].s)
+                for frequency, freq in problem.frequencies.items()}
+    plans = {}
     planned = problem.joints if joints is None else set(joints)
     for joint in (j for j in problem.joints if j in planned):
         target = (joint, "log10_stiffness")
@@ -152,8 +156,6 @@ def identifiability_plan(case: Case, layout_measurements: Measurements,
                 information[frequency, pid] = float(
                     np.sum(np.abs(derivative) ** 2 / np.maximum(variance * np.abs(b) ** 2,
                                                                 np.finfo(float).tiny)))
-            if frequency not in injected:  # the model's response: the same for every joint
-                injected[frequency] = _injected_power(freq.system, responses["base"])
             share[frequency] = _dissipated_share(freq.system, responses["base"], at.own,
                                                  channel_parameters(parameters,
                                                                     freq.system.omega), joint,
@@ -176,10 +178,11 @@ def _relative_change(moved: Sequence[np.ndarray], base: Sequence[np.ndarray],
 
 def _injected_power(system: AssemblySystem, s: np.ndarray) -> float:
     """The power the loads inject at interface unknowns ``s`` (:func:`solver.power.
-    injected_power` summed over the plates)."""
-    amplitudes = system.plate_amplitudes(s)
+    injected_power` summed over the plates that carry loads)."""
+    loaded = [pid for pid, problem in system.problems.items() if carries_loads(problem)]
+    amplitudes = system.plate_amplitudes(s, loaded)
     return sum(injected_power(system.problems[pid], system.bases[pid], amplitudes[pid])
-               for pid in system.problems)
+               for pid in loaded)
 
 
 def _dissipated_share(system: AssemblySystem, s: np.ndarray, own: Iterable[Channel],
