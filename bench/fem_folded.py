@@ -262,7 +262,7 @@ class MeshLevel:
     (red-green-blue) until its longest edge is ``<= sqrt(2) max(r / c, h_min)`` for every
     grading point ``(r`` the distance from its nearest vertex to the point)."""
 
-    n: int
+    n: float
     c_fold: float
     h_fold: float
     c_load: float
@@ -274,6 +274,16 @@ class MeshLevel:
         ``h_fold = 1e-6`` at the fold's corners and ``h_load = 1e-3`` at the force."""
         c = refinement / 2
         return cls(refinement, c_fold=c, h_fold=1e-6, c_load=c, h_load=1e-3)
+
+    @classmethod
+    def plain(cls, n: float, grade_load: bool) -> MeshLevel:
+        """Squares of side ``0.05 / n`` (``n`` a multiple of 1/2, so that the fold lies on
+        the grid), graded only towards the force as in :meth:`of` (``grade_load``) or not at
+        all: the meshes a finite-element user would take for diaphragm ends, whose fields are
+        smooth at the fold's corners (``bench_fold_fe.py``). A floor ``h`` of 1 m grades
+        nothing."""
+        no_grading = (1.0, 1.0)
+        return cls(n, *no_grading, *((n / 2, 1e-3) if grade_load else no_grading))
 
 
 def graded_mesh(nx: int, ny: int, lx: float, ly: float, points) -> MeshTri:
@@ -302,7 +312,7 @@ def fold_meshes(params: MeshLevel) -> dict[str, MeshTri]:
     points = [(FOLD_X, 0.0, params.c_fold, params.h_fold),
               (FOLD_X, LY, params.c_fold, params.h_fold),
               (*LOAD, params.c_load, params.h_load)]
-    mesh = graded_mesh(round(total / 0.05) * params.n, round(LY / 0.05) * params.n, total, LY,
+    mesh = graded_mesh(round(total / 0.05 * params.n), round(LY / 0.05 * params.n), total, LY,
                        points)
     centre_x = mesh.p[0, mesh.t].mean(axis=0)
     meshes = {}
@@ -537,14 +547,15 @@ def reduction(size: int, fixed: np.ndarray, relations: dict[int, tuple]):
 # The model and its solution
 # ---------------------------------------------------------------------------------------------
 class FoldModel:
-    """Both plates, the constraints ``T`` and the load on the mesh ``MeshLevel.of(refinement)``,
-    for one kind of ends."""
+    """Both plates, the constraints ``T`` and the load on the mesh ``MeshLevel.of(refinement)``
+    (or on ``refinement`` itself, a :class:`MeshLevel`), for one kind of ends."""
 
-    def __init__(self, refinement: int, ends: str):
+    def __init__(self, refinement: int | MeshLevel, ends: str):
         if ends not in ENDS:
             raise ValueError(f"ends must be one of {sorted(ENDS)}, got {ends!r}")
         t0 = time.perf_counter()
-        meshes = fold_meshes(MeshLevel.of(refinement))
+        level = refinement if isinstance(refinement, MeshLevel) else MeshLevel.of(refinement)
+        meshes = fold_meshes(level)
         self.n_triangles = sum(mesh.t.shape[1] for mesh in meshes.values())
         self.A = FoldPlate(meshes["A"], LENGTHS["A"], FOLD_X)
         self.B = FoldPlate(meshes["B"], LENGTHS["B"], 0.0)

@@ -220,10 +220,21 @@ def tensor_mesh(cell: float) -> MeshTri:
                                np.linspace(0, LY, round(LY / cell) + 1))
 
 
-def skin_meshes(n: int) -> tuple[MeshTri, MeshTri]:
+GRADINGS = ("reference", "load", "none")
+"""How the meshes of a level are graded: as the reference's (module docstring), towards the
+force only, or not at all. The last two are what a finite-element user would take for
+diaphragm ends, whose fields are smooth where the line meets the ends (``bench_fold_fe.py``)."""
+
+
+def skin_meshes(n: int, grading: str = "reference") -> tuple[MeshTri, MeshTri]:
     """The skin's bending and membrane meshes at level ``n`` (module docstring), before they
-    are matched on the line."""
+    are matched on the line, graded as ``grading`` (:data:`GRADINGS`) says."""
     c = n / 2
+    if grading != "reference":
+        plain = tensor_mesh(0.05 / n)
+        if grading == "none":
+            return plain, plain
+        return refined_to(plain, lambda P: point_grading(P, *LOAD, c, 1e-3)), plain
     corners = [(LINE_X, 0.0), (LINE_X, LY)]
 
     def bending(P):
@@ -464,12 +475,13 @@ def spring_matrix(S: JunctionPlate, T: JunctionPlate, offset_T: int, size: int, 
 class JunctionModel:
     """S1, S2 and T1 on the meshes of level ``n``: matrices (independent of the boundary
     conditions), spring, line relations and load; :meth:`reduced` adds the boundary
-    conditions of given ends and top. Unknowns: S1's, then S2's, then T1's."""
+    conditions of given ends and top. Unknowns: S1's, then S2's, then T1's. ``grading`` as
+    for :func:`skin_meshes`."""
 
-    def __init__(self, n: int):
+    def __init__(self, n: int, grading: str = "reference"):
         t0 = time.perf_counter()
         self.n = n
-        bending, membrane = matched_on_line(*skin_meshes(n))
+        bending, membrane = matched_on_line(*skin_meshes(n, grading))
         self.plates, self.offsets, self.size = {}, {}, 0
         for name, (x0, x1) in PIECES.items():
             h = THICKNESS["T1" if name == "T1" else "skin"]

@@ -1,0 +1,293 @@
+r"""VTCR against finite elements on moving-line folds and junctions, at the same accuracy.
+
+Two structures of ``tests/test_moving_lines.py``, both with shear-diaphragm ends, 1 N on the
+first plate, at 300, 1000 and 3000 Hz:
+
+* ``L``: the L fold, 2 mm steel, plates A (0.4 m) and B (0.3 m), both 0.5 m long, a rigid
+  fold free in translation, far edges simply supported and fixed in plane;
+* ``T``: the T junction, a 1 mm skin of S1 (0.4 m) and S2 (0.35 m) with a 2 mm stiffener T1
+  (0.1 m, its top free) on a rotational spring of log10 k = 2.5, the line free in
+  translation.
+
+Both sides are measured against the exact prismatic solution
+(``tests/support.folded_reference``, 600 harmonics): the relative L2 error of ``w`` over
+15 x 15 interior points of each plate, the worst plate's.
+
+* **VTCR**: ``solver.solve_case``, the field alone, at each of ``--resolutions``; best of
+  ``--repeats`` processor times.
+* **Finite elements** (``bench/fem_folded.py`` and ``bench/fem_junction.py``, written apart
+  from the solver: Argyris ``w``, P5 ``(u, v)``, the line exact through master-slave
+  relations): the cheapest mesh whose error is at most the VTCR's. The search covers squares
+  of side ``0.05 / n``, ``n = 0.5, 1, 1.5, ...`` for the L and ``n = 1, 2, ...`` for the T
+  (the line and the plates' edges stay on the grid), up to ``--max-density``. Each mesh is
+  either uniform or graded towards the force. With diaphragm ends the fields are smooth where
+  the line meets the ends, so the references' grading there is left out: it would only make
+  the finite elements dearer. Their time is the set-up (mesh, bases, matrices, constraints)
+  plus the solve (SuperLU). The solve alone is what a sweep pays per frequency once the
+  matrices are built; it is printed too.
+
+Every measurement runs in a process of its own, with one BLAS thread. Its peak memory is
+``os.wait4``'s ``ru_maxrss``, printed above the peak of a process that only imports that side.
+The bench process itself imports nothing heavy: Linux starts a forked child's peak at its
+parent's.
+
+``OPENBLAS_NUM_THREADS=1 python bench/bench_fold_fe.py`` (about ten minutes).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+THREADS = {"OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
+FREQUENCIES = (300.0, 1000.0, 3000.0)
+RESOLUTIONS = (1.0, 1.25)
+ENDS = "diaphragm"
+
+
+# ---------------------------------------------------------------------------------------------
+# The measured processes (``--child KIND ...``): each prints one JSON line
+# ---------------------------------------------------------------------------------------------
+STRUCTURES = ("L", "T")
+DENSITY_STEP = {"L": 0.5, "T": 1.0}  # the finest steps of n that keep every line on the grid
+MAX_DENSITY = {"L": 3.0, "T": 4.0}  # the T's thinner skin has shorter waves
+
+
+def _references(structure: str):
+    """The finite-element module of ``structure`` and the structure as
+    ``tests/test_moving_lines.py`` describes it (``(plates, lines, load)``)."""
+    sys.path[:0] = [str(ROOT), str(ROOT / "tests"), str(ROOT / "bench")]
+    if structure == "L":
+        import fem_folded
+        return fem_folded, fem_folded.L_FOLD
+    import fem_junction
+    from test_moving_lines import T_JUNCTION
+    return fem_junction, T_JUNCTION
+
+
+def _errors(fem, w: dict, workdir: Path, structure: str, frequency: float) -> dict[str, float]:
+    """Relative L2 error of ``w`` on each plate against the saved exact field."""
+    import numpy as np
+    exact = np.load(workdir / f"exact_{structure}_{frequency:g}.npz")
+    return {plate: float(np.linalg.norm(w[plate] - exact[plate]) / np.linalg.norm(exact[plate]))
+            for plate in fem.LENGTHS}
+
+
+def child_reference(structure: str, frequency: float, workdir: Path) -> dict:
+    """The exact prismatic ``w`` at the points of comparison, saved for the other children."""
+    import numpy as np
+    fem, _ = _references(structure)
+    if structure == "L":
+        w, _ = fem.exact_fields(frequency, ENDS)
+    else:
+        fields = fem.exact_fields(frequency, "free")
+        w = {plate: fields[f"w_{plate}"] for plate in fem.LENGTHS}
+    np.savez(workdir / f"exact_{structure}_{frequency:g}.npz", **w)
+    return {}
+
+
+def child_vtcr(structure: str, frequency: float, resolution: float, repeats: int,
+               workdir: Path) -> dict:
+    """One VTCR solve (the best of ``repeats``) and its errors."""
+    fem, shape = _references(structure)
+    from support import folded_description
+
+    from assembly import parse_case
+    from solver import solve_case
+
+    case = parse_case(folded_description(*shape, frequency, False, fem.LY, resolution,
+                                         ends=ENDS))
+    times = []
+    for _ in range(repeats):
+        start = time.process_time()
+        solution = solve_case(case, frequency, residuals=False)
+        times.append(time.process_time() - start)
+    w = {plate: solution.w(plate, fem.inner_grid(length)) for plate, length in fem.LENGTHS.items()}
+    return {"seconds": min(times), "unknowns": solution.n_unknowns,
+            "errors": _errors(fem, w, workdir, structure, frequency)}
+
+
+def child_fem(structure: str, frequency: float, density: float, graded: bool,
+              workdir: Path) -> dict:
+    """One finite-element set-up and solve on squares of ``0.05 / density`` m, graded towards
+    the force or not, and its errors."""
+    fem, _ = _references(structure)
+    start = time.process_time()
+    if structure == "L":
+        model = fem.FoldModel(fem.MeshLevel.plain(density, graded), ENDS)
+        constraints = ()
+    else:
+        model = fem.JunctionModel(round(density), "load" if graded else "none")
+        constraints = (model.reduced(ENDS, "free"),)
+    setup = time.process_time() - start
+    start = time.process_time()
+    x = model.solve(frequency, *constraints)
+    solve = time.process_time() - start
+    if structure == "L":
+        w = {name: plate.values(part, fem.inner_grid(plate.length))["w"]
+             for name, (plate, part) in model.plate_parts(x).items()}
+    else:
+        w, _ = model.fields(x)
+    dofs = constraints[0].shape[1] if constraints else model.n_dofs
+    return {"setup": setup, "solve": solve, "dofs": dofs, "residual": model.residual,
+            "errors": _errors(fem, w, workdir, structure, frequency)}
+
+
+def child_imports(side: str) -> dict:
+    """Import one side and nothing else: the floor of its peak memory. The VTCR side reads the
+    structures from the finite-element modules, so it imports them too."""
+    for structure in STRUCTURES:
+        _references(structure)
+    if side == "vtcr":
+        import assembly  # noqa: F401
+        import solver  # noqa: F401
+    return {}
+
+
+def child_versions() -> dict:
+    import numpy
+    import scipy
+    import skfem
+    return {"numpy": numpy.__version__, "scipy": scipy.__version__,
+            "scikit-fem": skfem.__version__}
+
+
+def run_child(argv: list[str]) -> None:
+    kind, *args = argv
+    if kind == "reference":
+        result = child_reference(args[0], float(args[1]), Path(args[2]))
+    elif kind == "vtcr":
+        result = child_vtcr(args[0], float(args[1]), float(args[2]), int(args[3]), Path(args[4]))
+    elif kind == "fem":
+        result = child_fem(args[0], float(args[1]), float(args[2]), args[3] == "graded",
+                           Path(args[4]))
+    elif kind == "imports":
+        result = child_imports(args[0])
+    else:
+        result = child_versions()
+    print(json.dumps(result))
+
+
+# ---------------------------------------------------------------------------------------------
+# The bench
+# ---------------------------------------------------------------------------------------------
+def measure(*args: object) -> dict:
+    """Run ``--child args`` in a fresh process with one BLAS thread: its JSON result, with its
+    peak memory ``peak_mb`` (``ru_maxrss``)."""
+    process = subprocess.Popen([sys.executable, __file__, "--child", *map(str, args)],
+                               stdout=subprocess.PIPE, text=True,
+                               env={**os.environ, **THREADS})
+    output = process.stdout.read()
+    process.stdout.close()
+    _, status, usage = os.wait4(process.pid, 0)
+    process.returncode = os.waitstatus_to_exitcode(status)
+    if process.returncode != 0:
+        raise SystemExit(f"the measured process {' '.join(map(str, args))} failed "
+                         f"(status {process.returncode})")
+    return json.loads(output.splitlines()[-1]) | {"peak_mb": usage.ru_maxrss / 1024}
+
+
+def processor() -> str:
+    """The processor's model name (Linux), else the machine type."""
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                return line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return platform.machine()
+
+
+def densities(step: float, largest: float) -> list[float]:
+    """``step, 2 step, ...`` up to ``largest``."""
+    return [k * step for k in range(1, int(largest / step) + 1)]
+
+
+def worst(run: dict) -> float:
+    return max(run["errors"].values())
+
+
+def cheapest_meeting(runs: list[dict], target: float) -> dict | None:
+    """The finite-element run of least set-up and solve time whose error is at most
+    ``target``, if any."""
+    meeting = [run for run in runs if worst(run) <= target]
+    return min(meeting, key=lambda run: run["setup"] + run["solve"]) if meeting else None
+
+
+def mesh_name(run: dict) -> str:
+    return f"n = {run['density']:g}, {'graded' if run['graded'] else 'uniform'}"
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--structures", nargs="+", choices=STRUCTURES, default=list(STRUCTURES))
+    parser.add_argument("--frequencies", type=float, nargs="+", default=list(FREQUENCIES))
+    parser.add_argument("--resolutions", type=float, nargs="+", default=list(RESOLUTIONS))
+    parser.add_argument("--max-density", type=float,
+                        help="finest finite-element mesh tried: squares of 0.05 / n m "
+                             "(default 3 for the L, 4 for the T)")
+    parser.add_argument("--repeats", type=int, default=3)
+    args = parser.parse_args()
+
+    versions = measure("versions")
+    versions.pop("peak_mb")
+    print(f"{processor()}, {os.cpu_count()} cores, Python {platform.python_version()}, "
+          + ", ".join(f"{name} {version}" for name, version in versions.items()))
+    floor = {side: measure("imports", side)["peak_mb"] for side in ("vtcr", "fem")}
+    print(f"peak memory of the imports alone: VTCR {floor['vtcr']:.0f} MB, finite elements "
+          f"{floor['fem']:.0f} MB (the columns below are above these)")
+    print("| structure | f [Hz] | VTCR resolution | VTCR error | unknowns | time [s] "
+          "| memory [MB] | FE mesh | FE error | FE unknowns | set-up + solve [s] | solve [s] "
+          "| memory [MB] | time ratio (solve alone) | memory ratio |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+    with tempfile.TemporaryDirectory() as workdir:
+        for structure in args.structures:
+            for frequency in args.frequencies:
+                measure("reference", structure, frequency, workdir)
+                vtcr = {r: measure("vtcr", structure, frequency, r, args.repeats, workdir)
+                        for r in args.resolutions}
+                finest_target = min(worst(run) for run in vtcr.values())
+                fem_runs = []
+                largest = args.max_density or MAX_DENSITY[structure]
+                for density in densities(DENSITY_STEP[structure], largest):
+                    for graded in (False, True):
+                        run = measure("fem", structure, frequency, density,
+                                      "graded" if graded else "uniform", workdir)
+                        fem_runs.append(run | {"density": density, "graded": graded})
+                    if any(worst(run) <= finest_target for run in fem_runs[-2:]):
+                        break
+                for resolution, run in vtcr.items():
+                    print(row(f"| {structure} | {frequency:g} | {resolution:g} ", run,
+                              fem_runs, floor), flush=True)
+
+
+def row(start: str, vtcr: dict, fem_runs: list[dict], floor: dict[str, float]) -> str:
+    """One line of the table after ``start``: a VTCR run and the cheapest finite-element run as
+    accurate."""
+    memory = vtcr["peak_mb"] - floor["vtcr"]
+    left = (f"{start}| {worst(vtcr):.1e} | {vtcr['unknowns']} | {vtcr['seconds']:.3f} "
+            f"| {memory:.0f} ")
+    fem = cheapest_meeting(fem_runs, worst(vtcr))
+    mesh = "" if fem else f"not reached by n = {fem_runs[-1]['density']:g}; the best: "
+    fem = fem or min(fem_runs, key=worst)  # then slower and still less accurate
+    total = fem["setup"] + fem["solve"]
+    fem_memory = fem["peak_mb"] - floor["fem"]
+    return left + (f"| {mesh}{mesh_name(fem)} | {worst(fem):.1e} | {fem['dofs']} "
+                   f"| {total:.2f} | {fem['solve']:.2f} | {fem_memory:.0f} "
+                   f"| {total / vtcr['seconds']:.0f}x ({fem['solve'] / vtcr['seconds']:.0f}x) "
+                   f"| {fem_memory / max(memory, 1.0):.0f}x |")
+
+
+if __name__ == "__main__":
+    if sys.argv[1:2] == ["--child"]:
+        run_child(sys.argv[2:])
+    else:
+        main()
