@@ -13,23 +13,25 @@ Both sides are measured against the exact prismatic solution
 (``tests/support.folded_reference``, 600 harmonics): the relative L2 error of ``w`` over
 15 x 15 interior points of each plate, the worst plate's.
 
-* **VTCR**: ``solver.solve_case``, the field alone, at each of ``--resolutions``; best of
-  ``--repeats`` processor times.
+* **VTCR**: ``solver.solve_case``, the field alone, at each of ``--resolutions``.
 * **Finite elements** (``bench/fem_folded.py`` and ``bench/fem_junction.py``, written apart
   from the solver: Argyris ``w``, P5 ``(u, v)``, the line exact through master-slave
   relations): the cheapest mesh whose error is at most the VTCR's. The search covers squares
   of side ``0.05 / n``, ``n = 0.5, 1, 1.5, ...`` for the L and ``n = 1, 2, ...`` for the T
-  (the line and the plates' edges stay on the grid), up to ``--max-density``. Each mesh is
-  either uniform or graded towards the force. With diaphragm ends the fields are smooth where
-  the line meets the ends, so the references' grading there is left out: it would only make
-  the finite elements dearer. Their time is the set-up (mesh, bases, matrices, constraints)
-  plus the solve (SuperLU). The solve alone is what a sweep pays per frequency once the
-  matrices are built; it is printed too.
+  (the line and the plates' edges stay on the grid), up to ``--max-density``. Each bending
+  mesh is either uniform or graded towards the force. With diaphragm ends the fields are
+  smooth where the line meets the ends, so the references' grading there is left out. The T
+  keeps its reference's membrane mesh, of cells up to four times coarser away from the line
+  (even ``n``); the L carries ``(u, v)`` on its bending mesh, as its reference does. Their
+  time is the set-up (mesh, bases, matrices, constraints) plus the solve (SuperLU). The solve
+  alone is what a sweep pays per frequency once the matrices are built; it is printed too.
 
-Every measurement runs in a process of its own, with one BLAS thread. Its peak memory is
-``os.wait4``'s ``ru_maxrss``, printed above the peak of a process that only imports that side.
-The bench process itself imports nothing heavy: Linux starts a forked child's peak at its
-parent's.
+Every measurement runs in a process of its own, with one BLAS thread, and times the first
+solve of its process: the VTCR's, as the finite elements', pays what a process does once
+(caches, the first call of each kernel). Its peak memory is ``os.wait4``'s ``ru_maxrss``,
+printed above the peak of a process that imports what that measurement imports and does
+nothing else. The bench process itself imports nothing heavy: Linux starts a forked child's
+peak at its parent's.
 
 ``OPENBLAS_NUM_THREADS=1 python bench/bench_fold_fe.py`` (about ten minutes).
 """
@@ -50,7 +52,7 @@ ROOT = Path(__file__).resolve().parents[1]
 THREADS = {"OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
 FREQUENCIES = (300.0, 1000.0, 3000.0)
 RESOLUTIONS = (1.0, 1.25)
-ENDS = "diaphragm"
+DIAPHRAGM = "diaphragm"  # the ends of both structures
 
 
 # ---------------------------------------------------------------------------------------------
@@ -86,7 +88,7 @@ def child_reference(structure: str, frequency: float, workdir: Path) -> dict:
     import numpy as np
     fem, _ = _references(structure)
     if structure == "L":
-        w, _ = fem.exact_fields(frequency, ENDS)
+        w, _ = fem.exact_fields(frequency, DIAPHRAGM)
     else:
         fields = fem.exact_fields(frequency, "free")
         w = {plate: fields[f"w_{plate}"] for plate in fem.LENGTHS}
@@ -94,24 +96,27 @@ def child_reference(structure: str, frequency: float, workdir: Path) -> dict:
     return {}
 
 
-def child_vtcr(structure: str, frequency: float, resolution: float, repeats: int,
-               workdir: Path) -> dict:
-    """One VTCR solve (the best of ``repeats``) and its errors."""
-    fem, shape = _references(structure)
+def _vtcr_imports():
+    """What a VTCR child imports besides its structure: ``(folded_description, parse_case,
+    solve_case)``."""
     from support import folded_description
 
     from assembly import parse_case
     from solver import solve_case
+    return folded_description, parse_case, solve_case
 
+
+def child_vtcr(structure: str, frequency: float, resolution: float, workdir: Path) -> dict:
+    """One VTCR solve, the first of its process as the finite elements' is, and its errors."""
+    fem, shape = _references(structure)
+    folded_description, parse_case, solve_case = _vtcr_imports()
     case = parse_case(folded_description(*shape, frequency, False, fem.LY, resolution,
-                                         ends=ENDS))
-    times = []
-    for _ in range(repeats):
-        start = time.process_time()
-        solution = solve_case(case, frequency, residuals=False)
-        times.append(time.process_time() - start)
+                                         ends=DIAPHRAGM))
+    start = time.process_time()
+    solution = solve_case(case, frequency, residuals=False)
+    seconds = time.process_time() - start
     w = {plate: solution.w(plate, fem.inner_grid(length)) for plate, length in fem.LENGTHS.items()}
-    return {"seconds": min(times), "unknowns": solution.n_unknowns,
+    return {"seconds": seconds, "unknowns": solution.n_unknowns,
             "errors": _errors(fem, w, workdir, structure, frequency)}
 
 
@@ -122,11 +127,11 @@ def child_fem(structure: str, frequency: float, density: float, graded: bool,
     fem, _ = _references(structure)
     start = time.process_time()
     if structure == "L":
-        model = fem.FoldModel(fem.MeshLevel.plain(density, graded), ENDS)
+        model = fem.FoldModel(fem.MeshLevel.plain(density, graded), DIAPHRAGM)
         constraints = ()
     else:
         model = fem.JunctionModel(round(density), "load" if graded else "none")
-        constraints = (model.reduced(ENDS, "free"),)
+        constraints = (model.reduced(DIAPHRAGM, "free"),)
     setup = time.process_time() - start
     start = time.process_time()
     x = model.solve(frequency, *constraints)
@@ -141,14 +146,12 @@ def child_fem(structure: str, frequency: float, density: float, graded: bool,
             "errors": _errors(fem, w, workdir, structure, frequency)}
 
 
-def child_imports(side: str) -> dict:
-    """Import one side and nothing else: the floor of its peak memory. The VTCR side reads the
-    structures from the finite-element modules, so it imports them too."""
-    for structure in STRUCTURES:
-        _references(structure)
+def child_imports(structure: str, side: str) -> dict:
+    """Import what a child of ``side`` on ``structure`` imports, and nothing else: the floor of
+    its peak memory (the VTCR side reads the structure from the finite-element module)."""
+    _references(structure)
     if side == "vtcr":
-        import assembly  # noqa: F401
-        import solver  # noqa: F401
+        _vtcr_imports()
     return {}
 
 
@@ -165,12 +168,12 @@ def run_child(argv: list[str]) -> None:
     if kind == "reference":
         result = child_reference(args[0], float(args[1]), Path(args[2]))
     elif kind == "vtcr":
-        result = child_vtcr(args[0], float(args[1]), float(args[2]), int(args[3]), Path(args[4]))
+        result = child_vtcr(args[0], float(args[1]), float(args[2]), Path(args[3]))
     elif kind == "fem":
         result = child_fem(args[0], float(args[1]), float(args[2]), args[3] == "graded",
                            Path(args[4]))
     elif kind == "imports":
-        result = child_imports(args[0])
+        result = child_imports(args[0], args[1])
     else:
         result = child_versions()
     print(json.dumps(result))
@@ -234,16 +237,19 @@ def main() -> None:
     parser.add_argument("--max-density", type=float,
                         help="finest finite-element mesh tried: squares of 0.05 / n m "
                              "(default 3 for the L, 4 for the T)")
-    parser.add_argument("--repeats", type=int, default=3)
     args = parser.parse_args()
+    if args.max_density is not None and args.max_density < max(DENSITY_STEP.values()):
+        parser.error(f"--max-density must be at least {max(DENSITY_STEP.values()):g}")
 
     versions = measure("versions")
     versions.pop("peak_mb")
     print(f"{processor()}, {os.cpu_count()} cores, Python {platform.python_version()}, "
           + ", ".join(f"{name} {version}" for name, version in versions.items()))
-    floor = {side: measure("imports", side)["peak_mb"] for side in ("vtcr", "fem")}
-    print(f"peak memory of the imports alone: VTCR {floor['vtcr']:.0f} MB, finite elements "
-          f"{floor['fem']:.0f} MB (the columns below are above these)")
+    floor = {(structure, side): measure("imports", structure, side)["peak_mb"]
+             for structure in args.structures for side in ("vtcr", "fem")}
+    print("peak memory of the imports alone (the columns below are above these): "
+          + ", ".join(f"{structure} {side} {peak:.0f} MB"
+                      for (structure, side), peak in floor.items()))
     print("| structure | f [Hz] | VTCR resolution | VTCR error | unknowns | time [s] "
           "| memory [MB] | FE mesh | FE error | FE unknowns | set-up + solve [s] | solve [s] "
           "| memory [MB] | time ratio (solve alone) | memory ratio |")
@@ -252,7 +258,7 @@ def main() -> None:
         for structure in args.structures:
             for frequency in args.frequencies:
                 measure("reference", structure, frequency, workdir)
-                vtcr = {r: measure("vtcr", structure, frequency, r, args.repeats, workdir)
+                vtcr = {r: measure("vtcr", structure, frequency, r, workdir)
                         for r in args.resolutions}
                 finest_target = min(worst(run) for run in vtcr.values())
                 fem_runs = []
@@ -266,20 +272,22 @@ def main() -> None:
                         break
                 for resolution, run in vtcr.items():
                     print(row(f"| {structure} | {frequency:g} | {resolution:g} ", run,
-                              fem_runs, floor), flush=True)
+                              fem_runs, floor[structure, "vtcr"], floor[structure, "fem"]),
+                          flush=True)
 
 
-def row(start: str, vtcr: dict, fem_runs: list[dict], floor: dict[str, float]) -> str:
+def row(start: str, vtcr: dict, fem_runs: list[dict], vtcr_floor: float,
+        fem_floor: float) -> str:
     """One line of the table after ``start``: a VTCR run and the cheapest finite-element run as
-    accurate."""
-    memory = vtcr["peak_mb"] - floor["vtcr"]
+    accurate, their peak memory above the floors of their imports."""
+    memory = vtcr["peak_mb"] - vtcr_floor
     left = (f"{start}| {worst(vtcr):.1e} | {vtcr['unknowns']} | {vtcr['seconds']:.3f} "
             f"| {memory:.0f} ")
     fem = cheapest_meeting(fem_runs, worst(vtcr))
     mesh = "" if fem else f"not reached by n = {fem_runs[-1]['density']:g}; the best: "
     fem = fem or min(fem_runs, key=worst)  # then slower and still less accurate
     total = fem["setup"] + fem["solve"]
-    fem_memory = fem["peak_mb"] - floor["fem"]
+    fem_memory = fem["peak_mb"] - fem_floor
     return left + (f"| {mesh}{mesh_name(fem)} | {worst(fem):.1e} | {fem['dofs']} "
                    f"| {total:.2f} | {fem['solve']:.2f} | {fem_memory:.0f} "
                    f"| {total / vtcr['seconds']:.0f}x ({fem['solve'] / vtcr['seconds']:.0f}x) "

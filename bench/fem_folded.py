@@ -282,6 +282,8 @@ class MeshLevel:
         all: the meshes a finite-element user would take for diaphragm ends, whose fields are
         smooth at the fold's corners (``bench_fold_fe.py``). A floor ``h`` of 1 m grades
         nothing."""
+        if (2 * n) % 1:
+            raise ValueError(f"n must be a multiple of 1/2 (the fold on the grid), got {n}")
         no_grading = (1.0, 1.0)
         return cls(n, *no_grading, *((n / 2, 1e-3) if grade_load else no_grading))
 

@@ -221,25 +221,26 @@ def tensor_mesh(cell: float) -> MeshTri:
 
 
 GRADINGS = ("reference", "load", "none")
-"""How the meshes of a level are graded: as the reference's (module docstring), towards the
-force only, or not at all. The last two are what a finite-element user would take for
-diaphragm ends, whose fields are smooth where the line meets the ends (``bench_fold_fe.py``)."""
+"""How the meshes of a level are graded where the line meets the ends: as the reference's
+(module docstring), or not at all, the bending mesh then graded towards the force (``load``)
+or uniform (``none``); the membrane mesh keeps its coarser cells graded towards the line. The
+last two are what a finite-element user would take for diaphragm ends, whose fields are
+smooth where the line meets the ends (``bench_fold_fe.py``)."""
 
 
 def skin_meshes(n: int, grading: str = "reference") -> tuple[MeshTri, MeshTri]:
     """The skin's bending and membrane meshes at level ``n`` (module docstring), before they
     are matched on the line, graded as ``grading`` (:data:`GRADINGS`) says."""
+    if grading not in GRADINGS:
+        raise ValueError(f"grading must be one of {GRADINGS}, got {grading!r}")
     c = n / 2
-    if grading != "reference":
-        plain = tensor_mesh(0.05 / n)
-        if grading == "none":
-            return plain, plain
-        return refined_to(plain, lambda P: point_grading(P, *LOAD, c, 1e-3)), plain
-    corners = [(LINE_X, 0.0), (LINE_X, LY)]
+    corners = [(LINE_X, 0.0), (LINE_X, LY)] if grading == "reference" else []
 
     def bending(P):
         sizes = [point_grading(P, x, y, c, 1e-6) for x, y in corners]
-        return np.minimum.reduce(sizes + [point_grading(P, *LOAD, c, 1e-3)])
+        if grading != "none":
+            sizes.append(point_grading(P, *LOAD, c, 1e-3))
+        return np.minimum.reduce(sizes) if sizes else np.full(P.shape[2], np.inf)
 
     def membrane(P):
         sizes = [point_grading(P, x, y, c, 1e-6) for x, y in corners]
