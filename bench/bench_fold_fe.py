@@ -148,7 +148,8 @@ def child_fem(structure: str, frequency: float, density: float, graded: bool,
 
 def child_imports(structure: str, side: str) -> dict:
     """Import what a child of ``side`` on ``structure`` imports, and nothing else: the floor of
-    its peak memory (the VTCR side reads the structure from the finite-element module)."""
+    its peak memory (the VTCR side reads the structure's geometry and points of comparison
+    through :func:`_references` too)."""
     _references(structure)
     if side == "vtcr":
         _vtcr_imports()
@@ -254,6 +255,7 @@ def main() -> None:
           "| memory [MB] | FE mesh | FE error | FE unknowns | set-up + solve [s] | solve [s] "
           "| memory [MB] | time ratio (solve alone) | memory ratio |")
     print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+    searches = []
     with tempfile.TemporaryDirectory() as workdir:
         for structure in args.structures:
             for frequency in args.frequencies:
@@ -264,16 +266,23 @@ def main() -> None:
                 fem_runs = []
                 largest = args.max_density or MAX_DENSITY[structure]
                 for density in densities(DENSITY_STEP[structure], largest):
-                    for graded in (False, True):
-                        run = measure("fem", structure, frequency, density,
-                                      "graded" if graded else "uniform", workdir)
-                        fem_runs.append(run | {"density": density, "graded": graded})
-                    if any(worst(run) <= finest_target for run in fem_runs[-2:]):
+                    uniform = measure("fem", structure, frequency, density, "uniform", workdir)
+                    graded = measure("fem", structure, frequency, density, "graded", workdir)
+                    fem_runs.append(uniform | {"density": density, "graded": False})
+                    if graded["dofs"] != uniform["dofs"]:  # else the grading refined nothing
+                        fem_runs.append(graded | {"density": density, "graded": True})
+                    if worst(uniform) <= finest_target or worst(graded) <= finest_target:
                         break
+                searches.append(f"{structure} at {frequency:g} Hz: " + "; ".join(
+                    f"{mesh_name(run)} {worst(run):.1e} ({run['dofs']}, "
+                    f"{run['setup'] + run['solve']:.2f} s)" for run in fem_runs))
                 for resolution, run in vtcr.items():
                     print(row(f"| {structure} | {frequency:g} | {resolution:g} ", run,
                               fem_runs, floor[structure, "vtcr"], floor[structure, "fem"]),
                           flush=True)
+    print("\nthe finite-element meshes tried (error, unknowns, set-up and solve):")
+    for line in searches:
+        print(f"  {line}")
 
 
 def row(start: str, vtcr: dict, fem_runs: list[dict], vtcr_floor: float,
