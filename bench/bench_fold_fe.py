@@ -1,17 +1,23 @@
 r"""VTCR against finite elements on moving-line folds and junctions, at the same accuracy.
 
-Two structures of ``tests/test_moving_lines.py``, both with shear-diaphragm ends, 1 N on the
-first plate, at 300, 1000 and 3000 Hz:
+Structures of ``tests/test_moving_lines.py``, 1 N on the first plate, at 300, 1000 and
+3000 Hz:
 
 * ``L``: the L fold, 2 mm steel, plates A (0.4 m) and B (0.3 m), both 0.5 m long, a rigid
-  fold free in translation, far edges simply supported and fixed in plane;
+  fold free in translation, far edges simply supported and fixed in plane, shear-diaphragm
+  ends;
 * ``T``: the T junction, a 1 mm skin of S1 (0.4 m) and S2 (0.35 m) with a 2 mm stiffener T1
   (0.1 m, its top free) on a rotational spring of log10 k = 2.5, the line free in
-  translation.
+  translation, shear-diaphragm ends;
+* ``L-mixed``: the L fold with mixed ends (simply supported, in-plane rollers), moved with
+  ``held = false`` (its line's loads log-singular at its ends; ``docs/method.md`` section
+  10.4), at 300 and 1000 Hz only.
 
-Both sides are measured against the exact prismatic solution
-(``tests/support.folded_reference``, 600 harmonics): the relative L2 error of ``w`` over
-15 x 15 interior points of each plate, the worst plate's.
+The error is the relative L2 error of ``w`` over 15 x 15 interior points of each plate, the
+worst plate's, against the exact prismatic solution (``tests/support.folded_reference``, 600
+harmonics), or for ``L-mixed``, which has none, against the finest finite elements of
+``tests/data/fem_fold_mixed_ends.npz`` (``fem_folded.py`` level 8, about 3e-8 from the truth,
+far below the errors compared).
 
 * **VTCR**: ``solver.solve_case``, the field alone, at each of ``--resolutions``.
 * **Finite elements** (``bench/fem_folded.py`` and ``bench/fem_junction.py``, written apart
@@ -19,8 +25,10 @@ Both sides are measured against the exact prismatic solution
   relations): the cheapest mesh whose error is at most the VTCR's. The search covers squares
   of side ``0.05 / n``, ``n = 0.5, 1, 1.5, ...`` for the L and ``n = 1, 2, ...`` for the T
   (the line and the plates' edges stay on the grid), up to ``--max-density``. Each bending
-  mesh is either uniform or graded towards the force. With diaphragm ends the fields are
-  smooth where the line meets the ends, so the references' grading there is left out. The T
+  mesh is either uniform or graded towards the force (:data:`MESHES`). With diaphragm ends
+  the fields are smooth where the line meets the ends, so the references' grading there is
+  left out; with mixed ends they are not, and the reference's family, graded towards the
+  force and the line's ends, is tried beside the force-graded mesh. The T
   keeps its reference's membrane mesh, of cells up to four times coarser away from the line
   (even ``n``); the L carries ``(u, v)`` on its bending mesh, as its reference does. Their
   time is the set-up (mesh, bases, matrices, constraints) plus the solve (SuperLU). The solve
@@ -33,7 +41,7 @@ printed above the peak of a process that imports what that measurement imports a
 nothing else. The bench process itself imports nothing heavy: Linux starts a forked child's
 peak at its parent's.
 
-``OPENBLAS_NUM_THREADS=1 python bench/bench_fold_fe.py`` (about ten minutes).
+``OPENBLAS_NUM_THREADS=1 python bench/bench_fold_fe.py`` (about fifteen minutes).
 """
 
 from __future__ import annotations
@@ -58,16 +66,23 @@ DIAPHRAGM = "diaphragm"  # the ends of both structures
 # ---------------------------------------------------------------------------------------------
 # The measured processes (``--child KIND ...``): each prints one JSON line
 # ---------------------------------------------------------------------------------------------
-STRUCTURES = ("L", "T")
-DENSITY_STEP = {"L": 0.5, "T": 1.0}  # the finest steps of n that keep every line on the grid
-MAX_DENSITY = {"L": 3.0, "T": 4.0}  # the T's thinner skin has shorter waves
+STRUCTURES = ("L", "T", "L-mixed")
+DENSITY_STEP = {"L": 0.5, "T": 1.0, "L-mixed": 0.5}  # steps of n that keep the lines on the grid
+MAX_DENSITY = {"L": 3.0, "T": 4.0, "L-mixed": 3.0}  # the T's thinner skin has shorter waves
+MESHES = {"L": ("uniform", "force"), "T": ("uniform", "force"),
+          "L-mixed": ("force", "force and ends")}
+"""The finite-element meshes tried at each density: uniform, graded towards the force, or
+towards the force and the line's ends (the reference's family, for the log-singular fields of
+mixed ends)."""
+MIXED_REFERENCE = ROOT / "tests" / "data" / "fem_fold_mixed_ends.npz"
+MIXED_FREQUENCIES = (300.0, 1000.0)  # those of MIXED_REFERENCE
 
 
 def _references(structure: str):
     """The finite-element module of ``structure`` and the structure as
     ``tests/test_moving_lines.py`` describes it (``(plates, lines, load)``)."""
     sys.path[:0] = [str(ROOT), str(ROOT / "tests"), str(ROOT / "bench")]
-    if structure == "L":
+    if structure != "T":
         import fem_folded
         return fem_folded, fem_folded.L_FOLD
     import fem_junction
@@ -84,11 +99,16 @@ def _errors(fem, w: dict, workdir: Path, structure: str, frequency: float) -> di
 
 
 def child_reference(structure: str, frequency: float, workdir: Path) -> dict:
-    """The exact prismatic ``w`` at the points of comparison, saved for the other children."""
+    """The reference ``w`` at the points of comparison, saved for the other children: the exact
+    prismatic solution, or for the mixed ends the finest finite elements of
+    :data:`MIXED_REFERENCE` (``fem_folded.py`` level 8, within about 3e-8 of the truth)."""
     import numpy as np
     fem, _ = _references(structure)
     if structure == "L":
         w, _ = fem.exact_fields(frequency, DIAPHRAGM)
+    elif structure == "L-mixed":
+        fields = np.load(MIXED_REFERENCE)
+        w = {plate: fields[f"w_{plate}_{frequency:g}"] for plate in fem.LENGTHS}
     else:
         fields = fem.exact_fields(frequency, "free")
         w = {plate: fields[f"w_{plate}"] for plate in fem.LENGTHS}
@@ -110,8 +130,13 @@ def child_vtcr(structure: str, frequency: float, resolution: float, workdir: Pat
     """One VTCR solve, the first of its process as the finite elements' is, and its errors."""
     fem, shape = _references(structure)
     folded_description, parse_case, solve_case = _vtcr_imports()
-    case = parse_case(folded_description(*shape, frequency, False, fem.LY, resolution,
-                                         ends=DIAPHRAGM))
+    description = folded_description(*shape, frequency, False, fem.LY, resolution,
+                                     ends=DIAPHRAGM)
+    if structure == "L-mixed":  # simply supported ends, in-plane rollers: held = false moves it
+        for boundary in description["boundaries"]:
+            if "in_plane" in boundary:
+                boundary["in_plane"] = "roller"
+    case = parse_case(description)
     start = time.process_time()
     solution = solve_case(case, frequency, residuals=False)
     seconds = time.process_time() - start
@@ -120,27 +145,29 @@ def child_vtcr(structure: str, frequency: float, resolution: float, workdir: Pat
             "errors": _errors(fem, w, workdir, structure, frequency)}
 
 
-def child_fem(structure: str, frequency: float, density: float, graded: bool,
+def child_fem(structure: str, frequency: float, density: float, mesh: str,
               workdir: Path) -> dict:
-    """One finite-element set-up and solve on squares of ``0.05 / density`` m, graded towards
-    the force or not, and its errors."""
+    """One finite-element set-up and solve on squares of ``0.05 / density`` m, graded as
+    ``mesh`` (:data:`MESHES`) says, and its errors."""
     fem, _ = _references(structure)
     start = time.process_time()
-    if structure == "L":
-        model = fem.FoldModel(fem.MeshLevel.plain(density, graded), DIAPHRAGM)
-        constraints = ()
-    else:
-        model = fem.JunctionModel(round(density), "load" if graded else "none")
+    if structure == "T":
+        model = fem.JunctionModel(round(density), "load" if mesh == "force" else "none")
         constraints = (model.reduced(DIAPHRAGM, "free"),)
+    else:
+        level = (fem.MeshLevel.of(density) if mesh == "force and ends"
+                 else fem.MeshLevel.plain(density, mesh == "force"))
+        model = fem.FoldModel(level, "roller" if structure == "L-mixed" else DIAPHRAGM)
+        constraints = ()
     setup = time.process_time() - start
     start = time.process_time()
     x = model.solve(frequency, *constraints)
     solve = time.process_time() - start
-    if structure == "L":
+    if structure == "T":
+        w, _ = model.fields(x)
+    else:
         w = {name: plate.values(part, fem.inner_grid(plate.length))["w"]
              for name, (plate, part) in model.plate_parts(x).items()}
-    else:
-        w, _ = model.fields(x)
     dofs = constraints[0].shape[1] if constraints else model.n_dofs
     return {"setup": setup, "solve": solve, "dofs": dofs, "residual": model.residual,
             "errors": _errors(fem, w, workdir, structure, frequency)}
@@ -171,8 +198,7 @@ def run_child(argv: list[str]) -> None:
     elif kind == "vtcr":
         result = child_vtcr(args[0], float(args[1]), float(args[2]), Path(args[3]))
     elif kind == "fem":
-        result = child_fem(args[0], float(args[1]), float(args[2]), args[3] == "graded",
-                           Path(args[4]))
+        result = child_fem(args[0], float(args[1]), float(args[2]), args[3], Path(args[4]))
     elif kind == "imports":
         result = child_imports(args[0], args[1])
     else:
@@ -227,7 +253,7 @@ def cheapest_meeting(runs: list[dict], target: float) -> dict | None:
 
 
 def mesh_name(run: dict) -> str:
-    return f"n = {run['density']:g}, {'graded' if run['graded'] else 'uniform'}"
+    return f"n = {run['density']:g}, {run['mesh']}"
 
 
 def main() -> None:
@@ -259,6 +285,8 @@ def main() -> None:
     with tempfile.TemporaryDirectory() as workdir:
         for structure in args.structures:
             for frequency in args.frequencies:
+                if structure == "L-mixed" and frequency not in MIXED_FREQUENCIES:
+                    continue  # no reference
                 measure("reference", structure, frequency, workdir)
                 vtcr = {r: measure("vtcr", structure, frequency, r, workdir)
                         for r in args.resolutions}
@@ -266,12 +294,13 @@ def main() -> None:
                 fem_runs = []
                 largest = args.max_density or MAX_DENSITY[structure]
                 for density in densities(DENSITY_STEP[structure], largest):
-                    uniform = measure("fem", structure, frequency, density, "uniform", workdir)
-                    graded = measure("fem", structure, frequency, density, "graded", workdir)
-                    fem_runs.append(uniform | {"density": density, "graded": False})
-                    if graded["dofs"] != uniform["dofs"]:  # else the grading refined nothing
-                        fem_runs.append(graded | {"density": density, "graded": True})
-                    if worst(uniform) <= finest_target or worst(graded) <= finest_target:
+                    coarse, fine = [measure("fem", structure, frequency, density, mesh, workdir)
+                                    | {"density": density, "mesh": mesh}
+                                    for mesh in MESHES[structure]]
+                    fem_runs.append(coarse)
+                    if fine["dofs"] != coarse["dofs"]:  # else the grading refined nothing
+                        fem_runs.append(fine)
+                    if min(worst(coarse), worst(fine)) <= finest_target:
                         break
                 searches.append(f"{structure} at {frequency:g} Hz: " + "; ".join(
                     f"{mesh_name(run)} {worst(run):.1e} ({run['dofs']}, "
