@@ -60,7 +60,7 @@ ROOT = Path(__file__).resolve().parents[1]
 THREADS = {"OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
 FREQUENCIES = (300.0, 1000.0, 3000.0)
 RESOLUTIONS = (1.0, 1.25)
-DIAPHRAGM = "diaphragm"  # the ends of both structures
+DIAPHRAGM = "diaphragm"  # the ends of the L and the T (the in-plane condition of L-mixed's: roller)
 
 
 # ---------------------------------------------------------------------------------------------
