@@ -75,3 +75,25 @@ def test_json_has_one_shape_with_tool_units_and_inputs(tmp_path):
         assert result["vtcr"]["version"] and result["units"]["w"] == "m"
         assert len(result["inputs"]["description"]["sha256"]) == 64
     assert json.loads(loc.read_text())["inputs"]["measurements"]["path"] == "simulated"
+
+
+def test_json_keeps_the_description_warnings(tmp_path, capsys):
+    """A warning of the description's checks (here a resolution below the rule, which
+    qualifies the field and its error estimate) is in every JSON output, under
+    inputs.description.warnings, as printed; a description without one writes []."""
+    text = (CASES / "two_plates.toml").read_text() + "\n[discretisation]\nresolution = 0.8\n"
+    warned, quiet = tmp_path / "warned.toml", tmp_path / "quiet.json"
+    warned.write_text(text)
+    outputs = {command: tmp_path / f"{command}.json" for command in ("solve", "localise")}
+    for command, out in outputs.items():
+        assert main([command, str(warned), "--json", str(out), "--no-estimate"]
+                    + (["--max-rows", "0"] if command == "solve" else [])) == 0
+    printed = [line.removeprefix("warning: ") for line in capsys.readouterr().out.splitlines()
+               if line.startswith("warning: ") and "resolution 0.8" in line]
+    assert printed
+    for out in outputs.values():
+        kept = json.loads(out.read_text())["inputs"]["description"]["warnings"]
+        assert set(printed) <= set(kept), (printed, kept)
+    assert main(["solve", str(CASES / "two_plates.toml"), "--json", str(quiet),
+                 "--no-estimate", "--max-rows", "0"]) == 0
+    assert json.loads(quiet.read_text())["inputs"]["description"]["warnings"] == []

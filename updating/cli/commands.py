@@ -36,7 +36,8 @@ __all__ = ["execute", "COMMANDS"]
 
 
 def _check_description(args: argparse.Namespace) -> None:
-    """Physical and numerical sanity of the description, before any work; prints warnings."""
+    """Physical and numerical sanity of the description, before any work; prints warnings and
+    keeps them in ``args.description_warnings``, for the JSON outputs (:func:`provenance`)."""
     if not getattr(args, "case", None):
         return
     frequency = getattr(args, "frequency", None)
@@ -44,8 +45,9 @@ def _check_description(args: argparse.Namespace) -> None:
     if args.command == "frf":  # the band's ends bound every frequency of the sweep
         frequencies = tuple(args.band)
     case = load_description(args)
-    for line in check_description(case, args.case, frequencies,
-                                  need_loads=args.command != "check"):
+    args.description_warnings = check_description(case, args.case, frequencies,
+                                                  need_loads=args.command != "check")
+    for line in args.description_warnings:
         warn(console_for(args), line)
     if case.joints:
         if estimate_size(case, max(frequencies) if frequencies else None).grouped:

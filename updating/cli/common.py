@@ -303,8 +303,11 @@ UNITS = {"length": "m", "w": "m", "frequency": "Hz", "power": "W", "energy": "J"
 
 def provenance(args: argparse.Namespace, case: Case,
                measurements: Measurements | None = None) -> dict[str, Any]:
-    """The tool, the units and fingerprints of the inputs, for every JSON output."""
-    inputs = {"description": {"path": str(args.case), "sha256": description_digest(case)}}
+    """The tool, the units and fingerprints of the inputs, for every JSON output, with the
+    warnings the description's checks gave (a number they qualify, such as an error estimate
+    that leaves out what a warning names, keeps its caveat in the file)."""
+    inputs = {"description": {"path": str(args.case), "sha256": description_digest(case),
+                              "warnings": list(getattr(args, "description_warnings", ()))}}
     probes = getattr(args, "probes", None)
     if probes:
         with open(probes, "rb") as handle:
