@@ -373,8 +373,9 @@ def _write_outputs(case: Case, args: argparse.Namespace, console: Console,
                      "weights": _weights_json(problem),
                      **provenance(args, case, measurements)}, bounds))
     if args.report:
-        write_text_atomic(args.report, result_markdown(result, case.name, _truth(case, args),
-                                                          case.measurement.noise))
+        write_text_atomic(args.report, result_markdown(
+            result, case.name, _truth(case, args), case.measurement.noise,
+            getattr(args, "description_warnings", ())))
     if args.plot:
         t3 = time.perf_counter()
         with progress_bar(console, "figures", None) as advance:

@@ -5,7 +5,7 @@ Formatting only: everything shown comes from :class:`updating.inverse.strategy.U
 
 from __future__ import annotations
 
-from collections.abc import Collection, Mapping
+from collections.abc import Collection, Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
 from rich import box
@@ -142,8 +142,9 @@ def _more_parameters(result: UpdateResult, joint: str) -> dict[str, Any]:
 
 def result_markdown(result: UpdateResult, title: str,
                     truth: Mapping[str, Mapping[str, float]] | None = None,
-                    noise: float | None = None) -> str:
-    """A Markdown report of the run (same content as :func:`steps_table`), for a lab notebook."""
+                    noise: float | None = None, warnings: Sequence[str] = ()) -> str:
+    """A Markdown report of the run (same content as :func:`steps_table`), for a lab notebook,
+    with the description's ``warnings`` that the run printed."""
     joints = list(result.steps[0].parameters)
     head = ["joint"] + [f"{_label(s)} log k / E_Γ² %" for s in result.steps]
     lines = [f"# {title}", "", "| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
@@ -162,4 +163,7 @@ def result_markdown(result: UpdateResult, title: str,
               "The floor is E_mod² of a correct model under the stated measurement noise.", ""]
     lines += [f"- {line}" for line in identified_lines(result, truth, noise)]
     lines += ["", f"Stopped: {result.message}.", ""]
+    if warnings:
+        lines += ["Warnings of the description's checks:", ""]
+        lines += [f"- {line}" for line in warnings] + [""]
     return "\n".join(lines)
