@@ -23,14 +23,16 @@ far below the errors compared).
 * **Finite elements** (``bench/fem_folded.py`` and ``bench/fem_junction.py``, written apart
   from the solver: Argyris ``w``, P5 ``(u, v)``, the line exact through master-slave
   relations): the cheapest mesh whose error is at most the VTCR's. The search covers squares
-  of side ``0.05 / n``, ``n = 0.5, 1, 1.5, ...`` for the L and ``n = 1, 2, ...`` for the T
-  (the line and the plates' edges stay on the grid), up to ``--max-density``. Each bending
+  of side ``0.05 / n``, ``n = 0.5, 1, 1.5, ...`` up to ``--max-density`` (for the T, at
+  ``n`` not an integer, near-squares that keep the line and T1's top on the grid:
+  ``fem_junction.segment_mesh``). Each bending
   mesh is either uniform or graded towards the force (:data:`MESHES`). With diaphragm ends
   the fields are smooth where the line meets the ends, so the references' grading there is
   left out; with mixed ends they are not, and the reference's family, graded towards the
-  force and the line's ends, is tried beside the force-graded mesh. The T
+  force and the line's ends, is tried beside the force-graded mesh. At integer ``n`` the T
   keeps its reference's membrane mesh, of cells up to four times coarser away from the line
-  (even ``n``); the L carries ``(u, v)`` on its bending mesh, as its reference does. Their
+  (even ``n``); the L, and the T at other ``n``, carry ``(u, v)`` on the bending grid, as the
+  L's reference does. Their
   time is the set-up (mesh, bases, matrices, constraints) plus the solve (SuperLU). The solve
   alone is what a sweep pays per frequency once the matrices are built; it is printed too.
 
@@ -41,7 +43,7 @@ printed above the peak of a process that imports what that measurement imports a
 nothing else. The bench process itself imports nothing heavy: Linux starts a forked child's
 peak at its parent's.
 
-``OPENBLAS_NUM_THREADS=1 python bench/bench_fold_fe.py`` (about fifteen minutes).
+``OPENBLAS_NUM_THREADS=1 python bench/bench_fold_fe.py`` (about twenty minutes).
 """
 
 from __future__ import annotations
@@ -67,7 +69,7 @@ DIAPHRAGM = "diaphragm"  # the ends of the L and the T (the in-plane condition o
 # The measured processes (``--child KIND ...``): each prints one JSON line
 # ---------------------------------------------------------------------------------------------
 STRUCTURES = ("L", "T", "L-mixed")
-DENSITY_STEP = {"L": 0.5, "T": 1.0, "L-mixed": 0.5}  # steps of n that keep the lines on the grid
+DENSITY_STEP = 0.5  # the step of the density n of the meshes (cells of 0.05 / n m)
 MAX_DENSITY = {"L": 3.0, "T": 4.0, "L-mixed": 3.0}  # the T's thinner skin has shorter waves
 MESHES = {"L": ("uniform", "force"), "T": ("uniform", "force"),
           "L-mixed": ("force", "force and ends")}
@@ -152,7 +154,7 @@ def child_fem(structure: str, frequency: float, density: float, mesh: str,
     fem, _ = _references(structure)
     start = time.process_time()
     if structure == "T":
-        model = fem.JunctionModel(round(density), "load" if mesh == "force" else "none")
+        model = fem.JunctionModel(density, "load" if mesh == "force" else "none")
         constraints = (model.reduced(DIAPHRAGM, "free"),)
     else:
         level = (fem.MeshLevel.of(density) if mesh == "force and ends"
@@ -265,8 +267,8 @@ def main() -> None:
                         help="finest finite-element mesh tried: squares of 0.05 / n m "
                              "(default 3 for the L, 4 for the T)")
     args = parser.parse_args()
-    if args.max_density is not None and args.max_density < max(DENSITY_STEP.values()):
-        parser.error(f"--max-density must be at least {max(DENSITY_STEP.values()):g}")
+    if args.max_density is not None and args.max_density < DENSITY_STEP:
+        parser.error(f"--max-density must be at least {DENSITY_STEP:g}")
 
     versions = measure("versions")
     versions.pop("peak_mb")
@@ -293,7 +295,7 @@ def main() -> None:
                 finest_target = min(worst(run) for run in vtcr.values())
                 fem_runs = []
                 largest = args.max_density or MAX_DENSITY[structure]
-                for density in densities(DENSITY_STEP[structure], largest):
+                for density in densities(DENSITY_STEP, largest):
                     coarse, fine = [measure("fem", structure, frequency, density, mesh, workdir)
                                     | {"density": density, "mesh": mesh}
                                     for mesh in MESHES[structure]]

@@ -141,6 +141,7 @@ bench/fem_junction.py --test-data`` then packs the 1 kHz roller fields into
 from __future__ import annotations
 
 import argparse
+import itertools
 import math
 import resource
 import sys
@@ -220,19 +221,39 @@ def tensor_mesh(cell: float) -> MeshTri:
                                np.linspace(0, LY, round(LY / cell) + 1))
 
 
+def segment_mesh(cell: float) -> MeshTri:
+    """Near-squares of side about ``cell`` on the skin, two triangles each: each of the skin's
+    stretches across ``x`` (S1, T1's foot, the rest of S2) cut into ``round(length / cell)``
+    equal cells, so that the line and T1's top stay on the grid for any ``cell``."""
+    breaks = [0.0, LINE_X, LINE_X + STIFFENER, SKIN_X]
+    x = np.concatenate([np.linspace(a, b, max(1, round((b - a) / cell)) + 1)[:-1]
+                        for a, b in itertools.pairwise(breaks)] + [[SKIN_X]])
+    return MeshTri.init_tensor(x, np.linspace(0, LY, round(LY / cell) + 1))
+
+
 GRADINGS = ("reference", "load", "none")
 """How the meshes of a level are graded where the line meets the ends: as the reference's
 (module docstring), or not at all, the bending mesh then graded towards the force (``load``)
-or uniform (``none``); the membrane mesh keeps its coarser cells graded towards the line. The
-last two are what a finite-element user would take for diaphragm ends, whose fields are
-smooth where the line meets the ends (``bench_fold_fe.py``)."""
+or uniform (``none``); at an integer level the membrane mesh keeps its coarser cells graded
+towards the line, at another it is the bending mesh's grid (:func:`segment_mesh`). The last
+two are what a finite-element user would take for diaphragm ends, whose fields are smooth
+where the line meets the ends (``bench_fold_fe.py``)."""
 
 
-def skin_meshes(n: int, grading: str = "reference") -> tuple[MeshTri, MeshTri]:
-    """The skin's bending and membrane meshes at level ``n`` (module docstring), before they
-    are matched on the line, graded as ``grading`` (:data:`GRADINGS`) says."""
+def skin_meshes(n: float, grading: str = "reference") -> tuple[MeshTri, MeshTri]:
+    """The skin's bending and membrane meshes at level ``n`` (module docstring; an integer
+    for ``grading = "reference"``), before they are matched on the line, graded as
+    ``grading`` (:data:`GRADINGS`) says."""
     if grading not in GRADINGS:
         raise ValueError(f"grading must be one of {GRADINGS}, got {grading!r}")
+    if n != int(n):
+        if grading == "reference":
+            raise ValueError(f"the reference's levels are integers, got {n}")
+        grid = segment_mesh(0.05 / n)
+        if grading == "none":
+            return grid, grid
+        return refined_to(grid, lambda P: point_grading(P, *LOAD, n / 2, 1e-3)), grid
+    n = int(n)
     c = n / 2
     corners = [(LINE_X, 0.0), (LINE_X, LY)] if grading == "reference" else []
 
