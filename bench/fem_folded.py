@@ -269,23 +269,31 @@ class MeshLevel:
     h_load: float
 
     @classmethod
-    def of(cls, refinement: int) -> MeshLevel:
-        """The family ``size(x) = min(0.05, 2 r(x)) / n`` (``n = refinement``), floored at
-        ``h_fold = 1e-6`` at the fold's corners and ``h_load = 1e-3`` at the force."""
-        c = refinement / 2
+    def of(cls, refinement: float) -> MeshLevel:
+        """The family ``size(x) = min(0.05, 2 r(x)) / n`` (``n = refinement``, a multiple of
+        1/2: :func:`on_grid`), floored at ``h_fold = 1e-6`` at the fold's corners and
+        ``h_load = 1e-3`` at the force."""
+        c = on_grid(refinement) / 2
         return cls(refinement, c_fold=c, h_fold=1e-6, c_load=c, h_load=1e-3)
 
     @classmethod
     def plain(cls, n: float, grade_load: bool) -> MeshLevel:
-        """Squares of side ``0.05 / n`` (``n`` a multiple of 1/2, so that the fold lies on
-        the grid), graded only towards the force as in :meth:`of` (``grade_load``) or not at
-        all: the meshes a finite-element user would take for diaphragm ends, whose fields are
-        smooth at the fold's corners (``bench_fold_fe.py``). A floor ``h`` of 1 m grades
-        nothing."""
-        if (2 * n) % 1:
-            raise ValueError(f"n must be a multiple of 1/2 (the fold on the grid), got {n}")
+        """Squares of side ``0.05 / n`` (``n`` a multiple of 1/2: :func:`on_grid`), graded
+        only towards the force as in :meth:`of` (``grade_load``) or not at all: the meshes a
+        finite-element user would take for diaphragm ends, whose fields are smooth at the
+        fold's corners (``bench_fold_fe.py``). A floor ``h`` of 1 m grades nothing."""
+        on_grid(n)
         no_grading = (1.0, 1.0)
         return cls(n, *no_grading, *((n / 2, 1e-3) if grade_load else no_grading))
+
+
+def on_grid(n: float) -> float:
+    """``n``, checked to be a positive multiple of 1/2: the squares of ``0.05 / n`` m then have
+    the fold (0.4 m) and the plates' ends on their grid."""
+    if not (n > 0 and (2 * n) % 1 == 0):
+        raise ValueError(f"a mesh level must be a positive multiple of 1/2 (the fold on the "
+                         f"grid), got {n}")
+    return n
 
 
 def graded_mesh(nx: int, ny: int, lx: float, ly: float, points) -> MeshTri:

@@ -500,7 +500,7 @@ class JunctionModel:
     conditions of given ends and top. Unknowns: S1's, then S2's, then T1's. ``grading`` as
     for :func:`skin_meshes`."""
 
-    def __init__(self, n: int, grading: str = "reference"):
+    def __init__(self, n: float, grading: str = "reference"):
         t0 = time.perf_counter()
         self.n = n
         bending, membrane = matched_on_line(*skin_meshes(n, grading))

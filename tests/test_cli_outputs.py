@@ -80,25 +80,24 @@ def test_json_has_one_shape_with_tool_units_and_inputs(tmp_path):
 def test_json_keeps_the_description_warnings(tmp_path, capsys):
     """A warning of the description's checks (here a resolution below the rule, which
     qualifies the field and its error estimate) is in every JSON output, under
-    inputs.description.warnings, and in update's report, as printed; a description without
-    one writes []."""
+    inputs.description.warnings, and in update's report, as the command printed it; a
+    description without one writes []."""
     text = (CASES / "two_plates.toml").read_text() + "\n[discretisation]\nresolution = 0.8\n"
     warned, quiet = tmp_path / "warned.toml", tmp_path / "quiet.json"
     warned.write_text(text)
-    outputs = {command: tmp_path / f"{command}.json" for command in ("solve", "localise")}
-    for command, out in outputs.items():
-        assert main([command, str(warned), "--json", str(out), "--no-estimate"]
-                    + (["--max-rows", "0"] if command == "solve" else [])) == 0
-    printed = [line.removeprefix("warning: ") for line in capsys.readouterr().out.splitlines()
-               if line.startswith("warning: ") and "resolution 0.8" in line]
-    assert printed
     report = tmp_path / "run.md"
-    assert main(["update", str(warned), "--json", str(tmp_path / "update.json"), "--report",
-                 str(report), "--no-estimate", "--run", str(tmp_path / "r.json")]) in (0, 3)
-    outputs["update"] = tmp_path / "update.json"
-    for out in outputs.values():
+    extra = {"solve": ["--max-rows", "0"], "localise": [], "plan": [],
+             "frf": ["--band", "150", "160", "--start-frequencies", "3", "--max-points", "3"],
+             "update": ["--report", str(report), "--run", str(tmp_path / "r.json")]}
+    for command, options in extra.items():
+        out = tmp_path / f"{command}.json"
+        assert main([command, str(warned), "--json", str(out), "--no-estimate", *options]) \
+            in ((0, 3) if command == "update" else (0,)), command
+        printed = [line.removeprefix("warning: ")
+                   for line in capsys.readouterr().out.splitlines()
+                   if line.startswith("warning: ") and "resolution 0.8" in line]
         kept = json.loads(out.read_text())["inputs"]["description"]["warnings"]
-        assert set(printed) <= set(kept), (printed, kept)
+        assert printed and set(printed) <= set(kept), (command, printed, kept)
     assert all(f"- {line}" in report.read_text() for line in printed)
     assert main(["solve", str(CASES / "two_plates.toml"), "--json", str(quiet),
                  "--no-estimate", "--max-rows", "0"]) == 0
