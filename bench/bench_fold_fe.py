@@ -39,10 +39,9 @@ far below the errors compared).
 
 Every measurement runs in a process of its own, with one BLAS thread, and times the first
 solve of its process: the VTCR's, as the finite elements', pays what a process does once
-(caches, the first call of each kernel). Its peak memory is ``os.wait4``'s ``ru_maxrss``,
-printed above the peak of a process that imports what that measurement imports and does
-nothing else. The bench process itself imports nothing heavy: Linux starts a forked child's
-peak at its parent's.
+(caches, the first call of each kernel). ``bench_scale.Runner``'s small launcher starts it
+and reads its peak memory (``os.wait4``'s ``ru_maxrss``, MB), printed above the peak of a
+process that imports what that measurement imports and does nothing else.
 
 ``OPENBLAS_NUM_THREADS=1 python bench/bench_fold_fe.py`` (about twenty minutes).
 """
@@ -51,19 +50,17 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
-import platform
-import subprocess
 import sys
 import tempfile
 import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-THREADS = {"OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
+TIMEOUT = 600.0  # s, for one measured process
 FREQUENCIES = (300.0, 1000.0, 3000.0)
 RESOLUTIONS = (1.0, 1.25)
-DIAPHRAGM = "diaphragm"  # the ends of the L and the T (the in-plane condition of L-mixed's: roller)
+ENDS = {"L": "diaphragm", "T": "diaphragm", "L-mixed": "roller"}
+"""Each structure's ends (``tests/support.FOLD_ENDS``, ``fem_folded.ENDS``)."""
 
 
 # ---------------------------------------------------------------------------------------------
@@ -108,7 +105,7 @@ def child_reference(structure: str, frequency: float, workdir: Path) -> dict:
     import numpy as np
     fem, _ = _references(structure)
     if structure == "L":
-        w, _ = fem.exact_fields(frequency, DIAPHRAGM)
+        w, _ = fem.exact_fields(frequency, ENDS[structure])
     elif structure == "L-mixed":
         fields = np.load(MIXED_REFERENCE)
         w = {plate: fields[f"w_{plate}_{frequency:g}"] for plate in fem.LENGTHS}
@@ -133,13 +130,9 @@ def child_vtcr(structure: str, frequency: float, resolution: float, workdir: Pat
     """One VTCR solve, the first of its process as the finite elements' is, and its errors."""
     fem, shape = _references(structure)
     folded_description, parse_case, solve_case = _vtcr_imports()
-    description = folded_description(*shape, frequency, False, fem.LY, resolution,
-                                     ends=DIAPHRAGM)
-    if structure == "L-mixed":  # simply supported ends, in-plane rollers: held = false moves it
-        for boundary in description["boundaries"]:
-            if "in_plane" in boundary:
-                boundary["in_plane"] = "roller"
-    case = parse_case(description)
+    # held = false: the mixed ends (simply supported, in-plane rollers) move only when asked
+    case = parse_case(folded_description(*shape, frequency, False, fem.LY, resolution,
+                                         ends=ENDS[structure]))
     start = time.process_time()
     solution = solve_case(case, frequency, residuals=False)
     seconds = time.process_time() - start
@@ -156,11 +149,11 @@ def child_fem(structure: str, frequency: float, density: float, mesh: str,
     start = time.process_time()
     if structure == "T":
         model = fem.JunctionModel(density, "load" if mesh == "force" else "none")
-        constraints = (model.reduced(DIAPHRAGM, "free"),)
+        constraints = (model.reduced(ENDS[structure], "free"),)
     else:
         level = (fem.MeshLevel.of(density) if mesh == "force and ends"
                  else fem.MeshLevel.plain(density, mesh == "force"))
-        model = fem.FoldModel(level, "roller" if structure == "L-mixed" else DIAPHRAGM)
+        model = fem.FoldModel(level, ENDS[structure])
         constraints = ()
     setup = time.process_time() - start
     start = time.process_time()
@@ -186,14 +179,6 @@ def child_imports(structure: str, side: str) -> dict:
     return {}
 
 
-def child_versions() -> dict:
-    import numpy
-    import scipy
-    import skfem
-    return {"numpy": numpy.__version__, "scipy": scipy.__version__,
-            "scikit-fem": skfem.__version__}
-
-
 def run_child(argv: list[str]) -> None:
     kind, *args = argv
     if kind == "reference":
@@ -202,41 +187,24 @@ def run_child(argv: list[str]) -> None:
         result = child_vtcr(args[0], float(args[1]), float(args[2]), Path(args[3]))
     elif kind == "fem":
         result = child_fem(args[0], float(args[1]), float(args[2]), args[3], Path(args[4]))
-    elif kind == "imports":
-        result = child_imports(args[0], args[1])
     else:
-        result = child_versions()
+        result = child_imports(args[0], args[1])
     print(json.dumps(result))
 
 
 # ---------------------------------------------------------------------------------------------
 # The bench
 # ---------------------------------------------------------------------------------------------
-def measure(*args: object) -> dict:
-    """Run ``--child args`` in a fresh process with one BLAS thread: its JSON result, with its
-    peak memory ``peak_mb`` (``ru_maxrss``)."""
-    process = subprocess.Popen([sys.executable, __file__, "--child", *map(str, args)],
-                               stdout=subprocess.PIPE, text=True,
-                               env={**os.environ, **THREADS})
-    output = process.stdout.read()
-    process.stdout.close()
-    _, status, usage = os.wait4(process.pid, 0)
-    process.returncode = os.waitstatus_to_exitcode(status)
-    if process.returncode != 0:
-        raise SystemExit(f"the measured process {' '.join(map(str, args))} failed "
-                         f"(status {process.returncode})")
-    return json.loads(output.splitlines()[-1]) | {"peak_mb": usage.ru_maxrss / 1024}
-
-
-def processor() -> str:
-    """The processor's model name (Linux), else the machine type."""
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return platform.machine()
+def measure(runner, *args: object) -> dict:
+    """Run ``--child args`` in a fresh process with one BLAS thread, through ``runner``
+    (``bench_scale.Runner``: a small launcher process starts it, so that its peak memory does
+    not start from this process's): its JSON result, with its peak memory ``peak_mb``."""
+    run = runner.run([sys.executable, str(Path(__file__).resolve()), "--child",
+                      *map(str, args)])
+    if not run.ok:
+        raise SystemExit(f"the measured process {' '.join(map(str, args))} failed: "
+                         f"{run.brief()}")
+    return json.loads(run.stdout.strip().splitlines()[-1]) | {"peak_mb": run.peak_mb}
 
 
 def densities(step: float, largest: float) -> list[float]:
@@ -271,11 +239,21 @@ def main() -> None:
     if args.max_density is not None and not DENSITY_STEP <= args.max_density < 100:
         parser.error(f"--max-density must be at least {DENSITY_STEP:g} (and below 100)")
 
-    versions = measure("versions")
-    versions.pop("peak_mb")
-    print(f"{processor()}, {os.cpu_count()} cores, Python {platform.python_version()}, "
-          + ", ".join(f"{name} {version}" for name, version in versions.items()))
-    floor = {(structure, side): measure("imports", structure, side)["peak_mb"]
+    from bench_scale import Runner, machine  # the measured processes, the run's conditions
+
+    print(", ".join(f"{key} {value}" for key, value in machine().items()))
+    with tempfile.TemporaryDirectory() as directory:
+        runner = Runner(Path(directory), TIMEOUT)
+        try:
+            compare(runner, directory, args)
+        finally:
+            runner.close()
+
+
+def compare(runner, directory: str, args: argparse.Namespace) -> None:
+    """The imports' floors, then per structure and frequency a table row per resolution; last,
+    every finite-element mesh tried."""
+    floor = {(structure, side): measure(runner, "imports", structure, side)["peak_mb"]
              for structure in args.structures for side in ("vtcr", "fem")}
     print("peak memory of the imports alone (the columns below are above these): "
           + ", ".join(f"{structure} {side} {peak:.0f} MB"
@@ -285,38 +263,43 @@ def main() -> None:
           "| memory [MB] | time ratio (solve alone) | memory ratio |")
     print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     searches = []
-    with tempfile.TemporaryDirectory() as workdir:
-        for structure in args.structures:
-            for frequency in args.frequencies:
-                if structure == "L-mixed" and frequency not in MIXED_FREQUENCIES:
-                    searches.append(f"L-mixed at {frequency:g} Hz: skipped, its reference is "
-                                    "at 300 and 1000 Hz only")
-                    continue
-                measure("reference", structure, frequency, workdir)
-                vtcr = {r: measure("vtcr", structure, frequency, r, workdir)
-                        for r in args.resolutions}
-                finest_target = min(worst(run) for run in vtcr.values())
-                fem_runs = []
-                largest = args.max_density or MAX_DENSITY[structure]
-                for density in densities(DENSITY_STEP, largest):
-                    coarse, fine = [measure("fem", structure, frequency, density, mesh, workdir)
-                                    | {"density": density, "mesh": mesh}
-                                    for mesh in MESHES[structure]]
-                    fem_runs.append(coarse)
-                    if fine["dofs"] != coarse["dofs"]:  # else the grading refined nothing
-                        fem_runs.append(fine)
-                    if min(worst(coarse), worst(fine)) <= finest_target:
-                        break
-                searches.append(f"{structure} at {frequency:g} Hz: " + "; ".join(
-                    f"{mesh_name(run)} {worst(run):.1e} ({run['dofs']}, "
-                    f"{run['setup'] + run['solve']:.2f} s)" for run in fem_runs))
-                for resolution, run in vtcr.items():
-                    print(row(f"| {structure} | {frequency:g} | {resolution:g} ", run,
-                              fem_runs, floor[structure, "vtcr"], floor[structure, "fem"]),
-                          flush=True)
+    for structure in args.structures:
+        for frequency in args.frequencies:
+            if structure == "L-mixed" and frequency not in MIXED_FREQUENCIES:
+                searches.append(f"L-mixed at {frequency:g} Hz: skipped, its reference is at "
+                                "300 and 1000 Hz only")
+                continue
+            measure(runner, "reference", structure, frequency, directory)
+            vtcr = {r: measure(runner, "vtcr", structure, frequency, r, directory)
+                    for r in args.resolutions}
+            fem_runs = fem_search(runner, directory, structure, frequency,
+                                  min(worst(run) for run in vtcr.values()),
+                                  args.max_density or MAX_DENSITY[structure])
+            searches.append(f"{structure} at {frequency:g} Hz: " + "; ".join(
+                f"{mesh_name(run)} {worst(run):.1e} ({run['dofs']}, "
+                f"{run['setup'] + run['solve']:.2f} s)" for run in fem_runs))
+            for resolution, run in vtcr.items():
+                print(row(f"| {structure} | {frequency:g} | {resolution:g} ", run, fem_runs,
+                          floor[structure, "vtcr"], floor[structure, "fem"]), flush=True)
     print("\nthe finite-element meshes tried (error, unknowns, set-up and solve):")
     for line in searches:
         print(f"  {line}")
+
+
+def fem_search(runner, directory: str, structure: str, frequency: float, target: float,
+               largest: float) -> list[dict]:
+    """The finite-element runs of :data:`MESHES` at each density up to ``largest``, until one
+    meets ``target`` (a graded mesh only where its grading refines something)."""
+    runs = []
+    for density in densities(DENSITY_STEP, largest):
+        coarse, fine = [measure(runner, "fem", structure, frequency, density, mesh, directory)
+                        | {"density": density, "mesh": mesh} for mesh in MESHES[structure]]
+        runs.append(coarse)
+        if fine["dofs"] != coarse["dofs"]:  # else the grading refined nothing
+            runs.append(fine)
+        if min(worst(coarse), worst(fine)) <= target:
+            break
+    return runs
 
 
 def row(start: str, vtcr: dict, fem_runs: list[dict], vtcr_floor: float,

@@ -51,11 +51,8 @@ def cases():
             yield (f"panel, {'held' if held else 'moving'}",
                    parse_case(panel.description([frequency], held)), frequency)
     for shape, frequency in (("L", 300.0), ("L", 1000.0), ("T", 1000.0), ("T", 3000.0)):
-        plates, lines, load = SHAPES[shape]
-        description = folded_description(plates, lines, load, frequency, False, LY, 1.5)
-        for boundary in description["boundaries"]:
-            if boundary["edge"].endswith(("bottom", "top")):
-                boundary["condition"], boundary["in_plane"] = "simply_supported", "roller"
+        description = folded_description(*SHAPES[shape], frequency, False, LY, 1.5,
+                                         ends="roller")
         yield f"{shape}, mixed ends moved", parse_case(description), frequency
     for bays in (6, 12):
         plates, lines = panel.wider_panel(bays)

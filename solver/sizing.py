@@ -87,12 +87,11 @@ The three were fitted (relative least squares) to the plate blocks' time of one 
 every case of ``cases/`` at its highest frequency, the four plates at 2 kHz, the single plate
 at 1 and 3 kHz, the 4 x 4 and 6 x 6 grids and the stiffened panel of
 ``bench/bench_moving_lines.py`` moving and held at 600 and 2500 Hz and widened to 6 and 12
-bays (``bench/bench_sizing.py``). Estimate / time: 0.56 to 1.50 (0.004 s to 0.68 s
+bays (``bench/bench_sizing.py``). Estimate / time: 0.5 to 1.5 (0.004 s to 0.68 s
 measured). One plate per group of identical ones is what makes the 10 x 10 grid's plates
 cheap (0.10 s: nine distinct blocks for 100 plates) and a moving-line box dear (0.68 s:
-sixteen, of orders up to 370). The constant
-0.02 s a plate it replaces (2026-11-27) had them at 0.23 to 19 times their time: 2.0 s for the
-grid, 0.22 s for the box."""
+sixteen, of orders up to 370). The constant 0.02 s a plate it replaces (2026-11-27) had them
+at 0.23 to 19 times their time: 2.0 s for the grid, 0.22 s for the box."""
 BUILD_BYTES_PER_SQUARED_ORDER = 100.0
 """The plates' build's peak per squared order of the matrices it factorises: each block's
 edge traces (Gauss points, in number about proportional to the order, times the order) and,

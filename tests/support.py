@@ -234,9 +234,12 @@ FoldLines = Mapping[str, Mapping[str, tuple[str, complex]]]
 reference, a complex log10 gives a lossy spring: ``log10(k (1 + j zeta))``)."""
 
 
-FOLD_ENDS = {"diaphragm": ("simply_supported", "diaphragm"), "symmetric": ("symmetric", "roller")}
-"""The ends y = 0 and y = ``ly`` of a prismatic folded plate (the exact reference's ``ends``):
-shear diaphragms, or planes of symmetry; their bending and in-plane conditions."""
+FOLD_ENDS = {"diaphragm": ("simply_supported", "diaphragm"), "symmetric": ("symmetric", "roller"),
+             "roller": ("simply_supported", "roller")}
+"""The ends y = 0 and y = ``ly`` of a prismatic folded plate: shear diaphragms, or planes of
+symmetry (the exact reference's ``ends``), or mixed ends, simply supported in bending and
+in-plane rollers (their line's loads log-singular there; no exact reference); their bending
+and in-plane conditions."""
 
 
 def folded_description(plates: FoldedPlates, lines: FoldLines, load: tuple[str, float, float],
