@@ -37,6 +37,11 @@ parts for a run.
 * **what the rule costs** (``--rule`` alone, about five minutes): one solve at resolution 1.5
   moving under the rule and held, on the L fold, the T junction and the panel, then the
   panel's refinement under the rule;
+* **the floor of the line's Legendre functions** (``--floor`` alone, about fifteen minutes;
+  needs the ``bench`` extra): the L fold with roller ends from 60 to 500 Hz and the T junction
+  at 300 Hz against finite elements (``fem_folded.py``, ``fem_junction.py``, level 6), with
+  the floor of ``solver.joint_rules.mixed_end_legendre_count`` and without it, the estimate's
+  ratio to each error;
 * **against finite elements** (``--fem`` alone, fifteen to thirty minutes, 7 GB; needs the
   ``bench`` extra, scikit-fem): the L fold with roller ends under the rule against
   ``bench/fem_folded.py``'s independent solution, by resolution, by the line's count of
@@ -460,6 +465,85 @@ def junction_against_finite_elements(level: int = 8) -> None:
                       flush=True)
 
 
+@contextlib.contextmanager
+def without_legendre_floor():
+    """Within the block, a line with mixed ends carries the count of its wavenumbers alone
+    (``solver.joint_rules.legendre_count_floor`` off), as before the floor."""
+    import solver.layout
+
+    floor = solver.layout.legendre_count_floor
+    solver.layout.legendre_count_floor = lambda ends: 0
+    try:
+        yield
+    finally:
+        solver.layout.legendre_count_floor = floor
+
+
+def floor_rows(label: str, case_of, reference: dict, resolutions: tuple[float, ...],
+               frequency: float) -> None:
+    """One line per resolution: the line's Legendre count and, per plate, the relative L2
+    error of ``w`` against ``reference`` (``{plate: w}``) with the estimate's ratio to it in
+    brackets, with the floor and without (:func:`without_legendre_floor`)."""
+    from solver.estimate import estimate_error
+    from solver.layout import interface_layout
+
+    for resolution in resolutions:
+        cells = []
+        for floor in (True, False):
+            with contextlib.nullcontext() if floor else without_legendre_floor():
+                case = case_of(resolution)
+                solution = solve_assembly(case, frequency)
+                estimate = estimate_error(case, solution)
+                problems = {p: solution.plates[p].problem for p in solution.plates}
+                count = max(interface_layout(case, problems).counts.values())
+            errors = {}
+            for name, w in reference.items():
+                points = inner_grid(case.plates[name].size[0], LY)
+                errors[name] = (np.linalg.norm(solution.plates[name].field(points)["w"] - w)
+                                / np.linalg.norm(w))
+            cells.append(f"{count} functions: " + ", ".join(
+                f"{name} {error:.1e} ({estimate.plates[name] / error:.2f})"
+                for name, error in errors.items()))
+        print(f"  {label} {frequency:5.0f} Hz, resolution {resolution:4.2f}: with the floor "
+              f"{cells[0]} | without {cells[1]}", flush=True)
+
+
+def legendre_floor(level: int = 6) -> None:
+    """The floor of a mixed-end line's Legendre functions
+    (``solver.joint_rules.mixed_end_legendre_count``) against the finite elements of
+    ``fem_folded.py`` and ``fem_junction.py`` at mesh ``level`` (computed here): the L fold
+    with ``simply_supported`` + ``roller`` ends at 60, 100, 200, 300 and 500 Hz, resolutions 1
+    to 3.4, and the T junction with the same ends at 300 Hz, its stiffener's top free (it
+    hangs) or fixed, resolutions 1 to 2.25 (:func:`floor_rows`; the counts include the four
+    logarithmic functions)."""
+    from fem_folded import folded_fields as fold_finite_elements
+    from fem_junction import junction_fields
+
+    def roller(plates, lines, load, frequency):
+        def case_of(resolution: float):
+            description = folded_description(plates, lines, load, frequency, False, LY,
+                                             resolution)
+            for boundary in description["boundaries"]:
+                if boundary["edge"].endswith(("bottom", "top")):
+                    boundary["in_plane"] = "roller"
+            return parse_case(description)
+        return case_of
+
+    print(f"the floor of the line's Legendre functions against finite elements (level {level})"
+          ": w's relative L2 error per plate (the estimate / the error)", flush=True)
+    for frequency in (60.0, 100.0, 200.0, 300.0, 500.0):
+        w_fe, _ = fold_finite_elements(frequency, "roller", level)
+        floor_rows("L fold", roller(PLATES, LINES, LOAD, frequency), w_fe,
+                   (1.0, 1.5, 2.25, 3.4), frequency)
+    plates, lines, load = SHAPES["T"]
+    for top in ("free", "fixed"):
+        if top == "fixed":
+            plates = {**plates, "T1": plates["T1"][:4] + ("simply_supported",)}
+        w_fe, _ = junction_fields(300.0, "roller", top, level)
+        floor_rows(f"T, top {top}", roller(plates, lines, load, 300.0), w_fe,
+                   (1.0, 1.5, 2.25), 300.0)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true")
@@ -470,6 +554,9 @@ def main() -> None:
                         help="mixed ends with and without a member hanging on the line only")
     parser.add_argument("--fem", action="store_true",
                         help="the L fold against the finite elements of fem_folded.py only")
+    parser.add_argument("--floor", action="store_true",
+                        help="the floor of the line's Legendre functions against finite "
+                             "elements only")
     parser.add_argument("--rule", action="store_true",
                         help="the rule's cost against held lines, and the panel under it, only")
     parser.add_argument("--reach", type=float, default=1.0,
@@ -484,6 +571,9 @@ def main() -> None:
         return
     if args.rule:
         rule_cost()
+        return
+    if args.floor:
+        legendre_floor()
         return
     if args.fem:
         against_finite_elements()

@@ -407,7 +407,9 @@ def _singular_end_issues(case: Case) -> list[tuple[_Loc, str]]:
     10.4), and its line's loads carry their logarithmic terms there, at 30 to 50 times the cost
     of the held line; its field keeps an error of up to about 1.5e-4 in ``w`` and 1e-3
     in-plane against independent finite-element solutions of an L fold and a T junction,
-    which the estimate does not see (the count of the line's Legendre functions). Such a
+    which the estimate may understate (to 1/4 at the worst measured, where a member hangs on
+    the line; the count of the line's Legendre functions has a floor for it,
+    :func:`solver.joint_rules.mixed_end_legendre_count`). Such a
     line moves only when ``held = false`` is given, with a warning of that cost; held by
     default, it is warned of what the held line leaves out (``held = true`` says the choice is
     made). Both name the two consistent choices, a plane of symmetry on every member
@@ -435,7 +437,7 @@ def _singular_end_issues(case: Case) -> list[tuple[_Loc, str]]:
                        "its ends, where its members carry logarithmic corner functions and edge "
                        f"waves reaching {SINGULAR_END_REACH:g} times further, at 30 to 50 "
                        "times the cost of the held line, and its field keeps an error that the "
-                       "error estimate does not show (on an L fold and a T junction against "
+                       "error estimate may understate (on an L fold and a T junction against "
                        "finite elements, up to 1.5e-4 in w and 1e-3 in-plane)"
                        f"{hangs} (docs/method.md section 10.4); set held = true, or {fix}")
         elif joint.held is None and not members_coplanar(joint, case.plates):

@@ -23,6 +23,7 @@ from solver.in_plane import in_plane_edge_conditions, in_plane_plates
 from solver.joint_rules import (
     extra_load_functions,
     interface_function_count,
+    legendre_count_floor,
     load_function_values,
     singular_load_ends,
 )
@@ -263,7 +264,8 @@ def interface_layout(case: Case, problems: Mapping[str, PlateProblem],
 
     ``resolution`` is None (the description's), one factor, or a mapping by plate; a joint's
     interface functions follow the finest of its plates, and stop, on a moving line, at the
-    largest wavenumber every member's rays answer (:func:`interface_function_count`).
+    largest wavenumber every member's rays answer (:func:`interface_function_count`); a moving
+    line with a mixed end has at least :func:`legendre_count_floor` of them.
     """
     counts = {}
     moving = set(case.moving_lines())
@@ -271,11 +273,13 @@ def interface_layout(case: Case, problems: Mapping[str, PlateProblem],
         length = case.edge_length(joint.sides[0])
         kappas = [problems[plate].kappa.real for plate in joint.plates]
         joint_scale = max(plate_resolution(case, side.plate, resolution) for side in joint.sides)
+        ends = singular_load_ends(case, jid)
         counts[jid] = (case.discretisation.interface_functions
-                       or interface_function_count(max(kappas), length, joint_scale,
-                                                   case.discretisation.edge_wavenumber_ratio,
-                                                   min(kappas) if jid in moving else None)
-                       ) + extra_load_functions(singular_load_ends(case, jid))
+                       or max(interface_function_count(max(kappas), length, joint_scale,
+                                                       case.discretisation.edge_wavenumber_ratio,
+                                                       min(kappas) if jid in moving else None),
+                              legendre_count_floor(ends))
+                       ) + extra_load_functions(ends)
     layout, n_s = _layout(case, counts, moving)
     junctions = _junctions(case, problems)
     corner_columns = {}
