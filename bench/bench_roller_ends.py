@@ -479,14 +479,16 @@ def without_legendre_floor():
         solver.layout.legendre_count_floor = floor
 
 
-def floor_rows(label: str, case_of, reference: dict, resolutions: tuple[float, ...],
-               frequency: float) -> None:
+def floor_rows(label: str, case_of, reference: tuple[dict, dict],
+               resolutions: tuple[float, ...], frequency: float) -> None:
     """One line per resolution: the line's Legendre count and, per plate, the relative L2
-    error of ``w`` against ``reference`` (``{plate: w}``) with the estimate's ratio to it in
-    brackets, with the floor and without (:func:`without_legendre_floor`)."""
+    error of ``w`` against ``reference`` (``({plate: w}, {plate: (u, v)})``) with the
+    estimate's ratio to it in brackets, then that of ``(u, v)``, with the floor and without
+    (:func:`without_legendre_floor`)."""
     from solver.estimate import estimate_error
     from solver.layout import interface_layout
 
+    w_reference, uv_reference = reference
     for resolution in resolutions:
         cells = []
         for floor in (True, False):
@@ -496,14 +498,17 @@ def floor_rows(label: str, case_of, reference: dict, resolutions: tuple[float, .
                 estimate = estimate_error(case, solution)
                 problems = {p: solution.plates[p].problem for p in solution.plates}
                 count = max(interface_layout(case, problems).counts.values())
-            errors = {}
-            for name, w in reference.items():
+            errors = []
+            for name, w in w_reference.items():
                 points = inner_grid(case.plates[name].size[0], LY)
-                errors[name] = (np.linalg.norm(solution.plates[name].field(points)["w"] - w)
-                                / np.linalg.norm(w))
-            cells.append(f"{count} functions: " + ", ".join(
-                f"{name} {error:.1e} ({estimate.plates[name] / error:.2f})"
-                for name, error in errors.items()))
+                w_error = (np.linalg.norm(solution.plates[name].field(points)["w"] - w)
+                           / np.linalg.norm(w))
+                uv = uv_reference[name]
+                uv_error = (np.linalg.norm(solution.in_plane(name, points) - uv)
+                            / np.linalg.norm(uv))
+                errors.append(f"{name} {w_error:.1e} ({estimate.plates[name] / w_error:.2f})"
+                              f" / {uv_error:.1e}")
+            cells.append(f"{count} functions: " + ", ".join(errors))
         print(f"  {label} {frequency:5.0f} Hz, resolution {resolution:4.2f}: with the floor "
               f"{cells[0]} | without {cells[1]}", flush=True)
 
@@ -514,7 +519,8 @@ def legendre_floor(level: int = 6) -> None:
     ``fem_folded.py`` and ``fem_junction.py`` at mesh ``level`` (computed here): the L fold
     with ``simply_supported`` + ``roller`` ends at 60, 100, 200, 300 and 500 Hz, resolutions 1
     to 3.4, and the T junction with the same ends at 300 Hz, its stiffener's top free (it
-    hangs) or fixed, resolutions 1 to 2.25 (:func:`floor_rows`; the counts include the four
+    hangs) or fixed, resolutions 1 to 2.25 (:func:`floor_rows`: per plate the error of ``w``,
+    the estimate over it, and the error of ``(u, v)``; the counts include the four
     logarithmic functions)."""
     from fem_folded import folded_fields as fold_finite_elements
     from fem_junction import junction_fields
@@ -530,17 +536,18 @@ def legendre_floor(level: int = 6) -> None:
         return case_of
 
     print(f"the floor of the line's Legendre functions against finite elements (level {level})"
-          ": w's relative L2 error per plate (the estimate / the error)", flush=True)
+          ": per plate the relative L2 error of w (the estimate over it) / that of (u, v)",
+          flush=True)
     for frequency in (60.0, 100.0, 200.0, 300.0, 500.0):
-        w_fe, _ = fold_finite_elements(frequency, "roller", level)
-        floor_rows("L fold", roller(PLATES, LINES, LOAD, frequency), w_fe,
+        floor_rows("L fold", roller(PLATES, LINES, LOAD, frequency),
+                   fold_finite_elements(frequency, "roller", level),
                    (1.0, 1.5, 2.25, 3.4), frequency)
     plates, lines, load = SHAPES["T"]
     for top in ("free", "fixed"):
         if top == "fixed":
             plates = {**plates, "T1": plates["T1"][:4] + ("simply_supported",)}
-        w_fe, _ = junction_fields(300.0, "roller", top, level)
-        floor_rows(f"T, top {top}", roller(plates, lines, load, 300.0), w_fe,
+        floor_rows(f"T, top {top}", roller(plates, lines, load, 300.0),
+                   junction_fields(300.0, "roller", top, level),
                    (1.0, 1.5, 2.25), 300.0)
 
 

@@ -654,7 +654,7 @@ def test_mixed_ends_meet_independent_finite_elements_with_the_lines_logarithmic_
     functions (:func:`solver.joint_rules.mixed_end_legendre_count`) ``w`` is within 2.8e-7
     and 1.1e-6 (A, B) of the finite elements at 300 Hz and 1.3e-6 and 2.4e-6 at 1 kHz,
     ``(u, v)`` within 1.3e-4 at both (resolution 1.5; at 300 Hz the count of the wavenumbers
-    alone, 17, left 5.8e-6 and 1.6e-5 in ``w``, 1.4e-3 in ``(u, v)``). On Legendre
+    alone, 16, left 5.8e-6 and 1.6e-5 in ``w``, 1.4e-3 in ``(u, v)``). On Legendre
     functions alone, as before, the solve converged under refinement to a field 1e-4 off in
     ``w`` and 1e-2 to 1e-1 in ``(u, v)``. Tolerances three times the measured errors."""
     reference = np.load(FINITE_ELEMENT_FOLD)
@@ -745,14 +745,14 @@ def test_the_estimate_of_a_line_with_mixed_ends_is_honest_against_finite_element
     errors 3e-7 and 8.4e-7, well above the finite elements' 1e-8); within [0.5, 3] asked.
     Before the line carried at least :func:`solver.joint_rules.mixed_end_legendre_count`
     Legendre functions, the L fold's error stopped at 1e-5 at 100 Hz, where the count of its
-    wavenumbers (15) leaves it, and the estimate, whose enriched solve keeps that count, said
+    wavenumbers (11) leaves it, and the estimate, whose enriched solve keeps that count, said
     1/50 of it (:func:`test_the_legendre_floor_is_what_the_estimate_sees`)."""
     for name, estimate, true in _roller_ends_estimate(shape, frequency, top, resolution):
         assert true > 1e-7 and 0.5 <= estimate / true <= 3.0, (name, estimate, true)
 
 
 def test_the_legendre_floor_is_what_the_estimate_sees(monkeypatch):
-    """The L fold with roller ends at 100 Hz and resolution 2.25 on the 15 Legendre functions
+    """The L fold with roller ends at 100 Hz and resolution 2.25 on the 11 Legendre functions
     of its wavenumbers alone (the floor off): ``w`` 1e-5 and 1.3e-5 off the finite elements,
     the estimate 1/50 of that; with the floor of 27 (the first test) 3e-7 and 8.4e-7, the
     estimate 1.4 times that. The count's remainder is what the estimate cannot see; the
@@ -769,7 +769,8 @@ def test_the_mixed_end_legendre_count_leaves_what_it_says_of_the_next_term():
     rule: with :math:`t = u^4` the integrands of :math:`(t^2\ln t)\,P_m(2t - 1)` are smooth
     in :math:`u`, so plain Gauss points in :math:`u` integrate them; the part of
     :math:`t^2\ln t` outside the first 27 Legendre functions is then below 1e-6 of its norm,
-    outside 26 above, and outside 17 (the L fold's count at 300 Hz) near 1e-5."""
+    outside 26 above, and outside 17 near 1e-5 (the count of the L fold's wavenumbers at
+    300 Hz is 16 to 18)."""
     from solver.joint_rules import SINGULAR_REMAINDER, mixed_end_legendre_count
 
     u, weights = np.polynomial.legendre.leggauss(400)
