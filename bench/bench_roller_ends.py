@@ -37,11 +37,12 @@ parts for a run.
 * **what the rule costs** (``--rule`` alone, about five minutes): one solve at resolution 1.5
   moving under the rule and held, on the L fold, the T junction and the panel, then the
   panel's refinement under the rule;
-* **the floor of the line's Legendre functions** (``--floor`` alone, about fifteen minutes;
+* **the floor of the line's Legendre functions** (``--floor`` alone, about twenty minutes;
   needs the ``bench`` extra): the L fold with roller ends from 60 to 500 Hz and the T junction
   at 300 Hz against finite elements (``fem_folded.py``, ``fem_junction.py``, level 6), with
   the floor of ``solver.joint_rules.mixed_end_legendre_count`` and without it, the estimate's
-  ratio to each error;
+  ratio to each error; then the three-bay panel's refinement with roller ends, with and
+  without it;
 * **against finite elements** (``--fem`` alone, fifteen to thirty minutes, 7 GB; needs the
   ``bench`` extra, scikit-fem): the L fold with roller ends under the rule against
   ``bench/fem_folded.py``'s independent solution, by resolution, by the line's count of
@@ -513,6 +514,27 @@ def floor_rows(label: str, case_of, reference: tuple[dict, dict],
               f"{cells[0]} | without {cells[1]}", flush=True)
 
 
+def floor_on_the_panel() -> None:
+    """The three-bay panel of ``bench_moving_lines.py`` with roller ends simply supported,
+    its lines moving (``held = false``; its stiffeners hang on them), at 300 and 600 Hz:
+    the largest change of ``w`` and ``(u, v)`` over the plates between resolutions 1.5 ->
+    2.25 -> 3.4, with the floor of the line's Legendre functions and without. There is no
+    independent solution of it: the changes are not its error."""
+    print("the panel with roller ends, refinement 1.5 -> 2.25 -> 3.4 (largest change over "
+          "the plates)", flush=True)
+    for frequency in (300.0, 600.0):
+        for floor in (True, False):
+            with contextlib.nullcontext() if floor else without_legendre_floor():
+                fields = [panel_fields(frequency, "roller", resolution,
+                                       ("simply_supported", "roller"))[0]
+                          for resolution in (1.5, 2.25, 3.4)]
+            changes = [", ".join(f"{largest_change(fine, coarse, component):.1e}"
+                                 for coarse, fine in zip(fields, fields[1:]))
+                       for component in (0, 1)]
+            print(f"  {frequency:5.0f} Hz, {'with' if floor else 'without'} the floor: w "
+                  f"{changes[0]}; (u, v) {changes[1]}", flush=True)
+
+
 def legendre_floor(level: int = 6) -> None:
     """The floor of a mixed-end line's Legendre functions
     (``solver.joint_rules.mixed_end_legendre_count``) against the finite elements of
@@ -581,6 +603,7 @@ def main() -> None:
         return
     if args.floor:
         legendre_floor()
+        floor_on_the_panel()
         return
     if args.fem:
         against_finite_elements()
