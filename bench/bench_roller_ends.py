@@ -58,6 +58,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import itertools
 import sys
 import time
 from pathlib import Path
@@ -203,29 +204,37 @@ def planes_of_symmetry() -> None:
 
 
 @contextlib.contextmanager
-def end_treatment(reach: float, families: bool = True, load_functions: bool = True):
+def end_treatment(reach: float, families: bool = True, load_functions: bool = True,
+                  floor: bool = True):
     """Within the block, the members of lines with mixed ends reach ``reach`` times the usual
     (``solver.problems.SINGULAR_END_REACH``), carry the logarithmic families at those ends
-    (``solver.problems.singular_end_corners``) only if ``families``, and the line's load
+    (``solver.problems.singular_end_corners``) only if ``families``, the line's load
     functions have their logarithmic terms there (``solver.joint_rules.load_function_values``)
-    only if ``load_functions``: the rule's three parts switched one at a time."""
+    only if ``load_functions``, and at least ``solver.joint_rules.mixed_end_legendre_count``
+    Legendre functions only if ``floor`` (else the count of the line's wavenumbers alone): the
+    rule's four parts switched one at a time."""
     import assembly.case
     import solver.in_plane
+    import solver.layout
 
     reach_before, corners = solver.problems.SINGULAR_END_REACH, solver.problems.singular_end_corners
     line_ends = assembly.case.Case.singular_line_ends
+    count_floor = solver.layout.legendre_count_floor
     solver.problems.SINGULAR_END_REACH = reach
     if not families:
         solver.problems.singular_end_corners = solver.in_plane.singular_end_corners = (
             lambda case, plate_id: ())
     if not load_functions:
         assembly.case.Case.singular_line_ends = lambda case, joint_id: (False, False)
+    if not floor:
+        solver.layout.legendre_count_floor = lambda ends: 0
     try:
         yield
     finally:
         solver.problems.SINGULAR_END_REACH = reach_before
         solver.problems.singular_end_corners = solver.in_plane.singular_end_corners = corners
         assembly.case.Case.singular_line_ends = line_ends
+        solver.layout.legendre_count_floor = count_floor
 
 
 def log_families(reach: float = 1.0) -> None:
@@ -466,26 +475,12 @@ def junction_against_finite_elements(level: int = 8) -> None:
                       flush=True)
 
 
-@contextlib.contextmanager
-def without_legendre_floor():
-    """Within the block, a line with mixed ends carries the count of its wavenumbers alone
-    (``solver.joint_rules.legendre_count_floor`` off), as before the floor."""
-    import solver.layout
-
-    floor = solver.layout.legendre_count_floor
-    solver.layout.legendre_count_floor = lambda ends: 0
-    try:
-        yield
-    finally:
-        solver.layout.legendre_count_floor = floor
-
-
 def floor_rows(label: str, case_of, reference: tuple[dict, dict],
                resolutions: tuple[float, ...], frequency: float) -> None:
     """One line per resolution: the line's Legendre count and, per plate, the relative L2
     error of ``w`` against ``reference`` (``({plate: w}, {plate: (u, v)})``) with the
     estimate's ratio to it in brackets, then that of ``(u, v)``, with the floor and without
-    (:func:`without_legendre_floor`)."""
+    (:func:`end_treatment`)."""
     from solver.estimate import estimate_error
     from solver.layout import interface_layout
 
@@ -493,7 +488,7 @@ def floor_rows(label: str, case_of, reference: tuple[dict, dict],
     for resolution in resolutions:
         cells = []
         for floor in (True, False):
-            with contextlib.nullcontext() if floor else without_legendre_floor():
+            with end_treatment(SINGULAR_END_REACH, floor=floor):
                 case = case_of(resolution)
                 solution = solve_assembly(case, frequency)
                 estimate = estimate_error(case, solution)
@@ -524,12 +519,12 @@ def floor_on_the_panel() -> None:
           "the plates)", flush=True)
     for frequency in (300.0, 600.0):
         for floor in (True, False):
-            with contextlib.nullcontext() if floor else without_legendre_floor():
+            with end_treatment(SINGULAR_END_REACH, floor=floor):
                 fields = [panel_fields(frequency, "roller", resolution,
                                        ("simply_supported", "roller"))[0]
                           for resolution in (1.5, 2.25, 3.4)]
             changes = [", ".join(f"{largest_change(fine, coarse, component):.1e}"
-                                 for coarse, fine in zip(fields, fields[1:]))
+                                 for coarse, fine in itertools.pairwise(fields))
                        for component in (0, 1)]
             print(f"  {frequency:5.0f} Hz, {'with' if floor else 'without'} the floor: w "
                   f"{changes[0]}; (u, v) {changes[1]}", flush=True)
@@ -549,12 +544,8 @@ def legendre_floor(level: int = 6) -> None:
 
     def roller(plates, lines, load, frequency):
         def case_of(resolution: float):
-            description = folded_description(plates, lines, load, frequency, False, LY,
-                                             resolution)
-            for boundary in description["boundaries"]:
-                if boundary["edge"].endswith(("bottom", "top")):
-                    boundary["in_plane"] = "roller"
-            return parse_case(description)
+            return parse_case(folded_description(plates, lines, load, frequency, False, LY,
+                                                 resolution, ends="roller"))
         return case_of
 
     print(f"the floor of the line's Legendre functions against finite elements (level {level})"

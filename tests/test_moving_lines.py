@@ -720,12 +720,8 @@ def _roller_ends_estimate(shape: str, frequency: float, top: str | None, resolut
     rule, the true error against :data:`FINITE_ELEMENT_FOLD` or
     :data:`FINITE_ELEMENT_JUNCTION`."""
     plates, lines, load = SHAPES[shape]
-    description = _description(plates, lines, load, frequency, False)
-    description["discretisation"]["resolution"] = resolution
-    for boundary in description["boundaries"]:
-        if boundary["edge"].endswith(("bottom", "top")):
-            boundary["in_plane"] = "roller"
-    case = parse_case(description)
+    case = parse_case(folded_description(plates, lines, load, frequency, False, LY, resolution,
+                                         ends="roller"))
     solution = solve_assembly(case, frequency)
     estimate = estimate_error(case, solution)
     reference = np.load(FINITE_ELEMENT_FOLD if shape == "L" else FINITE_ELEMENT_JUNCTION)
