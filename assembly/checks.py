@@ -62,6 +62,12 @@ class View:
     has_frequencies: bool
 
 
+_HELD_SPRINGS = ("junction {jid!r} is held in translation, so its members' translational springs "
+                 "would do nothing; set held = false (framed, non-coplanar members) or remove "
+                 "them")
+"""The line of a held junction given translational springs."""
+
+
 def _member_issues(
     jid: str, joint: Any, ids: list[EdgeId], ends: list[Any], loc: Loc
 ) -> list[tuple[Loc, str]]:
@@ -361,38 +367,46 @@ class _CrossCheck:
     def moving_lines(self) -> None:
         """A line that must move (``held = false``) has framed members, and translational
         springs sit on moving lines with at least one member rigid in translation
-        (:mod:`assembly.lines`). Checked once the joints, plates and boundaries are valid."""
-        joints, plates = self.view.joints, self.plates
-        if (self.issues or joints is None or plates is None or None in joints.values()
-                or None in plates.values()):
-            return
-        for jid, joint in self.view.joints.items():
-            if not isinstance(joint, JunctionJoint) or joint.held is not False:
+        (:mod:`assembly.lines`). What one joint decides alone is checked on every valid joint
+        whatever else is wrong; whether a line moves by default needs every joint, plate and
+        boundary valid, and is checked then."""
+        joints, plates = self.view.joints or {}, self.plates or {}
+        known = {jid: joint for jid, joint in joints.items()
+                 if isinstance(joint, JunctionJoint)}
+        for jid, joint in known.items():
+            springs, loc = joint.translational_springs(), ("joints", jid,
+                                                           "log10_translational_stiffness")
+            if springs and len(springs) == len(joint.plates):
+                self.issues.append((loc, "every member has a translational spring; leave at "
+                                    "least one member rigid in translation (inf): the line "
+                                    "translates with it"))
+            if joint.held is True and springs:
+                self.issues.append((loc, _HELD_SPRINGS.format(jid=jid)))
+            damped = [p for p in joint.plates if joint.member_translational_loss_factor(p) > 0
+                      and p not in springs]
+            if damped and (isinstance(joint.translational_loss_factor, Mapping) or not springs):
+                self.issues.append((("joints", jid, "translational_loss_factor"),
+                                    f"member(s) {', '.join(damped)} have a translational "
+                                    "loss factor but no translational spring (rigid), so it "
+                                    "would do nothing; give the spring "
+                                    "(log10_translational_stiffness) or remove the loss "
+                                    "factor"))
+            if joint.held is not False or any(plates.get(p) is None for p in joint.plates):
                 continue
-            unframed = [p for p in joint.plates if p in self.plates
-                        and self.plates[p].frame is None]
+            unframed = [p for p in joint.plates if plates[p].frame is None]
             if unframed:
                 self.issues.append((("joints", jid, "held"),
                                     f"a moving line needs a frame on every member plate; "
                                     f"add [plates.{unframed[0]}.frame], or set held = true"))
-        if self.issues:
+        if (self.issues or not joints or not plates or None in joints.values()
+                or None in plates.values()):
             return
         boundaries = [bc for bc in self.view.boundaries or () if bc is not None]
         moving = set(lines_that_move(joints, plates, boundaries))
-        for jid, joint in joints.items():
-            springs = (joint.translational_springs() if isinstance(joint, JunctionJoint)
-                       else ())
-            if not springs:
-                continue
-            loc = ("joints", jid, "log10_translational_stiffness")
-            if jid not in moving:
-                self.issues.append((loc, f"junction {jid!r} is held in translation, so its "
-                                    "members' translational springs would do nothing; set "
-                                    "held = false (framed, non-coplanar members) or remove them"))
-            elif len(springs) == len(joint.plates):
-                self.issues.append((loc, "every member has a translational spring; leave at "
-                                    "least one member rigid in translation (inf): the line "
-                                    "translates with it"))
+        for jid, joint in known.items():
+            if joint.held is None and joint.translational_springs() and jid not in moving:
+                self.issues.append((("joints", jid, "log10_translational_stiffness"),
+                                    _HELD_SPRINGS.format(jid=jid)))
 
     def loads(self) -> None:
         """Each load's plate or edge exists, and an edge load acts where the edge lets it."""

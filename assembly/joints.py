@@ -14,7 +14,7 @@ import math
 from collections.abc import Mapping
 from typing import Annotated, Any, Literal, Union
 
-from pydantic import Field, PlainValidator, WithJsonSchema
+from pydantic import Field, PlainValidator, Strict, WithJsonSchema
 
 from .types import (
     EdgeId,
@@ -130,8 +130,11 @@ def _member_stiffness(value: object, where: str = "", unit: str = "N") -> float:
         raise ValueError(f"{where}must be a number (log10 of k in {unit}) or inf (rigid), "
                          f"got {show_value(value)}")
     value = float(value)  # type: ignore[arg-type]
-    if math.isnan(value) or value == -math.inf:
-        raise ValueError(f"{where}must be a number in [-50, 50] or inf (rigid), got {value!r};"
+    if math.isnan(value):
+        raise ValueError(f"{where}must be a number in [-50, 50] or inf (rigid), got nan; "
+                         "write a number, e.g. 2.0")
+    if value == -math.inf:
+        raise ValueError(f"{where}must be a number in [-50, 50] or inf (rigid), got -inf;"
                          " a member that carries nothing is not a member: remove its edge")
     if math.isfinite(value) and not -50.0 <= value <= 50.0:
         raise ValueError(f"{where}must be in [-50, 50] or inf (rigid), got {value!r}")
@@ -230,7 +233,7 @@ class JunctionJoint(FrozenModel):
     between: Annotated[tuple[EdgeRef, ...], Field(min_length=2)]
     log10_stiffness: MemberStiffness
     loss_factor: MemberLossFactor = 0.0
-    held: bool | None = None
+    held: Annotated[bool, Strict()] | None = None
     log10_translational_stiffness: MemberTranslationalStiffness = math.inf
     translational_loss_factor: MemberLossFactor = 0.0
 

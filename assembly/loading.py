@@ -450,6 +450,12 @@ def _translate(err: Any) -> tuple[Loc, str]:  # noqa: C901 (one branch per error
     if kind == "extra_forbidden":
         key = str(loc[-1]) if loc else "?"
         model = _model_at(loc[:-1], tag)
+        if model is HingeJoint and key == "held":
+            return loc, ("a hinge is a fold held in translation (w = 0 on its line, as on the "
+                         "paper's needles); remove `held`, or, for a fold that moves, write "
+                         'kind = "junction" with log10_stiffness = { A = inf, B = k } by '
+                         "member plate (between framed, non-coplanar plates it moves by "
+                         "default)")
         allowed = list(model.model_fields) if model is not None else []
         listing = f" (allowed: {', '.join(allowed)})" if allowed else ""
         return loc, (
@@ -489,6 +495,10 @@ def _translate(err: Any) -> tuple[Loc, str]:  # noqa: C901 (one branch per error
         return loc, f"must be a number, got {_describe_value(value)}; write a number, {eg}"
     if kind in ("int_type", "int_parsing", "int_from_float"):
         return loc, f"must be a whole number, got {_describe_value(value)}; {eg}"
+    if kind in ("bool_type", "bool_parsing"):
+        name = loc[-1] if loc else "value"
+        return loc, (f"must be true or false, got {_describe_value(value)}; write {name} = true "
+                     f"or {name} = false (unquoted)")
     if kind in ("string_type", "string_too_short"):
         return loc, f"must be a non-empty string, got {_describe_value(value)}; quote it, {eg}"
     if kind in ("model_type", "model_attributes_type", "dict_type"):

@@ -19,6 +19,7 @@ stays with ``vtcr check``.
 from __future__ import annotations
 
 import copy
+import math
 import re
 from typing import Any
 
@@ -157,6 +158,24 @@ def case_json_schema() -> dict[str, Any]:
         {"required": ["frequency"], "not": {"required": ["frequencies"]}},
         {"required": ["frequencies"], "not": {"required": ["frequency"]}},
     ]
+    _drop_non_finite_defaults(schema)
     result = {"$schema": SCHEMA_DIALECT, "title": "vtcr assembly description"}
     result.update({k: v for k, v in schema.items() if k != "title"})
     return result
+
+
+def _drop_non_finite_defaults(node: Any) -> None:
+    """Move every non-finite ``default`` (TOML's ``inf``, a rigid spring) into its field's
+    description: JSON has no infinity, and editors read the schema as strict JSON."""
+    if isinstance(node, dict):
+        default = node.get("default")
+        if isinstance(default, float) and not math.isfinite(default):
+            del node["default"]
+            node["description"] = (f"{node.get('description', '')} Default: "
+                                   f"{'inf' if default > 0 else '-inf' if default < 0 else 'nan'}"
+                                   ".").lstrip()
+        for value in node.values():
+            _drop_non_finite_defaults(value)
+    elif isinstance(node, list):
+        for value in node:
+            _drop_non_finite_defaults(value)

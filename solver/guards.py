@@ -14,6 +14,7 @@ from dataclasses import dataclass
 from assembly.case import Case
 from assembly.errors import DescriptionError, Issue, format_path
 from assembly.lines import members_coplanar
+from solver.in_plane import in_plane_plates
 from solver.problems import SINGULAR_END_REACH, plate_problems, plate_ray_counts
 from solver.rays import RayCounts, automatic_ray_counts
 from solver.sizing import available_memory, estimate_size
@@ -454,6 +455,31 @@ def _singular_end_issues(case: Case) -> list[tuple[_Loc, str]]:
     return warnings
 
 
+def _idle_in_plane_issues(case: Case) -> list[tuple[_Loc, str]]:
+    """One warning naming the boundaries whose ``in_plane`` condition does nothing whatever
+    the lines' ``held``: their plate carries no in-plane waves
+    (:func:`solver.in_plane.in_plane_plates`) and could carry them only as a member of a
+    junction between non-coplanar plates, or joined to one by coplanar joints. (On a
+    member of a held line the condition is the structure's, ready for ``held = false``.)"""
+    could_move = {p for joint in case.joints.values() if joint.kind == "junction"
+                  and not members_coplanar(joint, case.plates) for p in joint.plates}
+    coplanar = [joint.plates for joint in case.joints.values() if joint.kind == "coplanar"]
+    while joined := {p for plates in coplanar if could_move.intersection(plates)
+                     for p in plates} - could_move:
+        could_move |= joined
+    could_move |= set(in_plane_plates(case))
+    idle = [(i, bc.edge) for i, bc in enumerate(case.boundaries)
+            if bc.in_plane is not None and case.edge(bc.edge).plate not in could_move]
+    if not idle:
+        return []
+    shown = ", ".join(edge for _, edge in idle[:4]) + (", ..." if len(idle) > 4 else "")
+    return [(("boundaries", idle[0][0], "in_plane"),
+             f"the in-plane condition of {len(idle)} edge(s) ({shown}) does nothing: their "
+             "plates carry no in-plane waves and cannot (no member of a junction between "
+             "non-coplanar plates, nor joined to one by coplanar joints), so only their "
+             "bending is solved; remove in_plane there")]
+
+
 def _weights_issues(case: Case) -> list[tuple[_Loc, str]]:
     r"""A warning when the scale-free weights (``[updating] r = "auto"``) meet
     ``misfit = "global"``. The weights balance each joint's law against its own plates' data
@@ -496,7 +522,8 @@ def description_issues(
       error (spacing in mm instead of m?);
     * **loads** (if `need_loads`) -- a description without loads has a zero response;
     * **moving lines** -- a junction line whose end is a plane of symmetry for part of the
-      motion only warns, moving or held by default (:func:`_singular_end_issues`);
+      motion only warns, moving or held by default (:func:`_singular_end_issues`); so do
+      in-plane conditions on plates without in-plane waves (:func:`_idle_in_plane_issues`);
     * **weights** -- the scale-free weights with ``misfit = "global"`` warn
       (:func:`_weights_issues`).
 
@@ -533,7 +560,7 @@ def description_issues(
     units = _millimetres_against_pascals(case)
     errors = ([units] if units else []) + errors
     scale_errors, warnings = _scale_issues(case, frequencies, location)
-    warnings += _singular_end_issues(case) + _weights_issues(case)
+    warnings += _singular_end_issues(case) + _idle_in_plane_issues(case) + _weights_issues(case)
     if scale_errors:  # the quantities below would overflow or vanish
         return errors + scale_errors, warnings
     plates = _plate_rays(case, f)

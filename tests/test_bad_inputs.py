@@ -248,6 +248,9 @@ CATALOGUE: list[Bad] = [
     described(TWO.replace("spacing = 0.1", "plates = []\nspacing = 0.1").replace(
         "[joints.G1]", "[discretisation.plates.P1]\ninterior = 4\n\n[joints.G1]"),
         "measurement.plates", lines=1, id="phys-description-errors-first"),
+    described((CASES / "folded_plate.toml").read_text().replace(
+        'kind = "hinge"', 'kind = "hinge"\nheld = false'), "joints.G1.held",
+        "a hinge is a fold held in translation", 'kind = "junction"', id="hinge-held"),
     # ---------------------------------------------------------------- updating runs
     described((CASES / "single_plate.toml").read_text(), "joints", "no joint",
               id="update-without-joints", command="update"),
@@ -425,6 +428,21 @@ def test_paper_cases_are_sane() -> None:
         assert description_issues(load_case(path), need_loads=True) == ([], []), path.name
 
 
+def test_an_in_plane_condition_that_does_nothing_warns() -> None:
+    """Two coplanar plates carry no in-plane waves whatever their joints say: an ``in_plane``
+    condition on their edges is named as doing nothing (a member of a held line between
+    non-coplanar plates keeps its condition silently: ``tests/test_moving_lines.py``)."""
+    from solver.guards import description_issues
+
+    edge = 'edge = "P2.right"\ncondition = "simply_supported"\n'
+    case = load_case_text(TWO.replace(edge, edge + 'in_plane = "roller"\n'))
+    errors, warnings = description_issues(case)
+    assert errors == []
+    ((loc, message),) = warnings
+    assert loc == ("boundaries", 0, "in_plane") and "P2.right" in message, warnings
+    assert description_issues(load_case_text(TWO)) == ([], [])
+
+
 def test_thin_plate_limit_warns() -> None:
     from solver.guards import description_issues
 
@@ -506,7 +524,11 @@ def test_solve_case_refuses_nan_frequency_and_unloaded_assembly() -> None:
 # ------------------------------------------------------------------------ JSON Schema
 def test_schema_command_prints_valid_json(capsys) -> None:
     assert main(["schema"]) == 0
-    schema = json.loads(capsys.readouterr().out)
+
+    def not_json(constant: str) -> None:  # Python reads Infinity and NaN; editors do not
+        raise ValueError(f"{constant} is not JSON")
+
+    schema = json.loads(capsys.readouterr().out, parse_constant=not_json)
     assert {"name", "frequency", "frequencies", "materials", "plates", "joints", "boundaries",
             "loads", "discretisation", "measurement", "updating", "truth"} <= set(
         schema["properties"])

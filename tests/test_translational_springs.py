@@ -100,12 +100,32 @@ def test_translational_springs_match_the_exact_folded_plate(shape, frequency, lo
      "leave at least one member rigid"),
     (lambda d: d["joints"]["W"].update(log10_translational_stiffness={"B9": 8.0}),
      "is not a member"),
+    (lambda d: d["joints"]["W"].update(log10_translational_stiffness={"T1": float("nan")}),
+     "got nan; write a number"),
+    (lambda d: d["joints"]["W"].update(translational_loss_factor={"S1": 0.1}),
+     "S1 have a translational loss factor but no translational spring"),
+    (lambda d: d["joints"]["W"].update(held=1), "must be true or false, got 1"),
 ])
-def test_translational_springs_need_a_moving_line_and_a_rigid_member(change, message):
+def test_line_settings_that_would_do_nothing_or_mean_nothing_are_refused(change, message):
+    """Each setting that would do nothing or mean nothing is refused, naming what to write."""
     description = _tee(8.0)
     change(description)
     with pytest.raises(AssemblyError, match=message):
         parse_case(description)
+
+
+def test_spring_problems_are_reported_beside_the_others():
+    """A problem elsewhere in the description (another joint invalid, which leaves the lines'
+    motion undecided) does not hide what a joint's springs decide alone: the message lists
+    both."""
+    description = _tee(8.0)
+    description["joints"]["W"].update(log10_translational_stiffness=8.0)
+    description["joints"]["X"] = {"kind": "junction", "between": ["S1.left", "S2.right"],
+                                  "log10_stiffness": 2.0, "translational_loss_factor": -1.0}
+    with pytest.raises(AssemblyError) as raised:
+        parse_case(description)
+    assert "leave at least one member rigid" in str(raised.value)
+    assert "X.translational_loss_factor" in str(raised.value)
 
 
 def test_check_shows_the_translational_springs():

@@ -143,9 +143,6 @@ RENAMED = {
                                   "--samples 41",
     ("frf", "renamed_points"): "renamed to --start-frequencies (the sweep's initial "
                                 "frequencies); give e.g. --start-frequencies 41",
-    ("frf", "renamed_tolerance"): "the sweep's refinement criterion is --sampling-tolerance "
-                                   "(--tolerance is the discretisation error in every "
-                                   "command); give e.g. --sampling-tolerance 0.1",
 }
 """The options renamed for one meaning per name, refused for one release with the new name."""
 

@@ -116,8 +116,9 @@ def _solve_frequency(args: argparse.Namespace, case: Case, frequency: float, pro
     if residuals:
         console.print("joint residuals E_Gamma^2 (discretisation floor at the model's own "
                       "parameters): " + ", ".join(f"{j} {v:.1e}" for j, v in residuals.items()))
+    n_s = system.n_s if system is not None else 0
     table = Table(title=f"{case.name}: w at {frequency:g} Hz "
-                        f"({solution.n_unknowns} ray unknowns, "
+                        f"({solution.n_unknowns - n_s} ray unknowns, {n_s} interface unknowns, "
                         f"condition estimate {solution.condition_estimate:.1e})")
     for column in ("plate", "x [m]", "y [m]", "|w| [m]", "phase [deg]"):
         table.add_column(column, justify="right")
@@ -131,7 +132,7 @@ def _solve_frequency(args: argparse.Namespace, case: Case, frequency: float, pro
     return {
         "frequency": frequency,
         "unknowns": solution.n_unknowns,
-        "interface_unknowns": system.n_s if system is not None else 0,
+        "interface_unknowns": n_s,
         "timings": dict({phase: float(t) for phase, t in solution.timings.items()},
                         **({"estimate": estimate.seconds} if estimate is not None else {})),
         "condition_estimate": solution.condition_estimate,
@@ -182,7 +183,8 @@ def cmd_frf(args: argparse.Namespace) -> int:
         points, order, nodes = probes.by_plate, list(probes.order), probes.nodes
     count = None if args.step is not None else args.start_frequencies
     executor = executor_for(args, case)
-    resolutions, tolerance = None, case.discretisation.tolerance
+    resolutions = None
+    tolerance = args.tolerance if args.tolerance is not None else case.discretisation.tolerance
     if tolerance is not None:  # a first sweep finds the resonances the resolution must meet
         with progress_bar(console, "resolution per sub-band", None):
             first = frequency_sweep(case, tuple(args.band), points, step=args.step, count=count,
@@ -207,7 +209,8 @@ def cmd_frf(args: argparse.Namespace) -> int:
         warn(console, f"the tolerance {tolerance:g} is not met at "
                       + ", ".join(f"{f:g} Hz ({v:.1e})" for f, v in missed.items())
                       + " (a resonance of the final sweep away from the first one's): "
-                        "lower [discretisation] tolerance or raise resolution")
+                        "lower the tolerance (--tolerance, [discretisation] tolerance) or "
+                        "raise resolution")
     if args.csv:
         write_measurements(args.csv, sweep.measurements(), sweep=True)
     if args.json:
@@ -299,7 +302,8 @@ def _print_sweep(console: Console, case: Case, sweep: Sweep, n_points: int) -> N
 
 
 def cmd_schema(args: argparse.Namespace) -> int:
-    text = json.dumps(case_json_schema(), indent=2, ensure_ascii=False) + "\n"
+    # strict JSON (no Infinity): editors read the schema with a strict parser
+    text = json.dumps(case_json_schema(), indent=2, ensure_ascii=False, allow_nan=False) + "\n"
     if not args.out:
         sys.stdout.write(text)
         return 0

@@ -229,9 +229,11 @@ def _add_frf(sub: argparse._SubParsersAction[_Parser]) -> _Parser:
                      help="refine where neighbouring responses differ by more than this "
                           "fraction (default 0.1)")
     _renamed(frf, "--points", "--start-frequencies")
-    _renamed(frf, "--tolerance", "--sampling-tolerance",
-             "--tolerance is the discretisation error everywhere; the sweep's refinement "
-             "criterion is")
+    frf.add_argument("--tolerance", type=float, metavar="TOL",
+                     help="the estimated relative L2 error of w (or of (u, v, w)) to meet at "
+                          "every frequency of the band: each sub-band swept at the resolution "
+                          "that meets it at its top and its resonances (default "
+                          "[discretisation] tolerance; none: the description's resolution)")
     frf.add_argument("--max-points", type=int, default=2000,
                      help="most frequencies of the refined sweep (default 2000)")
     frf.add_argument("--probes", help="CSV with header plate,x,y (default: the measurement grid)")

@@ -517,9 +517,11 @@ class ModifiedProblem:
 
     @property
     def size(self) -> tuple[int, int, int]:
-        """``(ray unknowns, interface unknowns, constraints)`` at the first frequency."""
+        """``(ray unknowns, interface unknowns, constraints)`` at the first frequency, the ray
+        unknowns bending and in-plane (as ``vtcr check`` and ``vtcr solve`` count them)."""
         data = next(iter(self.frequencies.values()))
-        n_rays = sum(b.n_dof for b in data.system.bases.values())
+        n_rays = (sum(b.n_dof for b in data.system.bases.values())
+                  + sum(m.basis.n_dof for m in data.system.membranes.values()))
         return n_rays, data.system.n_s, data.system.constraints[0].shape[0]
 
 
