@@ -14,7 +14,7 @@ import math
 from collections.abc import Mapping
 from typing import Annotated, Any, Literal, Union
 
-from pydantic import Field, PlainValidator, Strict, WithJsonSchema
+from pydantic import Field, PlainValidator, Strict, WithJsonSchema, field_validator
 
 from .types import (
     EdgeId,
@@ -115,9 +115,26 @@ class HingeJoint(_JointBase):
         :math:`\log_{10} k`, k in N·m/m per rad (= N); in [-50, 50].
     loss_factor : float, optional
         Joint loss factor :math:`\zeta` >= 0.  Default 0.
+    held : true, optional
+        Says that the fold is held in translation on purpose (a support along it, as the
+        paper's needles), which silences ``vtcr check``'s warning on a hinge between
+        non-coplanar framed plates. A hinge is always held: ``false`` is refused, naming the
+        fold that moves, a two-member ``junction`` with one member rigid.
     """
 
     kind: Literal["hinge"] = "hinge"
+    held: Annotated[bool, Strict()] | None = None
+
+    @field_validator("held")
+    @classmethod
+    def _held_only(cls, held: bool | None) -> bool | None:
+        if held is False:
+            raise ValueError(
+                "a hinge is a fold held in translation (w = 0 on its line, as on the paper's "
+                "needles); remove `held`, or, for a fold that moves, write kind = \"junction\" "
+                "with log10_stiffness = { A = inf, B = k } by member plate (between framed, "
+                "non-coplanar plates it moves by default)")
+        return held
 
     @property
     def mass(self) -> float:

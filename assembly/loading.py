@@ -450,12 +450,6 @@ def _translate(err: Any) -> tuple[Loc, str]:  # noqa: C901 (one branch per error
     if kind == "extra_forbidden":
         key = str(loc[-1]) if loc else "?"
         model = _model_at(loc[:-1], tag)
-        if model is HingeJoint and key == "held":
-            return loc, ("a hinge is a fold held in translation (w = 0 on its line, as on the "
-                         "paper's needles); remove `held`, or, for a fold that moves, write "
-                         'kind = "junction" with log10_stiffness = { A = inf, B = k } by '
-                         "member plate (between framed, non-coplanar plates it moves by "
-                         "default)")
         allowed = list(model.model_fields) if model is not None else []
         listing = f" (allowed: {', '.join(allowed)})" if allowed else ""
         return loc, (

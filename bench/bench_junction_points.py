@@ -6,13 +6,19 @@ Per plate, the relative L2 difference of ``w`` on a 15 x 15 grid between resolut
 and the finest (2.25, or 3.375 with ``--finest 3.375``), and how far the moving welds move the
 field from the held ones (at the finest resolution).
 
-Run: ``OPENBLAS_NUM_THREADS=1 python bench/bench_junction_points.py [frequencies]`` (default
-189.2 266.0 281.5 600.0; about a minute per frequency at 2.25).
+With ``--folds``, the same box with its 16 folds moving too: each hinge (held in translation,
+``held = true`` in the case) written as the fold that moves, a two-member junction with its
+first member rigid and the second tied by the hinge's spring (whose held form is the hinge),
+against the case as it is; and the moving folds' own refinement 1.5 -> the finest.
+
+Run: ``OPENBLAS_NUM_THREADS=1 python bench/bench_junction_points.py [frequencies] [--folds]``
+(default 189.2 266.0 281.5 600.0; about a minute per frequency at 2.25).
 """
 
 from __future__ import annotations
 
 import argparse
+import math
 
 import numpy as np
 
@@ -23,12 +29,19 @@ from solver.substructure import solve_assembly
 WELDS = ("W_top", "W_bottom", "W_front", "W_back")
 
 
-def box(held: bool) -> Case:
-    """box_with_wall as its case file describes it, the welds ``held`` or moving."""
+def box(held: bool | None, moving_folds: bool = False) -> Case:
+    """box_with_wall as its case file describes it, the welds ``held`` or moving, and with
+    ``moving_folds`` every hinge a moving two-member junction (first member rigid, the second
+    on the hinge's spring)."""
     description = box_with_wall(truth={"W_top": 1.0}, resolution=1.5,
                                 frequency=[189.2, 266.0, 281.5])
     for weld in WELDS:
         description["joints"][weld]["held"] = held
+    for joint in description["joints"].values():
+        if moving_folds and joint["kind"] == "hinge":
+            first, second = (member.split(".")[0] for member in joint["between"])
+            joint.update(kind="junction", held=None, log10_stiffness={
+                first: math.inf, second: joint["log10_stiffness"]})
     return parse_case(description)
 
 
@@ -53,7 +66,11 @@ def main() -> None:
     parser.add_argument("frequencies", nargs="*", type=float,
                         default=[189.2, 266.0, 281.5, 600.0])
     parser.add_argument("--finest", type=float, default=2.25)
+    parser.add_argument("--folds", action="store_true",
+                        help="the folds moving too, against the case's held folds")
     args = parser.parse_args()
+    if args.folds:
+        return moving_folds(args.frequencies, args.finest)
     moving, held = box(False), box(True)
     for frequency in args.frequencies:
         finest = fields(moving, frequency, args.finest)
@@ -65,6 +82,23 @@ def main() -> None:
             print(f"  {pid:8s} {coarse[1.0][pid]:.2e} {coarse[1.5][pid]:.2e} {moved[pid]:.2e}")
         print(f"  worst    {max(coarse[1.0].values()):.2e} {max(coarse[1.5].values()):.2e} "
               f"{max(moved.values()):.2e}")
+
+
+def moving_folds(frequencies: list[float], finest: float) -> None:
+    """Per plate, how far the case's held folds are from the moving ones (at ``finest``), and
+    the moving folds' change from resolution 1.5 to ``finest``."""
+    as_described, folds = box(None), box(None, moving_folds=True)
+    print(f"the folds moving: {len(folds.moving_lines())} moving lines against "
+          f"{len(as_described.moving_lines())} (the welds)")
+    for frequency in frequencies:
+        finest_fields = fields(folds, frequency, finest)
+        held = differences(fields(as_described, frequency, finest), finest_fields)
+        refined = differences(fields(folds, frequency, 1.5), finest_fields)
+        print(f"{frequency} Hz: |held folds - moving folds| worst {max(held.values()):.2f}, "
+              f"median {np.median(list(held.values())):.2f} (by plate: "
+              + ", ".join(f"{p} {v:.2f}" for p, v in held.items())
+              + f"); moving folds |r=1.5 - r={finest}| worst {max(refined.values()):.1e}",
+              flush=True)
 
 
 if __name__ == "__main__":
