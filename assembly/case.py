@@ -18,8 +18,8 @@ from .checks import View, cross_check
 from .errors import AssemblyError, CrossReferenceError, listing
 from .grid import grid_points
 from .joints import CoplanarJoint, HingeJoint, Joint, JunctionJoint
-from .lines import (given_supports, hanging_members, member_directions, moving_lines,
-                    singular_ends, singular_line_ends)
+from .lines import (LINE_JOINTS, given_supports, hanging_members, member_directions,
+                    moving_lines, singular_ends, singular_line_ends)
 from .models import Boundary, Load, Material, Plate
 from .settings import Compute, Discretisation, Measurement, Truth, Updating, default_spacing
 from .types import (
@@ -281,9 +281,15 @@ class Case(FrozenModel):
         }
 
     def moving_lines(self) -> tuple[str, ...]:
-        """The junction lines that move (:func:`assembly.lines.moving_lines`: ``held = false``,
-        or by default non-coplanar members)."""
+        """The junction lines and hinges that move (:func:`assembly.lines.moving_lines`:
+        ``held = false``, or by default non-coplanar members)."""
         return moving_lines(self.joints, self.plates, self.boundaries)
+
+    def is_line(self, joint_id: str) -> bool:
+        """Whether a joint follows the rules of a junction line (``docs/method.md`` section
+        6.2b): a junction, or a hinge that moves (a line of two members, the first rigid)."""
+        kind = self.joints[joint_id].kind
+        return kind == "junction" or (kind == "hinge" and joint_id in self.moving_lines())
 
     def edge_joints(self) -> dict[EdgeId, str]:
         """Return ``{edge: joint id}`` for every joined edge."""
@@ -307,7 +313,7 @@ class Case(FrozenModel):
     def _of_line(self, joint_id: str, find: Callable[..., list]) -> list:
         """``find(joint, plates, supports)`` for a junction line, none for another joint."""
         joint = self.joints[joint_id]
-        if not isinstance(joint, JunctionJoint):
+        if not isinstance(joint, LINE_JOINTS):
             return []
         return find(joint, self.plates, given_supports(self.boundaries))
 

@@ -372,7 +372,7 @@ class _CrossCheck:
         boundary valid, and is checked then."""
         joints, plates = self.view.joints or {}, self.plates or {}
         known = {jid: joint for jid, joint in joints.items()
-                 if isinstance(joint, JunctionJoint)}
+                 if isinstance(joint, (HingeJoint, JunctionJoint))}
         for jid, joint in known.items():
             springs, loc = joint.translational_springs(), ("joints", jid,
                                                            "log10_translational_stiffness")

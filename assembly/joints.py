@@ -12,9 +12,9 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from typing import Annotated, Any, Literal, Union
+from typing import Annotated, Any, ClassVar, Literal, Union
 
-from pydantic import Field, PlainValidator, Strict, WithJsonSchema, field_validator
+from pydantic import Field, PlainValidator, Strict, WithJsonSchema
 
 from .types import (
     EdgeId,
@@ -99,11 +99,12 @@ class CoplanarJoint(_JointBase):
 
 
 class HingeJoint(_JointBase):
-    r"""A hinge (fold) joint: the joint line is fixed, rotations coupled by a spring.
+    r"""A hinge (fold) joint: two edges on one line, rotations coupled by a spring.
 
-    On the joint line :math:`w_A = w_B = 0` and
-    :math:`M_n^A = M_n^B = k(1 + j\zeta)(\theta_A + \theta_B)`.  The line does not move, so a
-    hinge has no line mass (:attr:`mass` is always 0).
+    :math:`M_n^A = M_n^B = k(1 + j\zeta)(\theta_A + \theta_B)`. Held (the paper's fold on
+    needles), :math:`w_A = w_B = 0` on the line; moving, the line translates as one body
+    with both edges (``docs/method.md`` section 10.4). A hinge has no line mass (:attr:`mass`
+    is always 0).
 
     Parameters
     ----------
@@ -115,30 +116,49 @@ class HingeJoint(_JointBase):
         :math:`\log_{10} k`, k in N·m/m per rad (= N); in [-50, 50].
     loss_factor : float, optional
         Joint loss factor :math:`\zeta` >= 0.  Default 0.
-    held : true, optional
-        Says that the fold is held in translation on purpose (a support along it, as the
-        paper's needles), which silences ``vtcr check``'s warning on a hinge between
-        non-coplanar framed plates. A hinge is always held: ``false`` is refused, naming the
-        fold that moves, a two-member ``junction`` with one member rigid.
+    held : bool, optional
+        ``true``: the fold is held in translation (a support along it, as the paper's
+        needles). ``false``: it moves, as a junction line of two members, the first rigid and
+        the second on the hinge's spring (``docs/method.md`` section 10.4), which needs frames.
+        Default: it moves between framed, non-coplanar plates, as a junction line does, else
+        it is held.
     """
 
     kind: Literal["hinge"] = "hinge"
     held: Annotated[bool, Strict()] | None = None
 
-    @field_validator("held")
-    @classmethod
-    def _held_only(cls, held: bool | None) -> bool | None:
-        if held is False:
-            raise ValueError(
-                "a hinge is a fold held in translation (w = 0 on its line, as on the paper's "
-                "needles); remove `held`, or, for a fold that moves, write kind = \"junction\" "
-                "with log10_stiffness = { A = inf, B = k } by member plate (between framed, "
-                "non-coplanar plates it moves by default)")
-        return held
+    # A moving hinge is a junction line of two members: the first rigid, the second tied to the
+    # line's rotation by the hinge's spring (M_n = k (theta_A + theta_B), the same law). These
+    # give the line's rules (solver.channels.junction_line) what they read of a junction.
+    log10_translational_stiffness: ClassVar[float] = math.inf
+
+    def member_log10_stiffness(self, plate: str) -> float:
+        r"""``inf`` (rigid) for the first plate, the hinge's :math:`\log_{10}k` for the second."""
+        return math.inf if plate == self.plates[0] else self.log10_stiffness
+
+    def member_loss_factor(self, plate: str) -> float:
+        """0 for the first (rigid) plate, the hinge's loss factor for the second."""
+        return 0.0 if plate == self.plates[0] else self.loss_factor
+
+    def member_log10_translational_stiffness(self, plate: str) -> float:
+        """``inf``: both members move with the line."""
+        return math.inf
+
+    def member_translational_loss_factor(self, plate: str) -> float:
+        """0: no translational spring."""
+        return 0.0
+
+    def translational_springs(self) -> tuple[str, ...]:
+        """None: both members move with the line."""
+        return ()
+
+    def finite_members(self) -> tuple[str, ...]:
+        """The second plate: the hinge's spring ties it to the first."""
+        return (self.plates[1],)
 
     @property
     def mass(self) -> float:
-        """Line mass of a hinge: always 0 kg/m (its line is fixed)."""
+        """Line mass of a hinge: always 0 kg/m."""
         return 0.0
 
 

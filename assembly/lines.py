@@ -50,11 +50,11 @@ from typing import Any
 import numpy as np
 
 from .geometry import EDGE_NAMES
-from .joints import JunctionJoint
+from .joints import HingeJoint, JunctionJoint
 from .models import FRAME_TOLERANCE
 from .types import EdgeId, parse_edge_ref
 
-__all__ = ["members_coplanar", "member_directions", "given_supports", "free_ends", "line_ends",
+__all__ = ["LINE_JOINTS", "members_coplanar", "member_directions", "given_supports", "free_ends", "line_ends",
            "symmetry_halves", "singular_ends", "singular_line_ends",
            "hanging_members", "meeting_ends", "moving_lines"]
 
@@ -229,13 +229,18 @@ def given_supports(boundaries: Iterable[Any]) -> dict[EdgeId, tuple[str, str]]:
     return {parse_edge_ref(bc.edge): (bc.condition, bc.in_plane_condition) for bc in boundaries}
 
 
+LINE_JOINTS = (JunctionJoint, HingeJoint)
+"""The joints that are lines which may move: junctions and hinges (a moving hinge is a junction
+line of two members, the first rigid: :class:`assembly.joints.HingeJoint`)."""
+
+
 def moving_lines(joints: Mapping[str, Any], plates: Mapping[str, Any],
                  boundaries: Iterable[Any]) -> tuple[str, ...]:
-    """The junction lines that move, in the description's order: ``held = false``, or by
-    default non-coplanar members and no end that is a plane of symmetry for part of the motion
-    only (:func:`singular_ends`)."""
+    """The junction lines and hinges that move, in the description's order: ``held =
+    false``, or by default non-coplanar members and no end that is a plane of symmetry for part
+    of the motion only (:func:`singular_ends`)."""
     supports = given_supports(boundaries)
-    return tuple(jid for jid, joint in joints.items() if isinstance(joint, JunctionJoint) and (
+    return tuple(jid for jid, joint in joints.items() if isinstance(joint, LINE_JOINTS) and (
         joint.held is False
         or (joint.held is None and not members_coplanar(joint, plates)
             and not singular_ends(joint, plates, supports))))

@@ -112,7 +112,9 @@ def _sections(case: Case) -> list[_Section]:
         joints.rows.append(
             (
                 jid,
-                _junction_kind(joint, jid in moving) if joint.kind == "junction" else joint.kind,
+                (_junction_kind(joint, jid in moving) if joint.kind == "junction"
+                 else f"hinge ({'moving' if jid in moving else 'held'})"
+                 if joint.kind == "hinge" else joint.kind),
                 " - ".join(joint.between),
                 _per_member(joint.log10_stiffness),
                 _per_member(joint.loss_factor),

@@ -236,8 +236,10 @@ def junction_line(build: JointBuild, jid: str, group: int) -> tuple[list[Block],
     members; each finite member's spring :math:`C_i = k_i^*(\Theta_J - \Theta_i)` is a
     channel ``JOINT.PLATE``, load :math:`C_i`, kinematic :math:`\Theta_J + s_i\theta_i`.
     Its crossover is twice a two-plate joint's: two members of :math:`2k` in series are a
-    hinge of :math:`k`, with the same residual at every stiffness. A moving line adds its
-    translation and force balance (:func:`_moving_line_rows`).
+    hinge of :math:`k`, with the same residual at every stiffness. A moving hinge is such a
+    line of two members, the first rigid: its one channel is the joint's, with a two-plate
+    joint's crossover. A moving line adds its translation and force balance
+    (:func:`_moving_line_rows`).
     """
     case, plates, counts = build.case, build.plates, build.counts
     joint = case.joints[jid]
@@ -274,12 +276,14 @@ def junction_line(build: JointBuild, jid: str, group: int) -> tuple[list[Block],
     stiffness, kappa0 = _plate_stiffness(plates, joint.plates)
     channels = []
     on_functions = load_function_projection(root_w, psi)
+    # a moving hinge's one spring is its channel, named and weighted as the held hinge's
+    hinge = joint.kind == "hinge"
     for plate in joint.finite_members():
         load = _load_block(member_load(case, jid, slots, plate, "C"), on_functions @ psi)
         kinematic = Block.union(line, rotation[plate].scaled(-1.0)).projected(on_functions)
         channels.append(Channel(jid, "rotation", load, kinematic,
-                                2.0 * RIGID_CROSSOVER * stiffness * kappa0, member=plate,
-                                group=group))
+                                (1.0 if hinge else 2.0) * RIGID_CROSSOVER * stiffness * kappa0,
+                                member=None if hinge else plate, group=group))
     return rows, channels
 
 

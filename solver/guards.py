@@ -455,34 +455,13 @@ def _singular_end_issues(case: Case) -> list[tuple[_Loc, str]]:
     return warnings
 
 
-def _held_fold_issues(case: Case) -> list[tuple[_Loc, str]]:
-    """One warning naming the hinges between framed, non-coplanar plates not marked
-    ``held = true``: a hinge holds its fold in translation (a support along it), and where
-    nothing holds a real fold it moves, which can change the field by tens of percent (the 16
-    folds of ``cases/box_with_wall.toml``, moved as two-member junctions with one member rigid,
-    change ``w`` by 13 % to 100 % on its plates at its three frequencies:
-    ``bench/bench_junction_points.py --folds``)."""
-    held = [jid for jid, joint in case.joints.items() if joint.kind == "hinge"
-            and joint.held is None and not members_coplanar(joint, case.plates)]
-    if not held:
-        return []
-    shown = ", ".join(held[:4]) + (", ..." if len(held) > 4 else "")
-    return [(("joints", held[0], "held"),
-             f"{len(held)} hinge(s) ({shown}) join non-coplanar plates and hold their folds in "
-             "translation, as a support along each fold would; where nothing holds a fold it "
-             "moves, and the held fold can be tens of percent off (docs/description.md, "
-             "hinge): write a moving fold as a junction of its two edges with one member "
-             'rigid, log10_stiffness = { A = inf, B = k }, or set held = true on the hinge to '
-             "say that a support holds it")]
-
-
 def _idle_in_plane_issues(case: Case) -> list[tuple[_Loc, str]]:
     """One warning naming the boundaries whose ``in_plane`` condition does nothing whatever
     the lines' ``held``: their plate carries no in-plane waves
     (:func:`solver.in_plane.in_plane_plates`) and could carry them only as a member of a
     junction between non-coplanar plates, or joined to one by coplanar joints. (On a
     member of a held line the condition is the structure's, ready for ``held = false``.)"""
-    could_move = {p for joint in case.joints.values() if joint.kind == "junction"
+    could_move = {p for joint in case.joints.values() if joint.kind in ("junction", "hinge")
                   and not members_coplanar(joint, case.plates) for p in joint.plates}
     coplanar = [joint.plates for joint in case.joints.values() if joint.kind == "coplanar"]
     while joined := {p for plates in coplanar if could_move.intersection(plates)
@@ -544,8 +523,7 @@ def description_issues(
     * **loads** (if `need_loads`) -- a description without loads has a zero response;
     * **moving lines** -- a junction line whose end is a plane of symmetry for part of the
       motion only warns, moving or held by default (:func:`_singular_end_issues`); so do
-      in-plane conditions on plates without in-plane waves (:func:`_idle_in_plane_issues`),
-      and hinges between non-coplanar plates not said to be held (:func:`_held_fold_issues`);
+      in-plane conditions on plates without in-plane waves (:func:`_idle_in_plane_issues`);
     * **weights** -- the scale-free weights with ``misfit = "global"`` warn
       (:func:`_weights_issues`).
 
@@ -582,8 +560,7 @@ def description_issues(
     units = _millimetres_against_pascals(case)
     errors = ([units] if units else []) + errors
     scale_errors, warnings = _scale_issues(case, frequencies, location)
-    warnings += (_singular_end_issues(case) + _held_fold_issues(case)
-                 + _idle_in_plane_issues(case) + _weights_issues(case))
+    warnings += _singular_end_issues(case) + _idle_in_plane_issues(case) + _weights_issues(case)
     if scale_errors:  # the quantities below would overflow or vanish
         return errors + scale_errors, warnings
     plates = _plate_rays(case, f)

@@ -89,7 +89,7 @@ def singular_load_ends(case: Case, joint_id: str) -> tuple[bool, bool]:
     only with ``held = false`` (:func:`assembly.lines.moving_lines`), so that is all this
     reads of the assembly: one joint, called per joint side, stays independent of its size."""
     joint = case.joints[joint_id]
-    if joint.kind != "junction" or joint.held is not False:
+    if joint.kind == "coplanar" or joint.held is not False:
         return NO_SINGULAR_ENDS
     return case.singular_line_ends(joint_id)
 

@@ -66,7 +66,7 @@ def _layout(case: Case, counts: Mapping[str, int],
                                        else ["F"], counts[jid]))
             if in_plane.issuperset(joint.plates):
                 sizes.update(dict.fromkeys(["Nn", "Nt"], counts[jid]))
-        elif joint.kind == "junction":
+        elif case.is_line(jid):
             names = MOVING_MEMBER_LOADS if jid in moving else ("C",)
             # a moving line's balances fix one member's loads (member_load)
             kept = [p for p in joint.plates if jid not in moving or p != balancing_member(joint)]
@@ -131,7 +131,7 @@ def _loading_slots(case: Case, jid: str, slots: Mapping[str, slice],
     but its in-plane tractions) and those of its in-plane field (:func:`traction_loads`)."""
     tractions = [part for terms in traction_loads(case, jid, slots, plate) or ()
                  for part, _ in terms]
-    if case.joints[jid].kind == "junction":
+    if case.is_line(jid):
         bending = [part for name in ("C", "K")
                    for part, _ in member_load(case, jid, slots, plate, name)]
     else:
@@ -364,7 +364,7 @@ def traction_loads(case: Case, jid: str, slots: Mapping[str, slice],
     tractions."""
     if "Nn" in slots:
         return [(slots["Nn"], 1.0)], [(slots["Nt"], 1.0)]
-    if case.joints[jid].kind != "junction":
+    if not case.is_line(jid):
         return None
     normal, tangent = (member_load(case, jid, slots, plate, name) for name in ("Nn", "Nt"))
     return (normal, tangent) if normal or tangent else None
@@ -419,7 +419,7 @@ def plate_loads(case: Case, boundary: PlateBoundary, sides: Sequence[JointSide],
         sigma = traces.s if direction > 0 else length - traces.s
         psi = load_function_values(sigma, length, counts[jid],
                                    singular_load_ends(case, jid))
-        if case.joints[jid].kind == "junction":  # M_n = s_i C_i and, moving, K_n = K_i
+        if case.is_line(jid):  # M_n = s_i C_i and, moving, K_n = K_i
             add_terms(member_load(case, jid, layout[jid], side.plate, "C"),
                       direction * edge_projection(traces, "moment", psi))
             add_terms(member_load(case, jid, layout[jid], side.plate, "K"),

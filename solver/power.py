@@ -300,7 +300,7 @@ def _side_powers(case: Case, system: Any, jid: str, amplitudes: Mapping[str, np.
     def load(terms: LoadTerms) -> np.ndarray:
         return psi @ load_values(terms, s)
 
-    if joint.kind == "junction":  # M_n = s_i C_i on member i, K_n = K_i on a moving line
+    if case.is_line(jid):  # M_n = s_i C_i on member i, K_n = K_i on a moving line
         moments = [d * load(member_load(case, jid, slots, side.plate, "C"))
                    for side, d in zip(joint.sides, directions)]
         shears = [load(terms) if (terms := member_load(case, jid, slots, side.plate, "K"))
@@ -358,7 +358,7 @@ def power_flow(case: Case, solution: CaseSolution) -> PowerFlow:
             joint_dissipated[channel.joint] += channel.dissipated_power(
                 s, params[channel.name, channel.kind], omega)
         for jid, joint in case.joints.items():
-            if joint.kind == "junction" and joint.translational_springs():
+            if case.is_line(jid) and joint.translational_springs():
                 joint_dissipated[jid] += _translational_spring_power(case, system, jid, s)
             to_first, *to_others = powers = _side_powers(case, system, jid, amplitudes,
                                                          membrane_amplitudes, s)

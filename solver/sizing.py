@@ -263,7 +263,7 @@ def estimate_size(case: Case, frequency: float | None = None,
     for jid, joint in case.joints.items():
         seen = len(np.unique(np.concatenate([unknowns[p] for p in joint.plates])))
         n_f = counts[jid]  # a channel's samples: its residual on the load functions
-        if joint.kind == "junction":  # a channel per finite member, balance and rigid rows
+        if case.is_line(jid):  # a channel per finite member, balance and rigid rows
             channels = len(joint.finite_members())
             rigid_ties = max(1, len(joint.plates) - channels) - 1
             if jid in moving:  # translation as one body, 3 rows per member but the first

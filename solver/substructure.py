@@ -190,7 +190,7 @@ def build_assembly_system(case: Case, frequency: float,
     rows, channels = [], []  # constraint rows as Blocks of one or more rows
     unknown_groups = np.empty(arrangement.n_s, dtype=int)
     for group, (jid, joint) in enumerate(case.joints.items()):
-        builder = junction_line if joint.kind == "junction" else two_plate_joint
+        builder = junction_line if case.is_line(jid) else two_plate_joint
         joint_rows, joint_channels = builder(build, jid, group)
         rows += joint_rows
         channels += joint_channels

@@ -113,6 +113,68 @@ def test_held_lines_keep_their_exact_solution():
     assert max(errors.values()) < 2e-3, errors
 
 
+HINGED_L = ({"A": L_FOLD[0]["A"], "B": L_FOLD[0]["B"]},
+            {"F": {"A": ("right", math.inf), "B": ("left", 2.5)}}, L_FOLD[2])
+"""The L fold with a rotational spring of log10 k = 2.5 on B, as a junction; the same fold
+written as a hinge of that stiffness is :func:`_as_hinge`."""
+
+
+def _as_hinge(description: dict, loss_factor: float = 0.0) -> dict:
+    """``description`` with its junction F written as a hinge of log10 k 2.5 (``held`` kept)."""
+    joint = description["joints"]["F"]
+    description["joints"]["F"] = {"kind": "hinge", "between": joint["between"],
+                                  "log10_stiffness": 2.5, "loss_factor": loss_factor} | (
+        {"held": joint["held"]} if "held" in joint else {})
+    return description
+
+
+@pytest.mark.parametrize("frequency", [300.0, 1000.0])
+def test_a_hinge_between_non_coplanar_plates_moves_as_a_line_of_two_members(frequency):
+    """A hinge between framed, non-coplanar plates moves by default: a junction line of two
+    members, the first rigid and the second on the hinge's spring (the same law,
+    :math:`M_n^A = M_n^B = k(\theta_A + \theta_B)`), its one channel named by the joint.
+    Against that junction, the fields agree to round-off (0 measured: the same system); against
+    the exact prismatic fold with the spring and the line free in translation, to 3.9e-8
+    (tolerance 2e-7). ``held = true`` keeps the held hinge, the exact held fold's to 2e-8."""
+    plates, lines, load = HINGED_L
+    junction = parse_case(_description(plates, lines, load, frequency, None))
+    hinge = parse_case(_as_hinge(_description(plates, lines, load, frequency, None)))
+    assert hinge.moving_lines() == ("F",) and "hinge (moving)" in summary_text(hinge)
+    by_junction, by_hinge = solve_assembly(junction, frequency), solve_assembly(hinge, frequency)
+    assert list(by_hinge.residuals) == ["F"]
+    exact = _reference(plates, lines, load, frequency, False)
+    for name, (length, *_) in plates.items():
+        points = inner_grid(length, LY)
+        w = by_hinge.plates[name].field(points)["w"]
+        same = by_junction.plates[name].field(points)["w"]
+        assert np.linalg.norm(w - same) < 1e-12 * np.linalg.norm(same), name
+        reference = exact.w(name, *points.T)
+        assert np.linalg.norm(w - reference) < 2e-7 * np.linalg.norm(reference), name
+    held = parse_case(_as_hinge(_description(plates, lines, load, frequency, True)))
+    assert held.moving_lines() == () and "hinge (held)" in summary_text(held)
+    solution, exact = solve_assembly(held, frequency), _reference(plates, lines, load,
+                                                                  frequency, True)
+    for name, (length, *_) in plates.items():
+        points = inner_grid(length, LY)
+        reference = exact.w(name, *points.T)
+        assert (np.linalg.norm(solution.plates[name].field(points)["w"] - reference)
+                < 2e-7 * np.linalg.norm(reference)), name
+
+
+def test_a_moving_lossy_hinge_balances_its_power():
+    """The hinge's loss factor (0.2) dissipates on the moving line; each plate balances and
+    the line's deliveries sum to minus its dissipation (tolerances as for the junctions:
+    1e-9 of the injected power on the line, 1e-8 per plate)."""
+    case = parse_case(_as_hinge(_description(*HINGED_L, 300.0, None), loss_factor=0.2))
+    power = power_flow(case, solve_assembly(case, 300.0))
+    injected = power.total_injected
+    assert power.joint_dissipated["F"] > 1e-3 * injected
+    assert abs(sum(power.delivered["F"].values()) + power.joint_dissipated["F"]) < 1e-9 * injected
+    for plate in case.plates:
+        balance = power.injected[plate] + power.delivered["F"][plate] - power.dissipated[plate]
+        assert abs(balance) < 1e-8 * injected, plate
+
+
 def test_a_moving_line_needs_frames():
     """(Its ends may be free: ``tests/test_free_ends.py``.)"""
     description = _description(*L_FOLD, 300.0, False)
