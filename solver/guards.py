@@ -429,12 +429,13 @@ def _singular_end_issues(case: Case) -> list[tuple[_Loc, str]]:
                'is a plane of symmetry of the structure, or in_plane = "diaphragm" or "fixed" '
                "where it is not")
         hanging = case.hanging_members(jid)
+        line = "hinge" if joint.kind == "hinge" else "junction line"
         hangs = (f"; {', '.join(hanging)} {'hangs' if len(hanging) == 1 else 'hang'} on it (no "
                  "edge of its own holds it across the line in its plane), so the line's ends "
                  "hold it only at a point, through another member's bending support, and "
                  "refinement converges more slowly") if hanging else ""
         if jid in moving:
-            message = (f"junction line {jid} moves but {why}: its line loads are singular at "
+            message = (f"{line} {jid} moves but {why}: its line loads are singular at "
                        "its ends, where its members carry logarithmic corner functions and edge "
                        f"waves reaching {SINGULAR_END_REACH:g} times further, at 30 to 50 "
                        "times the cost of the held line, and its field keeps an error that the "
@@ -442,7 +443,7 @@ def _singular_end_issues(case: Case) -> list[tuple[_Loc, str]]:
                        "finite elements, up to 1.5e-4 in w and 1e-3 in-plane)"
                        f"{hangs} (docs/method.md section 10.4); set held = true, or {fix}")
         elif joint.held is None and not members_coplanar(joint, case.plates):
-            message = (f"junction line {jid} is held in translation by default: {why}, where "
+            message = (f"{line} {jid} is held in translation by default: {why}, where "
                        f"moving it costs 30 to 50 times more{hangs} "
                        "(docs/method.md section 10.4), and the held line leaves out its "
                        "members' in-plane motion (on an L fold with such ends, 0.1 to 1.7 % of "
