@@ -18,8 +18,8 @@ from .checks import View, cross_check
 from .errors import AssemblyError, CrossReferenceError, listing
 from .grid import grid_points
 from .joints import CoplanarJoint, HingeJoint, Joint, JunctionJoint
-from .lines import (LINE_JOINTS, given_supports, hanging_members, member_directions,
-                    moving_lines, singular_ends, singular_line_ends)
+from .lines import (LINE_JOINTS, given_supports, hanging_members, line_moves,
+                    member_directions, moving_lines, singular_ends, singular_line_ends)
 from .models import Boundary, Load, Material, Plate
 from .settings import Compute, Discretisation, Measurement, Truth, Updating, default_spacing
 from .types import (
@@ -288,8 +288,11 @@ class Case(FrozenModel):
     def is_line(self, joint_id: str) -> bool:
         """Whether a joint follows the rules of a junction line (``docs/method.md`` section
         6.2b): a junction, or a hinge that moves (a line of two members, the first rigid)."""
-        kind = self.joints[joint_id].kind
-        return kind == "junction" or (kind == "hinge" and joint_id in self.moving_lines())
+        joint = self.joints[joint_id]
+        # one joint's decision, not the assembly's: the solver asks joint by joint
+        return joint.kind == "junction" or (
+            joint.kind == "hinge"
+            and line_moves(joint, self.plates, given_supports(self.boundaries)))
 
     def edge_joints(self) -> dict[EdgeId, str]:
         """Return ``{edge: joint id}`` for every joined edge."""

@@ -241,8 +241,8 @@ def box_with_wall(*, size=(0.5, 0.4, 0.3), wall_at=0.3, thickness=0.001,
     faces in two (``Top1 | Top2`` ...); ``Left``, ``Right`` and the wall ``Wall`` (normal +x)
     are whole. Folds (two edges meeting at 90 degrees) are hinges of
     ``fold_log10_stiffness``, held in translation (``held = true``: the model of
-    ``closed_box.toml``; between framed plates a hinge would move by default); the four lines where the wall meets a face are
-    T-junctions ``W_top``, ``W_bottom``, ``W_front``, ``W_back``: the face continuous (its two
+    ``closed_box.toml``; between framed plates a hinge would move by default); the four lines
+    where the wall meets a face are T-junctions ``W_top``, ``W_bottom``, ``W_front``, ``W_back``: the face continuous (its two
     members rigid) and the wall tied by a spring of ``weld_log10_stiffness``. A unit point
     force on ``Top1`` at ``force_at``; the measurement grid on every outer face (not the wall,
     which a vibrometer cannot see).

@@ -54,9 +54,9 @@ from .joints import HingeJoint, JunctionJoint
 from .models import FRAME_TOLERANCE
 from .types import EdgeId, parse_edge_ref
 
-__all__ = ["LINE_JOINTS", "members_coplanar", "member_directions", "given_supports", "free_ends", "line_ends",
-           "symmetry_halves", "singular_ends", "singular_line_ends",
-           "hanging_members", "meeting_ends", "moving_lines"]
+__all__ = ["LINE_JOINTS", "members_coplanar", "member_directions", "given_supports",
+           "free_ends", "line_ends", "symmetry_halves", "singular_ends", "singular_line_ends",
+           "hanging_members", "meeting_ends", "line_moves", "moving_lines"]
 
 SYMMETRY_PLANE = ("symmetric", "roller")
 """The bending and in-plane conditions of an edge on a plane of symmetry of the structure."""
@@ -234,13 +234,20 @@ LINE_JOINTS = (JunctionJoint, HingeJoint)
 line of two members, the first rigid: :class:`assembly.joints.HingeJoint`)."""
 
 
-def moving_lines(joints: Mapping[str, Any], plates: Mapping[str, Any],
-                 boundaries: Iterable[Any]) -> tuple[str, ...]:
-    """The junction lines and hinges that move, in the description's order: ``held =
-    false``, or by default non-coplanar members and no end that is a plane of symmetry for part
-    of the motion only (:func:`singular_ends`)."""
-    supports = given_supports(boundaries)
-    return tuple(jid for jid, joint in joints.items() if isinstance(joint, LINE_JOINTS) and (
+def line_moves(joint: Any, plates: Mapping[str, Any],
+               supports: Mapping[EdgeId, tuple[str, str]]) -> bool:
+    """Whether a joint is a line that moves: a junction or a hinge with ``held = false``, or
+    by default non-coplanar members and no end that is a plane of symmetry for part of the
+    motion only (:func:`singular_ends`). It reads this joint alone."""
+    return isinstance(joint, LINE_JOINTS) and (
         joint.held is False
         or (joint.held is None and not members_coplanar(joint, plates)
-            and not singular_ends(joint, plates, supports))))
+            and not singular_ends(joint, plates, supports)))
+
+
+def moving_lines(joints: Mapping[str, Any], plates: Mapping[str, Any],
+                 boundaries: Iterable[Any]) -> tuple[str, ...]:
+    """The junction lines and hinges that move (:func:`line_moves`), in the description's
+    order."""
+    supports = given_supports(boundaries)
+    return tuple(jid for jid, joint in joints.items() if line_moves(joint, plates, supports))

@@ -171,9 +171,7 @@ def _drop_non_finite_defaults(node: Any) -> None:
         default = node.get("default")
         if isinstance(default, float) and not math.isfinite(default):
             del node["default"]
-            node["description"] = (f"{node.get('description', '')} Default: "
-                                   f"{'inf' if default > 0 else '-inf' if default < 0 else 'nan'}"
-                                   ".").lstrip()
+            node["description"] = f"{node.get('description', '')} Default: {default!r}.".lstrip()
         for value in node.values():
             _drop_non_finite_defaults(value)
     elif isinstance(node, list):

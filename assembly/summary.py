@@ -18,7 +18,7 @@ from typing import Any, Literal
 
 from .case import Case
 from .graph import build_graph, components, plate_degrees
-from .joints import CoplanarJoint, JunctionJoint
+from .joints import CoplanarJoint, Joint
 from .models import PointForce
 from .types import EDGE_NAMES, EdgeId
 
@@ -112,9 +112,7 @@ def _sections(case: Case) -> list[_Section]:
         joints.rows.append(
             (
                 jid,
-                (_junction_kind(joint, jid in moving) if joint.kind == "junction"
-                 else f"hinge ({'moving' if jid in moving else 'held'})"
-                 if joint.kind == "hinge" else joint.kind),
+                _joint_kind(joint, jid in moving),
                 " - ".join(joint.between),
                 _per_member(joint.log10_stiffness),
                 _per_member(joint.loss_factor),
@@ -137,12 +135,14 @@ def _sections(case: Case) -> list[_Section]:
     return [s for s in (plates, edges, joints, loads) if s.rows]
 
 
-def _junction_kind(joint: JunctionJoint, moving: bool) -> str:
-    """A junction's kind cell: moving or held, and its members' translational springs
-    (log10 k_t, N/m^2) where it has any."""
+def _joint_kind(joint: Joint, moving: bool) -> str:
+    """A joint's kind cell: a line's (junction or hinge) moving or held, and a junction's
+    members' translational springs (log10 k_t, N/m^2) where it has any."""
+    if joint.kind == "coplanar":
+        return joint.kind
     springs = ", ".join(f"{p} {joint.member_log10_translational_stiffness(p):g}"
                         for p in joint.translational_springs())
-    return (f"junction ({'moving' if moving else 'held'}"
+    return (f"{joint.kind} ({'moving' if moving else 'held'}"
             + (f"; log10 k_t {springs}" if springs else "") + ")")
 
 

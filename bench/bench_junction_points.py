@@ -35,9 +35,10 @@ def box(held: bool | None, moving_folds: bool = False) -> Case:
                                 frequency=[189.2, 266.0, 281.5])
     for weld in WELDS:
         description["joints"][weld]["held"] = held
-    for joint in description["joints"].values():
-        if moving_folds and joint["kind"] == "hinge":
-            del joint["held"]
+    if moving_folds:
+        for joint in description["joints"].values():
+            if joint["kind"] == "hinge":
+                del joint["held"]
     return parse_case(description)
 
 

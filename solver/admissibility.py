@@ -109,6 +109,12 @@ class PlateAdmissibility:
     def omega(self) -> float:
         return 2.0 * math.pi * self.frequency
 
+    @property
+    def ray_unknowns(self) -> int:
+        """Ray unknowns of all plates, bending and in-plane (what ``vtcr check`` foresees)."""
+        return (sum(basis.n_dof for basis in self.bases.values())
+                + sum(block.basis.n_dof for block in self.membranes.values()))
+
     def plate_amplitudes(self, s: np.ndarray,
                          plates: Iterable[str] | None = None) -> dict[str, np.ndarray]:
         """Ray amplitudes of every plate (or of ``plates``) for interface unknowns ``s``."""

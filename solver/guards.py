@@ -14,7 +14,7 @@ from dataclasses import dataclass
 from assembly.case import Case
 from assembly.errors import DescriptionError, Issue, format_path
 from assembly.lines import members_coplanar
-from solver.in_plane import in_plane_plates
+from solver.in_plane import coplanar_closure, in_plane_plates
 from solver.problems import SINGULAR_END_REACH, plate_problems, plate_ray_counts
 from solver.rays import RayCounts, automatic_ray_counts
 from solver.sizing import available_memory, estimate_size
@@ -462,12 +462,9 @@ def _idle_in_plane_issues(case: Case) -> list[tuple[_Loc, str]]:
     (:func:`solver.in_plane.in_plane_plates`) and could carry them only as a member of a
     junction between non-coplanar plates, or joined to one by coplanar joints. (On a
     member of a held line the condition is the structure's, ready for ``held = false``.)"""
-    could_move = {p for joint in case.joints.values() if joint.kind in ("junction", "hinge")
-                  and not members_coplanar(joint, case.plates) for p in joint.plates}
-    coplanar = [joint.plates for joint in case.joints.values() if joint.kind == "coplanar"]
-    while joined := {p for plates in coplanar if could_move.intersection(plates)
-                     for p in plates} - could_move:
-        could_move |= joined
+    could_move = coplanar_closure(case, {
+        p for joint in case.joints.values() if joint.kind in ("junction", "hinge")
+        and not members_coplanar(joint, case.plates) for p in joint.plates})
     could_move |= set(in_plane_plates(case))
     idle = [(i, bc.edge) for i, bc in enumerate(case.boundaries)
             if bc.in_plane is not None and case.edge(bc.edge).plate not in could_move]

@@ -20,7 +20,7 @@ from solver.membrane_corners import fixed_free_corners, fixed_free_layout, logar
 from solver.plate import PlateProblem
 from solver.problems import edge_reach, plate_resolution, singular_end_corners
 
-__all__ = ["MIRROR_CONDITIONS", "membrane_edge_reach", "in_plane_plates",
+__all__ = ["MIRROR_CONDITIONS", "membrane_edge_reach", "in_plane_plates", "coplanar_closure",
            "in_plane_edge_conditions", "membrane_problems", "membrane_bases"]
 
 
@@ -28,13 +28,18 @@ def in_plane_plates(case: Case) -> list[str]:
     """The plates that carry in-plane waves: the members of the moving lines and, through
     their coplanar joints (which carry in-plane continuity), every plate joined to one by a
     coplanar joint, and so on."""
-    members = {plate for jid in case.moving_lines() for plate in case.joints[jid].plates}
+    members = coplanar_closure(case, {plate for jid in case.moving_lines()
+                                      for plate in case.joints[jid].plates})
+    return [pid for pid in case.plates if pid in members]
+
+
+def coplanar_closure(case: Case, plates: set[str]) -> set[str]:
+    """``plates`` and every plate joined to one of them by coplanar joints, transitively."""
     coplanar = [joint.plates for joint in case.joints.values() if joint.kind == "coplanar"]
-    while True:
-        joined = {p for plates in coplanar if members.intersection(plates) for p in plates}
-        if joined <= members:
-            return [pid for pid in case.plates if pid in members]
+    members = set(plates)
+    while joined := {p for pair in coplanar if members.intersection(pair) for p in pair} - members:
         members |= joined
+    return members
 
 
 def in_plane_edge_conditions(case: Case) -> dict[str, dict[str, str]]:

@@ -262,8 +262,7 @@ class AssemblySolution(CaseSolution):
     @property
     def n_unknowns(self) -> int:
         """Ray unknowns of all plates (bending and in-plane) and the interface unknowns."""
-        in_plane = sum(block.basis.n_dof for block in self.system.membranes.values())
-        return super().n_unknowns + in_plane + self.system.n_s
+        return self.system.ray_unknowns + self.system.n_s
 
 
 def solve_assembly(case: Case, frequency: float,

@@ -520,9 +520,7 @@ class ModifiedProblem:
         """``(ray unknowns, interface unknowns, constraints)`` at the first frequency, the ray
         unknowns bending and in-plane (as ``vtcr check`` and ``vtcr solve`` count them)."""
         data = next(iter(self.frequencies.values()))
-        n_rays = (sum(b.n_dof for b in data.system.bases.values())
-                  + sum(m.basis.n_dof for m in data.system.membranes.values()))
-        return n_rays, data.system.n_s, data.system.constraints[0].shape[0]
+        return data.system.ray_unknowns, data.system.n_s, data.system.constraints[0].shape[0]
 
 
 def log_grid(bounds: tuple[float, float], n: int) -> np.ndarray:
