@@ -232,7 +232,7 @@ def box_with_wall(*, size=(0.5, 0.4, 0.3), wall_at=0.3, thickness=0.001,
                   wall_thickness=0.001, frequency=250.0, loss_factor=0.01,
                   fold_log10_stiffness=2.0, weld_log10_stiffness=3.0, truth=None,
                   force_at=(0.17, 0.13), spacing=0.1, noise=0.05, seed=1, resolution=None,
-                  name="box-with-wall") -> dict:
+                  held_folds=False, name="box-with-wall") -> dict:
     """A closed box ``[0, a] x [0, b] x [0, c]`` with an inner wall at ``x = wall_at``
     welded to the four faces it meets.
 
@@ -240,10 +240,11 @@ def box_with_wall(*, size=(0.5, 0.4, 0.3), wall_at=0.3, thickness=0.001,
     each fold's two edges run opposite ways. The wall splits the top, bottom, front and back
     faces in two (``Top1 | Top2`` ...); ``Left``, ``Right`` and the wall ``Wall`` (normal +x)
     are whole. Folds (two edges meeting at 90 degrees) are hinges of
-    ``fold_log10_stiffness``, held in translation (``held = true``: the model of
-    ``closed_box.toml``; between framed plates a hinge would move by default); the four lines
-    where the wall meets a face are T-junctions ``W_top``, ``W_bottom``, ``W_front``, ``W_back``: the face continuous (its two
-    members rigid) and the wall tied by a spring of ``weld_log10_stiffness``. A unit point
+    ``fold_log10_stiffness``, which move as framed hinges do by default (with
+    ``held_folds``, ``held = true`` holds them in translation, the model of
+    ``closed_box.toml``); the four lines where the wall meets a face are T-junctions
+    ``W_top``, ``W_bottom``, ``W_front``, ``W_back``: the face continuous (its two members
+    rigid) and the wall tied by a spring of ``weld_log10_stiffness``. A unit point
     force on ``Top1`` at ``force_at``; the measurement grid on every outer face (not the wall,
     which a vibrometer cannot see).
 
@@ -251,6 +252,9 @@ def box_with_wall(*, size=(0.5, 0.4, 0.3), wall_at=0.3, thickness=0.001,
     ----------
     truth : mapping of str to float, optional
         ``{joint: log10 k}``: a fold's stiffness, or a weld's wall member.
+    held_folds : bool
+        Write ``held = true`` on the folds (lines held in translation, as the case was
+        before its folds moved).
 
     Returns
     -------
@@ -283,9 +287,10 @@ def box_with_wall(*, size=(0.5, 0.4, 0.3), wall_at=0.3, thickness=0.001,
                 "log10_stiffness": {o: (weld_log10_stiffness if o == "Wall" else math.inf)
                                     for o in owners}}
         else:
-            joints["_".join(o.lower() for o in owners)] = {
-                "kind": "hinge", "between": members,
-                "log10_stiffness": fold_log10_stiffness, "loss_factor": 0.0, "held": True}
+            fold = {"kind": "hinge", "between": members,
+                    "log10_stiffness": fold_log10_stiffness, "loss_factor": 0.0}
+            joints["_".join(o.lower() for o in owners)] = fold | (
+                {"held": True} if held_folds else {})
     _check_truth(truth, joints, "joints the box", f"joints: {', '.join(joints)}")
     return _description(
         name, frequency, loss_factor, plates, joints, None, ("Top1", force_at),

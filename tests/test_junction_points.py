@@ -44,10 +44,13 @@ def _corner_point(case, pid: str, corner: int) -> np.ndarray:
 
 
 def test_moving_lines_may_meet_at_a_junction_point():
-    """The welds of box_with_wall move by default, their ends meeting at the wall's corners
-    (they were held, and ``held = false`` was refused there); ``held = true`` holds them
-    (module notes of ``assembly.lines``)."""
+    """Every line of box_with_wall moves by default: its 16 folds (hinges between framed
+    plates) and its welds. With the folds held, the welds still move, their ends meeting at
+    the wall's corners (they were held, and ``held = false`` was refused there); ``held =
+    true`` holds them (module notes of ``assembly.lines``)."""
     description = box_with_wall(resolution=1.0)
+    assert set(parse_case(description).moving_lines()) == set(description["joints"])
+    description = box_with_wall(resolution=1.0, held_folds=True)
     assert parse_case(description).moving_lines() == WELDS
     for weld in WELDS:
         description["joints"][weld]["held"] = True
