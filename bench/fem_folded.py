@@ -170,7 +170,8 @@ ENDS = {"diaphragm": (["u", "u_x", "u_xx"], "u"),
         "roller": (["u", "u_x", "u_xx"], "v"),
         "symmetric": (["u_y", "u_xy", "u_n"], "v"),
         "symmetric_diaphragm": (["u_y", "u_xy", "u_n"], "u"),
-        "symmetric_fixed": (["u_y", "u_xy", "u_n"], "uv")}
+        "symmetric_fixed": (["u_y", "u_xy", "u_n"], "uv"),
+        "free": ([], "")}  # nothing fixed: the line's ends are free corners
 SELF_CHECKED_ENDS = ("diaphragm", "roller", "symmetric")
 OUT = Path("/tmp/fem_folded")
 
@@ -386,7 +387,7 @@ class FoldPlate:
                          if component in held]
         return np.unique(np.concatenate([
             argyris.get_dofs(facets=far).all(SS_X_EDGE),
-            argyris.get_dofs(facets=end).all(bending),
+            argyris.get_dofs(facets=end).all(bending) if bending else np.zeros(0, int),
             self.u_dofs(far), self.v_dofs(far), *held_in_plane]))
 
     def line(self):
@@ -852,8 +853,29 @@ def write_test_data(mixed_level: int = 6) -> None:
     print(f"wrote {TEST_DATA}")
 
 
+FREE_ENDS_DATA = ROOT / "tests" / "data" / "fem_fold_free_ends.npz"
+FREE_ENDS_FREQUENCY = 300.0
+
+
+def write_free_ends_data(levels: tuple[int, int] = (4, 6)) -> None:
+    """The L fold with free ends (``free``: nothing fixed on ``y = 0, LY``, so the fold line's
+    ends are free corners) at :data:`FREE_ENDS_FREQUENCY`, the reference of
+    ``tests/test_free_ends.py``: ``w_A``, ``w_B``, ``uv_A``, ``uv_B`` at the finer level, and
+    ``change``, the relative L2 change of ``w_A``, ``w_B``, ``uv_A``, ``uv_B`` from the coarser
+    (about two minutes)."""
+    coarse, fine = (folded_fields(FREE_ENDS_FREQUENCY, "free", n) for n in levels)
+    change = [relative(fine[0][p], coarse[0][p]) for p in LENGTHS]
+    change += [relative(fine[1][p], coarse[1][p]) for p in LENGTHS]
+    np.savez_compressed(FREE_ENDS_DATA, w_A=fine[0]["A"], w_B=fine[0]["B"],
+                        uv_A=fine[1]["A"], uv_B=fine[1]["B"], change=np.array(change))
+    print(f"wrote {FREE_ENDS_DATA}: changes from level {levels[0]} "
+          + ", ".join(f"{c:.1e}" for c in change))
+
+
 if __name__ == "__main__":
     if sys.argv[1:] == ["--test-data"]:
         write_test_data()
+    elif sys.argv[1:] == ["--free-ends"]:
+        write_free_ends_data()
     else:
         main([int(n) for n in sys.argv[1:]] or LEVELS)

@@ -54,7 +54,9 @@ def interface_function_count(kappa0: float, length: float, resolution: float = 1
     of :math:`\kappa_0 = 100` left 72 singular values below 1e-8 of the largest, interface
     loads of 1e5 to 1e7 N/m for a 1 N force and, through the grouped factorisation of the
     interface problem, fields wrong by order 1; the 38 of :math:`\kappa_a = 71` converge
-    (2e-5 to 2e-4 between resolutions 1.5 and 2.25).
+    (2e-5 to 2e-4 between resolutions 1.5 and 2.25). Where the members reach further (a line
+    that meets others or ends on a free edge), :math:`\kappa_a` counts their reach
+    (:func:`solver.layout.answered_wavenumber`).
     """
     answered = kappa0 if kappa_answered is None else kappa_answered
     return math.ceil(min(0.75 * resolution * kappa0, 0.5 * tau * answered) * length) + 2
