@@ -299,11 +299,12 @@ def interface_layout(case: Case, problems: Mapping[str, PlateProblem],
 
 
 def answered_wavenumber(case: Case, joint: Joint, problems: Mapping[str, PlateProblem]) -> float:
-    r""":math:`\kappa_a` of a moving line without a mixed end: the largest edge wavenumber
-    every member answers, in units of the description's ``edge_wavenumber_ratio`` :math:`\tau`,
-    :math:`\min_m \kappa_{0,m}\,\tau_m/\tau`, with :math:`\tau_m` the member's own reach
-    (:func:`solver.problems.edge_reach`: three times :math:`\tau` where the line meets other
-    lines or ends on a free edge).
+    r""":math:`\kappa_a = \min_m \kappa_{0,m}\,\tau_m/\tau` (1/m) of a moving line without a
+    mixed end, so that the cap :math:`\tfrac\tau2\kappa_a` of
+    :func:`solver.joint_rules.interface_function_count` (:math:`\tau` the description's
+    ``edge_wavenumber_ratio``) is half the largest edge wavenumber every member's rays reach:
+    :math:`\tau_m` is the member's own reach (:func:`solver.problems.edge_reach`, three times
+    :math:`\tau` where the line meets other lines or ends on a free edge).
 
     There the line's loads converge slowly in their Legendre functions (its ends are corners
     of the assembled field), and stopping the count at :math:`\tau\kappa_0/2` hid it: from
