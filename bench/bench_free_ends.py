@@ -7,10 +7,15 @@ far edges simply supported, ends free, 1 N on the first leg).
   grid between resolutions 1.5 -> 2.25 -> 3.375, with the rule and with the usual reach
   (``FREE_END_REACH`` = 1), and for the held line;
 * **cost**: one solve at resolution 1.5 (processor time of one BLAS thread, best of three) and
-  its unknowns, with the rule, with the usual reach and held.
+  its unknowns, with the rule, with the usual reach and held;
+* **finite elements** (``--finite-elements``): the bracket with a rigid line at 300 Hz against
+  ``tests/data/fem_fold_free_ends.npz``, worst plate's error of ``w`` and the error estimate
+  over it on every plate, by resolution, with the line's Legendre count following its
+  members' reach (:func:`solver.layout.answered_wavenumber`) and stopped at the usual one, as
+  until 2026-11-27 (about a minute).
 
-Run: ``OPENBLAS_NUM_THREADS=1 python bench/bench_free_ends.py [--quick]`` (about two minutes;
-``--quick`` stops at 1 kHz).
+Run: ``OPENBLAS_NUM_THREADS=1 python bench/bench_free_ends.py [--quick | --finite-elements]``
+(about two minutes; ``--quick`` stops at 1 kHz).
 """
 
 from __future__ import annotations
@@ -26,8 +31,9 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path[:0] = [str(ROOT), str(ROOT / "tests")]
 
 from support import inner_grid  # noqa: E402
-from test_free_ends import LY, PLATES, _bracket  # noqa: E402
+from test_free_ends import LY, PLATES, _bracket, _errors_and_estimates  # noqa: E402
 
+import solver.layout  # noqa: E402
 import solver.problems  # noqa: E402
 from assembly import parse_case  # noqa: E402
 from solver.substructure import solve_assembly  # noqa: E402
@@ -57,10 +63,32 @@ def change(a: dict, b: dict, component: int) -> float:
     return worst
 
 
+def finite_elements() -> None:
+    """The rigid bracket against the finite elements, by resolution, the line's count
+    following its members' reach and then stopped at the usual reach."""
+    print("against finite elements (300 Hz, rigid line): worst plate's error of w; "
+          "estimate / error over the plates")
+    following = solver.layout.answered_wavenumber
+    usual = {"members' reach": following,
+             "usual reach": lambda case, joint, problems: min(problems[p].kappa.real
+                                                              for p in joint.plates)}
+    for label, answered in usual.items():
+        solver.layout.answered_wavenumber = answered
+        for resolution in (1.0, 1.5, 2.25, 3.375, 5.0):
+            pairs = _errors_and_estimates(resolution)
+            ratios = [estimate / true for true, estimate in pairs]
+            print(f"  {label:15s} {resolution:5.3g}: {max(t for t, _ in pairs):.1e}; "
+                  f"{min(ratios):.2f} to {max(ratios):.2f}", flush=True)
+    solver.layout.answered_wavenumber = following
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true")
+    parser.add_argument("--finite-elements", action="store_true")
     args = parser.parse_args()
+    if args.finite_elements:
+        return finite_elements()
     frequencies = (300.0, 1000.0) if args.quick else (300.0, 1000.0, 3000.0)
     print("refinement: worst plate's change of w ; (u, v) between resolutions "
           "1.5 -> 2.25 -> 3.375")
