@@ -13,6 +13,7 @@ import math
 from pathlib import Path
 
 import numpy as np
+import pytest
 from support import folded_description, folded_w
 from test_moving_lines import L_FOLD, LY
 
@@ -140,3 +141,19 @@ def test_the_line_functions_follow_the_members_reach_on_a_free_ended_fold(monkey
     errors = _errors_and_estimates(2.25)
     assert max(true for true, _ in errors) > 1.5e-3
     assert max(estimate for _, estimate in errors) < 1e-4
+
+
+def test_a_tolerance_is_not_claimed_where_the_estimate_cannot_see_the_lines():
+    """From resolution 5 on, the line's count has met its stop and the enriched solve adds no
+    function (:func:`solver.estimate.unrefined_lines`): the estimate, 5e-5 there for a field
+    8.5e-4 off the finite elements, cannot check a tolerance of 1e-3, and the solve says so
+    rather than claim it. Below, the count still grows and the tolerance is met (at 2.25,
+    the error 5.0e-4)."""
+    from solver.errors import ToleranceError
+    from solver.estimate import _resolutions, solve_to_tolerance, unrefined_lines
+
+    case = parse_case(_rigid_bracket(1.5))
+    assert [unrefined_lines(case, 300.0, *_resolutions(case, r)) for r in (2.25, 3.375, 5.0)] \
+        == [(), (), ("F",)]
+    with pytest.raises(ToleranceError, match="Legendre functions of F"):
+        solve_to_tolerance(parse_case(_rigid_bracket(5.0)), 300.0, 1e-3)
