@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from typing import Annotated, Any, ClassVar, Literal, Union
+from typing import Annotated, Any, Literal, Union
 
 from pydantic import Field, PlainValidator, Strict, WithJsonSchema
 
@@ -130,8 +130,6 @@ class HingeJoint(_JointBase):
     # A moving hinge is a junction line of two members: the first rigid, the second tied to the
     # line's rotation by the hinge's spring (M_n = k (theta_A + theta_B), the same law). These
     # give the line's rules (solver.channels.junction_line) what they read of a junction.
-    log10_translational_stiffness: ClassVar[float] = math.inf
-
     def member_log10_stiffness(self, plate: str) -> float:
         r"""``inf`` (rigid) for the first plate, the hinge's :math:`\log_{10}k` for the second."""
         return math.inf if plate == self.plates[0] else self.log10_stiffness

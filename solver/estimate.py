@@ -76,13 +76,12 @@ import numpy as np
 from assembly.case import Case
 from solver.errors import ToleranceError, check_finite
 from solver.in_plane import in_plane_plates
-from solver.joint_rules import singular_load_ends
-from solver.layout import interface_layout
+from solver.layout import answered_wavenumber, interface_layout, members_wavenumber
 from solver.membrane import MembraneSolution
 from solver.membrane_basis import membrane_grid_displacement
 from solver.plate import PlateProblem, PlateSolution
 from solver.power import grid_deflections, plate_gauss_axes
-from solver.problems import edge_reach, plate_problems, plate_resolution
+from solver.problems import plate_problems, plate_resolution
 from solver.rays import QUASI_STATIC_KAPPA_R
 from solver.sizing import SizeEstimate, available_memory, estimate_size
 from solver.solution import CaseSolution
@@ -429,17 +428,19 @@ def solve_to_tolerance(
 def unrefined_lines(case: Case, frequency: float, resolution: Mapping[str, float],
                     enriched_resolution: Mapping[str, float]) -> tuple[str, ...]:
     """The moving lines whose loads converge slowly, an end on a free edge or meeting other
-    moving lines (their members reach further: :func:`solver.problems.edge_reach`), and whose
-    Legendre count the enriched solve no longer raises, having met its stop
-    (:func:`solver.layout.answered_wavenumber`): the estimate cannot see their loads' error.
-    The free-ended fold of ``tests/test_free_ends.py`` at resolution 5 is 8.5e-4 off finite
+    moving lines (their members reach further, so that their count stops above the usual:
+    :func:`solver.layout.answered_wavenumber`), and whose Legendre count the enriched solve no
+    longer raises, having met that stop: the estimate cannot see their loads' error. The
+    free-ended fold of ``tests/test_free_ends.py`` at resolution 5 is 8.5e-4 off finite
     elements, and the estimate reads 0.07 of that."""
-    tau = case.discretisation.edge_wavenumber_ratio
-    slow = [jid for jid in case.moving_lines() if not any(singular_load_ends(case, jid))
-            and any(edge_reach(case, plate) > tau for plate in case.joints[jid].plates)]
-    if not slow:  # the common case, without laying the interface out twice
+    moving = case.moving_lines()
+    if not moving:  # the common case, without laying the interface out twice
         return ()
     problems = plate_problems(case, frequency)
+    slow = [jid for jid in moving if answered_wavenumber(case, jid, problems)
+            > members_wavenumber(case, jid, problems)]
+    if not slow:
+        return ()
     counts = interface_layout(case, problems, resolution).counts
     enriched = interface_layout(case, problems, enriched_resolution).counts
     return tuple(jid for jid in slow if enriched[jid] <= counts[jid])

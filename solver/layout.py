@@ -32,7 +32,8 @@ from solver.membrane_basis import MembraneBasis, membrane_edge_traces
 from solver.plate import PlateBoundary, PlateProblem, edge_projection
 from solver.problems import edge_reach, plate_resolution
 
-__all__ = ["InterfaceLayout", "interface_layout", "answered_wavenumber", "plate_loads",
+__all__ = ["InterfaceLayout", "interface_layout", "answered_wavenumber", "members_wavenumber",
+           "plate_loads",
            "membrane_loads", "plate_sides", "rigid_members", "balancing_member", "member_axes",
            "member_load", "traction_loads", "load_values", "LoadTerms", "FORCE_COMPONENTS",
            "junction_point_axes", "KINEMATIC_DEFLECTION", "MOVING_MEMBER_LOADS"]
@@ -275,13 +276,11 @@ def interface_layout(case: Case, problems: Mapping[str, PlateProblem],
         kappas = [problems[plate].kappa.real for plate in joint.plates]
         joint_scale = max(plate_resolution(case, side.plate, resolution) for side in joint.sides)
         ends = singular_load_ends(case, jid)
-        answered = None
-        if jid in moving:
-            answered = min(kappas) if any(ends) else answered_wavenumber(case, joint, problems)
         counts[jid] = (case.discretisation.interface_functions
                        or max(interface_function_count(max(kappas), length, joint_scale,
                                                        case.discretisation.edge_wavenumber_ratio,
-                                                       answered),
+                                                       answered_wavenumber(case, jid, problems)
+                                                       if jid in moving else None),
                               legendre_count_floor(ends))
                        ) + extra_load_functions(ends)
     layout, n_s = _layout(case, counts, moving)
@@ -298,13 +297,14 @@ def interface_layout(case: Case, problems: Mapping[str, PlateProblem],
                            *_plate_unknowns(case, layout, corner_columns), axes)
 
 
-def answered_wavenumber(case: Case, joint: Joint, problems: Mapping[str, PlateProblem]) -> float:
-    r""":math:`\kappa_a = \min_m \kappa_{0,m}\,\tau_m/\tau` (1/m) of a moving line without a
-    mixed end, so that the cap :math:`\tfrac\tau2\kappa_a` of
-    :func:`solver.joint_rules.interface_function_count` (:math:`\tau` the description's
-    ``edge_wavenumber_ratio``) is half the largest edge wavenumber every member's rays reach:
-    :math:`\tau_m` is the member's own reach (:func:`solver.problems.edge_reach`, three times
-    :math:`\tau` where the line meets other lines or ends on a free edge).
+def answered_wavenumber(case: Case, joint_id: str, problems: Mapping[str, PlateProblem]
+                        ) -> float:
+    r""":math:`\kappa_a = \min_m \kappa_{0,m}\,\tau_m/\tau` (1/m) of a moving line, so that the
+    cap :math:`\tfrac\tau2\kappa_a` of :func:`solver.joint_rules.interface_function_count`
+    (:math:`\tau` the description's ``edge_wavenumber_ratio``) is half the largest edge
+    wavenumber every member's rays reach: :math:`\tau_m` is the member's own reach
+    (:func:`solver.problems.edge_reach`, three times :math:`\tau` where the line meets other
+    lines or ends on a free edge).
 
     There the line's loads converge slowly in their Legendre functions (its ends are corners
     of the assembled field), and stopping the count at :math:`\tau\kappa_0/2` hid it: from
@@ -312,14 +312,24 @@ def answered_wavenumber(case: Case, joint: Joint, problems: Mapping[str, PlatePr
     An L fold with free ends at 300 Hz (``tests/test_free_ends.py``) stalled 1.7e-3 off
     independent finite elements while resolutions 2.25 and 3.375 agreed to 1e-6 and the
     estimate said 5e-6; with the members' reach it is 5.0e-4 and 3.4e-4 off there, and the
-    estimate 0.8 to 1.6 times the error. A line with a mixed end keeps :math:`\kappa_0`: its
-    logarithmic loads and :func:`solver.joint_rules.legendre_count_floor` carry its ends, and
-    more functions cost it reciprocity and convergence (the hanging L fold of
-    ``tests/test_moving_lines.py`` at 1 kHz and resolution 2.25: reciprocity 3.7e-6 to 4.1e-5,
-    the change of ``w`` to 3.4 from 2.9e-5 to 3.2e-4)."""
+    estimate 0.8 to 1.6 times the error. A line with a mixed end keeps
+    :math:`\min_m\kappa_{0,m}`: its logarithmic loads and
+    :func:`solver.joint_rules.legendre_count_floor` carry its ends, and more functions cost it
+    reciprocity and convergence (the hanging L fold of ``tests/test_moving_lines.py`` at 1 kHz
+    and resolution 2.25: reciprocity 3.7e-6 to 4.1e-5, the change of ``w`` to 3.4 from 2.9e-5
+    to 3.2e-4)."""
+    if any(singular_load_ends(case, joint_id)):
+        return members_wavenumber(case, joint_id, problems)
     tau = case.discretisation.edge_wavenumber_ratio
     return min(problems[plate].kappa.real * edge_reach(case, plate) / tau
-               for plate in joint.plates)
+               for plate in case.joints[joint_id].plates)
+
+
+def members_wavenumber(case: Case, joint_id: str, problems: Mapping[str, PlateProblem]
+                       ) -> float:
+    r"""The smallest bending wavenumber :math:`\kappa_0` of a joint's members (1/m): the
+    :math:`\kappa_a` of a line whose members reach as far as the description says."""
+    return min(problems[plate].kappa.real for plate in case.joints[joint_id].plates)
 
 
 MOVING_MEMBER_LOADS = ("C", "K", "Nn", "Nt")
