@@ -90,7 +90,8 @@ from solver.vtcr import solve_case
 
 __all__ = ["ENRICHMENT", "EnrichedSolve", "ErrorEstimate", "ToleranceError", "enriched_size",
            "enriched_solve", "estimate_error", "in_plane_l2_errors", "plate_l2_rule",
-           "refined_together", "solve_to_tolerance", "unrefined_lines"]
+           "refined_together", "slow_lines", "solve_to_tolerance", "unrefined_lines",
+           "unseen_lines_text"]
 
 ENRICHMENT = 1.5
 ENRICHED_SOLVE_SECONDS = 60.0
@@ -128,6 +129,10 @@ class ErrorEstimate:
     displacement : dict of str to float
         Of the displacement vector :math:`(u, v, w)` over each plate that carries an in-plane
         field (relative to that plate's norm of it); empty without moving lines.
+    unseen_lines : tuple of str
+        The moving lines whose loads' error the estimate cannot see (:func:`unrefined_lines`):
+        where it names any, the estimate may be far below the error (the free-ended fold of
+        ``docs/accuracy.md`` section 8: 0.07 of it).
     """
 
     total: float | None
@@ -141,6 +146,7 @@ class ErrorEstimate:
     in_plane: dict = field(default_factory=dict)
     in_plane_total: float | None = None
     displacement: dict = field(default_factory=dict)
+    unseen_lines: tuple = ()
 
     def plate_errors(self) -> dict[str, float]:
         """Per plate, what a tolerance asks of it: the larger of its estimates of ``w`` and of
@@ -164,13 +170,15 @@ class ErrorEstimate:
     def to_json(self) -> dict[str, Any]:
         """The JSON of ``error_estimate``; ``in_plane`` (``total``, ``plates`` and
         ``displacement``) only where some plate carries an in-plane field, so a flat
-        assembly's is as before."""
+        assembly's is as before, and ``unseen_lines`` only where there are some."""
         out = {"total": self.total, "plates": dict(self.plates),
                "resolution": self.resolution, "enriched_resolution": self.enriched_resolution,
                "method": self.method, "enrichment": ENRICHMENT, "reason": self.reason}
         if self.in_plane:
             out["in_plane"] = {"total": self.in_plane_total, "plates": dict(self.in_plane),
                                "displacement": dict(self.displacement)}
+        if self.unseen_lines:
+            out["unseen_lines"] = list(self.unseen_lines)
         return out
 
 
@@ -300,9 +308,11 @@ def estimate_error(
     in_plane, in_plane_total = _relative(in_plane_integrals)
     displacement, _ = _relative({pid: (e + integrals[pid][0], n + integrals[pid][1])
                                  for pid, (e, n) in in_plane_integrals.items()})
+    unseen = unrefined_lines(case, solution.frequency, resolution, enriched_resolution)
     return ErrorEstimate(total, plates, _compact(resolution), _compact(enriched_resolution),
                          time.perf_counter() - t0, shares=shares, in_plane=in_plane,
-                         in_plane_total=in_plane_total, displacement=displacement)
+                         in_plane_total=in_plane_total, displacement=displacement,
+                         unseen_lines=unseen)
 
 
 def _relative(integrals: Mapping[str, tuple[float, float]]
@@ -379,8 +389,9 @@ def solve_to_tolerance(
     ------
     ToleranceError
         After ``max_refinements`` refinements, or as soon as a refinement no longer lowers the
-        worst plate's estimate by half (the ray basis has met its round-off floor, or the plate
-        is outside what the basis converges for): the message names the plate with the
+        worst plate's estimate by half (the ray basis has met its round-off floor, the plate
+        is outside what the basis converges for, or its moving line's loads converge slowly:
+        :func:`slow_lines`): the message names the plate with the
         largest estimated error, its estimates at each resolution and its condition estimate.
         Or when the estimate meets ``tolerance`` but cannot see the error of some lines
         (:func:`unrefined_lines`): the message names them.
@@ -398,15 +409,11 @@ def solve_to_tolerance(
         history.append(estimate)
         worst = max(estimate.plate_errors().values())
         if worst <= tolerance:
-            blind = unrefined_lines(case, frequency, resolution,
-                                    _resolutions(case, resolution)[1])
-            if blind:
+            if estimate.unseen_lines:
                 raise ToleranceError(
-                    f"{frequency:g} Hz: the tolerance cannot be checked: the Legendre functions "
-                    f"of {', '.join(blind)} no longer grow with the resolution, and their loads "
-                    "converge slowly (an end free or meeting other moving lines), so the "
-                    f"estimate {worst:.1e} cannot see their error (docs/accuracy.md section 8); "
-                    "solve at a lower resolution, where they still grow, or without a tolerance")
+                    f"{frequency:g} Hz: the tolerance cannot be checked: "
+                    f"{unseen_lines_text(estimate.unseen_lines, worst)}; solve at a lower "
+                    "resolution, where they still grow, or without a tolerance")
             return solution, estimate
         stalled = len(history) > 1 and worst > 0.5 * max(history[-2].plate_errors().values())
         if stalled or refinement == max_refinements:
@@ -425,22 +432,36 @@ def solve_to_tolerance(
     raise AssertionError("unreachable")
 
 
-def unrefined_lines(case: Case, frequency: float, resolution: Mapping[str, float],
-                    enriched_resolution: Mapping[str, float]) -> tuple[str, ...]:
+def slow_lines(case: Case, frequency: float) -> tuple[str, ...]:
     """The moving lines whose loads converge slowly, an end on a free edge or meeting other
-    moving lines (their members reach further, so that their count stops above the usual:
-    :func:`solver.layout.answered_wavenumber`), and whose Legendre count the enriched solve no
-    longer raises, having met that stop: the estimate cannot see their loads' error. The
-    free-ended fold of ``tests/test_free_ends.py`` at resolution 5 is 8.5e-4 off finite
-    elements, and the estimate reads 0.07 of that."""
+    moving lines: their members reach further, so that their Legendre count stops above the
+    usual (:func:`solver.layout.answered_wavenumber`); ``docs/accuracy.md`` section 8."""
     moving = case.moving_lines()
-    if not moving:  # the common case, without laying the interface out twice
+    if not moving:  # the common case, without the plates' problems
         return ()
     problems = plate_problems(case, frequency)
-    slow = [jid for jid in moving if answered_wavenumber(case, jid, problems)
-            > members_wavenumber(case, jid, problems)]
+    return tuple(jid for jid in moving if answered_wavenumber(case, jid, problems)
+                 > members_wavenumber(case, jid, problems))
+
+
+def unseen_lines_text(lines: Sequence[str], estimate: float) -> str:
+    """Why an estimate cannot see the error of ``lines`` (:func:`unrefined_lines`), for a
+    message."""
+    return (f"the Legendre functions of {', '.join(lines)} no longer grow with the resolution, "
+            "and their loads converge slowly (an end free or meeting other moving lines), so "
+            f"the estimate {estimate:.1e} cannot see their error (docs/accuracy.md section 8)")
+
+
+def unrefined_lines(case: Case, frequency: float, resolution: Mapping[str, float],
+                    enriched_resolution: Mapping[str, float]) -> tuple[str, ...]:
+    """The moving lines whose loads converge slowly (:func:`slow_lines`) and whose Legendre
+    count the enriched solve no longer raises, having met that stop: the estimate cannot see their loads' error. The
+    free-ended fold of ``tests/test_free_ends.py`` at resolution 5 is 8.5e-4 off finite
+    elements, and the estimate reads 0.07 of that."""
+    slow = slow_lines(case, frequency)
     if not slow:
         return ()
+    problems = plate_problems(case, frequency)
     counts = interface_layout(case, problems, resolution).counts
     enriched = interface_layout(case, problems, enriched_resolution).counts
     return tuple(jid for jid in slow if enriched[jid] <= counts[jid])
@@ -498,6 +519,7 @@ def _tolerance_message(case: Case, frequency: float, tolerance: float,
     problem = solution.plates[plate].problem
     condition = solution.plates[plate].condition_estimate
     spans = 0.5 * math.hypot(*problem.size) * problem.kappa.real
+    slow = [jid for jid in slow_lines(case, frequency) if plate in case.joints[jid].plates]
     if not stalled:
         cause = ("it still decreases; start from a higher [discretisation] resolution than "
                  f"{history[0].resolution_of(plate):g}")
@@ -505,6 +527,11 @@ def _tolerance_message(case: Case, frequency: float, tolerance: float,
         cause = (f"the plate is far below its first resonances (its half-diagonal is "
                  f"{spans / (2 * math.pi):.2g} bending wavelength), where the ray basis converges "
                  "slowly; raise the frequency or accept the estimated error")
+    elif slow:
+        cause = (f"refinement no longer lowers it: the loads of {', '.join(slow)} converge "
+                 "slowly in their Legendre functions at their ends free or meeting other "
+                 "moving lines (docs/accuracy.md section 8); accept a tolerance above the "
+                 "estimate")
     else:
         cause = (f"refinement no longer lowers it (condition estimate {condition:.1e}): the ray "
                  "basis has reached its round-off floor; accept a tolerance above the "

@@ -144,9 +144,9 @@ def test_the_line_functions_follow_the_members_reach_on_a_free_ended_fold(monkey
 def test_a_tolerance_is_not_claimed_where_the_estimate_cannot_see_the_lines():
     """From resolution 5 on, the line's count has met its stop and the enriched solve adds no
     function (:func:`solver.estimate.unrefined_lines`): the estimate, 5e-5 there for a field
-    8.5e-4 off the finite elements, cannot check a tolerance of 1e-3, and the solve says so
-    rather than claim it. Below, the count still grows and the tolerance is met (at 2.25,
-    the error 5.0e-4)."""
+    8.5e-4 off the finite elements, names the line (``unseen_lines``), cannot check a
+    tolerance of 1e-3, and the solve says so rather than claim it. Below, the count still
+    grows and the tolerance is met (at 2.25, the error 5.0e-4)."""
     from solver.errors import ToleranceError
     from solver.estimate import _resolutions, solve_to_tolerance, unrefined_lines
 
@@ -155,3 +155,48 @@ def test_a_tolerance_is_not_claimed_where_the_estimate_cannot_see_the_lines():
         == [(), (), ("F",)]
     with pytest.raises(ToleranceError, match="Legendre functions of F"):
         solve_to_tolerance(parse_case(_rigid_bracket(5.0)), 300.0, 1e-3)
+
+
+def test_an_estimate_blind_to_a_line_says_so():
+    """A plain solve's estimate that cannot see a line's error (``unseen_lines``, the
+    resolution-5 estimate of the test above) is flagged where it is reported: a warning naming
+    the line beside the estimate, and ``unseen_lines`` in its JSON; an estimate that sees
+    every line has neither."""
+    import io
+
+    from rich.console import Console
+
+    from solver.estimate import ErrorEstimate
+    from updating.cli.common import print_estimates
+
+    def report(unseen: tuple[str, ...]) -> tuple[str, dict]:
+        estimate = ErrorEstimate(5e-5, {"A": 5e-5, "B": 4e-5}, 5.0, 7.5, 1.0,
+                                 unseen_lines=unseen)
+        buffer = io.StringIO()
+        print_estimates(Console(file=buffer, width=300), {300.0: estimate})
+        return buffer.getvalue(), estimate.to_json()
+
+    text, json = report(("F",))
+    assert "warning" in text and "Legendre functions of F" in text
+    assert json["unseen_lines"] == ["F"]
+    text, json = report(())
+    assert "warning" not in text and "unseen_lines" not in json
+
+
+def test_a_stalled_tolerance_names_the_slow_line():
+    """When refinement stops lowering the estimate of a member of a line whose loads converge
+    slowly (:func:`solver.estimate.slow_lines`), the message blames that line, not the rays'
+    round-off: asked 1e-4 from resolution 1.5, the bracket's estimate goes 1.9e-3, 8.0e-4,
+    4.7e-4 (the error against finite elements 2.4e-3, 5.0e-4, 3.4e-4) and stops. The same
+    history on the held bracket, which has no such line, keeps the round-off cause."""
+    from solver.estimate import ErrorEstimate, _tolerance_message
+    from solver.vtcr import solve_case
+
+    history = [ErrorEstimate(e, {"A": e / 3, "B": e}, r, 1.5 * r, 1.0)
+               for e, r in ((1.9e-3, 1.5), (8.0e-4, 2.25), (4.7e-4, 3.375))]
+    for description, cause in ((_rigid_bracket(1.0), "loads of F converge slowly"),
+                               (_bracket(300.0, 1.0, held=True), "round-off floor")):
+        case = parse_case(description)
+        solution = solve_case(case, 300.0, residuals=False, check=False)
+        message = _tolerance_message(case, 300.0, 1e-4, history, solution, stalled=True)
+        assert cause in message and "plate B" in message, message

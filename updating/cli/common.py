@@ -22,6 +22,7 @@ from solver.errors import NumericalError
 from solver.estimate import (
     ErrorEstimate,
     solve_to_tolerance,
+    unseen_lines_text,
 )
 from solver.sizing import available_memory, estimate_size
 from updating.cli.parser import version_text
@@ -240,6 +241,13 @@ def print_estimates(console: Console, estimates: Mapping[float, ErrorEstimate],
                       f"{what}: " + ", ".join(f"{e.in_plane_total:.1e} at {f:g} Hz"
                                                for f, e in in_plane.items())
                       + f"; largest on plate {plate} ({worst_in_plane.in_plane[plate]:.1e})")
+    unseen = {f: e for f, e in estimates.items() if e.unseen_lines}
+    if unseen:
+        frequency, estimate = next(iter(unseen.items()))
+        warn(console, f"{frequency:g} Hz"
+             + (f" (and {len(unseen) - 1} more frequencies)" if len(unseen) > 1 else "")
+             + f": {unseen_lines_text(estimate.unseen_lines, estimate.total)}; a solve at a "
+               "lower resolution, where they still grow, is estimated honestly")
     if worst.total > ESTIMATE_WARNING:
         warn(console, f"the estimated error {worst.total:.1e} exceeds {ESTIMATE_WARNING:g}: "
                        "raise [discretisation] resolution or give a tolerance")
