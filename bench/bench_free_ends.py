@@ -1,18 +1,19 @@
 """Moving lines with free ends (``docs/method.md`` section 10.4): what the members' longer edge
-reach (``solver.problems.FREE_END_REACH``) buys and costs, on the bracket of
-``tests/test_free_ends.py`` (2 mm steel legs 0.4 and 0.3 m folded at 90 degrees, a lossy weld,
-far edges simply supported, ends free, 1 N on the first leg).
+reach (``solver.problems.FREE_END_REACH``, growing with the resolution from
+``FREE_END_REACH_FROM``) buys and costs, on the bracket of ``tests/test_free_ends.py`` (2 mm
+steel legs 0.4 and 0.3 m folded at 90 degrees, a lossy weld, far edges simply supported, ends
+free, 1 N on the first leg).
 
 * **refinement**: the worst plate's relative L2 change of ``w`` and of ``(u, v)`` on a 15 x 15
-  grid between resolutions 1.5 -> 2.25 -> 3.375, with the rule and with the usual reach
-  (``FREE_END_REACH`` = 1), and for the held line;
+  grid between resolutions 1.5 and 2.25, with the rule and with the usual reach
+  (``FREE_END_REACH`` = 1, not growing), and for the held line;
 * **cost**: one solve at resolution 1.5 (processor time of one BLAS thread, best of three) and
   its unknowns, with the rule, with the usual reach and held;
-* **finite elements** (``--finite-elements``): the bracket with a rigid line at 300 Hz against
-  ``tests/data/fem_fold_free_ends.npz``, worst plate's error of ``w`` and the error estimate
-  over it on every plate, by resolution, with the line's Legendre count following its
-  members' reach (:func:`solver.layout.answered_wavenumber`) and stopped at the usual one, as
-  until 2026-11-27 (about a minute).
+* **finite elements** (``--finite-elements``): the bracket with a rigid line at 300 Hz and
+  1 kHz against ``tests/data/fem_fold_free_ends.npz``, worst plate's error of ``w``, the error
+  estimate over it on every plate and the time, by resolution: with the reach growing (the
+  rule), fixed at three times with the line's Legendre count following it (as on 2026-11-27),
+  and with the count stopped at the usual reach too (until then); about eight minutes.
 
 Run: ``OPENBLAS_NUM_THREADS=1 python bench/bench_free_ends.py [--quick | --finite-elements]``
 (about two minutes; ``--quick`` stops at 1 kHz).
@@ -21,6 +22,7 @@ Run: ``OPENBLAS_NUM_THREADS=1 python bench/bench_free_ends.py [--quick | --finit
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 import time
 from pathlib import Path
@@ -31,15 +33,16 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path[:0] = [str(ROOT), str(ROOT / "tests")]
 
 from support import inner_grid  # noqa: E402
-from test_free_ends import LY, PLATES, _bracket, _errors_and_estimates  # noqa: E402
+from test_free_ends import LY, PLATES, _bracket  # noqa: E402
 
 import solver.layout  # noqa: E402
 import solver.problems  # noqa: E402
 from assembly import parse_case  # noqa: E402
+from solver.estimate import estimate_error  # noqa: E402
 from solver.substructure import solve_assembly  # noqa: E402
 
-RULE = solver.problems.FREE_END_REACH
-MODELS = {"rule": (RULE, None), "usual reach": (1.0, None), "held": (RULE, True)}
+RULE = (solver.problems.FREE_END_REACH, solver.problems.FREE_END_REACH_FROM)
+MODELS = {"rule": (RULE, None), "usual reach": ((1.0, math.inf), None), "held": (RULE, True)}
 
 
 def fields(frequency: float, resolution: float, held: bool | None) -> dict:
@@ -63,21 +66,60 @@ def change(a: dict, b: dict, component: int) -> float:
     return worst
 
 
+FINITE_ELEMENT_RUNS = {300.0: (1.0, 1.5, 2.25, 3.375), 1000.0: (1.0, 1.5, 2.25)}
+"""Per frequency of the finite-element reference, the resolutions compared (with the reach
+growing, 3.375 at 1 kHz alone takes about 100 s and its estimate ten minutes)."""
+
+
+def fold_errors(frequency: float, resolution: float, reference: dict
+                ) -> tuple[float, float | None, float | None, float]:
+    """The rigid bracket at ``frequency`` against the finite elements: the worst plate's error
+    of ``w``, the estimate over it on every plate (smallest and largest; None where the
+    estimate was not made) and the seconds of the solve with its estimate."""
+    suffix = "" if frequency == 300.0 else f"_{frequency:g}"
+    description = _bracket(frequency, resolution)
+    description["joints"]["F"] = description["joints"]["F"] | {
+        "log10_stiffness": {"A": float("inf"), "B": float("inf")}}
+    del description["joints"]["F"]["loss_factor"]
+    case = parse_case(description)
+    start = time.perf_counter()
+    solution = solve_assembly(case, frequency)
+    estimate = estimate_error(case, solution)
+    seconds = time.perf_counter() - start
+    errors = {}
+    for name, (length, *_) in PLATES.items():
+        w = solution.plates[name].field(inner_grid(length, LY))["w"]
+        exact = reference[f"w_{name}{suffix}"]
+        errors[name] = float(np.linalg.norm(w - exact) / np.linalg.norm(exact))
+    if estimate.total is None:  # its enriched solve beyond the estimate's time limit
+        return max(errors.values()), None, None, seconds
+    ratios = [estimate.plates[name] / errors[name] for name in PLATES]
+    return max(errors.values()), min(ratios), max(ratios), seconds
+
+
 def finite_elements() -> None:
-    """The rigid bracket against the finite elements, by resolution, the line's count
-    following its members' reach and then stopped at the usual reach."""
-    print("against finite elements (300 Hz, rigid line): worst plate's error of w; "
-          "estimate / error over the plates")
-    following = solver.layout.answered_wavenumber
-    usual = {"members' reach": following,
-             "usual reach": solver.layout.members_wavenumber}
-    for label, answered in usual.items():
-        solver.layout.answered_wavenumber = answered
-        for resolution in (1.0, 1.5, 2.25, 3.375, 5.0):
-            pairs = _errors_and_estimates(resolution)
-            ratios = [estimate / true for true, estimate in pairs]
-            print(f"  {label:15s} {resolution:5.3g}: {max(t for t, _ in pairs):.1e}; "
-                  f"{min(ratios):.2f} to {max(ratios):.2f}", flush=True)
+    """The rigid bracket against the finite elements, by resolution: the members' reach
+    growing with the resolution (:data:`solver.problems.FREE_END_REACH_FROM`), as today; the
+    reach fixed at three times, the line's count following it (2026-11-27); and the count
+    stopped at the usual reach too (until then)."""
+    reference = np.load(ROOT / "tests" / "data" / "fem_fold_free_ends.npz")
+    print("against finite elements (rigid line): worst plate's error of w; estimate / error "
+          "over the plates; seconds of the solve and its estimate")
+    growing, following = solver.problems.FREE_END_REACH_FROM, solver.layout.answered_wavenumber
+    models = {"reach growing": (growing, following),
+              "reach fixed": (math.inf, following),
+              "usual count": (math.inf, lambda case, jid, problems, resolution=None:
+                              solver.layout.members_wavenumber(case, jid, problems))}
+    for frequency, resolutions in FINITE_ELEMENT_RUNS.items():
+        for label, (start, answered) in models.items():
+            solver.problems.FREE_END_REACH_FROM = start
+            solver.layout.answered_wavenumber = answered
+            for resolution in resolutions:
+                error, low, high, seconds = fold_errors(frequency, resolution, reference)
+                ratios = "not estimated" if low is None else f"{low:.2f} to {high:.2f}"
+                print(f"  {frequency:6.0f} Hz  {label:13s} {resolution:5.3g}: {error:.1e}; "
+                      f"{ratios}; {seconds:.1f} s", flush=True)
+    solver.problems.FREE_END_REACH_FROM = growing
     solver.layout.answered_wavenumber = following
 
 
@@ -89,12 +131,11 @@ def main() -> None:
     if args.finite_elements:
         return finite_elements()
     frequencies = (300.0, 1000.0) if args.quick else (300.0, 1000.0, 3000.0)
-    print("refinement: worst plate's change of w ; (u, v) between resolutions "
-          "1.5 -> 2.25 -> 3.375")
+    print("refinement: worst plate's change of w ; (u, v) between resolutions 1.5 and 2.25")
     for frequency in frequencies:
         for label, (reach, held) in MODELS.items():
-            solver.problems.FREE_END_REACH = reach
-            steps = [fields(frequency, r, held) for r in (1.5, 2.25, 3.375)]
+            solver.problems.FREE_END_REACH, solver.problems.FREE_END_REACH_FROM = reach
+            steps = [fields(frequency, r, held) for r in (1.5, 2.25)]
             w = ", ".join(f"{change(a, b, 0):.1e}" for a, b in zip(steps, steps[1:]))
             uv = ("" if held else "; " + ", ".join(f"{change(a, b, 1):.1e}"
                                                     for a, b in zip(steps, steps[1:])))
@@ -103,7 +144,7 @@ def main() -> None:
     for frequency in frequencies:
         row = []
         for label, (reach, held) in MODELS.items():
-            solver.problems.FREE_END_REACH = reach
+            solver.problems.FREE_END_REACH, solver.problems.FREE_END_REACH_FROM = reach
             case = parse_case(_bracket(frequency, 1.5, held))
             times = []
             for _ in range(3):
@@ -116,7 +157,7 @@ def main() -> None:
         print(f"  {frequency:6.0f} Hz  " + "; ".join(f"{label} {t:.2f} s ({n})"
                                                     for label, t, n in row) + f"; {ratios}",
               flush=True)
-    solver.problems.FREE_END_REACH = RULE
+    solver.problems.FREE_END_REACH, solver.problems.FREE_END_REACH_FROM = RULE
 
 
 if __name__ == "__main__":

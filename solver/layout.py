@@ -279,7 +279,8 @@ def interface_layout(case: Case, problems: Mapping[str, PlateProblem],
         counts[jid] = (case.discretisation.interface_functions
                        or max(interface_function_count(max(kappas), length, joint_scale,
                                                        case.discretisation.edge_wavenumber_ratio,
-                                                       answered_wavenumber(case, jid, problems)
+                                                       answered_wavenumber(case, jid, problems,
+                                                                           resolution)
                                                        if jid in moving else None),
                               legendre_count_floor(ends))
                        ) + extra_load_functions(ends)
@@ -297,22 +298,24 @@ def interface_layout(case: Case, problems: Mapping[str, PlateProblem],
                            *_plate_unknowns(case, layout, corner_columns), axes)
 
 
-def answered_wavenumber(case: Case, joint_id: str, problems: Mapping[str, PlateProblem]
-                        ) -> float:
+def answered_wavenumber(case: Case, joint_id: str, problems: Mapping[str, PlateProblem],
+                        resolution: float | Mapping[str, float] | None = None) -> float:
     r""":math:`\kappa_a = \min_m \kappa_{0,m}\,\tau_m/\tau` (1/m) of a moving line, so that the
     cap :math:`\tfrac\tau2\kappa_a` of :func:`solver.joint_rules.interface_function_count`
     (:math:`\tau` the description's ``edge_wavenumber_ratio``) is half the largest edge
-    wavenumber every member's rays reach: :math:`\tau_m` is the member's own reach
-    (:func:`solver.problems.edge_reach`, three times :math:`\tau` where the line meets other
-    lines or ends on a free edge).
+    wavenumber every member's rays reach: :math:`\tau_m` is the member's own reach at its
+    resolution (:func:`solver.problems.edge_reach`, ``resolution`` as there: three times
+    :math:`\tau` where the line meets other lines, and growing with the resolution from three
+    times where it ends on a free edge).
 
     There the line's loads converge slowly in their Legendre functions (its ends are corners
     of the assembled field), and stopping the count at :math:`\tau\kappa_0/2` hid it: from
     resolution 5/3 on, the count no longer grew, nor in the error estimate's enriched solve.
     An L fold with free ends at 300 Hz (``tests/test_free_ends.py``) stalled 1.7e-3 off
     independent finite elements while resolutions 2.25 and 3.375 agreed to 1e-6 and the
-    estimate said 5e-6; with the members' reach it is 5.0e-4 and 3.4e-4 off there, and the
-    estimate 0.8 to 1.6 times the error. A line with a mixed end keeps
+    estimate said 5e-6; with the members' reach it is 5.0e-4 and 3.4e-4 off there, and with
+    the reach growing with the resolution 5.3e-4 and 4.5e-5
+    (:data:`solver.problems.FREE_END_REACH_FROM`). A line with a mixed end keeps
     :math:`\min_m\kappa_{0,m}`: its logarithmic loads and
     :func:`solver.joint_rules.legendre_count_floor` carry its ends, and more functions cost it
     reciprocity and convergence (the hanging L fold of ``tests/test_moving_lines.py`` at 1 kHz
@@ -321,7 +324,7 @@ def answered_wavenumber(case: Case, joint_id: str, problems: Mapping[str, PlateP
     if any(singular_load_ends(case, joint_id)):
         return members_wavenumber(case, joint_id, problems)
     tau = case.discretisation.edge_wavenumber_ratio
-    return min(problems[plate].kappa.real * edge_reach(case, plate) / tau
+    return min(problems[plate].kappa.real * edge_reach(case, plate, resolution) / tau
                for plate in case.joints[joint_id].plates)
 
 

@@ -20,7 +20,7 @@ from solver.rays import RayBasis, RayCounts, WedgeBasis, automatic_ray_counts, b
 __all__ = ["plate_problem", "plate_problems", "plate_ray_counts", "plate_basis", "plate_bases",
            "plate_wedges", "joint_edge_kinds", "SINGULAR_END_REACH", "singular_end_plates",
            "singular_end_corners", "MEETING_END_REACH", "meeting_end_plates", "FREE_END_REACH",
-           "free_end_plates", "edge_reach"]
+           "FREE_END_REACH_FROM", "free_end_plates", "edge_reach"]
 
 
 def joint_edge_kinds(case: Case) -> dict[tuple[str, str], str]:
@@ -162,15 +162,34 @@ def meeting_end_plates(case: Case) -> frozenset[str]:
 FREE_END_REACH = 3.0
 r"""How much further than elsewhere the edge waves of a member of a moving line reach where an
 end of the line meets a free edge (a junction point that nothing holds, ``docs/method.md``
-section 10.4), bending and in-plane alike. The bracket of ``tests/test_free_ends.py``
-(``bench/bench_free_ends.py``), worst plate, change between resolutions 2.25 and 3.375 at 300
-Hz, 1 kHz and 3 kHz: w 2.4e-4, 4.9e-4, 1.8e-4 and (u, v) 1.7e-3, 9.9e-3, 1.3e-3 with the usual
-reach; 2.7e-6, 4.7e-6, 1.3e-5 and 8.6e-5, 3.1e-4, 8.9e-5 with three times (twice, on the same
-fold with a rigid weld at 1 kHz: w 2.5e-5, (u, v) 1.2e-3). The solve costs 4.8 to 12.8 times
-more. Those changes refined the rays alone (the line's Legendre count then stopped at
-resolution 5/3): against finite elements the rigid bracket at 300 Hz stalled 1.7e-3 off; with
-the count following the members' reach (:func:`solver.layout.answered_wavenumber`) it is
-5.0e-4 off at resolution 2.25 and 3.4e-4 at 3.375 (``tests/test_free_ends.py``)."""
+section 10.4), bending and in-plane alike, up to resolution :data:`FREE_END_REACH_FROM`; beyond
+it the reach grows with the resolution (:func:`edge_reach`). The bracket of
+``tests/test_free_ends.py`` (``bench/bench_free_ends.py``), worst plate, change between
+resolutions 2.25 and 3.375 at 300 Hz, 1 kHz and 3 kHz (with the line's count stopped at
+resolution 5/3, as then): w 2.4e-4, 4.9e-4, 1.8e-4 and (u, v) 1.7e-3, 9.9e-3, 1.3e-3 with the
+usual reach; 2.7e-6, 4.7e-6, 1.3e-5 and 8.6e-5, 3.1e-4, 8.9e-5 with three times. The solve
+costs 4.8 to 12.8 times more."""
+
+FREE_END_REACH_FROM = 1.5
+r"""The resolution from which the reach of the members of a line with a free end grows in
+proportion to it (:func:`edge_reach`): :data:`FREE_END_REACH` times :math:`\max(1, s/1.5)`.
+
+Why: the line's loads converge slowly in their Legendre functions at a free end (its ends are
+corners of the assembled field), and the more of them the line has, the further the members'
+edge waves must reach to answer them. Against independent finite elements (the rigid bracket,
+``bench/bench_free_ends.py --finite-elements``), with the count fixed and the rays at
+resolution 2.25, the error of ``w`` falls with the count to a floor set by the reach, then
+rises: at 300 Hz 2.4e-3, 4.9e-4, 1.3e-4 with 16, 24, 28 functions, then 5.3e-4 and 1.5e-3
+with 36 and 52 at three times the reach; 6.2e-5 with 32 at 4.5 times; 2.8e-5 with 36 to 40
+at six times, and no rise to 52. At 1 kHz three times the reach is best at 40 functions
+(4.9e-5), six times at 52 (5.4e-6). A fixed reach therefore stalled: the bracket was 3.4e-4
+off at resolution 3.375 and 8.5e-4 at 5. Growing with the resolution, as the count does,
+the reach keeps the loads answered: 5.6e-3, 2.4e-3, 5.3e-4, 4.5e-5, 6.6e-6 at resolutions 1
+to 5 (300 Hz), 2.8e-3, 5.9e-4, 4.1e-5, 5.5e-6 at 1 to 3.375 (1 kHz). Up to 1.5 nothing
+changes, so the solve at a description's usual resolution costs what it did; above, the cost
+grows about with the square of the resolution times the reach (300 Hz: 0.4, 2.0, 14 s at
+1.5, 2.25, 3.375)."""
+
 
 
 def free_end_plates(case: Case) -> frozenset[str]:
@@ -184,19 +203,23 @@ def free_end_plates(case: Case) -> frozenset[str]:
                      for plate in case.joints[jid].plates)
 
 
-def edge_reach(case: Case, plate_id: str) -> float:
+def edge_reach(case: Case, plate_id: str,
+               resolution: float | Mapping[str, float] | None = None) -> float:
     r"""The largest edge-wave wavenumber of a plate in units of its bending wavenumber: the
     description's ``edge_wavenumber_ratio`` :math:`\tau`, times :data:`SINGULAR_END_REACH` on a
     member of a moving line with a singular end (:func:`singular_end_plates`), times
     :data:`MEETING_END_REACH` on a member of a moving line that meets others at its ends
-    (:func:`meeting_end_plates`) or :data:`FREE_END_REACH` on one with an end on a free edge
-    (:func:`free_end_plates`)."""
+    (:func:`meeting_end_plates`) or, on one with an end on a free edge
+    (:func:`free_end_plates`), :data:`FREE_END_REACH` times :math:`\max(1, s/s_f)`, :math:`s`
+    the plate's resolution (``resolution`` as for :func:`plate_resolution`) and :math:`s_f` =
+    :data:`FREE_END_REACH_FROM`."""
     tau = case.discretisation.edge_wavenumber_ratio
     singular, meeting, free = _far_reaching_plates(case)
     if plate_id in singular:
         return tau * SINGULAR_END_REACH
+    growing = max(1.0, plate_resolution(case, plate_id, resolution) / FREE_END_REACH_FROM)
     return tau * max(MEETING_END_REACH if plate_id in meeting else 1.0,
-                     FREE_END_REACH if plate_id in free else 1.0)
+                     FREE_END_REACH * growing if plate_id in free else 1.0)
 
 
 _FAR_REACHING: dict[int, tuple[Case, tuple[frozenset[str], ...]]] = {}
@@ -228,7 +251,7 @@ def plate_ray_counts(case: Case, plate_id: str, problem: PlateProblem,
     settings = case.discretisation
     scale = plate_resolution(case, plate_id, resolution)
     counts = automatic_ray_counts(problem.kappa.real, problem.size, scale,
-                                  edge_reach(case, plate_id))
+                                  edge_reach(case, plate_id, resolution))
     override = settings.for_plate(plate_id)
     ratio = scale / settings.resolution
 
@@ -293,7 +316,8 @@ def plate_basis(case: Case, plate_id: str, problem: PlateProblem,
     counts = plate_ray_counts(case, plate_id, problem, resolution)
     settings = case.discretisation
     rays = build_ray_basis(problem.size, problem.kappa, counts,
-                           n_q=settings.quadrature_per_sector, tau=edge_reach(case, plate_id))
+                           n_q=settings.quadrature_per_sector,
+                           tau=edge_reach(case, plate_id, resolution))
     wedges = plate_wedges(case, plate_id, problem)
     if not wedges:
         return rays
@@ -308,7 +332,7 @@ def plate_bases(case: Case, problems: Mapping[str, PlateProblem],
     bases, shared = {}, {}
     for pid, problem in problems.items():
         key = (problem.size, problem.kappa, plate_ray_counts(case, pid, problem, resolution),
-               edge_reach(case, pid), plate_wedges(case, pid, problem))
+               edge_reach(case, pid, resolution), plate_wedges(case, pid, problem))
         if key not in shared:
             shared[key] = plate_basis(case, pid, problem, resolution)
         bases[pid] = shared[key]
