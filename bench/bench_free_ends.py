@@ -13,7 +13,7 @@ free, 1 N on the first leg).
   1 kHz against ``tests/data/fem_fold_free_ends.npz``, worst plate's error of ``w``, the error
   estimate over it on every plate and the time, by resolution: with the reach growing (the
   rule), fixed at three times with the line's Legendre count following it (as on 2026-11-27),
-  and with the count stopped at the usual reach too (until then); about eight minutes.
+  and with the count stopped at the usual reach too (until then); about five minutes.
 
 Run: ``OPENBLAS_NUM_THREADS=1 python bench/bench_free_ends.py [--quick | --finite-elements]``
 (about two minutes; ``--quick`` stops at 1 kHz).
@@ -66,9 +66,8 @@ def change(a: dict, b: dict, component: int) -> float:
     return worst
 
 
-FINITE_ELEMENT_RUNS = {300.0: (1.0, 1.5, 2.25, 3.375), 1000.0: (1.0, 1.5, 2.25)}
-"""Per frequency of the finite-element reference, the resolutions compared (with the reach
-growing, 3.375 at 1 kHz alone takes about 100 s and its estimate ten minutes)."""
+FINITE_ELEMENT_RUNS = {300.0: (1.0, 1.5, 2.25, 3.375, 5.0), 1000.0: (1.0, 1.5, 2.25, 3.375)}
+"""Per frequency of the finite-element reference, the resolutions compared."""
 
 
 def fold_errors(frequency: float, resolution: float, reference: dict

@@ -18,7 +18,7 @@ from solver.membrane import MembraneEdge, MembraneProblem, membrane_stiffness
 from solver.membrane_basis import MembraneBasis, build_membrane_basis, membrane_ray_counts
 from solver.membrane_corners import fixed_free_corners, fixed_free_layout, logarithmic_corners
 from solver.plate import PlateProblem
-from solver.problems import edge_reach, plate_resolution, singular_end_corners
+from solver.problems import edge_reach, plate_resolution, reach_growth, singular_end_corners
 
 __all__ = ["MIRROR_CONDITIONS", "membrane_edge_reach", "in_plane_plates", "coplanar_closure",
            "in_plane_edge_conditions", "membrane_problems", "membrane_bases"]
@@ -118,8 +118,9 @@ def membrane_bases(case: Case, problems: Mapping[str, MembraneProblem],
             {edge: condition.condition for edge, condition in problem.edges.items()},
             reach * max(bending[pid].kappa.real, k_shear.real, 5.0 / radius),
             reach * max(k_shear.real, 5.0 / radius))
-        counts = membrane_ray_counts(problem.size, k_shear.real, beta_max,
-                                     plate_resolution(case, pid, resolution))
+        scale = plate_resolution(case, pid, resolution)
+        counts = membrane_ray_counts(problem.size, k_shear.real, beta_max, scale,
+                                     scale / reach_growth(case, pid, resolution))
         # the corner functions depend on the corners' layout only: plates whose conditions
         # differ elsewhere (a panel's mirrored end bays) still share one basis and its traces
         layout = fixed_free_layout(problem.conditions)

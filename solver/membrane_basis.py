@@ -56,18 +56,22 @@ class MembraneCounts:
 
 def membrane_ray_counts(size: tuple[float, float], k_shear: float,
                         edge_wavenumber: float | Sequence[float],
-                        resolution: float = 1.0) -> MembraneCounts:
+                        resolution: float = 1.0,
+                        edge_resolution: float | None = None) -> MembraneCounts:
     r"""Sector counts by the resolution rule of ``docs/method.md`` section 5.2, for each wave
     type: :math:`N_{int} = \max(8, \lceil 2.6\,s k R_{max}\rceil_4)` with the shear wavenumber
     :math:`k_S` (the shorter in-plane wave), and per edge
     :math:`N_e = \max(4, \lceil s\,2\beta_{max}L_e/2\pi\rceil)` sectors of
     :math:`\beta\in[-\beta_{max}, \beta_{max}]`: a sector of width at most :math:`2\pi/L_e`
     carries its edge wave over the whole edge. ``edge_wavenumber`` is :math:`\beta_{max}`, one
-    for every edge or one per edge in the order of :data:`assembly.geometry.EDGE_NAMES`."""
+    for every edge or one per edge in the order of :data:`assembly.geometry.EDGE_NAMES`;
+    ``edge_resolution`` the :math:`s` of :math:`N_e` (default ``resolution``: see
+    :func:`solver.rays.automatic_ray_counts`)."""
+    edge_resolution = resolution if edge_resolution is None else edge_resolution
     lx, ly = size
     radius = 0.5 * math.hypot(lx, ly)
     interior = max(8, 4 * math.ceil(2.6 * resolution * k_shear * radius / 4))
-    edge = tuple(max(4, math.ceil(resolution * reach * length / math.pi))
+    edge = tuple(max(4, math.ceil(edge_resolution * reach * length / math.pi))
                  for reach, length in zip(_per_edge(edge_wavenumber), (lx, ly, lx, ly)))
     return MembraneCounts(interior, edge)
 

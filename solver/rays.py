@@ -105,7 +105,7 @@ QUASI_STATIC_KAPPA_R = 5.0
 
 
 def automatic_ray_counts(kappa0: float, size: tuple[float, float], resolution: float = 1.0,
-                         tau: float = 2.5) -> RayCounts:
+                         tau: float = 2.5, edge_resolution: float | None = None) -> RayCounts:
     r"""Sector counts from the resolution rule of ``docs/method.md`` section 5.2.
 
     .. math::
@@ -138,18 +138,23 @@ def automatic_ray_counts(kappa0: float, size: tuple[float, float], resolution: f
         Multiplier on every count (1.0 is the default rule).
     tau : float
         :math:`\tau_{max}`, the largest edge wavenumber in units of :math:`\kappa_0`.
+    edge_resolution : float, optional
+        The :math:`s` of :math:`N_H` and :math:`N_M` (default ``resolution``): lower where the
+        reach grows with the resolution, so that the edge sectors widen instead of multiplying
+        (:func:`solver.problems.reach_growth`).
     """
+    edge_resolution = resolution if edge_resolution is None else edge_resolution
     lx, ly = size
     r_max = 0.5 * math.hypot(lx, ly)
     kappa0 = max(kappa0, QUASI_STATIC_KAPPA_R / r_max)
     interior = max(8, 4 * math.ceil(resolution * 2.6 * kappa0 * r_max / 4.0))
     lengths = (lx, ly, lx, ly)
     propagating = tuple(
-        2 * max(1, math.ceil(resolution * (tau - 1.0) * kappa0 * le / (2 * math.pi)))
+        2 * max(1, math.ceil(edge_resolution * (tau - 1.0) * kappa0 * le / (2 * math.pi)))
         for le in lengths
     )
     evanescent = tuple(
-        max(2, math.ceil(resolution * tau * kappa0 * le / math.pi)) for le in lengths
+        max(2, math.ceil(edge_resolution * tau * kappa0 * le / math.pi)) for le in lengths
     )
     return RayCounts(interior, propagating, evanescent, 1)
 
