@@ -1,6 +1,6 @@
 """Moving lines with free ends (``docs/method.md`` section 10.4): what the members' longer edge
 reach (``solver.problems.FREE_END_REACH``, growing with the resolution from
-``FREE_END_REACH_FROM``) buys and costs, on the bracket of ``tests/test_free_ends.py`` (2 mm
+``REACH_GROWTH_FROM``) buys and costs, on the bracket of ``tests/test_free_ends.py`` (2 mm
 steel legs 0.4 and 0.3 m folded at 90 degrees, a lossy weld, far edges simply supported, ends
 free, 1 N on the first leg).
 
@@ -41,7 +41,7 @@ from assembly import parse_case  # noqa: E402
 from solver.estimate import estimate_error  # noqa: E402
 from solver.substructure import solve_assembly  # noqa: E402
 
-RULE = (solver.problems.FREE_END_REACH, solver.problems.FREE_END_REACH_FROM)
+RULE = (solver.problems.FREE_END_REACH, solver.problems.REACH_GROWTH_FROM)
 MODELS = {"rule": (RULE, None), "usual reach": ((1.0, math.inf), None), "held": (RULE, True)}
 
 
@@ -98,27 +98,27 @@ def fold_errors(frequency: float, resolution: float, reference: dict
 
 def finite_elements() -> None:
     """The rigid bracket against the finite elements, by resolution: the members' reach
-    growing with the resolution (:data:`solver.problems.FREE_END_REACH_FROM`), as today; the
+    growing with the resolution (:data:`solver.problems.REACH_GROWTH_FROM`), as today; the
     reach fixed at three times, the line's count following it (2026-11-27); and the count
     stopped at the usual reach too (until then)."""
     reference = np.load(ROOT / "tests" / "data" / "fem_fold_free_ends.npz")
     print("against finite elements (rigid line): worst plate's error of w; estimate / error "
           "over the plates; seconds of the solve and its estimate")
-    growing, following = solver.problems.FREE_END_REACH_FROM, solver.layout.answered_wavenumber
+    growing, following = solver.problems.REACH_GROWTH_FROM, solver.layout.answered_wavenumber
     models = {"reach growing": (growing, following),
               "reach fixed": (math.inf, following),
               "usual count": (math.inf, lambda case, jid, problems, resolution=None:
                               solver.layout.members_wavenumber(case, jid, problems))}
     for frequency, resolutions in FINITE_ELEMENT_RUNS.items():
         for label, (start, answered) in models.items():
-            solver.problems.FREE_END_REACH_FROM = start
+            solver.problems.REACH_GROWTH_FROM = start
             solver.layout.answered_wavenumber = answered
             for resolution in resolutions:
                 error, low, high, seconds = fold_errors(frequency, resolution, reference)
                 ratios = "not estimated" if low is None else f"{low:.2f} to {high:.2f}"
                 print(f"  {frequency:6.0f} Hz  {label:13s} {resolution:5.3g}: {error:.1e}; "
                       f"{ratios}; {seconds:.1f} s", flush=True)
-    solver.problems.FREE_END_REACH_FROM = growing
+    solver.problems.REACH_GROWTH_FROM = growing
     solver.layout.answered_wavenumber = following
 
 
@@ -133,7 +133,7 @@ def main() -> None:
     print("refinement: worst plate's change of w ; (u, v) between resolutions 1.5 and 2.25")
     for frequency in frequencies:
         for label, (reach, held) in MODELS.items():
-            solver.problems.FREE_END_REACH, solver.problems.FREE_END_REACH_FROM = reach
+            solver.problems.FREE_END_REACH, solver.problems.REACH_GROWTH_FROM = reach
             steps = [fields(frequency, r, held) for r in (1.5, 2.25)]
             w = ", ".join(f"{change(a, b, 0):.1e}" for a, b in zip(steps, steps[1:]))
             uv = ("" if held else "; " + ", ".join(f"{change(a, b, 1):.1e}"
@@ -143,7 +143,7 @@ def main() -> None:
     for frequency in frequencies:
         row = []
         for label, (reach, held) in MODELS.items():
-            solver.problems.FREE_END_REACH, solver.problems.FREE_END_REACH_FROM = reach
+            solver.problems.FREE_END_REACH, solver.problems.REACH_GROWTH_FROM = reach
             case = parse_case(_bracket(frequency, 1.5, held))
             times = []
             for _ in range(3):
@@ -156,7 +156,7 @@ def main() -> None:
         print(f"  {frequency:6.0f} Hz  " + "; ".join(f"{label} {t:.2f} s ({n})"
                                                     for label, t, n in row) + f"; {ratios}",
               flush=True)
-    solver.problems.FREE_END_REACH, solver.problems.FREE_END_REACH_FROM = RULE
+    solver.problems.FREE_END_REACH, solver.problems.REACH_GROWTH_FROM = RULE
 
 
 if __name__ == "__main__":

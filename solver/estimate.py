@@ -455,9 +455,12 @@ def unseen_lines_text(lines: Sequence[str], estimate: float) -> str:
 def unrefined_lines(case: Case, frequency: float, resolution: Mapping[str, float],
                     enriched_resolution: Mapping[str, float]) -> tuple[str, ...]:
     """The moving lines whose loads converge slowly (:func:`slow_lines`) and whose Legendre
-    count the enriched solve no longer raises, having met that stop: the estimate cannot see their loads' error. The
-    free-ended fold of ``tests/test_free_ends.py`` at resolution 5 is 8.5e-4 off finite
-    elements, and the estimate reads 0.07 of that."""
+    count the enriched solve does not raise: the estimate cannot see their loads' error. With
+    the members' reach growing with the resolution
+    (:data:`solver.problems.REACH_GROWTH_FROM`) that happens where the description fixes the
+    count (``interface_functions``); with it fixed, as until 2026-11-27, the free-ended fold
+    of ``tests/test_free_ends.py`` met its stop at resolution 5, 8.5e-4 off finite elements
+    while the estimate read 0.07 of that."""
     slow = slow_lines(case, frequency)
     if not slow:
         return ()

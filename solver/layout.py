@@ -315,7 +315,7 @@ def answered_wavenumber(case: Case, joint_id: str, problems: Mapping[str, PlateP
     independent finite elements while resolutions 2.25 and 3.375 agreed to 1e-6 and the
     estimate said 5e-6; with the members' reach it is 5.0e-4 and 3.4e-4 off there, and with
     the reach growing with the resolution 5.3e-4 and 4.4e-5
-    (:data:`solver.problems.FREE_END_REACH_FROM`). A line with a mixed end keeps
+    (:data:`solver.problems.REACH_GROWTH_FROM`). A line with a mixed end keeps
     :math:`\min_m\kappa_{0,m}`: its logarithmic loads and
     :func:`solver.joint_rules.legendre_count_floor` carry its ends, and more functions cost it
     reciprocity and convergence (the hanging L fold of ``tests/test_moving_lines.py`` at 1 kHz

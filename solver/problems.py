@@ -20,7 +20,7 @@ from solver.rays import RayBasis, RayCounts, WedgeBasis, automatic_ray_counts, b
 __all__ = ["plate_problem", "plate_problems", "plate_ray_counts", "plate_basis", "plate_bases",
            "plate_wedges", "joint_edge_kinds", "SINGULAR_END_REACH", "singular_end_plates",
            "singular_end_corners", "MEETING_END_REACH", "meeting_end_plates", "FREE_END_REACH",
-           "FREE_END_REACH_FROM", "free_end_plates", "edge_reach", "reach_growth"]
+           "REACH_GROWTH_FROM", "free_end_plates", "edge_reach", "reach_growth"]
 
 
 def joint_edge_kinds(case: Case) -> dict[tuple[str, str], str]:
@@ -137,7 +137,8 @@ def singular_end_plates(case: Case) -> frozenset[str]:
 MEETING_END_REACH = 3.0
 r"""How much further than elsewhere the edge waves of a member of a moving line reach where the
 line's ends meet other moving lines (a junction point, ``docs/method.md`` section 10.4), bending
-and in-plane alike. ``cases/box_with_wall.toml`` with its four welds moving, at 600 Hz: the
+and in-plane alike, up to resolution :data:`REACH_GROWTH_FROM`, growing with it beyond.
+``cases/box_with_wall.toml`` with its four welds moving, at 600 Hz: the
 worst plate's w changed by 3.8e-3, 2.6e-3, 2.9e-3 from resolution 1.5 to 2.25, 3.375 and 5
 with the usual reach (no convergence), by 1.1e-4, 8.5e-5 with twice the reach, by 6.0e-5,
 8.9e-6 with three times; three times on the wall alone, the plate whose corners are the
@@ -145,7 +146,8 @@ points, still left 3.2e-4, 3.7e-4. Those changes refined the rays alone (the lin
 count stopped at resolution 5/3); with the count following the members' reach
 (:func:`solver.layout.answered_wavenumber`) the box with its folds moving too, whose corners
 join three moving lines, changes by 6.2e-3, 2.4e-3 and 9.4e-4 from resolution 1.5 to 2.25,
-3.375 and 5 at 189.6 Hz: the lines' loads converge slowly at such corners."""
+3.375 and 5 at 189.6 Hz: the lines' loads converge slowly at such corners (and with the reach
+growing, on to 7.5: :data:`REACH_GROWTH_FROM`)."""
 
 
 def meeting_end_plates(case: Case) -> frozenset[str]:
@@ -162,7 +164,7 @@ def meeting_end_plates(case: Case) -> frozenset[str]:
 FREE_END_REACH = 3.0
 r"""How much further than elsewhere the edge waves of a member of a moving line reach where an
 end of the line meets a free edge (a junction point that nothing holds, ``docs/method.md``
-section 10.4), bending and in-plane alike, up to resolution :data:`FREE_END_REACH_FROM`; beyond
+section 10.4), bending and in-plane alike, up to resolution :data:`REACH_GROWTH_FROM`; beyond
 it the reach grows with the resolution (:func:`edge_reach`). The bracket of
 ``tests/test_free_ends.py`` (``bench/bench_free_ends.py``), worst plate, change between
 resolutions 2.25 and 3.375 at 300 Hz, 1 kHz and 3 kHz (with the line's count stopped at
@@ -170,9 +172,10 @@ resolution 5/3, as then): w 2.4e-4, 4.9e-4, 1.8e-4 and (u, v) 1.7e-3, 9.9e-3, 1.
 usual reach; 2.7e-6, 4.7e-6, 1.3e-5 and 8.6e-5, 3.1e-4, 8.9e-5 with three times. The solve
 costs 4.8 to 12.8 times more."""
 
-FREE_END_REACH_FROM = 1.5
-r"""The resolution from which the reach of the members of a line with a free end grows in
-proportion to it (:func:`edge_reach`): :data:`FREE_END_REACH` times :math:`\max(1, s/1.5)`.
+REACH_GROWTH_FROM = 1.5
+r"""The resolution from which the reach of the members of a line with a free end, or meeting
+other lines, grows in proportion to it (:func:`edge_reach`): :data:`FREE_END_REACH` or
+:data:`MEETING_END_REACH` times :math:`\max(1, s/1.5)`.
 
 Why: the line's loads converge slowly in their Legendre functions at a free end (its ends are
 corners of the assembled field), and the more of them the line has, the further the members'
@@ -188,7 +191,13 @@ the reach keeps the loads answered: 5.6e-3, 2.4e-3, 5.3e-4, 4.4e-5, 7.3e-6 at re
 to 5 (300 Hz), 2.8e-3, 5.9e-4, 3.8e-5, 7.1e-6 at 1 to 3.375 (1 kHz), the estimate 0.6 to 1.6
 times the error. The edge waves' sectors widen with the reach rather than multiply
 (:func:`reach_growth`), so the cost grows about as with a fixed reach (300 Hz: 0.4, 1.2, 2.5
-and 7.2 s at resolutions 1.5, 2.25, 3.375 and 5); up to 1.5 nothing changes."""
+and 7.2 s at resolutions 1.5, 2.25, 3.375 and 5); up to 1.5 nothing changes.
+
+Where three lines meet (``cases/box_with_wall.toml`` at 189.6 Hz), no independent reference
+exists, but the refinement tells the same story: with the reach fixed the worst plate's ``w``
+changed by 6.2e-3, 2.3e-3, 9.4e-4 and 3.9e-6 from resolution 1.5 to 2.25, 3.375, 5 and 7.5
+(the last step frozen: the count at its stop, the estimate blind), growing by 6.1e-3, 2.3e-3,
+7.5e-4 and 1.4e-4; the two fields at 7.5 differ by 1.7e-4."""
 
 
 
@@ -209,10 +218,10 @@ def edge_reach(case: Case, plate_id: str,
     description's ``edge_wavenumber_ratio`` :math:`\tau`, times :data:`SINGULAR_END_REACH` on a
     member of a moving line with a singular end (:func:`singular_end_plates`), times
     :data:`MEETING_END_REACH` on a member of a moving line that meets others at its ends
-    (:func:`meeting_end_plates`) or, on one with an end on a free edge
-    (:func:`free_end_plates`), :data:`FREE_END_REACH` times :math:`\max(1, s/s_f)`, :math:`s`
-    the plate's resolution (``resolution`` as for :func:`plate_resolution`) and :math:`s_f` =
-    :data:`FREE_END_REACH_FROM`."""
+    (:func:`meeting_end_plates`) or :data:`FREE_END_REACH` on one with an end on a free edge
+    (:func:`free_end_plates`), those two times :math:`\max(1, s/s_g)`, :math:`s` the plate's
+    resolution (``resolution`` as for :func:`plate_resolution`) and :math:`s_g` =
+    :data:`REACH_GROWTH_FROM`."""
     return case.discretisation.edge_wavenumber_ratio * _reach_factors(case, plate_id,
                                                                        resolution)[0]
 
@@ -220,8 +229,8 @@ def edge_reach(case: Case, plate_id: str,
 def reach_growth(case: Case, plate_id: str,
                  resolution: float | Mapping[str, float] | None = None) -> float:
     r"""How many times a plate's :func:`edge_reach` exceeds what it would be without growing
-    with the resolution (1 but on the members of a line with a free end above
-    :data:`FREE_END_REACH_FROM`). The edge waves' counts are those of the resolution divided
+    with the resolution (1 but on the members of a line with a free end or meeting others,
+    above :data:`REACH_GROWTH_FROM`). The edge waves' counts are those of the resolution divided
     by it, so that their sectors widen with the reach instead of multiplying: the count of a
     fixed reach at that resolution. Against the finite elements of the free-ended fold the
     error is the same (300 Hz: 5.3e-4, 4.4e-5 and 7.3e-6 at resolutions 2.25, 3.375 and 5, with
@@ -238,11 +247,12 @@ def _reach_factors(case: Case, plate_id: str,
     singular, meeting, free = _far_reaching_plates(case)
     if plate_id in singular:
         return SINGULAR_END_REACH, SINGULAR_END_REACH
-    meets = MEETING_END_REACH if plate_id in meeting else 1.0
-    if plate_id not in free:
-        return meets, meets
-    growing = max(1.0, plate_resolution(case, plate_id, resolution) / FREE_END_REACH_FROM)
-    return max(meets, FREE_END_REACH * growing), max(meets, FREE_END_REACH)
+    if plate_id not in meeting and plate_id not in free:
+        return 1.0, 1.0
+    fixed = max(MEETING_END_REACH if plate_id in meeting else 1.0,
+                FREE_END_REACH if plate_id in free else 1.0)
+    growing = max(1.0, plate_resolution(case, plate_id, resolution) / REACH_GROWTH_FROM)
+    return fixed * growing, fixed
 
 
 _FAR_REACHING: dict[int, tuple[Case, tuple[frozenset[str], ...]]] = {}

@@ -123,7 +123,7 @@ def test_a_free_ended_fold_meets_independent_finite_elements():
     """Against :data:`FINITE_ELEMENTS`, worst plate's ``w``: 5.6e-3, 2.4e-3, 5.3e-4, 4.4e-5,
     7.3e-6 at resolutions 1, 1.5, 2.25, 3.375, 5 (the free corners slow the line's loads'
     convergence, and the members' reach grows with the resolution from 1.5 on:
-    :data:`solver.problems.FREE_END_REACH_FROM`); the estimate is 0.8 to 1.1 times the error
+    :data:`solver.problems.REACH_GROWTH_FROM`); the estimate is 0.8 to 1.1 times the error
     on every plate at 1.5, 2.25 and 3.375 (0.6 to 0.8 at 1): the issue's bounds [0.5, 3]
     (``bench/bench_free_ends.py --finite-elements``). Tolerances, about twice the measured:
     1e-3 at 2.25 and 1e-4 at 3.375, where a fixed reach stalled at 3.4e-4, and 2e-5 for the
@@ -148,7 +148,7 @@ def test_the_line_functions_follow_the_members_reach_on_a_free_ended_fold(monkey
     import solver.layout
     import solver.problems
 
-    monkeypatch.setattr(solver.problems, "FREE_END_REACH_FROM", math.inf)
+    monkeypatch.setattr(solver.problems, "REACH_GROWTH_FROM", math.inf)
     monkeypatch.setattr(solver.layout, "answered_wavenumber",
                         lambda case, jid, problems, resolution=None:
                         solver.layout.members_wavenumber(case, jid, problems))
@@ -160,12 +160,13 @@ def test_the_line_functions_follow_the_members_reach_on_a_free_ended_fold(monkey
 def test_a_tolerance_is_not_claimed_where_the_estimate_cannot_see_the_lines(monkeypatch):
     """Where a line's count has met its stop, the enriched solve adds no function
     (:func:`solver.estimate.unrefined_lines`) and the estimate cannot see the line's error.
-    With the reach fixed at three times, as until 2026-11-27 (and still where lines meet:
-    :data:`solver.problems.MEETING_END_REACH`), that was the bracket from resolution 5 on: the
+    With the reach fixed at three times, as until 2026-11-27 (and wherever the description
+    fixes the count, ``interface_functions``), that was the bracket from resolution 5 on: the
     estimate, 5e-5 there for a field 8.5e-4 off the finite elements, names the line
     (``unseen_lines``), cannot check a tolerance of 1e-3, and the solve says so rather than
     claim it; below, the count still grew and the tolerance was met (at 2.25, the error
-    5.0e-4). With the reach growing with the resolution, the count never meets its stop."""
+    5.0e-4). With the reach growing with the resolution, the count never meets its stop
+    unless the description fixes it (``interface_functions``)."""
     import solver.problems
     from solver.errors import ToleranceError
     from solver.estimate import _resolutions, solve_to_tolerance, unrefined_lines
@@ -173,7 +174,10 @@ def test_a_tolerance_is_not_claimed_where_the_estimate_cannot_see_the_lines(monk
     case = parse_case(_rigid_bracket(1.5))
     resolutions = [_resolutions(case, r) for r in (2.25, 3.375, 5.0, 7.5)]
     assert [unrefined_lines(case, 300.0, *pair) for pair in resolutions] == [()] * 4
-    monkeypatch.setattr(solver.problems, "FREE_END_REACH_FROM", math.inf)
+    fixed_count = _rigid_bracket(1.5)
+    fixed_count["discretisation"]["interface_functions"] = 30
+    assert unrefined_lines(parse_case(fixed_count), 300.0, *resolutions[0]) == ("F",)
+    monkeypatch.setattr(solver.problems, "REACH_GROWTH_FROM", math.inf)
     assert [unrefined_lines(case, 300.0, *pair) for pair in resolutions[:3]] \
         == [(), (), ("F",)]
     with pytest.raises(ToleranceError, match="Legendre functions of F"):
@@ -209,8 +213,8 @@ def test_an_estimate_blind_to_a_line_says_so():
 def test_a_stalled_tolerance_names_the_slow_line():
     """When refinement stops lowering the estimate of a member of a line whose loads converge
     slowly (:func:`solver.estimate.slow_lines`), the message blames that line, not the rays'
-    round-off: asked 1e-4 from resolution 1.5 with the reach fixed (until 2026-11-27; still
-    where lines meet), the bracket's estimate went 1.9e-3, 8.0e-4, 4.7e-4 (the error against
+    round-off: asked 1e-4 from resolution 1.5 with the reach fixed (until 2026-11-27), the
+    bracket's estimate went 1.9e-3, 8.0e-4, 4.7e-4 (the error against
     finite elements 2.4e-3, 5.0e-4, 3.4e-4) and stopped. The same history on the held
     bracket, which has no such line, keeps the round-off cause."""
     from solver.estimate import ErrorEstimate, _tolerance_message
