@@ -412,8 +412,8 @@ def solve_to_tolerance(
             if estimate.unseen_lines:
                 raise ToleranceError(
                     f"{frequency:g} Hz: the tolerance cannot be checked: "
-                    f"{unseen_lines_text(estimate.unseen_lines, worst)}; solve at a lower "
-                    "resolution, where they still grow, or without a tolerance")
+                    f"{unseen_lines_text(estimate.unseen_lines, worst)}; let their count "
+                    "grow (leave interface_functions out) or solve without a tolerance")
             return solution, estimate
         stalled = len(history) > 1 and worst > 0.5 * max(history[-2].plate_errors().values())
         if stalled or refinement == max_refinements:
@@ -436,20 +436,24 @@ def slow_lines(case: Case, frequency: float) -> tuple[str, ...]:
     """The moving lines whose loads converge slowly, an end on a free edge or meeting other
     moving lines: their members reach further, so that their Legendre count stops above the
     usual (:func:`solver.layout.answered_wavenumber`); ``docs/accuracy.md`` section 8."""
-    moving = case.moving_lines()
-    if not moving:  # the common case, without the plates' problems
+    if not case.moving_lines():  # the common case, without the plates' problems
         return ()
-    problems = plate_problems(case, frequency)
-    return tuple(jid for jid in moving if answered_wavenumber(case, jid, problems)
+    return _slow_lines(case, plate_problems(case, frequency))
+
+
+def _slow_lines(case: Case, problems: Mapping[str, PlateProblem]) -> tuple[str, ...]:
+    """:func:`slow_lines` from the plates' problems."""
+    return tuple(jid for jid in case.moving_lines() if answered_wavenumber(case, jid, problems)
                  > members_wavenumber(case, jid, problems))
 
 
 def unseen_lines_text(lines: Sequence[str], estimate: float) -> str:
     """Why an estimate cannot see the error of ``lines`` (:func:`unrefined_lines`), for a
     message."""
-    return (f"the Legendre functions of {', '.join(lines)} no longer grow with the resolution, "
-            "and their loads converge slowly (an end free or meeting other moving lines), so "
-            f"the estimate {estimate:.1e} cannot see their error (docs/accuracy.md section 8)")
+    return (f"the Legendre functions of {', '.join(lines)} do not grow with the resolution "
+            "(their count fixed by [discretisation] interface_functions, or at its stop), and "
+            "their loads converge slowly (an end free or meeting other moving lines), so the "
+            f"estimate {estimate:.1e} cannot see their error (docs/accuracy.md section 8)")
 
 
 def unrefined_lines(case: Case, frequency: float, resolution: Mapping[str, float],
@@ -461,10 +465,12 @@ def unrefined_lines(case: Case, frequency: float, resolution: Mapping[str, float
     count (``interface_functions``); with it fixed, as until 2026-11-27, the free-ended fold
     of ``tests/test_free_ends.py`` met its stop at resolution 5, 8.5e-4 off finite elements
     while the estimate read 0.07 of that."""
-    slow = slow_lines(case, frequency)
-    if not slow:
+    if not case.moving_lines():
         return ()
     problems = plate_problems(case, frequency)
+    slow = _slow_lines(case, problems)
+    if not slow:
+        return ()
     counts = interface_layout(case, problems, resolution).counts
     enriched = interface_layout(case, problems, enriched_resolution).counts
     return tuple(jid for jid in slow if enriched[jid] <= counts[jid])

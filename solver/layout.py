@@ -33,8 +33,7 @@ from solver.plate import PlateBoundary, PlateProblem, edge_projection
 from solver.problems import edge_reach, plate_resolution
 
 __all__ = ["InterfaceLayout", "interface_layout", "answered_wavenumber", "members_wavenumber",
-           "plate_loads",
-           "membrane_loads", "plate_sides", "rigid_members", "balancing_member", "member_axes",
+           "plate_loads", "membrane_loads", "plate_sides", "rigid_members", "balancing_member", "member_axes",
            "member_load", "traction_loads", "load_values", "LoadTerms", "FORCE_COMPONENTS",
            "junction_point_axes", "KINEMATIC_DEFLECTION", "MOVING_MEMBER_LOADS"]
 
@@ -305,8 +304,8 @@ def answered_wavenumber(case: Case, joint_id: str, problems: Mapping[str, PlateP
     (:math:`\tau` the description's ``edge_wavenumber_ratio``) is half the largest edge
     wavenumber every member's rays reach: :math:`\tau_m` is the member's own reach at its
     resolution (:func:`solver.problems.edge_reach`, ``resolution`` as there: three times
-    :math:`\tau` where the line meets other lines, and growing with the resolution from three
-    times where it ends on a free edge).
+    :math:`\tau` where the line meets other lines or ends on a free edge, growing with the
+    resolution above :data:`solver.problems.REACH_GROWTH_FROM`).
 
     There the line's loads converge slowly in their Legendre functions (its ends are corners
     of the assembled field), and stopping the count at :math:`\tau\kappa_0/2` hid it: from

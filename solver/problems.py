@@ -200,7 +200,6 @@ changed by 6.2e-3, 2.3e-3, 9.4e-4 and 3.9e-6 from resolution 1.5 to 2.25, 3.375,
 7.5e-4 and 1.4e-4; the two fields at 7.5 differ by 1.7e-4."""
 
 
-
 def free_end_plates(case: Case) -> frozenset[str]:
     """The members of the moving lines with an end on a free edge
     (:func:`assembly.lines.free_ends`)."""
@@ -243,7 +242,7 @@ def reach_growth(case: Case, plate_id: str,
 
 def _reach_factors(case: Case, plate_id: str,
                    resolution: float | Mapping[str, float] | None) -> tuple[float, float]:
-    """A plate's edge reach in units of :math:`\tau`, and the same without its growth."""
+    r"""A plate's edge reach in units of :math:`\tau`, and the same without its growth."""
     singular, meeting, free = _far_reaching_plates(case)
     if plate_id in singular:
         return SINGULAR_END_REACH, SINGULAR_END_REACH

@@ -158,15 +158,14 @@ def test_the_line_functions_follow_the_members_reach_on_a_free_ended_fold(monkey
 
 
 def test_a_tolerance_is_not_claimed_where_the_estimate_cannot_see_the_lines(monkeypatch):
-    """Where a line's count has met its stop, the enriched solve adds no function
+    """Where a line's count does not grow, the enriched solve adds no function
     (:func:`solver.estimate.unrefined_lines`) and the estimate cannot see the line's error.
-    With the reach fixed at three times, as until 2026-11-27 (and wherever the description
-    fixes the count, ``interface_functions``), that was the bracket from resolution 5 on: the
+    With the reach growing with the resolution the count never meets its stop; a description
+    that fixes it (``interface_functions``) does not grow it. With the reach fixed at three
+    times, as until 2026-11-27, the bracket's count met its stop at resolution 5: the
     estimate, 5e-5 there for a field 8.5e-4 off the finite elements, names the line
     (``unseen_lines``), cannot check a tolerance of 1e-3, and the solve says so rather than
-    claim it; below, the count still grew and the tolerance was met (at 2.25, the error
-    5.0e-4). With the reach growing with the resolution, the count never meets its stop
-    unless the description fixes it (``interface_functions``)."""
+    claim it."""
     import solver.problems
     from solver.errors import ToleranceError
     from solver.estimate import _resolutions, solve_to_tolerance, unrefined_lines

@@ -246,8 +246,8 @@ def print_estimates(console: Console, estimates: Mapping[float, ErrorEstimate],
         frequency, estimate = next(iter(unseen.items()))
         warn(console, f"{frequency:g} Hz"
              + (f" (and {len(unseen) - 1} more frequencies)" if len(unseen) > 1 else "")
-             + f": {unseen_lines_text(estimate.unseen_lines, estimate.total)}; a solve at a "
-               "lower resolution, where they still grow, is estimated honestly")
+             + f": {unseen_lines_text(estimate.unseen_lines, estimate.total)}; let their "
+               "count grow (leave interface_functions out) for an estimate that sees them")
     if worst.total > ESTIMATE_WARNING:
         warn(console, f"the estimated error {worst.total:.1e} exceeds {ESTIMATE_WARNING:g}: "
                        "raise [discretisation] resolution or give a tolerance")
