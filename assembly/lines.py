@@ -8,8 +8,9 @@ folded-plate theory does), another moving line (the junction point where they me
 as one body: :func:`solver.layout.junction_point_axes`, ``docs/method.md`` section 6.4; the
 wall's corners in ``cases/box_with_wall.toml``), a coplanar joint (a stiffener crossing a skin
 joint: the point is the same) or a free edge (a junction point that nothing holds: it
-translates freely in 3D). The members of a line that meets others or ends on a free edge reach
-further with their edge waves (:data:`solver.problems.MEETING_END_REACH`,
+translates freely in 3D). The members of a line that meets others or ends on an edge free in
+its plane (a free edge, or a supported one with ``in_plane = "free"``: the end slides along the
+line) reach further with their edge waves (:data:`solver.problems.MEETING_END_REACH`,
 :data:`solver.problems.FREE_END_REACH`).
 
 By default a line stays held only where its ends are a plane of symmetry for part of the
@@ -92,11 +93,14 @@ def _end_edges(joint: JunctionJoint) -> Iterator[EdgeId]:
         yield from _neighbours(side)
 
 
-def free_ends(joint: JunctionJoint, conditions: Mapping[EdgeId, str]) -> list[EdgeId]:
-    """The edges at the line's ends that are free (``conditions``: every edge's, as
-    :meth:`assembly.Case.edge_conditions` gives them): where nothing holds the line's end
-    (module notes)."""
-    return [edge for edge in _end_edges(joint) if conditions[edge] == "free"]
+def free_ends(joint: JunctionJoint, conditions: Mapping[EdgeId, str],
+              supports: Mapping[EdgeId, tuple[str, str]]) -> list[EdgeId]:
+    """The edges at the line's ends that leave it free to slide: free edges (``conditions``:
+    every edge's, as :meth:`assembly.Case.edge_conditions` gives them) and supported edges
+    free in their plane (``supports`` as for :func:`singular_ends`: ``in_plane = "free"``),
+    module notes."""
+    return [edge for edge in _end_edges(joint)
+            if conditions[edge] == "free" or supports.get(edge, ("", ""))[1] == "free"]
 
 
 def member_directions(joint: Any, plates: Mapping[str, Any]) -> tuple[int, ...]:

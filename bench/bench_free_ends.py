@@ -13,10 +13,15 @@ free, 1 N on the first leg).
   1 kHz against ``tests/data/fem_fold_free_ends.npz``, worst plate's error of ``w``, the error
   estimate over it on every plate and the time, by resolution: with the reach growing (the
   rule), fixed at three times with the line's Legendre count following it (as on 2026-11-27),
-  and with the count stopped at the usual reach too (until then); about five minutes.
+  and with the count stopped at the usual reach too (until then); about five minutes;
+* **sliding ends** (``--sliding-ends``): the same with the fold's ends simply supported and free
+  in plane (``tests/test_free_ends.sliding_fold``) against
+  ``tests/data/fem_fold_sliding_ends.npz``, the members reaching as at a free end (the rule)
+  and as elsewhere (until 2026-11-28); the error and estimate of ``(u, v)`` too; about two
+  minutes.
 
-Run: ``OPENBLAS_NUM_THREADS=1 python bench/bench_free_ends.py [--quick | --finite-elements]``
-(about two minutes; ``--quick`` stops at 1 kHz).
+Run: ``OPENBLAS_NUM_THREADS=1 python bench/bench_free_ends.py [--quick | --finite-elements |
+--sliding-ends]`` (about two minutes; ``--quick`` stops at 1 kHz).
 """
 
 from __future__ import annotations
@@ -33,7 +38,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path[:0] = [str(ROOT), str(ROOT / "tests")]
 
 from support import inner_grid  # noqa: E402
-from test_free_ends import LY, PLATES, _bracket  # noqa: E402
+from test_free_ends import LY, PLATES, _bracket, sliding_fold  # noqa: E402
 
 import solver.layout  # noqa: E402
 import solver.problems  # noqa: E402
@@ -70,16 +75,22 @@ FINITE_ELEMENT_RUNS = {300.0: (1.0, 1.5, 2.25, 3.375, 5.0), 1000.0: (1.0, 1.5, 2
 """Per frequency of the finite-element reference, the resolutions compared."""
 
 
-def fold_errors(frequency: float, resolution: float, reference: dict
-                ) -> tuple[float, float | None, float | None, float]:
-    """The rigid bracket at ``frequency`` against the finite elements: the worst plate's error
-    of ``w``, the estimate over it on every plate (smallest and largest; None where the
-    estimate was not made) and the seconds of the solve with its estimate."""
-    suffix = "" if frequency == 300.0 else f"_{frequency:g}"
+def rigid_bracket(frequency: float, resolution: float) -> dict:
+    """The bracket with a rigid line, the finite elements' (``fem_fold_free_ends.npz``)."""
     description = _bracket(frequency, resolution)
     description["joints"]["F"] = description["joints"]["F"] | {
         "log10_stiffness": {"A": float("inf"), "B": float("inf")}}
     del description["joints"]["F"]["loss_factor"]
+    return description
+
+
+def fold_errors(description: dict, frequency: float, reference: dict, in_plane: bool = False
+                ) -> tuple[float, float | None, float | None, float]:
+    """A fold ``description`` at ``frequency`` against the finite elements ``reference``: the
+    worst plate's error of ``w`` (of ``(u, v)`` if ``in_plane``), the estimate over it on
+    every plate (smallest and largest; None where the estimate was not made) and the seconds
+    of the solve with its estimate."""
+    suffix = "" if frequency == 300.0 else f"_{frequency:g}"
     case = parse_case(description)
     start = time.perf_counter()
     solution = solve_assembly(case, frequency)
@@ -87,12 +98,15 @@ def fold_errors(frequency: float, resolution: float, reference: dict
     seconds = time.perf_counter() - start
     errors = {}
     for name, (length, *_) in PLATES.items():
-        w = solution.plates[name].field(inner_grid(length, LY))["w"]
-        exact = reference[f"w_{name}{suffix}"]
-        errors[name] = float(np.linalg.norm(w - exact) / np.linalg.norm(exact))
+        points = inner_grid(length, LY)
+        field = (solution.in_plane(name, points) if in_plane
+                 else solution.plates[name].field(points)["w"])
+        exact = reference[f"{'uv' if in_plane else 'w'}_{name}{suffix}"]
+        errors[name] = float(np.linalg.norm(field - exact) / np.linalg.norm(exact))
     if estimate.total is None:  # its enriched solve beyond the estimate's time limit
         return max(errors.values()), None, None, seconds
-    ratios = [estimate.plates[name] / errors[name] for name in PLATES]
+    estimates = estimate.in_plane if in_plane else estimate.plates
+    ratios = [estimates[name] / errors[name] for name in PLATES]
     return max(errors.values()), min(ratios), max(ratios), seconds
 
 
@@ -114,7 +128,8 @@ def finite_elements() -> None:
             solver.problems.REACH_GROWTH_FROM = start
             solver.layout.answered_wavenumber = answered
             for resolution in resolutions:
-                error, low, high, seconds = fold_errors(frequency, resolution, reference)
+                error, low, high, seconds = fold_errors(rigid_bracket(frequency, resolution),
+                                                        frequency, reference)
                 ratios = "not estimated" if low is None else f"{low:.2f} to {high:.2f}"
                 print(f"  {frequency:6.0f} Hz  {label:13s} {resolution:5.3g}: {error:.1e}; "
                       f"{ratios}; {seconds:.1f} s", flush=True)
@@ -122,13 +137,41 @@ def finite_elements() -> None:
     solver.layout.answered_wavenumber = following
 
 
+SLIDING_RUNS = {300.0: (1.0, 1.5, 2.25, 3.375, 5.0), 1000.0: (1.0, 1.5, 2.25, 3.375)}
+"""Per frequency of the sliding-ends reference, the resolutions compared."""
+
+
+def sliding_ends() -> None:
+    """The rigid fold with sliding ends against the finite elements, by resolution: its
+    members reaching as at a free end (:func:`solver.problems.free_end_plates`, as today) and
+    as elsewhere (until 2026-11-28)."""
+    reference = np.load(ROOT / "tests" / "data" / "fem_fold_sliding_ends.npz")
+    print("sliding ends against finite elements (rigid line): worst plate's error of w, then "
+          "of (u, v); estimate / error over the plates; seconds of the solve and its estimate")
+    rule = solver.problems.free_end_plates
+    for frequency, resolutions in SLIDING_RUNS.items():
+        for label, members in (("as a free end", rule), ("usual reach", lambda case: frozenset())):
+            solver.problems.free_end_plates = members
+            for resolution in resolutions:
+                description = sliding_fold(frequency, resolution)
+                w, low, high, seconds = fold_errors(description, frequency, reference)
+                uv, uv_low, uv_high, _ = fold_errors(description, frequency, reference, True)
+                print(f"  {frequency:6.0f} Hz  {label:13s} {resolution:5.3g}: w {w:.1e} "
+                      f"({low:.2f} to {high:.2f}); (u, v) {uv:.1e} ({uv_low:.2f} to "
+                      f"{uv_high:.2f}); {seconds:.1f} s", flush=True)
+    solver.problems.free_end_plates = rule
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true")
     parser.add_argument("--finite-elements", action="store_true")
+    parser.add_argument("--sliding-ends", action="store_true")
     args = parser.parse_args()
     if args.finite_elements:
         return finite_elements()
+    if args.sliding_ends:
+        return sliding_ends()
     frequencies = (300.0, 1000.0) if args.quick else (300.0, 1000.0, 3000.0)
     print("refinement: worst plate's change of w ; (u, v) between resolutions 1.5 and 2.25")
     for frequency in frequencies:

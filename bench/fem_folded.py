@@ -106,7 +106,10 @@ symmetric ends but not for roller ends; or 'symmetric_diaphragm' (``w_y = 0`` wi
 diaphragm's in-plane condition, another mix of the halves of a plane of symmetry than
 'roller'; not in :func:`main`'s self-checks: level 4 to 6 changes ``w`` by 6e-9 to 3e-7) or
 'symmetric_fixed' (``w_y = 0`` with ``u = v = 0``, the third such mix; level 4 to 6
-changes ``w`` by 6e-9 to 2.9e-7 and ``(u, v)`` by 2.8e-7 to 1.4e-5).
+changes ``w`` by 6e-9 to 2.9e-7 and ``(u, v)`` by 2.8e-7 to 1.4e-5). Two more leave the
+line's ends unheld along it: 'free' (nothing fixed: free corners) and 'sliding' (simply
+supported in bending, nothing fixed in plane: vtcr's ``in_plane = "free"``), the references
+of ``tests/test_free_ends.py`` (:func:`write_ends_data`).
 
 Self-checks
 -----------
@@ -171,7 +174,8 @@ ENDS = {"diaphragm": (["u", "u_x", "u_xx"], "u"),
         "symmetric": (["u_y", "u_xy", "u_n"], "v"),
         "symmetric_diaphragm": (["u_y", "u_xy", "u_n"], "u"),
         "symmetric_fixed": (["u_y", "u_xy", "u_n"], "uv"),
-        "free": ([], "")}  # nothing fixed: the line's ends are free corners
+        "free": ([], ""),  # nothing fixed: the line's ends are free corners
+        "sliding": (["u", "u_x", "u_xx"], "")}  # simply supported, free in plane
 SELF_CHECKED_ENDS = ("diaphragm", "roller", "symmetric")
 OUT = Path("/tmp/fem_folded")
 
@@ -853,20 +857,22 @@ def write_test_data(mixed_level: int = 6) -> None:
     print(f"wrote {TEST_DATA}")
 
 
-FREE_ENDS_DATA = ROOT / "tests" / "data" / "fem_fold_free_ends.npz"
+ENDS_DATA = {"free": ROOT / "tests" / "data" / "fem_fold_free_ends.npz",
+             "sliding": ROOT / "tests" / "data" / "fem_fold_sliding_ends.npz"}
 FREE_ENDS_FREQUENCIES = (300.0, 1000.0)
 
 
-def write_free_ends_data(levels: tuple[int, int] = (4, 6)) -> None:
-    """The L fold with free ends (``free``: nothing fixed on ``y = 0, LY``, so the fold line's
-    ends are free corners) at :data:`FREE_ENDS_FREQUENCIES`, the reference of
-    ``tests/test_free_ends.py`` and ``bench/bench_free_ends.py``: at 300 Hz ``w_A``, ``w_B``,
-    ``uv_A``, ``uv_B`` at the finer level, and ``change``, the relative L2 change of ``w_A``,
-    ``w_B``, ``uv_A``, ``uv_B`` from the coarser; at 1 kHz the same keys ending ``_1000``
-    (about four minutes)."""
+def write_ends_data(ends: str, levels: tuple[int, int] = (4, 6)) -> None:
+    """The L fold whose line's ends nothing holds along it (``ends``: 'free', nothing fixed
+    on ``y = 0, LY``, so the fold line's ends are free corners; or 'sliding', simply supported
+    and free in plane) at :data:`FREE_ENDS_FREQUENCIES`, into ``ENDS_DATA[ends]``, the
+    references of ``tests/test_free_ends.py`` and ``bench/bench_free_ends.py``: at 300 Hz
+    ``w_A``, ``w_B``, ``uv_A``, ``uv_B`` at the finer level, and ``change``, the relative L2
+    change of ``w_A``, ``w_B``, ``uv_A``, ``uv_B`` from the coarser; at 1 kHz the same keys
+    ending ``_1000`` (about four minutes each)."""
     packed = {}
     for frequency in FREE_ENDS_FREQUENCIES:
-        coarse, fine = (folded_fields(frequency, "free", n) for n in levels)
+        coarse, fine = (folded_fields(frequency, ends, n) for n in levels)
         change = [relative(fine[0][p], coarse[0][p]) for p in LENGTHS]
         change += [relative(fine[1][p], coarse[1][p]) for p in LENGTHS]
         suffix = "" if frequency == FREE_ENDS_FREQUENCIES[0] else f"_{frequency:g}"
@@ -876,14 +882,16 @@ def write_free_ends_data(levels: tuple[int, int] = (4, 6)) -> None:
         packed[f"change{suffix}"] = np.array(change)
         print(f"{frequency:g} Hz: changes from level {levels[0]} "
               + ", ".join(f"{c:.1e}" for c in change))
-    np.savez_compressed(FREE_ENDS_DATA, **packed)
-    print(f"wrote {FREE_ENDS_DATA}")
+    np.savez_compressed(ENDS_DATA[ends], **packed)
+    print(f"wrote {ENDS_DATA[ends]}")
 
 
 if __name__ == "__main__":
     if sys.argv[1:] == ["--test-data"]:
         write_test_data()
     elif sys.argv[1:] == ["--free-ends"]:
-        write_free_ends_data()
+        write_ends_data("free")
+    elif sys.argv[1:] == ["--sliding-ends"]:
+        write_ends_data("sliding")
     else:
         main([int(n) for n in sys.argv[1:]] or LEVELS)

@@ -170,7 +170,14 @@ it the reach grows with the resolution (:func:`edge_reach`). The bracket of
 resolutions 2.25 and 3.375 at 300 Hz, 1 kHz and 3 kHz (with the line's count stopped at
 resolution 5/3, as then): w 2.4e-4, 4.9e-4, 1.8e-4 and (u, v) 1.7e-3, 9.9e-3, 1.3e-3 with the
 usual reach; 2.7e-6, 4.7e-6, 1.3e-5 and 8.6e-5, 3.1e-4, 8.9e-5 with three times. The solve
-costs 4.8 to 12.8 times more."""
+costs 4.8 to 12.8 times more.
+
+The same where the end's edges are supported but free in plane (``in_plane = "free"``: the
+end slides along the line; :func:`free_end_plates`). The rigid L fold with such ends against
+independent finite elements (``bench/bench_free_ends.py --sliding-ends``), worst plate's
+``w`` at resolutions 1.5, 2.25, 3.375: 2.4e-4, 2.3e-4, 3.0e-4 with the usual reach (1 kHz:
+9.4e-3, 1.1e-2, 1.2e-2), 1.2e-4, 4.9e-5, 8.4e-6 with this one (1 kHz: 1.8e-4, 7.4e-5,
+3.1e-5)."""
 
 REACH_GROWTH_FROM = 1.5
 r"""The resolution from which the reach of the members of a line with a free end, or meeting
@@ -201,13 +208,13 @@ changed by 6.2e-3, 2.3e-3, 9.4e-4 and 3.9e-6 from resolution 1.5 to 2.25, 3.375,
 
 
 def free_end_plates(case: Case) -> frozenset[str]:
-    """The members of the moving lines with an end on a free edge
-    (:func:`assembly.lines.free_ends`)."""
+    """The members of the moving lines with an end on an edge free in its plane: a free edge,
+    or a supported one with ``in_plane = "free"`` (:func:`assembly.lines.free_ends`)."""
     moving = case.moving_lines()
     if not moving:
         return frozenset()
-    conditions = case.edge_conditions()
-    return frozenset(plate for jid in moving if free_ends(case.joints[jid], conditions)
+    conditions, supports = case.edge_conditions(), given_supports(case.boundaries)
+    return frozenset(plate for jid in moving if free_ends(case.joints[jid], conditions, supports)
                      for plate in case.joints[jid].plates)
 
 
