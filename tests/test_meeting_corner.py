@@ -1,0 +1,133 @@
+"""Three moving lines that meet at one point (``docs/method.md`` sections 6.4 and 10.4), against
+independent finite elements: the trihedral corner of a box.
+
+Three 2 mm steel plates on the faces of the positive octant, joined by rigid folds along the
+three axes, which meet at the origin: A (0.4 x 0.3 m) in the plane Z = 0, B (0.4 x 0.25 m) in
+Y = 0, C (0.3 x 0.25 m) in X = 0, each framed with its normal outward, as the faces of
+``cases/box_with_wall.toml`` are. Their other edges are simply supported and fixed in plane;
+1 N on A. The corner where the lines meet translates in 3D as one body, and the members of
+lines that meet reach further with their edge waves
+(:data:`solver.problems.MEETING_END_REACH`, growing with the resolution from
+:data:`solver.problems.REACH_GROWTH_FROM`).
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+from support import MATERIAL, inner_grid
+
+from assembly import parse_case
+from solver.estimate import estimate_error
+from solver.problems import meeting_end_plates
+from solver.substructure import solve_assembly
+
+PLATES = {  # size, frame origin, x axis, y axis (the normal x axis ^ y axis points outward)
+    "A": ((0.4, 0.3), (0.0, 0.3, 0.0), (1.0, 0.0, 0.0), (0.0, -1.0, 0.0)),
+    "B": ((0.4, 0.25), (0.0, 0.0, 0.0), (1.0, 0.0, 0.0), (0.0, 0.0, 1.0)),
+    "C": ((0.3, 0.25), (0.0, 0.3, 0.0), (0.0, -1.0, 0.0), (0.0, 0.0, 1.0)),
+}
+FOLDS = {"AB": ("A.top", "B.bottom"), "AC": ("A.left", "C.bottom"), "BC": ("B.left", "C.right")}
+"""The three folds, along X, Y and Z, meeting at the origin (A's (0, 0.3), B's (0, 0), C's
+(0.3, 0))."""
+ON_A, ON_C = ("A", (0.17, 0.13)), ("C", (0.11, 0.09))
+
+FINITE_ELEMENTS = Path(__file__).parent / "data" / "fem_corner.npz"
+"""``w`` and ``(u, v)`` of the corner at 300 Hz and 1 kHz (keys ``w_A_300``, ``uv_C_1000``,
+...) on each plate's :func:`support.inner_grid`, by the independent finite elements of
+``bench/fem_corner.py`` (Argyris and P5 triangles, conforming on the three folds, level 8;
+``python bench/fem_corner.py --write``): ``w`` within about 3e-8 (300 Hz) and 6e-8 (1 kHz),
+``(u, v)`` within a few 1e-6, from the changes between levels 4, 6 and 8."""
+
+
+def corner(frequency: float, resolution: float = 1.5,
+           load: tuple[str, tuple[float, float]] = ON_A) -> dict:
+    """The corner's description: rigid folds, far edges simply supported (fixed in plane),
+    1 N at ``load``."""
+    joined = {edge for pair in FOLDS.values() for edge in pair}
+    return {
+        "name": "corner",
+        "frequency": frequency,
+        "materials": {"steel": MATERIAL},
+        "plates": {name: {"material": "steel", "thickness": 0.002, "size": list(size),
+                          "frame": {"origin": list(origin), "x_axis": list(x_axis),
+                                    "y_axis": list(y_axis)}}
+                   for name, (size, origin, x_axis, y_axis) in PLATES.items()},
+        "joints": {jid: {"kind": "junction", "between": list(pair),
+                         "log10_stiffness": {pair[0][0]: math.inf, pair[1][0]: math.inf}}
+                   for jid, pair in FOLDS.items()},
+        "boundaries": [{"edge": f"{name}.{edge}", "condition": "simply_supported"}
+                       for name in PLATES for edge in ("left", "right", "bottom", "top")
+                       if f"{name}.{edge}" not in joined],
+        "discretisation": {"resolution": resolution},
+        "loads": [{"kind": "point_force", "plate": load[0], "at": list(load[1]),
+                   "amplitude": 1.0}],
+    }
+
+
+def test_the_three_lines_move_and_meet():
+    """Every fold moves by default and meets the other two at the origin."""
+    case = parse_case(corner(300.0))
+    assert case.moving_lines() == ("AB", "AC", "BC")
+    assert meeting_end_plates(case) == {"A", "B", "C"}
+
+
+def test_reciprocity_across_the_corner():
+    """A unit force on A gives at a point of C what a unit force there gives on A. Measured at
+    resolution 1.5: 2e-7 (the discretisation); tolerance 1e-5."""
+    def response(source, target):
+        case = parse_case(corner(300.0, load=source))
+        return solve_assembly(case, 300.0, residuals=False).w(target[0], np.array([target[1]]))[0]
+
+    there, back = response(ON_A, ON_C), response(ON_C, ON_A)
+    assert abs(there - back) < 1e-5 * abs(there)
+
+
+def _errors(frequency: float, resolution: float) -> dict[str, tuple[float, float, float, float]]:
+    """Per plate, the errors of ``w`` and ``(u, v)`` against :data:`FINITE_ELEMENTS` and their
+    estimates."""
+    reference = np.load(FINITE_ELEMENTS)
+    case = parse_case(corner(frequency, resolution))
+    solution = solve_assembly(case, frequency)
+    estimate = estimate_error(case, solution)
+    out = {}
+    for name, (size, *_) in PLATES.items():
+        points = inner_grid(*size)
+        w, uv = solution.plates[name].field(points)["w"], solution.in_plane(name, points)
+        w_ref, uv_ref = (reference[f"{key}_{name}_{frequency:g}"] for key in ("w", "uv"))
+        out[name] = (float(np.linalg.norm(w - w_ref) / np.linalg.norm(w_ref)),
+                     estimate.plates[name],
+                     float(np.linalg.norm(uv - uv_ref) / np.linalg.norm(uv_ref)),
+                     estimate.in_plane[name])
+    return out
+
+
+def test_the_corner_meets_independent_finite_elements():
+    """Against :data:`FINITE_ELEMENTS`, worst plate: ``w`` 3.1e-4, 4.7e-5, 8.2e-6, 1.6e-6 at
+    resolutions 1, 1.5, 2.25, 3.375 (300 Hz) and 1.2e-4, 1.4e-5 at 1, 1.5 (1 kHz); ``(u, v)``
+    7.4e-3, 1.8e-3, 4.8e-4, 7.3e-5 and 2.2e-4, 4.4e-5; the estimates 0.84 to 1.39 times the
+    errors of ``w`` and 0.70 to 1.74 of ``(u, v)`` (``bench/bench_corner.py``). Checked at
+    300 Hz and resolution 2.25 and at 1 kHz and 1.5, with bounds about twice the measured
+    errors and the issue's [0.5, 3] for the estimates."""
+    bounds = {(300.0, 2.25): (2e-5, 1e-3), (1000.0, 1.5): (3e-5, 1e-4)}
+    for (frequency, resolution), (w_bound, uv_bound) in bounds.items():
+        for plate, (w, w_estimate, uv, uv_estimate) in _errors(frequency, resolution).items():
+            assert w < w_bound and uv < uv_bound, (frequency, plate, w, uv)
+            assert 0.5 < w_estimate / w < 3.0 and 0.5 < uv_estimate / uv < 3.0, \
+                (frequency, plate, w_estimate / w, uv_estimate / uv)
+
+
+def test_with_the_usual_reach_the_corner_stalls(monkeypatch):
+    """The members of lines that meet reach further (three times, growing with the resolution
+    from 1.5): with the usual reach the corner stalls, ``w`` 4.1e-4, 5.9e-4, 2.1e-4 off the
+    finite elements at resolutions 1.5, 2.25, 3.375 (300 Hz, worst plate; 8.2e-6 at 2.25 with
+    the rule); with three times the reach fixed, as until 2026-11-27, it converged to 2.25
+    (the rule's figures) and stalled at 5.4e-6 at 3.375, the estimate 6 to 42 times the
+    error (1.6e-6 with the rule, the estimate 1.0 to 1.4 times). Threshold: 3e-4 at 2.25."""
+    import solver.problems
+
+    monkeypatch.setattr(solver.problems, "MEETING_END_REACH", 1.0)
+    monkeypatch.setattr(solver.problems, "REACH_GROWTH_FROM", math.inf)
+    assert max(w for w, *_ in _errors(300.0, 2.25).values()) > 3e-4
