@@ -12,7 +12,11 @@ with its estimate, for three reaches of the members' edge waves:
 * **fixed**: three times, not growing (2026-11-27, before 0052e57);
 * **usual**: the members reach as elsewhere.
 
-Run: ``OPENBLAS_NUM_THREADS=1 python bench/bench_corner.py`` (about four minutes).
+With ``--floating``, the corner with every supported edge free in plane against
+``tests/data/fem_corner_floating.npz``, at 300 Hz, with the rule, to resolution 7.5.
+
+Run: ``OPENBLAS_NUM_THREADS=1 python bench/bench_corner.py [--floating]`` (about six minutes;
+one with ``--floating``).
 """
 
 from __future__ import annotations
@@ -28,7 +32,12 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path[:0] = [str(ROOT), str(ROOT / "tests")]
 
 from support import inner_grid  # noqa: E402
-from test_meeting_corner import FINITE_ELEMENTS, PLATES, corner  # noqa: E402
+from test_meeting_corner import (  # noqa: E402
+    FINITE_ELEMENTS,
+    FLOATING_FINITE_ELEMENTS,
+    PLATES,
+    corner,
+)
 
 import solver.problems  # noqa: E402
 from assembly import parse_case  # noqa: E402
@@ -39,11 +48,12 @@ REACHES = {"rule": (solver.problems.MEETING_END_REACH, solver.problems.REACH_GRO
            "fixed": (solver.problems.MEETING_END_REACH, math.inf),
            "usual": (1.0, math.inf)}
 RUNS = {300.0: (1.0, 1.5, 2.25, 3.375, 5.0), 1000.0: (1.0, 1.5, 2.25, 3.375)}
+FLOATING_RUNS = {300.0: (1.0, 1.5, 2.25, 3.375, 5.0, 7.5)}
 
 
-def errors(frequency: float, resolution: float, reference) -> tuple:
+def errors(frequency: float, resolution: float, reference, floating: bool = False) -> tuple:
     """``((w error, lowest and highest estimate ratio), (the same of (u, v)), seconds)``."""
-    case = parse_case(corner(frequency, resolution))
+    case = parse_case(corner(frequency, resolution, floating=floating))
     start = time.perf_counter()
     solution = solve_assembly(case, frequency)
     estimate = estimate_error(case, solution)
@@ -64,15 +74,18 @@ def errors(frequency: float, resolution: float, reference) -> tuple:
 
 
 def main() -> None:
-    reference = np.load(FINITE_ELEMENTS)
-    print("trihedral corner against finite elements: worst plate's error of w, then of (u, v), "
-          "(estimate / error over the plates); seconds of the solve and its estimate")
-    for frequency, resolutions in RUNS.items():
-        for label, (reach, growth) in REACHES.items():
+    floating = sys.argv[1:] == ["--floating"]
+    reference = np.load(FLOATING_FINITE_ELEMENTS if floating else FINITE_ELEMENTS)
+    print(f"{'floating ' if floating else ''}trihedral corner against finite elements: worst "
+          "plate's error of w, then of (u, v), (estimate / error over the plates); seconds of "
+          "the solve and its estimate")
+    reaches = {"rule": REACHES["rule"]} if floating else REACHES
+    for frequency, resolutions in (FLOATING_RUNS if floating else RUNS).items():
+        for label, (reach, growth) in reaches.items():
             solver.problems.MEETING_END_REACH, solver.problems.REACH_GROWTH_FROM = reach, growth
             for resolution in resolutions:
                 (w, w_low, w_high), (uv, uv_low, uv_high), seconds = errors(
-                    frequency, resolution, reference)
+                    frequency, resolution, reference, floating)
                 print(f"  {frequency:6.0f} Hz  {label:5s} {resolution:5.3g}: w {w:.1e} "
                       f"({w_low:.2f} to {w_high:.2f}); (u, v) {uv:.1e} ({uv_low:.2f} to "
                       f"{uv_high:.2f}); {seconds:.1f} s", flush=True)

@@ -144,6 +144,37 @@ from the previous level on the 225 points of a plate, A / B / C):
   ``fem_folded``'s double-precision refinement, the same ``T``), error against the exact prismatic
   solution 7.2e-8 / 4.8e-8 (300 Hz), 3.3e-6 / 5.0e-6 (1 kHz) in ``w``, as ``fem_folded``'s
   docstring; rigid motions as above. (75 s.)
+
+The floating corner
+-------------------
+:data:`FLOATING`: the same corner with every simply supported edge free in plane (``w = 0``
+there, ``u``, ``v`` free: traction-free, the natural condition); each plate is held in its
+plane only by the other plates' bending at the folds. ``OPENBLAS_NUM_THREADS=1 python
+bench/fem_corner.py --write-floating`` (levels 4 6 8, 300 Hz, 9 minutes on one core, 11.5 GB;
+``--floating 4 6`` prints the tables only, ``--1khz`` adds 1 kHz) writes
+``tests/data/fem_corner_floating.npz`` (level 8: ``w_{A,B,C}_300``, ``uv_{A,B,C}_300``,
+``change_300``, as above). Measured (A / B / C):
+
+* ``w``: 4 -> 6 3.2e-7 / 5.3e-7 / 3.5e-7, 6 -> 8 2.4e-7 / 3.8e-7 / 2.5e-7 (4 -> 8: 9.0e-8 /
+  2.0e-7 / 1.0e-7); ``(u, v)``: 4 -> 6 1.2e-5 / 9.8e-6 / 7.6e-6, 6 -> 8 6.9e-6 / 7.3e-6 /
+  5.8e-6 (4 -> 8: 5.1e-6 / 2.5e-6 / 2.1e-6); the differences are smooth over each plate
+  (median point 1/3 to 2/3 of the largest). They are round-off, not discretisation: a random
+  relative change of 2.2e-16 of the entries of ``K`` moves the level-4 solution by 1.4e-7 /
+  2.1e-7 / 1.4e-7 in ``w`` and 6.7e-6 / 4.3e-6 / 3.6e-6 in ``(u, v)`` (the fixed corner:
+  <= 1e-8 and ~1e-6), the in-plane near-mechanism held only by bending making the system far
+  worse conditioned. So the written fields are good to ~3e-7 in ``w`` and ~1e-5 in ``(u, v)``;
+* the in-plane motion is ~100 times the fixed corner's (relative difference of ``(u, v)``
+  from it 1.1e2 / 8.1e1 / 3.7e1), ``w`` differs by 3.4e-2 / 4.6e-2 / 2.9e-2;
+* reciprocity 9.8e-9 / 8.5e-9 / 1.0e-8 (levels 4 / 6 / 8); the natural condition: the
+  largest in-plane traction on the free edges, relative to the largest membrane force inside,
+  1.5e-4 / 4.5e-5 / 1.3e-5;
+* ties and supports: ``max |C T|`` = 2.0e-15, fold lines to 3e-13 (``U``) and 7e-11
+  (``theta``), junction cluster 15 rows, 18 dofs, rank 12, no free dof forced to zero; at the
+  far ends of the folds (two supported edges and a fold on the same vertex) the normal
+  in-plane dofs of both plates are zero (equal to the other plate's ``w = 0``), the tangential
+  one free and tied, ``w_,b`` of both zero (each plate's derivative along its own supported
+  edge), ``w_,xy`` free and tied (printed per level); rigid motions as the fixed
+  corner (ties <= 2e-14, range <= 1e-15, stiffness <= 2e-16).
 """
 
 from __future__ import annotations
@@ -151,16 +182,15 @@ from __future__ import annotations
 import math
 import sys
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
-from scipy.sparse import block_diag, bmat, coo_matrix, csr_matrix, diags
+from scipy.sparse import block_diag, coo_matrix, csr_matrix, diags
 from scipy.sparse.linalg import splu
-from skfem import Basis, MeshTri, asm
+from skfem import Basis, MeshTri
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))  # fem_clamped imports fem_argyris
-from fem_argyris import mass_form
 from fem_clamped import PlateFE
 from fem_folded import (
     A_STAR,
@@ -168,11 +198,9 @@ from fem_folded import (
     HERMITE,
     RHO_H,
     ElementTriP5,
-    _membrane_uu,
-    _membrane_vu,
-    _membrane_vv,
     graded_mesh,
     inner_grid,
+    membrane_matrices,
     p5_probes,
     relative,
     richardson,
@@ -181,7 +209,9 @@ from fem_folded import (
 ROOT = Path(__file__).resolve().parents[1]
 OUT = Path("/tmp/fem_corner")
 TEST_DATA = ROOT / "tests" / "data" / "fem_corner.npz"
+FLOATING_DATA = ROOT / "tests" / "data" / "fem_corner_floating.npz"
 FREQUENCIES = (300.0, 1000.0)
+FLOATING_FREQUENCIES = (300.0,)
 LEVELS = (4, 6, 8)
 TOL = 1e-12  # coordinates closer than this are the same point
 H_CORNER, H_LOAD = 1e-6, 1e-3  # grading floors (fem_folded.MeshLevel.of)
@@ -247,6 +277,17 @@ CORNER = Structure(
            ("AC", ("A", "left"), ("C", "bottom")),
            ("BC", ("B", "left"), ("C", "right"))),
     loads={"main": ("A", 0.17, 0.13), "recip": ("C", 0.11, 0.09)})
+
+
+def floating(structure: Structure) -> Structure:
+    """``structure`` with every simply supported edge free in plane (``w = 0`` and its
+    tangential derivatives only; ``u``, ``v`` free: traction-free, the natural condition)."""
+    return replace(structure, plates={
+        name: replace(spec, supports=dict.fromkeys(spec.supports, ""))
+        for name, spec in structure.plates.items()})
+
+
+FLOATING = floating(CORNER)
 
 # fem_folded's L fold with diaphragm ends (u = 0 on y = 0, 0.5), load (0.15, 0.2) on A
 L_FOLD = Structure(
@@ -439,12 +480,7 @@ class CornerPlate:
         self.spec, self.mesh = spec, mesh
         self.bending = PlateFE(None, None, 0.3, mesh=mesh)
         self.membrane = Basis(mesh, ElementTriP5(), intorder=10)
-        uu = asm(_membrane_uu, self.membrane, nu=0.3)
-        vv = asm(_membrane_vv, self.membrane, nu=0.3)
-        vu = asm(_membrane_vu, self.membrane, nu=0.3)
-        self.K_membrane = bmat([[uu, vu], [vu.T, vv]]).tocsr()
-        mass = asm(mass_form, self.membrane)
-        self.M_membrane = block_diag([mass, mass]).tocsr()
+        self.K_membrane, self.M_membrane = membrane_matrices(self.membrane, 0.3)
         self.n_w, self.n_m = self.bending.N, self.membrane.N
         self.size = self.n_w + 2 * self.n_m
 
@@ -533,6 +569,21 @@ class CornerPlate:
         out["u"] = probe @ x[self.comp(0):self.comp(1)]
         out["v"] = probe @ x[self.comp(1):]
         return out
+
+    def membrane_forces(self, x: np.ndarray, points: np.ndarray, cells=None) -> np.ndarray:
+        """Unit-rigidity (``A* = 1``) membrane forces ``N_xx, N_yy, N_xy`` (3, n) of the
+        plate's part ``x`` at local ``points`` (n, 2) (plane stress, nu = 0.3)."""
+        basis, pts = self.membrane, points.T
+        if cells is None:
+            cells = self.mesh.element_finder(mapping=basis.mapping)(*pts)
+        X = basis.mapping.invF(pts[:, :, None], tind=cells)
+        grads = np.array([basis.elem.gbasis(basis.mapping, X, k, tind=cells)[0].grad[:, :, 0]
+                          for k in range(basis.Nbfun)])  # (Nbfun, 2, n)
+        dofs = basis.element_dofs[:, cells]  # (Nbfun, n)
+        du = np.einsum("kdn,kn->dn", grads, x[self.comp(0):self.comp(1)][dofs])
+        dv = np.einsum("kdn,kn->dn", grads, x[self.comp(1):][dofs])
+        nu = 0.3
+        return np.array([du[0] + nu * dv[1], dv[1] + nu * du[0], (1 - nu) / 2 * (du[1] + dv[0])])
 
 
 # ---------------------------------------------------------------------------------------------
@@ -823,6 +874,54 @@ class CornerModel:
             w[name], uv[name] = v["w"], np.column_stack([v["u"], v["v"]])
         return w, uv
 
+    def free_edge_traction(self, x: np.ndarray, n: int = 201) -> float:
+        """The natural condition on the supported edges free in plane: the largest in-plane
+        traction ``|(N_nn, N_nt)|`` at ``n`` points of each such edge (ends excluded by 1 %),
+        relative to the largest membrane force on the plates' ``inner_grid`` points (nan if
+        no edge is free in plane)."""
+        worst, scale = 0.0, 0.0
+        found = False
+        for plate, xp in self.parts(x).values():
+            N = plate.membrane_forces(xp, inner_grid(plate.spec.lx, plate.spec.ly))
+            scale = max(scale, float(np.abs(N).max()))
+            for edge, in_plane in plate.spec.supports.items():
+                if in_plane:
+                    continue
+                found = True
+                k, end = EDGES[edge]
+                a = np.linspace(0.01, 0.99, n) * plate.spec.size(1 - k)
+                pts = np.zeros((n, 2))
+                pts[:, k], pts[:, 1 - k] = end * plate.spec.size(k), a
+                N = plate.membrane_forces(xp, pts, plate.edge_cells(edge, a))
+                worst = max(worst, float(np.hypot(np.abs(N[k]), np.abs(N[2])).max()))
+        return worst / scale if found else math.nan
+
+    def far_end_dofs(self) -> dict[str, str]:
+        """At the end of every fold away from the junctions, the dofs of both plates' vertex
+        there: ``{fold: "A: u 1 v 0 w 0 ..."}``, the number of columns of its row of ``T``
+        (0: held at zero by the supports, directly or through a tie)."""
+        nnz = self.T.getnnz(axis=1)
+        out = {}
+        for f in self.folds:
+            _, _, a, o, e = edge_line(self.structure.plates[f.P], f.edge[f.P])
+            ends = [o, o + self.structure.plates[f.P].size(a) * e]
+            far = [X for X in ends if all(np.linalg.norm(X - j) > TOL for j in self.junctions)]
+            text = []
+            for X in far:
+                for name in (f.P, f.Q):
+                    p, off = self.plates[name], self.offsets[name]
+                    local = (X - np.array(p.spec.origin, float)) @ p.spec.axes[:2].T
+                    v = int(np.argmin(np.linalg.norm(p.mesh.p.T - local, axis=1)))
+                    nodal = p.bending.basis.nodal_dofs[:, v]
+                    m = p.membrane.nodal_dofs[0, v]
+                    dofs = {"u": p.comp(0) + m, "v": p.comp(1) + m,
+                            **{"w" + key[1:]: nodal[ROW[key]]
+                               for key in ("u", "u_x", "u_y", "u_xy")}}
+                    text.append(f"{name}: " + " ".join(f"{k} {nnz[off + d]}"
+                                                       for k, d in dofs.items()))
+            out[f.name] = ", ".join(text)
+        return out
+
     def point_w(self, x: np.ndarray, plate: str, xy) -> complex:
         p, xp = self.parts(x)[plate]
         return complex(p.values(xp, np.array([xy], float))["w"][0])
@@ -900,25 +999,30 @@ class LevelRun:
     recip: dict
     rigid: dict | None
     cluster: dict
+    far_ends: dict = field(default_factory=dict)
+    traction: dict = field(default_factory=dict)
 
 
-def run_level(n: int, frequencies=FREQUENCIES, rigid: bool = True) -> LevelRun:
-    """Build the corner at level ``n`` and solve both loads at every frequency."""
-    model = CornerModel(CORNER, n)
+def run_level(n: int, frequencies=FREQUENCIES, rigid: bool = True,
+              structure: Structure = CORNER) -> LevelRun:
+    """Build the corner (``CORNER`` or ``FLOATING``) at level ``n`` and solve both loads at
+    every frequency."""
+    model = CornerModel(structure, n)
     run = LevelRun(n, model.n_dofs, model.n_triangles, model.t_setup, {}, {},
-                   model.tie_residual(), {}, {}, {}, {}, None, {})
+                   model.tie_residual(), {}, {}, {}, {}, None, {}, model.far_end_dofs())
     c = model.reduction.clusters[0]
     run.cluster = {"rows": c["rows"], "dofs": len(c["dofs"]), "rank": c["rank"],
                    "forced": model.reduction.forced}
     if rigid:
         run.rigid = model.rigid_body_check()["modes"]
-    (pa, *xa), (pc, *xc) = CORNER.loads["main"], CORNER.loads["recip"]
+    (pa, *xa), (pc, *xc) = structure.loads["main"], structure.loads["recip"]
     for f in frequencies:
         xs = model.solve(f)
         run.t_solve[f], run.residual[f] = model.t_solve, model.residual
         run.w[f], run.uv[f] = model.fields(xs["main"])
         run.mismatch[f] = {k: model.line_mismatch(x) for k, x in xs.items()}
         run.recip[f] = (model.point_w(xs["main"], pc, xc), model.point_w(xs["recip"], pa, xa))
+        run.traction[f] = model.free_edge_traction(xs["main"])
     print(f"  level {n}: {model.n_triangles} triangles, {model.n_dofs} unknowns, set-up "
           f"{model.t_setup:.0f} s, solves " + ", ".join(f"{t:.0f} s" for t in run.t_solve.values()),
           flush=True)
@@ -968,10 +1072,17 @@ def print_tables(runs: list[LevelRun], frequencies=FREQUENCIES) -> dict:
                             for q in ("U", "theta")} for fold in r.mismatch[f]["main"]}
             print(f"    n = {r.n}: " + ", ".join(f"{fold} {v['U']:.1e} / {v['theta']:.1e}"
                                                   for fold, v in worst.items()))
+        if not math.isnan(runs[0].traction[f]):
+            print("  in-plane traction on the edges free in plane (load on A), max |(N_nn, "
+                  "N_nt)| / max |N| inside: "
+                  + ", ".join(f"n = {r.n} {r.traction[f]:.1e}" for r in runs))
     print("\nties on the columns of T, max |C T|; junction cluster at the origin (rows, dofs, "
           "rank) and free masters forced to 0 by fixed slaves:")
     for r in runs:
         print(f"  n = {r.n}: {r.tie_residual:.1e}; {r.cluster}")
+    print("far ends of the folds: columns of T of the vertex dofs (0: held at zero):")
+    for r in runs:
+        print(f"  n = {r.n}: " + "; ".join(f"{k} {v}" for k, v in r.far_ends.items()))
     print("rigid motions: tie residual, distance from range(T) without supports, |K x| / "
           "||K| |x||:")
     for r in runs:
@@ -1026,37 +1137,49 @@ def lfold_check(n: int = 3, frequencies=FREQUENCIES) -> None:
               + "\n    ".join(row))
 
 
-def write(run: LevelRun, last: dict) -> None:
-    """``tests/data/fem_corner.npz``: ``w_{p}_{f}`` (225,), ``uv_{p}_{f}`` (225, 2) of the
-    finest level and ``change_{f}``: the last level change of ``w`` per plate (A, B, C)."""
+def write(run: LevelRun, last: dict, frequencies=FREQUENCIES, path: Path = TEST_DATA) -> None:
+    """``tests/data/fem_corner.npz`` (or ``path``): ``w_{p}_{f}`` (225,), ``uv_{p}_{f}``
+    (225, 2) of the finest level and ``change_{f}``: the last level change of ``w`` per
+    plate (A, B, C)."""
     packed = {}
-    for f in FREQUENCIES:
+    for f in frequencies:
         for p in CORNER.plates:
             packed[f"w_{p}_{f:g}"] = run.w[f][p]
             packed[f"uv_{p}_{f:g}"] = run.uv[f][p]
         packed[f"change_{f:g}"] = last[f][0]
-    np.savez_compressed(TEST_DATA, **packed)
-    print(f"wrote {TEST_DATA} (level {run.n})")
+    np.savez_compressed(path, **packed)
+    print(f"wrote {path} (level {run.n})")
 
 
 def main(argv) -> None:
+    """Levels (default 4 6 8) of the corner; ``--write``: write ``tests/data/fem_corner.npz``;
+    ``--floating`` (300 Hz; ``--1khz``: 1 kHz too): the floating corner; ``--write-floating``:
+    the floating corner, writing ``tests/data/fem_corner_floating.npz``; ``--lfold``."""
     t0 = time.perf_counter()
+    write_floating = "--write-floating" in argv
+    is_floating = write_floating or "--floating" in argv
     write_npz = "--write" in argv
     lfold = "--lfold" in argv
     levels = sorted(int(a) for a in argv if not a.startswith("--")) or list(LEVELS)
     if lfold:
         lfold_check(levels[0] if argv[1:] else 3)
         return
+    structure, frequencies, tag = CORNER, FREQUENCIES, ""
+    if is_floating:
+        frequencies = FREQUENCIES if "--1khz" in argv else FLOATING_FREQUENCIES
+        structure, tag = FLOATING, "_floating"
     OUT.mkdir(parents=True, exist_ok=True)
     runs = []
     for n in levels:
-        runs.append(run_level(n))
+        runs.append(run_level(n, frequencies, structure=structure))
         r = runs[-1]
-        np.savez(OUT / f"level_{n}.npz", **{f"{k}_{p}_{f:g}": getattr(r, k)[f][p]
-                                             for k in ("w", "uv") for f in FREQUENCIES
-                                             for p in CORNER.plates})
-    last = print_tables(runs)
-    if write_npz:
+        np.savez(OUT / f"level_{n}{tag}.npz", **{f"{k}_{p}_{f:g}": getattr(r, k)[f][p]
+                                                 for k in ("w", "uv") for f in frequencies
+                                                 for p in structure.plates})
+    last = print_tables(runs, frequencies)
+    if write_floating:
+        write(runs[-1], last, frequencies, FLOATING_DATA)
+    elif write_npz:
         write(runs[-1], last)
     print(f"total {time.perf_counter() - t0:.0f} s")
 

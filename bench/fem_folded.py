@@ -258,6 +258,16 @@ def _membrane_vu(u, v, w):
     return w.nu * u.grad[1] * v.grad[0] + 0.5 * (1 - w.nu) * u.grad[0] * v.grad[1]
 
 
+def membrane_matrices(membrane: Basis, nu: float):
+    """``(K, M)`` of the P5 ``membrane`` basis on ``(u, v)``: the plane-stress stiffness of unit
+    ``A*`` (the three forms above) and the mass of unit ``rho h``, both sparse CSR."""
+    uu = asm(_membrane_uu, membrane, nu=nu)
+    vv = asm(_membrane_vv, membrane, nu=nu)
+    vu = asm(_membrane_vu, membrane, nu=nu)
+    mass = asm(mass_form, membrane)
+    return bmat([[uu, vu], [vu.T, vv]]).tocsr(), block_diag([mass, mass]).tocsr()
+
+
 # ---------------------------------------------------------------------------------------------
 # Meshes
 # ---------------------------------------------------------------------------------------------
@@ -351,12 +361,7 @@ class FoldPlate:
         self.mesh, self.length, self.line_x = mesh, length, line_x
         self.bending = PlateFE(None, None, NU, mesh=mesh)
         self.membrane = Basis(mesh, ElementTriP5(), intorder=10)
-        uu = asm(_membrane_uu, self.membrane, nu=NU)
-        vv = asm(_membrane_vv, self.membrane, nu=NU)
-        vu = asm(_membrane_vu, self.membrane, nu=NU)
-        self.K_membrane = bmat([[uu, vu], [vu.T, vv]]).tocsr()
-        mass = asm(mass_form, self.membrane)
-        self.M_membrane = block_diag([mass, mass]).tocsr()
+        self.K_membrane, self.M_membrane = membrane_matrices(self.membrane, NU)
         self.n_w = self.bending.N
         self.n_m = self.membrane.N
         self.size = self.n_w + 2 * self.n_m

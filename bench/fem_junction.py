@@ -150,12 +150,11 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-from scipy.sparse import block_diag, bmat, coo_matrix, diags, hstack
+from scipy.sparse import block_diag, coo_matrix, diags, hstack
 from scipy.sparse.linalg import splu
-from skfem import Basis, MeshTri, asm
+from skfem import Basis, MeshTri
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from fem_argyris import mass_form
 from fem_clamped import PlateFE
 from fem_folded import (
     ETA,
@@ -165,12 +164,10 @@ from fem_folded import (
     SS_X_EDGE,
     E,
     ElementTriP5,
-    _membrane_uu,
-    _membrane_vu,
-    _membrane_vv,
     facet_normal_x,
     field_columns,
     inner_grid,
+    membrane_matrices,
     p5_probes,
     reduction,
     relative_mismatch,
@@ -344,12 +341,7 @@ class JunctionPlate:
         self.rho_h = RHO * h
         self.bending = PlateFE(None, None, NU, mesh=mesh)
         self.membrane = Basis(membrane_mesh, ElementTriP5(), intorder=10)
-        uu = asm(_membrane_uu, self.membrane, nu=NU)
-        vv = asm(_membrane_vv, self.membrane, nu=NU)
-        vu = asm(_membrane_vu, self.membrane, nu=NU)
-        self.K_membrane = bmat([[uu, vu], [vu.T, vv]]).tocsr()
-        mass = asm(mass_form, self.membrane)
-        self.M_membrane = block_diag([mass, mass]).tocsr()
+        self.K_membrane, self.M_membrane = membrane_matrices(self.membrane, NU)
         self.n_w, self.n_m = self.bending.N, self.membrane.N
         self.size = self.n_w + 2 * self.n_m
 
