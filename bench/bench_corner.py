@@ -13,7 +13,9 @@ with its estimate, for three reaches of the members' edge waves:
 * **usual**: the members reach as elsewhere.
 
 With ``--floating``, the corner with every supported edge free in plane against
-``tests/data/fem_corner_floating.npz``, at 300 Hz, with the rule, to resolution 7.5.
+``tests/data/fem_corner_floating.npz``, at 300 Hz, to resolution 7.5: with the rule (its lines'
+far ends slide, so their count has a floor, ``solver.joint_rules.end_layer_count``) and
+without that floor (until 2026-11-28).
 
 Run: ``OPENBLAS_NUM_THREADS=1 python bench/bench_corner.py [--floating]`` (about six minutes;
 one with ``--floating``).
@@ -39,6 +41,7 @@ from test_meeting_corner import (  # noqa: E402
     corner,
 )
 
+import solver.joint_rules  # noqa: E402
 import solver.problems  # noqa: E402
 from assembly import parse_case  # noqa: E402
 from solver.estimate import estimate_error  # noqa: E402
@@ -79,10 +82,13 @@ def main() -> None:
     print(f"{'floating ' if floating else ''}trihedral corner against finite elements: worst "
           "plate's error of w, then of (u, v), (estimate / error over the plates); seconds of "
           "the solve and its estimate")
-    reaches = {"rule": REACHES["rule"]} if floating else REACHES
+    floor = solver.joint_rules.END_LAYER_FROM
+    reaches = ({"rule": (*REACHES["rule"], floor), "no floor": (*REACHES["rule"], math.inf)}
+               if floating else {label: (*reach, floor) for label, reach in REACHES.items()})
     for frequency, resolutions in (FLOATING_RUNS if floating else RUNS).items():
-        for label, (reach, growth) in reaches.items():
+        for label, (reach, growth, floor_from) in reaches.items():
             solver.problems.MEETING_END_REACH, solver.problems.REACH_GROWTH_FROM = reach, growth
+            solver.joint_rules.END_LAYER_FROM = floor_from
             for resolution in resolutions:
                 (w, w_low, w_high), (uv, uv_low, uv_high), seconds = errors(
                     frequency, resolution, reference, floating)
@@ -90,6 +96,7 @@ def main() -> None:
                       f"({w_low:.2f} to {w_high:.2f}); (u, v) {uv:.1e} ({uv_low:.2f} to "
                       f"{uv_high:.2f}); {seconds:.1f} s", flush=True)
     solver.problems.MEETING_END_REACH, solver.problems.REACH_GROWTH_FROM = REACHES["rule"]
+    solver.joint_rules.END_LAYER_FROM = floor
 
 
 if __name__ == "__main__":

@@ -11,14 +11,16 @@ free, 1 N on the first leg).
   its unknowns, with the rule, with the usual reach and held;
 * **finite elements** (``--finite-elements``): the bracket with a rigid line at 300 Hz and
   1 kHz against ``tests/data/fem_fold_free_ends.npz``, worst plate's error of ``w``, the error
-  estimate over it on every plate and the time, by resolution: with the reach growing (the
-  rule), fixed at three times with the line's Legendre count following it (as on 2026-11-27),
-  and with the count stopped at the usual reach too (until then); about five minutes;
+  estimate over it on every plate and the time, by resolution: the rule (the reach growing,
+  the line's count at least ``solver.joint_rules.end_layer_count``), the reach growing without
+  that floor (2026-11-27 evening), the reach fixed at three times with the line's Legendre
+  count following it (earlier that day), and the count stopped at the usual reach too (until
+  then); about seven minutes;
 * **sliding ends** (``--sliding-ends``): the same with the fold's ends simply supported and free
   in plane (``tests/test_free_ends.sliding_fold``) against
-  ``tests/data/fem_fold_sliding_ends.npz``, the members reaching as at a free end (the rule)
-  and as elsewhere (until 2026-11-28); the error and estimate of ``(u, v)`` too; about two
-  minutes.
+  ``tests/data/fem_fold_sliding_ends.npz``: the rule, the members reaching as at a free end
+  without the count's floor, and as elsewhere (until 2026-11-28); the error and estimate of
+  ``(u, v)`` too; about eight minutes.
 
 Run: ``OPENBLAS_NUM_THREADS=1 python bench/bench_free_ends.py [--quick | --finite-elements |
 --sliding-ends]`` (about two minutes; ``--quick`` stops at 1 kHz).
@@ -40,6 +42,7 @@ sys.path[:0] = [str(ROOT), str(ROOT / "tests")]
 from support import inner_grid  # noqa: E402
 from test_free_ends import LY, PLATES, _bracket, sliding_fold  # noqa: E402
 
+import solver.joint_rules  # noqa: E402
 import solver.layout  # noqa: E402
 import solver.problems  # noqa: E402
 from assembly import parse_case  # noqa: E402
@@ -119,22 +122,26 @@ def finite_elements() -> None:
     print("against finite elements (rigid line): worst plate's error of w; estimate / error "
           "over the plates; seconds of the solve and its estimate")
     growing, following = solver.problems.REACH_GROWTH_FROM, solver.layout.answered_wavenumber
-    models = {"reach growing": (growing, following),
-              "reach fixed": (math.inf, following),
+    floor = solver.joint_rules.END_LAYER_FROM
+    models = {"rule": (growing, following, floor),
+              "no floor": (growing, following, math.inf),
+              "reach fixed": (math.inf, following, math.inf),
               "usual count": (math.inf, lambda case, jid, problems, resolution=None:
-                              solver.layout.members_wavenumber(case, jid, problems))}
+                              solver.layout.members_wavenumber(case, jid, problems), math.inf)}
     for frequency, resolutions in FINITE_ELEMENT_RUNS.items():
-        for label, (start, answered) in models.items():
+        for label, (start, answered, floor_from) in models.items():
             solver.problems.REACH_GROWTH_FROM = start
             solver.layout.answered_wavenumber = answered
+            solver.joint_rules.END_LAYER_FROM = floor_from
             for resolution in resolutions:
                 error, low, high, seconds = fold_errors(rigid_bracket(frequency, resolution),
                                                         frequency, reference)
                 ratios = "not estimated" if low is None else f"{low:.2f} to {high:.2f}"
-                print(f"  {frequency:6.0f} Hz  {label:13s} {resolution:5.3g}: {error:.1e}; "
+                print(f"  {frequency:6.0f} Hz  {label:11s} {resolution:5.3g}: {error:.1e}; "
                       f"{ratios}; {seconds:.1f} s", flush=True)
     solver.problems.REACH_GROWTH_FROM = growing
     solver.layout.answered_wavenumber = following
+    solver.joint_rules.END_LAYER_FROM = floor
 
 
 SLIDING_RUNS = {300.0: (1.0, 1.5, 2.25, 3.375, 5.0), 1000.0: (1.0, 1.5, 2.25, 3.375)}
@@ -148,18 +155,22 @@ def sliding_ends() -> None:
     reference = np.load(ROOT / "tests" / "data" / "fem_fold_sliding_ends.npz")
     print("sliding ends against finite elements (rigid line): worst plate's error of w, then "
           "of (u, v); estimate / error over the plates; seconds of the solve and its estimate")
-    rule = solver.problems.free_end_plates
+    rule, floor = solver.problems.free_end_plates, solver.joint_rules.END_LAYER_FROM
+    models = {"rule": (rule, floor), "no floor": (rule, math.inf),
+              "usual reach": (lambda case: frozenset(), math.inf)}
     for frequency, resolutions in SLIDING_RUNS.items():
-        for label, members in (("as a free end", rule), ("usual reach", lambda case: frozenset())):
+        for label, (members, floor_from) in models.items():
             solver.problems.free_end_plates = members
+            solver.joint_rules.END_LAYER_FROM = floor_from
             for resolution in resolutions:
                 description = sliding_fold(frequency, resolution)
                 w, low, high, seconds = fold_errors(description, frequency, reference)
                 uv, uv_low, uv_high, _ = fold_errors(description, frequency, reference, True)
-                print(f"  {frequency:6.0f} Hz  {label:13s} {resolution:5.3g}: w {w:.1e} "
+                print(f"  {frequency:6.0f} Hz  {label:11s} {resolution:5.3g}: w {w:.1e} "
                       f"({low:.2f} to {high:.2f}); (u, v) {uv:.1e} ({uv_low:.2f} to "
                       f"{uv_high:.2f}); {seconds:.1f} s", flush=True)
     solver.problems.free_end_plates = rule
+    solver.joint_rules.END_LAYER_FROM = floor
 
 
 def main() -> None:

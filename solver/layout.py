@@ -21,6 +21,7 @@ from assembly.geometry import EDGE_NAMES, edge_geometry
 from assembly.joints import Joint
 from solver.in_plane import in_plane_edge_conditions, in_plane_plates
 from solver.joint_rules import (
+    end_layer_count,
     extra_load_functions,
     interface_function_count,
     legendre_count_floor,
@@ -30,7 +31,7 @@ from solver.joint_rules import (
 from solver.membrane import MembraneProblem, membrane_edge_rule
 from solver.membrane_basis import MembraneBasis, membrane_edge_traces
 from solver.plate import PlateBoundary, PlateProblem, edge_projection
-from solver.problems import edge_reach, plate_resolution
+from solver.problems import edge_reach, free_end_lines, plate_resolution
 
 __all__ = ["InterfaceLayout", "interface_layout", "answered_wavenumber", "members_wavenumber",
            "plate_loads", "membrane_loads", "plate_sides", "rigid_members", "balancing_member", "member_axes",
@@ -266,22 +267,25 @@ def interface_layout(case: Case, problems: Mapping[str, PlateProblem],
     interface functions follow the finest of its plates, and stop, on a moving line, at the
     largest wavenumber every member's rays answer (:func:`interface_function_count`, with the
     members' own edge reach: :func:`answered_wavenumber`); a moving line with a mixed end has
-    at least :func:`legendre_count_floor` of them.
+    at least :func:`legendre_count_floor` of them, one with an end that slides at least
+    :func:`solver.joint_rules.end_layer_count`.
     """
     counts = {}
     moving = set(case.moving_lines())
+    sliding = free_end_lines(case)
+    tau = case.discretisation.edge_wavenumber_ratio
     for jid, joint in case.joints.items():
         length = case.edge_length(joint.sides[0])
         kappas = [problems[plate].kappa.real for plate in joint.plates]
         joint_scale = max(plate_resolution(case, side.plate, resolution) for side in joint.sides)
         ends = singular_load_ends(case, jid)
+        answered = answered_wavenumber(case, jid, problems, resolution) if jid in moving else None
         counts[jid] = (case.discretisation.interface_functions
-                       or max(interface_function_count(max(kappas), length, joint_scale,
-                                                       case.discretisation.edge_wavenumber_ratio,
-                                                       answered_wavenumber(case, jid, problems,
-                                                                           resolution)
-                                                       if jid in moving else None),
-                              legendre_count_floor(ends))
+                       or max(interface_function_count(max(kappas), length, joint_scale, tau,
+                                                       answered),
+                              legendre_count_floor(ends),
+                              end_layer_count(answered, length, joint_scale, tau)
+                              if jid in sliding else 0)
                        ) + extra_load_functions(ends)
     layout, n_s = _layout(case, counts, moving)
     junctions = _junctions(case, problems)

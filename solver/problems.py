@@ -20,7 +20,7 @@ from solver.rays import RayBasis, RayCounts, WedgeBasis, automatic_ray_counts, b
 __all__ = ["plate_problem", "plate_problems", "plate_ray_counts", "plate_basis", "plate_bases",
            "plate_wedges", "joint_edge_kinds", "SINGULAR_END_REACH", "singular_end_plates",
            "singular_end_corners", "MEETING_END_REACH", "meeting_end_plates", "FREE_END_REACH",
-           "REACH_GROWTH_FROM", "free_end_plates", "edge_reach", "reach_growth"]
+           "REACH_GROWTH_FROM", "free_end_lines", "free_end_plates", "edge_reach", "reach_growth"]
 
 
 def joint_edge_kinds(case: Case) -> dict[tuple[str, str], str]:
@@ -196,7 +196,8 @@ at six times, and no rise to 52. At 1 kHz three times the reach is best at 40 fu
 off at resolution 3.375 and 8.5e-4 at 5. Growing with the resolution, as the count does,
 the reach keeps the loads answered: 5.6e-3, 2.4e-3, 5.3e-4, 4.4e-5, 7.3e-6 at resolutions 1
 to 5 (300 Hz), 2.8e-3, 5.9e-4, 3.8e-5, 7.1e-6 at 1 to 3.375 (1 kHz), the estimate 0.6 to 1.6
-times the error. The edge waves' sectors widen with the reach rather than multiply
+times the error (with the line's count floor since, :func:`solver.joint_rules.end_layer_count`,
+2.5e-4, 1.0e-4, 2.1e-5 at 1.5, 2.25, 3.375 at 300 Hz). The edge waves' sectors widen with the reach rather than multiply
 (:func:`reach_growth`), so the cost grows about as with a fixed reach (300 Hz: 0.4, 1.2, 2.5
 and 7.2 s at resolutions 1.5, 2.25, 3.375 and 5); up to 1.5 nothing changes.
 
@@ -211,15 +212,19 @@ fixed (the last step frozen: the count at its stop, the estimate blind), growing
 2.3e-3, 7.5e-4 and 1.4e-4; the two fields at 7.5 differ by 1.7e-4."""
 
 
-def free_end_plates(case: Case) -> frozenset[str]:
-    """The members of the moving lines with an end on an edge free in its plane: a free edge,
-    or a supported one with ``in_plane = "free"`` (:func:`assembly.lines.free_ends`)."""
+def free_end_lines(case: Case) -> frozenset[str]:
+    """The moving lines with an end on an edge free in its plane, where the end slides: a free
+    edge, or a supported one with ``in_plane = "free"`` (:func:`assembly.lines.free_ends`)."""
     moving = case.moving_lines()
     if not moving:
         return frozenset()
     conditions, supports = case.edge_conditions(), given_supports(case.boundaries)
-    return frozenset(plate for jid in moving if free_ends(case.joints[jid], conditions, supports)
-                     for plate in case.joints[jid].plates)
+    return frozenset(jid for jid in moving if free_ends(case.joints[jid], conditions, supports))
+
+
+def free_end_plates(case: Case) -> frozenset[str]:
+    """The members of the moving lines with an end free to slide (:func:`free_end_lines`)."""
+    return frozenset(plate for jid in free_end_lines(case) for plate in case.joints[jid].plates)
 
 
 def edge_reach(case: Case, plate_id: str,
