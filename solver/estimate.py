@@ -433,9 +433,10 @@ def solve_to_tolerance(
 
 
 def slow_lines(case: Case, frequency: float) -> tuple[str, ...]:
-    """The moving lines whose loads converge slowly, an end on a free edge or meeting other
-    moving lines: their members reach further, so that their Legendre count stops above the
-    usual (:func:`solver.layout.answered_wavenumber`); ``docs/accuracy.md`` section 8."""
+    """The moving lines whose loads converge slowly, an end free to slide (a free edge, or a
+    supported one free in plane) or meeting other moving lines: their members reach further,
+    so that their Legendre count stops above the usual
+    (:func:`solver.layout.answered_wavenumber`); ``docs/accuracy.md`` section 8."""
     if not case.moving_lines():  # the common case, without the plates' problems
         return ()
     return _slow_lines(case, plate_problems(case, frequency))

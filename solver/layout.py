@@ -34,9 +34,9 @@ from solver.plate import PlateBoundary, PlateProblem, edge_projection
 from solver.problems import edge_reach, free_end_lines, plate_resolution
 
 __all__ = ["InterfaceLayout", "interface_layout", "answered_wavenumber", "members_wavenumber",
-           "plate_loads", "membrane_loads", "plate_sides", "rigid_members", "balancing_member", "member_axes",
-           "member_load", "traction_loads", "load_values", "LoadTerms", "FORCE_COMPONENTS",
-           "junction_point_axes", "KINEMATIC_DEFLECTION", "MOVING_MEMBER_LOADS"]
+           "plate_loads", "membrane_loads", "plate_sides", "rigid_members", "balancing_member",
+           "member_axes", "member_load", "traction_loads", "load_values", "LoadTerms",
+           "FORCE_COMPONENTS", "junction_point_axes", "KINEMATIC_DEFLECTION", "MOVING_MEMBER_LOADS"]
 
 Corner = tuple[str, int]
 """A plate corner: the plate and the corner's index (:data:`solver.rays.EDGE_NAMES` order)."""

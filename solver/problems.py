@@ -197,9 +197,10 @@ off at resolution 3.375 and 8.5e-4 at 5. Growing with the resolution, as the cou
 the reach keeps the loads answered: 5.6e-3, 2.4e-3, 5.3e-4, 4.4e-5, 7.3e-6 at resolutions 1
 to 5 (300 Hz), 2.8e-3, 5.9e-4, 3.8e-5, 7.1e-6 at 1 to 3.375 (1 kHz), the estimate 0.6 to 1.6
 times the error (with the line's count floor since, :func:`solver.joint_rules.end_layer_count`,
-2.5e-4, 1.0e-4, 2.1e-5 at 1.5, 2.25, 3.375 at 300 Hz). The edge waves' sectors widen with the reach rather than multiply
-(:func:`reach_growth`), so the cost grows about as with a fixed reach (300 Hz: 0.4, 1.2, 2.5
-and 7.2 s at resolutions 1.5, 2.25, 3.375 and 5); up to 1.5 nothing changes.
+2.5e-4, 1.0e-4, 2.1e-5 at 1.5, 2.25, 3.375 at 300 Hz). The edge waves' sectors widen with the
+reach rather than multiply (:func:`reach_growth`), so the cost grows about as with a fixed
+reach (300 Hz: 0.4, 1.2, 2.5 and 7.2 s at resolutions 1.5, 2.25, 3.375 and 5); up to 1.5
+nothing changes.
 
 Where three lines meet the same holds against independent finite elements: the trihedral
 corner of ``tests/test_meeting_corner.py`` (``bench/bench_corner.py``), worst plate's ``w`` at
