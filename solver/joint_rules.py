@@ -64,16 +64,17 @@ def interface_function_count(kappa0: float, length: float, resolution: float = 1
 
 
 END_LAYER_FROM = 1.5
-"""The resolution from which a moving line with an end that slides has at least
+"""The resolution from which a moving line with an end that translates along it has at least
 :func:`end_layer_count` functions (below it the count of :func:`interface_function_count`
 stands: at resolution 1 the floor made the sliding L fold at 1 kHz twenty times worse)."""
 
 
 def end_layer_count(kappa_answered: float, length: float, resolution: float,
                     tau: float = 2.5) -> int:
-    r"""The fewest Legendre functions of a moving line with an end free to slide (a free edge,
-    or a supported one free in plane: :func:`solver.problems.free_end_lines`), from resolution
-    :data:`END_LAYER_FROM`:
+    r"""The fewest Legendre functions of a moving line with an end that translates along it,
+    from resolution :data:`END_LAYER_FROM` (:func:`solver.problems.end_layer_lines`): an end
+    free to slide (a free edge, or a supported one free in plane) or a junction point where
+    moving lines meet:
 
     .. math:: M_e = \min\left(\lceil 4\sqrt{\kappa_a L}\,\rceil,\
               \lceil\tfrac{\tau}{2}\kappa_a L\rceil + 2\right),

@@ -31,7 +31,7 @@ from solver.joint_rules import (
 from solver.membrane import MembraneProblem, membrane_edge_rule
 from solver.membrane_basis import MembraneBasis, membrane_edge_traces
 from solver.plate import PlateBoundary, PlateProblem, edge_projection
-from solver.problems import edge_reach, free_end_lines, plate_resolution
+from solver.problems import edge_reach, end_layer_lines, plate_resolution
 
 __all__ = ["InterfaceLayout", "interface_layout", "answered_wavenumber", "members_wavenumber",
            "plate_loads", "membrane_loads", "plate_sides", "rigid_members", "balancing_member",
@@ -267,12 +267,13 @@ def interface_layout(case: Case, problems: Mapping[str, PlateProblem],
     interface functions follow the finest of its plates, and stop, on a moving line, at the
     largest wavenumber every member's rays answer (:func:`interface_function_count`, with the
     members' own edge reach: :func:`answered_wavenumber`); a moving line with a mixed end has
-    at least :func:`legendre_count_floor` of them, one with an end that slides at least
+    at least :func:`legendre_count_floor` of them, one with an end that translates along it (an
+    end that slides, or a junction point: :func:`solver.problems.end_layer_lines`) at least
     :func:`solver.joint_rules.end_layer_count`.
     """
     counts = {}
     moving = set(case.moving_lines())
-    sliding = free_end_lines(case)
+    layered = end_layer_lines(case)
     tau = case.discretisation.edge_wavenumber_ratio
     for jid, joint in case.joints.items():
         length = case.edge_length(joint.sides[0])
@@ -285,7 +286,7 @@ def interface_layout(case: Case, problems: Mapping[str, PlateProblem],
                                                        answered),
                               legendre_count_floor(ends),
                               end_layer_count(answered, length, joint_scale, tau)
-                              if jid in sliding else 0)
+                              if jid in layered else 0)
                        ) + extra_load_functions(ends)
     layout, n_s = _layout(case, counts, moving)
     junctions = _junctions(case, problems)
