@@ -20,10 +20,14 @@ free, 1 N on the first leg).
   in plane (``tests/test_free_ends.sliding_fold``) against
   ``tests/data/fem_fold_sliding_ends.npz``: the rule, the members reaching as at a free end
   without the count's floor, and as elsewhere (until 2026-11-28); the error and estimate of
-  ``(u, v)`` too; about eight minutes.
+  ``(u, v)`` too; about eight minutes;
+* **channel** (``--channel``): the U channel of ``tests/test_free_ends.channel`` (a web and two
+  flanges, two rigid lines free at both ends) against ``tests/data/fem_channel.npz``
+  (``bench/fem_channel.py``), by resolution with the count's floor and without it, then at
+  resolution 1.5 the error by the lines' count: a third structure for the floor.
 
 Run: ``OPENBLAS_NUM_THREADS=1 python bench/bench_free_ends.py [--quick | --finite-elements |
---sliding-ends]`` (about two minutes; ``--quick`` stops at 1 kHz).
+--sliding-ends | --channel]`` (about two minutes; ``--quick`` stops at 1 kHz).
 """
 
 from __future__ import annotations
@@ -40,7 +44,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path[:0] = [str(ROOT), str(ROOT / "tests")]
 
 from support import inner_grid  # noqa: E402
-from test_free_ends import LY, PLATES, _bracket, sliding_fold  # noqa: E402
+from test_free_ends import CHANNEL_PLATES, LY, PLATES, _bracket, channel, sliding_fold  # noqa: E402
 
 import solver.joint_rules  # noqa: E402
 import solver.layout  # noqa: E402
@@ -87,30 +91,40 @@ def rigid_bracket(frequency: float, resolution: float) -> dict:
     return description
 
 
-def fold_errors(description: dict, frequency: float, reference: dict, in_plane: bool = False
-                ) -> tuple[float, float | None, float | None, float]:
-    """A fold ``description`` at ``frequency`` against the finite elements ``reference``: the
-    worst plate's error of ``w`` (of ``(u, v)`` if ``in_plane``), the estimate over it on
-    every plate (smallest and largest; None where the estimate was not made) and the seconds
-    of the solve with its estimate."""
-    suffix = "" if frequency == 300.0 else f"_{frequency:g}"
+ErrorRow = tuple[float, float | None, float | None]
+"""The worst plate's error, and the estimate over the error on every plate (smallest and
+largest; None where the estimate was not made, or not asked)."""
+
+
+def solve_errors(description: dict, frequency: float, reference: dict, plates: dict = PLATES,
+                 suffix: str | None = None, estimated: bool = True
+                 ) -> tuple[ErrorRow, ErrorRow, float]:
+    """One solve of a fold ``description`` at ``frequency`` against the finite elements
+    ``reference``: the :data:`ErrorRow` of ``w``, that of ``(u, v)``, and the seconds of the
+    solve with its estimate. The reference's keys end with ``suffix`` (by default none at
+    300 Hz and ``_1000`` at 1 kHz, as the fold's files have them)."""
+    suffix = ("" if frequency == 300.0 else f"_{frequency:g}") if suffix is None else suffix
     case = parse_case(description)
     start = time.perf_counter()
     solution = solve_assembly(case, frequency)
-    estimate = estimate_error(case, solution)
+    estimate = estimate_error(case, solution) if estimated else None
     seconds = time.perf_counter() - start
-    errors = {}
-    for name, (length, *_) in PLATES.items():
-        points = inner_grid(length, LY)
-        field = (solution.in_plane(name, points) if in_plane
-                 else solution.plates[name].field(points)["w"])
-        exact = reference[f"{'uv' if in_plane else 'w'}_{name}{suffix}"]
-        errors[name] = float(np.linalg.norm(field - exact) / np.linalg.norm(exact))
-    if estimate.total is None:  # its enriched solve beyond the estimate's time limit
-        return max(errors.values()), None, None, seconds
-    estimates = estimate.in_plane if in_plane else estimate.plates
-    ratios = [estimates[name] / errors[name] for name in PLATES]
-    return max(errors.values()), min(ratios), max(ratios), seconds
+    rows = []
+    for key in ("w", "uv"):
+        errors = {}
+        for name, (length, *_) in plates.items():
+            points = inner_grid(length, LY)
+            field = (solution.in_plane(name, points) if key == "uv"
+                     else solution.plates[name].field(points)["w"])
+            exact = reference[f"{key}_{name}{suffix}"]
+            errors[name] = float(np.linalg.norm(field - exact) / np.linalg.norm(exact))
+        if estimate is None or estimate.total is None:  # not asked, or beyond its time limit
+            rows.append((max(errors.values()), None, None))
+            continue
+        estimates = estimate.in_plane if key == "uv" else estimate.plates
+        ratios = [estimates[name] / errors[name] for name in plates]
+        rows.append((max(errors.values()), min(ratios), max(ratios)))
+    return rows[0], rows[1], seconds
 
 
 def finite_elements() -> None:
@@ -134,8 +148,8 @@ def finite_elements() -> None:
             solver.layout.answered_wavenumber = answered
             solver.joint_rules.END_LAYER_FROM = floor_from
             for resolution in resolutions:
-                error, low, high, seconds = fold_errors(rigid_bracket(frequency, resolution),
-                                                        frequency, reference)
+                (error, low, high), _, seconds = solve_errors(
+                    rigid_bracket(frequency, resolution), frequency, reference)
                 ratios = "not estimated" if low is None else f"{low:.2f} to {high:.2f}"
                 print(f"  {frequency:6.0f} Hz  {label:11s} {resolution:5.3g}: {error:.1e}; "
                       f"{ratios}; {seconds:.1f} s", flush=True)
@@ -163,9 +177,8 @@ def sliding_ends() -> None:
             solver.problems.free_end_plates = members
             solver.joint_rules.END_LAYER_FROM = floor_from
             for resolution in resolutions:
-                description = sliding_fold(frequency, resolution)
-                w, low, high, seconds = fold_errors(description, frequency, reference)
-                uv, uv_low, uv_high, _ = fold_errors(description, frequency, reference, True)
+                (w, low, high), (uv, uv_low, uv_high), seconds = solve_errors(
+                    sliding_fold(frequency, resolution), frequency, reference)
                 print(f"  {frequency:6.0f} Hz  {label:11s} {resolution:5.3g}: w {w:.1e} "
                       f"({low:.2f} to {high:.2f}); (u, v) {uv:.1e} ({uv_low:.2f} to "
                       f"{uv_high:.2f}); {seconds:.1f} s", flush=True)
@@ -173,12 +186,68 @@ def sliding_ends() -> None:
     solver.joint_rules.END_LAYER_FROM = floor
 
 
+CHANNEL_RUNS = {300.0: (1.0, 1.5, 2.25, 3.375), 1000.0: (1.0, 1.5, 2.25)}
+"""Per frequency of the channel's reference, the resolutions compared."""
+CHANNEL_COUNTS = tuple(range(12, 57, 4))
+"""The Legendre counts of the channel's lines scanned at resolution 1.5."""
+
+
+def line_counts(description: dict, frequency: float) -> dict[str, int]:
+    """The Legendre count of each line that the solver's rule gives ``description``."""
+    case = parse_case(description)
+    problems = solver.problems.plate_problems(case, frequency)
+    return solver.layout.interface_layout(case, problems).counts
+
+
+def channel_ends() -> None:
+    """The U channel (``tests/test_free_ends.channel``: two lines, free at both ends) against
+    ``tests/data/fem_channel.npz``, by resolution, with the count's floor
+    (:func:`solver.joint_rules.end_layer_count`) and without it; then, at resolution 1.5, the
+    error by the lines' count (both alike), beside the count each rule gives: a third
+    structure for the floor, which two folds and a corner set."""
+    reference = np.load(ROOT / "tests" / "data" / "fem_channel.npz")
+    print("U channel, free ends, against finite elements: worst plate's error of w, then of "
+          "(u, v); estimate / error over the plates; the lines' count; seconds of the solve and "
+          "its estimate")
+    floor = solver.joint_rules.END_LAYER_FROM
+    for frequency, resolutions in CHANNEL_RUNS.items():
+        suffix = f"_{frequency:g}"
+        for label, floor_from in (("rule", floor), ("no floor", math.inf)):
+            solver.joint_rules.END_LAYER_FROM = floor_from
+            for resolution in resolutions:
+                description = channel(frequency, resolution)
+                (w, low, high), (uv, uv_low, uv_high), seconds = solve_errors(
+                    description, frequency, reference, CHANNEL_PLATES, suffix)
+                count = line_counts(description, frequency)["AB"]
+                print(f"  {frequency:6.0f} Hz  {label:8s} {resolution:5.3g}: w {w:.1e} "
+                      f"({low:.2f} to {high:.2f}); (u, v) {uv:.1e} ({uv_low:.2f} to "
+                      f"{uv_high:.2f}); {count} functions; {seconds:.1f} s", flush=True)
+    solver.joint_rules.END_LAYER_FROM = floor
+    print("at resolution 1.5, by the lines' count: worst plate's error of w, of (u, v)")
+    for frequency in CHANNEL_RUNS:
+        rule = line_counts(channel(frequency, 1.5), frequency)["AB"]
+        solver.joint_rules.END_LAYER_FROM = math.inf
+        usual = line_counts(channel(frequency, 1.5), frequency)["AB"]
+        solver.joint_rules.END_LAYER_FROM = floor
+        print(f"  {frequency:6.0f} Hz (the rule {rule}, the wavenumbers' count {usual}):",
+              flush=True)
+        for count in sorted({*CHANNEL_COUNTS, rule, usual}):
+            description = channel(frequency, 1.5)
+            description["discretisation"]["interface_functions"] = count
+            (w, *_), (uv, *_), _ = solve_errors(description, frequency, reference,
+                                                CHANNEL_PLATES, f"_{frequency:g}", False)
+            print(f"    {count:3d}: w {w:.1e}, (u, v) {uv:.1e}", flush=True)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true")
     parser.add_argument("--finite-elements", action="store_true")
     parser.add_argument("--sliding-ends", action="store_true")
+    parser.add_argument("--channel", action="store_true")
     args = parser.parse_args()
+    if args.channel:
+        return channel_ends()
     if args.finite_elements:
         return finite_elements()
     if args.sliding_ends:

@@ -259,11 +259,16 @@ class PlateSpec:
 class Structure:
     """Plates, folds ``(name, (plate P, edge), (plate Q, edge))`` (P's ``w`` and normal
     derivative are the masters of the fold's ties) and point loads ``{key: (plate, x, y)}``
-    (1 N along the plate's ``e_z``); ``"main"`` is the one whose fields are kept."""
+    (1 N along the plate's ``e_z``); ``"main"`` is the one whose fields are kept;
+    ``grading``: more points ``(plate, x, y, h_min)`` the mesh is graded towards as the fold
+    ends, e.g. corners where a supported edge meets a free one; ``h_fold_end``: the grading
+    floor at the fold ends."""
 
     plates: dict
     folds: tuple
     loads: dict
+    grading: tuple = ()
+    h_fold_end: float = H_CORNER
 
 
 CORNER = Structure(
@@ -385,8 +390,9 @@ def junction_points(structure: Structure) -> list[np.ndarray]:
 # Meshes
 # ---------------------------------------------------------------------------------------------
 def grading_points(structure: Structure, plate: str, c: float) -> list[tuple]:
-    """The fold ends on ``plate`` (in its local coordinates, floor ``H_CORNER``) and the loads
-    on it (floor ``H_LOAD``), ``(x, y, c, h_min)``."""
+    """The fold ends on ``plate`` (in its local coordinates, floor ``structure.h_fold_end``),
+    ``structure.grading``'s points on it and the loads on it (floor ``H_LOAD``), ``(x, y, c,
+    h_min)``."""
     spec = structure.plates[plate]
     points = []
     for _, first, second in structure.folds:
@@ -397,8 +403,9 @@ def grading_points(structure: Structure, plate: str, c: float) -> list[tuple]:
                     local = [0.0, 0.0]
                     local[k] = end * spec.size(k)
                     local[1 - k] = t * spec.size(1 - k)
-                    points.append((*local, c, H_CORNER))
+                    points.append((*local, c, structure.h_fold_end))
     points += [(x, y, c, H_LOAD) for p, x, y in structure.loads.values() if p == plate]
+    points += [(x, y, c, h) for p, x, y, h in structure.grading if p == plate]
     return sorted(set(points))
 
 
@@ -1001,16 +1008,19 @@ class LevelRun:
     cluster: dict
     far_ends: dict = field(default_factory=dict)
     traction: dict = field(default_factory=dict)
+    extra: dict = field(default_factory=dict)
 
 
 def run_level(n: int, frequencies=FREQUENCIES, rigid: bool = True,
-              structure: Structure = CORNER) -> LevelRun:
-    """Build the corner (``CORNER`` or ``FLOATING``) at level ``n`` and solve both loads at
-    every frequency."""
+              structure: Structure = CORNER, extra=None) -> LevelRun:
+    """Build the corner (``CORNER`` or ``FLOATING``, or another ``structure``) at level ``n``
+    and solve both loads at every frequency; ``extra(model, {load key: x})``, if given, is
+    stored per frequency in ``run.extra`` (a structure's own checks)."""
     model = CornerModel(structure, n)
     run = LevelRun(n, model.n_dofs, model.n_triangles, model.t_setup, {}, {},
                    model.tie_residual(), {}, {}, {}, {}, None, {}, model.far_end_dofs())
-    c = model.reduction.clusters[0]
+    # a structure without junction points (folds ending apart) has no cluster
+    c = (model.reduction.clusters or [{"rows": 0, "dofs": [], "rank": 0}])[0]
     run.cluster = {"rows": c["rows"], "dofs": len(c["dofs"]), "rank": c["rank"],
                    "forced": model.reduction.forced}
     if rigid:
@@ -1023,16 +1033,20 @@ def run_level(n: int, frequencies=FREQUENCIES, rigid: bool = True,
         run.mismatch[f] = {k: model.line_mismatch(x) for k, x in xs.items()}
         run.recip[f] = (model.point_w(xs["main"], pc, xc), model.point_w(xs["recip"], pa, xa))
         run.traction[f] = model.free_edge_traction(xs["main"])
+        if extra is not None:
+            run.extra[f] = extra(model, xs)
     print(f"  level {n}: {model.n_triangles} triangles, {model.n_dofs} unknowns, set-up "
           f"{model.t_setup:.0f} s, solves " + ", ".join(f"{t:.0f} s" for t in run.t_solve.values()),
           flush=True)
     return run
 
 
-def print_tables(runs: list[LevelRun], frequencies=FREQUENCIES) -> dict:
+def print_tables(runs: list[LevelRun], frequencies=FREQUENCIES,
+                 structure: Structure = CORNER) -> dict:
     """Changes between levels, reciprocity, ties; returns ``{f: (w changes, uv changes)}`` of
     the last step, per plate."""
-    plates = list(CORNER.plates)
+    plates = list(structure.plates)
+    (pa, xa, ya), (pc, xc, yc) = structure.loads["main"], structure.loads["recip"]
     last = {}
     levels = [r.n for r in runs]
     for f in frequencies:
@@ -1061,7 +1075,8 @@ def print_tables(runs: list[LevelRun], frequencies=FREQUENCIES) -> dict:
         if len(runs) >= 2:
             last[f] = (np.array([changes[f"w_{p}"][-1] for p in plates]),
                        np.array([changes[f"uv_{p}"][-1] for p in plates]))
-        print("  reciprocity w_C(0.11, 0.09; load on A) vs w_A(0.17, 0.13; load on C):")
+        print(f"  reciprocity w_{pc}({xc:g}, {yc:g}; load on {pa}) vs w_{pa}({xa:g}, {ya:g}; "
+              f"load on {pc}):")
         for r in runs:
             a, b = r.recip[f]
             print(f"    n = {r.n}: {a:.10e}  {b:.10e}  rel. diff {abs(a - b) / abs(a):.1e}")
@@ -1137,13 +1152,14 @@ def lfold_check(n: int = 3, frequencies=FREQUENCIES) -> None:
               + "\n    ".join(row))
 
 
-def write(run: LevelRun, last: dict, frequencies=FREQUENCIES, path: Path = TEST_DATA) -> None:
+def write(run: LevelRun, last: dict, frequencies=FREQUENCIES, path: Path = TEST_DATA,
+          structure: Structure = CORNER) -> None:
     """``tests/data/fem_corner.npz`` (or ``path``): ``w_{p}_{f}`` (225,), ``uv_{p}_{f}``
     (225, 2) of the finest level and ``change_{f}``: the last level change of ``w`` per
-    plate (A, B, C)."""
+    plate (A, B, C, the order of ``structure.plates``)."""
     packed = {}
     for f in frequencies:
-        for p in CORNER.plates:
+        for p in structure.plates:
             packed[f"w_{p}_{f:g}"] = run.w[f][p]
             packed[f"uv_{p}_{f:g}"] = run.uv[f][p]
         packed[f"change_{f:g}"] = last[f][0]

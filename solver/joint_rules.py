@@ -92,11 +92,14 @@ def end_layer_count(kappa_answered: float, length: float, resolution: float,
     2.1e-5 against 2.4e-3, 5.3e-4, 4.4e-5 with the wavenumbers' count, at 1 kHz 2.4e-4, 3.7e-5,
     7.1e-6 against 5.9e-4, 3.8e-5, 7.1e-6; the fold with sliding ends at 300 Hz 8.2e-5, 1.3e-5,
     6.8e-6 against 1.2e-4, 4.9e-5, 8.4e-6; the floating corner 2.4e-2, 4.4e-3, 1.8e-3 against
-    2.3, 7.9e-2, 1.0e-2; at the same cost, the estimates 0.49 to 1.23 times the errors. The best
-    count of each fold, scanned at resolution 1.5, lies within a few functions of
-    :math:`4.6\sqrt{\kappa_aL}` (free ends) and :math:`3.9\sqrt{\kappa_aL}` (sliding);
-    past it the error rises fast, so the floor keeps below the free ends' best. Returns 0
-    below :data:`END_LAYER_FROM`."""
+    2.3, 7.9e-2, 1.0e-2; at the same cost, the estimates 0.49 to 1.23 times the errors. Where
+    lines meet (``bench/bench_corner.py``): the trihedral corner at 300 Hz 8.9e-6, 1.0e-6,
+    3.0e-7 against 4.7e-5, 8.2e-6, 1.6e-6. On a U channel of two free-ended lines, a check
+    after the rule was set (``bench/bench_free_ends.py --channel``): 5.6e-4, 2.7e-4, 5.0e-5
+    against 6.2e-3, 1.0e-3, 1.3e-4. The best count of each fold, scanned at resolution 1.5,
+    lies within a few functions of :math:`4.6\sqrt{\kappa_aL}` (free ends; 4.6 to 5.2 on the
+    channel) and :math:`3.9\sqrt{\kappa_aL}` (sliding); past it the error rises fast, so the
+    floor keeps below the free ends' best. Returns 0 below :data:`END_LAYER_FROM`."""
     if resolution < END_LAYER_FROM - 1e-9:
         return 0
     reach = kappa_answered * length
