@@ -14,7 +14,7 @@ from dataclasses import dataclass
 from assembly.case import Case
 from assembly.errors import DescriptionError, Issue, format_path
 from assembly.lines import members_coplanar
-from solver.in_plane import coplanar_closure, in_plane_plates
+from solver.in_plane import coplanar_closure, in_plane_edge_conditions, in_plane_plates
 from solver.problems import SINGULAR_END_REACH, plate_problems, plate_ray_counts
 from solver.rays import RayCounts, automatic_ray_counts
 from solver.sizing import available_memory, estimate_size
@@ -456,6 +456,56 @@ def _singular_end_issues(case: Case) -> list[tuple[_Loc, str]]:
     return warnings
 
 
+def _in_plane_groups(case: Case, plates: Iterable[str]) -> list[list[str]]:
+    """The plates that carry in-plane waves, grouped by what couples their in-plane fields:
+    the moving lines and the coplanar joints between them (connected components)."""
+    group_of = {pid: {pid} for pid in plates}
+    moving = set(case.moving_lines())
+    for jid, joint in case.joints.items():
+        if jid in moving or joint.kind == "coplanar":
+            merged = set().union(*(group_of[p] for p in joint.plates if p in group_of))
+            for pid in merged:
+                group_of[pid] = merged
+    groups = {id(group): group for group in group_of.values()}
+    return [[pid for pid in case.plates if pid in group] for group in groups.values()]
+
+
+def _floating_issues(case: Case) -> list[tuple[_Loc, str]]:
+    """A warning per group of plates coupled in their plane (:func:`_in_plane_groups`) that is
+    supported in bending somewhere but held in its plane nowhere: no edge of theirs fixed,
+    ``diaphragm`` or ``roller`` in plane (a supported edge with ``in_plane = "free"``, or a
+    free one; a hinge or a held line would hold it:
+    :func:`solver.in_plane.in_plane_edge_conditions`). Such plates are held in their plane
+    only through one another's bending supports, a near-mechanism, and refinement converges
+    from far off: the trihedral corner so supported is 2.4e-2 off independent finite elements
+    at resolution 1.5 and 1.8e-3 at 3.375 (``docs/method.md`` section 10.4), though its
+    estimate follows.
+    A structure that nothing supports (``cases/box_with_wall.toml``) is not warned: it floats
+    as a whole, held by its inertia, and converges as its corners do."""
+    conditions = in_plane_edge_conditions(case)
+    supported = {}  # plate: index of its first boundary supported in bending
+    for i, bc in enumerate(case.boundaries):
+        if bc.condition != "free":
+            supported.setdefault(case.edge(bc.edge).plate, i)
+    warnings = []
+    for group in _in_plane_groups(case, conditions):
+        held = any(condition != "free" for pid in group for condition in conditions[pid].values())
+        on_supports = [supported[pid] for pid in group if pid in supported]
+        if held or not on_supports:
+            continue
+        names = ", ".join(group)
+        warnings.append((("boundaries", min(on_supports), "in_plane"),
+                         f"plates {names} float in their plane: no edge of theirs is held in "
+                         "plane (their supported edges have in_plane = \"free\"), so they are "
+                         "held there only through one another's bending supports, and "
+                         "refinement converges from far off (a trihedral corner so supported: "
+                         "2.4e-2 off at resolution 1.5, 1.8e-3 at 3.375; docs/method.md section "
+                         "10.4); read the error estimate or solve with --tolerance, and give "
+                         "in_plane = \"fixed\", \"diaphragm\" or \"roller\" to the edges "
+                         "that are held in their plane"))
+    return warnings
+
+
 def _idle_in_plane_issues(case: Case) -> list[tuple[_Loc, str]]:
     """One warning naming the boundaries whose ``in_plane`` condition does nothing whatever
     the lines' ``held``: their plate carries no in-plane waves
@@ -521,7 +571,8 @@ def description_issues(
     * **loads** (if `need_loads`) -- a description without loads has a zero response;
     * **moving lines** -- a junction line whose end is a plane of symmetry for part of the
       motion only warns, moving or held by default (:func:`_singular_end_issues`); so do
-      in-plane conditions on plates without in-plane waves (:func:`_idle_in_plane_issues`);
+      in-plane conditions on plates without in-plane waves (:func:`_idle_in_plane_issues`) and
+      plates supported in bending but held in their plane nowhere (:func:`_floating_issues`);
     * **weights** -- the scale-free weights with ``misfit = "global"`` warn
       (:func:`_weights_issues`).
 
@@ -558,7 +609,8 @@ def description_issues(
     units = _millimetres_against_pascals(case)
     errors = ([units] if units else []) + errors
     scale_errors, warnings = _scale_issues(case, frequencies, location)
-    warnings += _singular_end_issues(case) + _idle_in_plane_issues(case) + _weights_issues(case)
+    warnings += (_singular_end_issues(case) + _idle_in_plane_issues(case)
+                 + _floating_issues(case) + _weights_issues(case))
     if scale_errors:  # the quantities below would overflow or vanish
         return errors + scale_errors, warnings
     plates = _plate_rays(case, f)
