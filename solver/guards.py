@@ -499,8 +499,9 @@ def _floating_issues(case: Case) -> list[tuple[_Loc, str]]:
                          "plane (their supported edges have in_plane = \"free\"), so they are "
                          "held there only through one another's bending supports, and "
                          "refinement converges from far off (a trihedral corner so supported: "
-                         "2.4e-2 off at resolution 1.5, 1.8e-3 at 3.375; docs/method.md section "
-                         "10.4); read the error estimate or solve with --tolerance, and give "
+                         "2.4e-2 off at resolution 1.5, 1.8e-3 at 3.375; "
+                         "docs/method.md section 10.4); read the error estimate or solve with "
+                         "--tolerance, and give "
                          "in_plane = \"fixed\", \"diaphragm\" or \"roller\" to the edges "
                          "that are held in their plane"))
     return warnings
