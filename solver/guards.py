@@ -11,6 +11,8 @@ import math
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 
+import networkx as nx
+
 from assembly.case import Case
 from assembly.errors import DescriptionError, Issue, format_path
 from assembly.lines import members_coplanar
@@ -458,16 +460,16 @@ def _singular_end_issues(case: Case) -> list[tuple[_Loc, str]]:
 
 def _in_plane_groups(case: Case, plates: Iterable[str]) -> list[list[str]]:
     """The plates that carry in-plane waves, grouped by what couples their in-plane fields:
-    the moving lines and the coplanar joints between them (connected components)."""
-    group_of = {pid: {pid} for pid in plates}
+    the connected components of the graph of their moving lines and coplanar joints."""
+    graph = nx.Graph()
+    graph.add_nodes_from(plates)
     moving = set(case.moving_lines())
     for jid, joint in case.joints.items():
-        if jid in moving or joint.kind == "coplanar":
-            merged = set().union(*(group_of[p] for p in joint.plates if p in group_of))
-            for pid in merged:
-                group_of[pid] = merged
-    groups = {id(group): group for group in group_of.values()}
-    return [[pid for pid in case.plates if pid in group] for group in groups.values()]
+        members = [pid for pid in joint.plates if pid in graph]
+        if (jid in moving or joint.kind == "coplanar") and members:
+            graph.add_edges_from((members[0], other) for other in members[1:])
+    return [[pid for pid in case.plates if pid in group]
+            for group in nx.connected_components(graph)]
 
 
 def _floating_issues(case: Case) -> list[tuple[_Loc, str]]:
@@ -501,9 +503,8 @@ def _floating_issues(case: Case) -> list[tuple[_Loc, str]]:
                          "refinement converges from far off (a trihedral corner so supported: "
                          "2.4e-2 off at resolution 1.5, 1.8e-3 at 3.375; "
                          "docs/method.md section 10.4); read the error estimate or solve with "
-                         "--tolerance, and give "
-                         "in_plane = \"fixed\", \"diaphragm\" or \"roller\" to the edges "
-                         "that are held in their plane"))
+                         "--tolerance, and give in_plane = \"fixed\", \"diaphragm\" or "
+                         "\"roller\" to the edges that are held in their plane"))
     return warnings
 
 

@@ -30,16 +30,41 @@ LINE = {"F": {"A": ("right", math.inf), "B": ("left", 3.0)}}
 ON_A, ON_B = ("A", (0.15, 0.2)), ("B", (0.21, 0.07))
 
 
-def _bracket(frequency: float, resolution: float = 1.5, held: bool | None = None,
-             load: tuple[str, tuple[float, float]] = ON_A) -> dict:
-    description = folded_description(PLATES, LINE, (load[0], *load[1]), frequency, held, LY,
-                                     resolution)
+def _with_free_ends(description: dict) -> dict:
+    """A folded plate's ``description`` with every end ``y = 0, 0.5`` free (bending and in
+    plane): its lines end free."""
     for boundary in description["boundaries"]:
         if boundary["edge"].endswith(("bottom", "top")):
             boundary["condition"] = "free"
             boundary.pop("in_plane", None)
+    return description
+
+
+def _bracket(frequency: float, resolution: float = 1.5, held: bool | None = None,
+             load: tuple[str, tuple[float, float]] = ON_A) -> dict:
+    description = _with_free_ends(folded_description(PLATES, LINE, (load[0], *load[1]),
+                                                     frequency, held, LY, resolution))
     description["joints"]["F"]["loss_factor"] = {"B": 0.1}
     return description
+
+
+def _w_errors(description: dict, plates: dict, reference_path: Path, key: str
+              ) -> list[tuple[float, float]]:
+    """Per plate of ``plates``, the error of ``w`` of ``description`` (at its frequency)
+    against the finite elements of ``reference_path`` (keys ``w_<plate><key>``) on the plate's
+    :func:`support.inner_grid`, and its estimate."""
+    reference = np.load(reference_path)
+    case = parse_case(description)
+    frequency = description["frequency"]
+    solution = solve_assembly(case, frequency)
+    estimate = estimate_error(case, solution)
+    out = []
+    for name, (length, *_) in plates.items():
+        w, exact = (solution.plates[name].field(inner_grid(length, LY))["w"],
+                    reference[f"w_{name}{key}"])
+        out.append((float(np.linalg.norm(w - exact) / np.linalg.norm(exact)),
+                    estimate.plates[name]))
+    return out
 
 
 def _grid_w(solution) -> dict[str, np.ndarray]:
@@ -154,13 +179,8 @@ ON_WEB = ("A", 0.17, 0.13)
 def channel(frequency: float, resolution: float = 1.5) -> dict:
     """The U channel of :data:`CHANNEL_PLATES` joined by two rigid folds, every end ``y = 0,
     0.5`` free: both lines end free at both ends; 1 N on the web."""
-    description = folded_description(CHANNEL_PLATES, CHANNEL_LINES, ON_WEB, frequency, None,
-                                     LY, resolution)
-    for boundary in description["boundaries"]:
-        if boundary["edge"].endswith(("bottom", "top")):
-            boundary["condition"] = "free"
-            boundary.pop("in_plane", None)
-    return description
+    return _with_free_ends(folded_description(CHANNEL_PLATES, CHANNEL_LINES, ON_WEB, frequency,
+                                              None, LY, resolution))
 
 
 CHANNEL_FINITE_ELEMENTS = Path(__file__).parent / "data" / "fem_channel.npz"
@@ -172,17 +192,7 @@ elements of ``bench/fem_channel.py`` (``python bench/fem_channel.py --write``)."
 def _channel_errors(resolution: float) -> list[tuple[float, float]]:
     """Per plate of the channel at 300 Hz, the error of ``w`` against
     :data:`CHANNEL_FINITE_ELEMENTS` and its estimate."""
-    reference = np.load(CHANNEL_FINITE_ELEMENTS)
-    case = parse_case(channel(300.0, resolution))
-    solution = solve_assembly(case, 300.0)
-    estimate = estimate_error(case, solution)
-    out = []
-    for name, (length, *_) in CHANNEL_PLATES.items():
-        w = solution.plates[name].field(inner_grid(length, LY))["w"]
-        exact = reference[f"w_{name}_300"]
-        out.append((float(np.linalg.norm(w - exact) / np.linalg.norm(exact)),
-                    estimate.plates[name]))
-    return out
+    return _w_errors(channel(300.0, resolution), CHANNEL_PLATES, CHANNEL_FINITE_ELEMENTS, "_300")
 
 
 def test_the_count_floor_holds_on_a_channel_of_two_free_ended_lines(monkeypatch):
@@ -229,13 +239,7 @@ def sliding_fold(frequency: float, resolution: float) -> dict:
 def _sliding_errors(resolution: float) -> list[tuple[float, float]]:
     """Per plate, the error of ``w`` against :data:`SLIDING_FINITE_ELEMENTS` at 300 Hz and the
     estimate."""
-    reference = np.load(SLIDING_FINITE_ELEMENTS)
-    case = parse_case(sliding_fold(300.0, resolution))
-    solution = solve_assembly(case, 300.0)
-    estimate = estimate_error(case, solution)
-    fields = _grid_w(solution)
-    return [(float(np.linalg.norm(fields[p] - reference[f"w_{p}"])
-                   / np.linalg.norm(reference[f"w_{p}"])), estimate.plates[p]) for p in PLATES]
+    return _w_errors(sliding_fold(300.0, resolution), PLATES, SLIDING_FINITE_ELEMENTS, "")
 
 
 def test_a_fold_sliding_at_its_ends_meets_independent_finite_elements(monkeypatch):
