@@ -79,9 +79,9 @@ GROUPED_MIN_SIZE = 1500
 DENSE_FILL = 0.3
 # From this many unknowns on, a forward solve's square system is factorised by groups
 # (solver.grouped_lu): measured faster than SuperLU on the grids (1.13x at 6 x 6, 1.57x at
-# 10 x 10) and the moving-line panels (6 bays, 2048 unknowns: 1.9x; 12 bays: 4.4x), slower on
-# held-line panels (24 bays, 4071 unknowns: 0.13 s against 0.10 s), whose time is small
-# (bench/bench_square_solve.py).
+# 10 x 10), the moving-line panels (6 bays, 2048 unknowns: 1.9x; 12 bays: 4.4x; 2.6x and 6.5x
+# since the blocks' zero columns are set apart) and the held-line panel (24 bays, 4071
+# unknowns: 1.13x, 0.9x before) (bench/bench_square_solve.py).
 GROUPED_LU_MIN_SIZE = 2000
 
 

@@ -12,7 +12,7 @@ import pytest
 import scipy.sparse
 from test_multifrontal import lattice_system
 
-from solver import interface
+from solver import grouped_lu, interface
 from solver.errors import GroupPivotError
 from solver.grouped_lu import GroupedLU
 
@@ -66,3 +66,42 @@ def test_a_group_needs_as_many_rows_as_unknowns():
     rows, cols = np.nonzero(dense)
     with pytest.raises(GroupPivotError, match="as many rows as unknowns"):
         GroupedLU(rows, cols, dense[rows, cols], row_groups, col_groups)
+
+
+@pytest.mark.parametrize("n_x, n_y", [(4, 1), (2, 2)], ids=["chain", "grid"])
+def test_blocks_with_zero_columns_and_rows_are_solved_on_their_entries(n_x, n_y):
+    """Groups of :data:`solver.grouped_lu.APART_FROM` unknowns whose blocks to their neighbours
+    hold entries in some columns and rows only, as a moving-line panel's (a joint's loads act
+    on one plate of two): the factorisation takes those columns and rows apart, and fills
+    between groups coupled through an eliminated one (the grid) on them. The solution is
+    dense LAPACK's to 1e-11 of its size, as in the test above; with every block taken whole
+    it is the same."""
+    size = grouped_lu.APART_FROM
+    dense, groups = lattice_system(n_x, n_y, seed=7, size=size)
+    rng = np.random.default_rng(8)
+    for u in range(n_x * n_y):
+        for w in range(n_x * n_y):
+            if u != w:
+                block = dense[np.ix_(groups == u, groups == w)]
+                block[:, rng.random(size) < 0.5] = 0.0
+                block[rng.random(size) < 0.5] = 0.0
+                dense[np.ix_(groups == u, groups == w)] = block
+    rows, cols = np.nonzero(dense)
+    rhs = rng.standard_normal(len(dense)) + 1j * rng.standard_normal(len(dense))
+    reference = np.linalg.solve(dense, rhs)
+    apart = GroupedLU(rows, cols, dense[rows, cols], groups, groups)
+    kept = [step for step in apart._steps if any(not isinstance(c, slice) for _, c in step[3])]
+    assert kept, "no block was taken apart"
+    for factor in (apart, _whole_blocks(rows, cols, dense, groups)):
+        error = np.abs(factor.solve(rhs) - reference).max() / np.abs(reference).max()
+        assert error < 1e-11
+
+
+def _whole_blocks(rows, cols, dense, groups):
+    """The factorisation with every block taken whole."""
+    default = grouped_lu.APART_FROM
+    grouped_lu.APART_FROM = len(groups) + 1
+    try:
+        return GroupedLU(rows, cols, dense[rows, cols], groups, groups)
+    finally:
+        grouped_lu.APART_FROM = default
