@@ -45,10 +45,9 @@ at what every member's rays answer (:func:`solver.joint_rules.interface_function
 
 from __future__ import annotations
 
+import math
 from collections.abc import Collection, Iterable, Iterator, Mapping
 from typing import Any
-
-import numpy as np
 
 from .geometry import EDGE_NAMES
 from .joints import HingeJoint, JunctionJoint
@@ -76,7 +75,9 @@ def members_coplanar(joint: JunctionJoint, plates: Mapping[str, Any]) -> bool:
 def _parallel(first: Any, second: Any) -> bool:
     """Whether two plate frames' normals are parallel, to
     :data:`assembly.models.FRAME_TOLERANCE`."""
-    return bool(np.linalg.norm(np.cross(first.normal, second.normal)) < FRAME_TOLERANCE)
+    a, b = first.normal, second.normal
+    return bool(math.hypot(a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2],
+                           a[0] * b[1] - a[1] * b[0]) < FRAME_TOLERANCE)
 
 
 def _neighbours(side: EdgeId) -> tuple[EdgeId, EdgeId]:

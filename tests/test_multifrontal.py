@@ -15,7 +15,7 @@ from support import CASES, dense_interface, field_difference, mixed_chain
 
 from assembly import load_case, parse_case
 from assembly.generate import plate_grid
-from solver import interface
+from solver import interface, multifrontal
 from solver.channels import channel_blocks, joint_residuals
 from solver.errors import GroupPivotError
 from solver.joint_rules import joint_parameters
@@ -74,6 +74,33 @@ def test_grouped_ldl_solves_a_block_sparse_system(zero_diagonal):
     assert np.linalg.norm(lu.solve(rhs[:, 0]) - exact[:, 0]) < 1e-11 * np.linalg.norm(exact)
     if zero_diagonal:  # every pivot of the first groups is a 2 x 2 block
         assert len(lu.factors[0][3].pairs) > 0
+
+
+def test_fronts_leave_out_the_variables_they_do_not_touch(monkeypatch):
+    """Neighbouring groups coupled through some of their variables only (half the columns of
+    each block between two groups zero, the Hermitian partner's rows with them), as a joint's
+    loads reach one plate of two: the fronts leave the untouched variables out
+    (multifrontal._held_variables), so the factors are smaller than with every variable of
+    the coupled groups kept, and both solve as dense LAPACK does (tolerance as above)."""
+    dense, groups = lattice_system(5, 4, seed=5, size=8)
+    rng = np.random.default_rng(6)
+    n_groups = groups.max() + 1
+    for u in range(n_groups):
+        for w in range(u + 1, n_groups):
+            rows, cols = np.flatnonzero(groups == u), np.flatnonzero(groups == w)
+            dropped = cols[rng.random(len(cols)) < 0.5]
+            dense[np.ix_(rows, dropped)] = 0.0
+            dense[np.ix_(dropped, rows)] = 0.0
+    rhs = rng.normal(size=len(groups)) + 1j * rng.normal(size=len(groups))
+    exact = np.linalg.solve(dense, rhs)
+    held = GroupedLDL(scipy.sparse.csc_matrix(dense), groups)
+    monkeypatch.setattr(multifrontal, "_held_variables",
+                        lambda later, holders, touched: np.concatenate(later) if later
+                        else np.zeros(0, dtype=int))
+    whole = GroupedLDL(scipy.sparse.csc_matrix(dense), groups)
+    assert held.nnz < 0.9 * whole.nnz
+    for lu in (held, whole):
+        assert np.linalg.norm(lu.solve(rhs) - exact) < 1e-11 * np.linalg.norm(exact)
 
 
 def test_a_chain_of_groups_is_eliminated_without_fill():
