@@ -294,7 +294,9 @@ def _held_variables(later: Sequence[np.ndarray], holders: Sequence[np.ndarray],
     those among its entries' rows and columns and its children's contributions
     (``holders``). The others' rows of :math:`F_{21}` and :math:`F_{22}` are zero, and stay
     zero through the update :math:`F_{22} - Z^HM` (a zero row of :math:`F_{21}` is a zero
-    column of :math:`Z`), so the front leaves them out. ``touched`` is a boolean work array
+    column of :math:`Z`), so the front leaves them out. Each later group keeps at least one
+    variable (it is coupled through an entry, or through a child that kept one of it), so a
+    front with later groups passes a contribution up. ``touched`` is a boolean work array
     over all variables, all False, and left so."""
     if not later:
         return np.zeros(0, dtype=int)
