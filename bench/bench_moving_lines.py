@@ -9,6 +9,8 @@ supported and fixed in-plane, the stiffeners' tops free, 1 N on bay B1.
 * **Cost**: one solve with moving lines and one with held lines, at the same resolution:
   processor time (best of three), unknowns and peak memory (numpy's arrays, traced); and the
   time each takes to meet ``--tolerance 1e-3`` (``solve_to_tolerance``), at 600 and 2500 Hz;
+  the two models' solves alternating in one process (``alternating``: a steadier ratio on a
+  noisy machine);
   and each model's time and error against its own exact solution by resolution (at the same
   accuracy); and where one solve's time goes, by part of the build; and one solve of the
   panel widened to 6, 12 and 24 bays (its two stiffeners alternating), where the ratio grows.
@@ -114,6 +116,30 @@ def cost(frequencies: list[float]) -> None:
         print(f"  {frequency:6.0f} Hz: solve {m1:.2f} / {h1:.2f} s ({m1 / h1:.1f}x; "
               f"{mn} / {hn} unknowns; peak memory {mp:.0f} / {hp:.0f} MB, {mp / hp:.1f}x); "
               f"to 1e-3 {m2:.2f} / {h2:.2f} s ({m2 / h2:.1f}x; estimates {me:.1e} / {he:.1e})")
+
+
+def alternating(frequencies: list[float], pairs: dict[float, int]) -> None:
+    """The two models' solves one after the other in one process, ``pairs[frequency]`` times:
+    the ratio of their fastest and of their median processor times. A burst of other work on
+    the machine then slows both models alike, where best-of-three runs of one model after the
+    other gave ratios from 1.7x to 2.9x on a noisy machine (2026-11-28)."""
+    print("cost, alternating: moving and held solves in turn at resolution 1.5 (processor "
+          "time; fastest, median)")
+    for frequency in frequencies:
+        cases = {held: parse_case(description([frequency], held)) for held in (False, True)}
+        times = {held: [] for held in cases}
+        for case in cases.values():  # the first solve of a process also pays for its imports
+            solve_assembly(case, frequency, residuals=False)
+        for _ in range(pairs[frequency]):
+            for held, case in cases.items():
+                start = time.process_time()
+                solve_assembly(case, frequency, residuals=False)
+                times[held].append(time.process_time() - start)
+        (m_min, m_med), (h_min, h_med) = ((min(t), float(np.median(t)))
+                                          for t in times.values())
+        print(f"  {frequency:6.0f} Hz, {pairs[frequency]} pairs: moving {m_min:.3f} / "
+              f"{m_med:.3f} s, held {h_min:.3f} / {h_med:.3f} s: {m_min / h_min:.2f}x fastest, "
+              f"{m_med / h_med:.2f}x median")
 
 
 # The parts of a solve, by the function that builds each (cumulative time in a profile).
@@ -234,6 +260,7 @@ def main() -> None:
     parser.add_argument("--seed", type=int, default=1)
     args = parser.parse_args()
     cost([600.0, 2500.0])
+    alternating([600.0, 2500.0], {600.0: 25, 2500.0: 10})
     parts([600.0, 2500.0])
     same_accuracy([600.0, 2500.0])
     wider([3, 6, 12, 24], 2500.0)
