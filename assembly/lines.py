@@ -51,7 +51,7 @@ from typing import Any
 
 from .geometry import EDGE_NAMES
 from .joints import HingeJoint, JunctionJoint
-from .models import FRAME_TOLERANCE
+from .models import FRAME_TOLERANCE, cross
 from .types import EdgeId, parse_edge_ref
 
 __all__ = ["LINE_JOINTS", "members_coplanar", "member_directions", "given_supports",
@@ -75,9 +75,7 @@ def members_coplanar(joint: JunctionJoint, plates: Mapping[str, Any]) -> bool:
 def _parallel(first: Any, second: Any) -> bool:
     """Whether two plate frames' normals are parallel, to
     :data:`assembly.models.FRAME_TOLERANCE`."""
-    a, b = first.normal, second.normal
-    return bool(math.hypot(a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2],
-                           a[0] * b[1] - a[1] * b[0]) < FRAME_TOLERANCE)
+    return bool(math.hypot(*cross(first.normal, second.normal)) < FRAME_TOLERANCE)
 
 
 def _neighbours(side: EdgeId) -> tuple[EdgeId, EdgeId]:

@@ -225,6 +225,7 @@ def channel_ends() -> None:
     solver.joint_rules.END_LAYER_FROM = floor
     print("at resolution 1.5, by the lines' count: worst plate's error of w, of (u, v)")
     for frequency in CHANNEL_RUNS:
+        suffix = f"_{frequency:g}"
         rule = line_counts(channel(frequency, 1.5), frequency)["AB"]
         solver.joint_rules.END_LAYER_FROM = math.inf
         usual = line_counts(channel(frequency, 1.5), frequency)["AB"]
@@ -235,7 +236,7 @@ def channel_ends() -> None:
             description = channel(frequency, 1.5)
             description["discretisation"]["interface_functions"] = count
             (w, *_), (uv, *_), _ = solve_errors(description, frequency, reference,
-                                                CHANNEL_PLATES, f"_{frequency:g}", False)
+                                                CHANNEL_PLATES, suffix, False)
             print(f"    {count:3d}: w {w:.1e}, (u, v) {uv:.1e}", flush=True)
 
 

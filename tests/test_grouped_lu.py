@@ -69,7 +69,7 @@ def test_a_group_needs_as_many_rows_as_unknowns():
 
 
 @pytest.mark.parametrize("n_x, n_y", [(4, 1), (2, 2)], ids=["chain", "grid"])
-def test_blocks_with_zero_columns_and_rows_are_solved_on_their_entries(n_x, n_y):
+def test_blocks_with_zero_columns_and_rows_are_solved_on_their_entries(n_x, n_y, monkeypatch):
     """Groups of :data:`solver.grouped_lu.APART_FROM` unknowns whose blocks to their neighbours
     hold entries in some columns and rows only, as a moving-line panel's (a joint's loads act
     on one plate of two): the factorisation takes those columns and rows apart, and fills
@@ -92,16 +92,8 @@ def test_blocks_with_zero_columns_and_rows_are_solved_on_their_entries(n_x, n_y)
     apart = GroupedLU(rows, cols, dense[rows, cols], groups, groups)
     kept = [step for step in apart._steps if any(not isinstance(c, slice) for _, c in step[3])]
     assert kept, "no block was taken apart"
-    for factor in (apart, _whole_blocks(rows, cols, dense, groups)):
+    monkeypatch.setattr(grouped_lu, "APART_FROM", len(groups) + 1)  # every block whole
+    whole = GroupedLU(rows, cols, dense[rows, cols], groups, groups)
+    for factor in (apart, whole):
         error = np.abs(factor.solve(rhs) - reference).max() / np.abs(reference).max()
         assert error < 1e-11
-
-
-def _whole_blocks(rows, cols, dense, groups):
-    """The factorisation with every block taken whole."""
-    default = grouped_lu.APART_FROM
-    grouped_lu.APART_FROM = len(groups) + 1
-    try:
-        return GroupedLU(rows, cols, dense[rows, cols], groups, groups)
-    finally:
-        grouped_lu.APART_FROM = default
