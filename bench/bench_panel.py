@@ -1,0 +1,118 @@
+"""vtcr on ``cases/stiffened_panel.toml`` (moving junction lines) against the independent
+finite-element reference ``bench/fem_panel.py``: per plate, the relative L2 error of ``w`` and
+of ``(u, v)`` against the finest FE level, vtcr's own estimate (``solver.estimate``) and the
+ratio estimate / error, by resolution and frequency; then the held-line model (``held = true``
+on W1..W3) against the same FE fields, to show how much the moving lines matter here.
+
+Errors are relative L2 over the 225 points ``fem_folded.inner_grid(L_p, 0.4)`` of each plate
+(15 x 15, 2 % in from the edges); vtcr's estimate is over the whole plate (its Gauss rule).
+The case's model is solved (its ``[truth]`` is the updating's, left out here).
+
+Run ``OPENBLAS_NUM_THREADS=1 python bench/fem_panel.py`` first (it saves the FE fields to
+``/tmp/fem_panel/fields_panel_<freq>.npz``), then ``OPENBLAS_NUM_THREADS=1 python
+bench/bench_panel.py [--resolutions 1.25 1.5 2.25 3.4]``. Measured: ``bench/README.md``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import copy
+import sys
+import time
+import tomllib
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path[:0] = [str(ROOT)]
+
+from assembly import parse_case  # noqa: E402
+from solver.estimate import estimate_error  # noqa: E402
+from solver.substructure import solve_assembly  # noqa: E402
+
+CASE = ROOT / "cases" / "stiffened_panel.toml"
+FE_FIELDS = Path("/tmp/fem_panel")
+RESOLUTIONS = (1.25, 1.5, 2.25, 3.4)
+
+
+def description(resolution: float, held: bool = False) -> dict:
+    """The case's toml as a dict at ``resolution``, its welds held if ``held``, no truth."""
+    data = tomllib.loads(CASE.read_text())
+    data = copy.deepcopy(data)
+    data.pop("truth", None)
+    data["discretisation"]["resolution"] = resolution
+    for joint in data["joints"].values():
+        joint["held"] = held
+    return data
+
+
+def fe_fields(frequency: float) -> dict:
+    """The FE fields of ``fem_panel.save`` at ``frequency``."""
+    return dict(np.load(FE_FIELDS / f"fields_panel_{frequency:g}.npz"))
+
+
+def relative(a: np.ndarray, b: np.ndarray) -> float:
+    return float(np.linalg.norm(a - b) / np.linalg.norm(b))
+
+
+def errors(solution, fe: dict, plates) -> dict[str, tuple[float, float]]:
+    """``{plate: (error of w, error of (u, v))}`` of ``solution`` against the FE fields."""
+    out = {}
+    for p in plates:
+        points = fe[f"points_{p}"]
+        w = solution.plates[p].field(points)["w"]
+        uv = solution.in_plane(p, points)
+        out[p] = (relative(w, fe[f"w_{p}"]), relative(uv, fe[f"uv_{p}"]))
+    return out
+
+
+def compare(frequency: float, resolution: float, fe: dict, held: bool = False,
+            estimate: bool = True) -> None:
+    """One solve against the FE: a row per plate, and the worst plate."""
+    case = parse_case(description(resolution, held))
+    plates = list(case.plates)
+    t0 = time.perf_counter()
+    solution = solve_assembly(case, frequency, residuals=False)
+    t_solve = time.perf_counter() - t0
+    found = errors(solution, fe, plates)
+    est = estimate_error(case, solution) if estimate else None
+    label = "held" if held else "moving"
+    print(f"\n{frequency:g} Hz, resolution {resolution:g}, {label} lines: solve {t_solve:.1f} s"
+          + (f", estimate {est.seconds:.1f} s" if est else ""))
+    print(f"  {'plate':5} {'err w':>8} {'err uv':>8}" + (
+        f" {'est w':>8} {'est uv':>8} {'est/err w':>9} {'est/err uv':>10}" if est else ""))
+    for p in plates:
+        w, uv = found[p]
+        row = f"  {p:5} {w:8.1e} {uv:8.1e}"
+        if est:
+            ew, euv = est.plates[p], est.in_plane.get(p, float("nan"))
+            row += f" {ew:8.1e} {euv:8.1e} {ew / w:9.2f} {euv / uv:10.2f}"
+        print(row)
+    worst_w = max(plates, key=lambda p: found[p][0])
+    worst_uv = max(plates, key=lambda p: found[p][1])
+    print(f"  worst: w {worst_w} {found[worst_w][0]:.1e}, (u, v) {worst_uv} "
+          f"{found[worst_uv][1]:.1e}", flush=True)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--resolutions", type=float, nargs="+", default=list(RESOLUTIONS))
+    parser.add_argument("--frequencies", type=float, nargs="+",
+                        default=tomllib.loads(CASE.read_text())["frequencies"])
+    parser.add_argument("--held-resolution", type=float, default=2.25)
+    args = parser.parse_args()
+    for frequency in args.frequencies:
+        fe = fe_fields(frequency)
+        print(f"\n=== {frequency:g} Hz: FE level {int(fe['finest'])} (levels "
+              f"{list(fe['levels'])}); its last change per plate, w | (u, v): "
+              + ", ".join(f"{p} {float(fe[f'change_w_{p}']):.1e}|"
+                          f"{float(fe[f'change_uv_{p}']):.1e}"
+                          for p in ("B1", "B2", "B3", "B4", "T1", "T2", "T3")))
+        for resolution in args.resolutions:
+            compare(frequency, resolution, fe)
+        compare(frequency, args.held_resolution, fe, held=True, estimate=False)
+
+
+if __name__ == "__main__":
+    main()
