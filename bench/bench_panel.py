@@ -56,14 +56,56 @@ def relative(a: np.ndarray, b: np.ndarray) -> float:
     return float(np.linalg.norm(a - b) / np.linalg.norm(b))
 
 
-def errors(solution, fe: dict, plates) -> dict[str, tuple[float, float]]:
-    """``{plate: (error of w, error of (u, v))}`` of ``solution`` against the FE fields."""
+NEAR = 0.05  # m: points closer than this to a line are left out of the "away" error
+
+
+def line_edges(case, plate: str) -> list[float]:
+    """The local ``x`` of the plate's edges on a weld (left: 0, right: its length)."""
+    length = case.plates[plate].size[0]
+    edges = [e for joint in case.joints.values() for e in joint.between]
+    return [0.0 if e.endswith(".left") else length
+            for e in map(str, edges) if e.split(".")[0] == plate]
+
+
+def errors(solution, fe: dict, case) -> dict[str, tuple[float, float, float]]:
+    """``{plate: (error of w, error of (u, v), error of (u, v) at the points at least NEAR
+    from the plate's lines)}`` of ``solution`` against the FE fields."""
     out = {}
-    for p in plates:
+    for p in case.plates:
         points = fe[f"points_{p}"]
         w = solution.plates[p].field(points)["w"]
         uv = solution.in_plane(p, points)
-        out[p] = (relative(w, fe[f"w_{p}"]), relative(uv, fe[f"uv_{p}"]))
+        away = np.min([np.abs(points[:, 0] - x) for x in line_edges(case, p)], axis=0) >= NEAR
+        out[p] = (relative(w, fe[f"w_{p}"]), relative(uv, fe[f"uv_{p}"]),
+                  relative(uv[away], fe[f"uv_{p}"][away]))
+    return out
+
+
+FRAMES = {"skin": np.eye(3), "stiffener": np.array([[0, 0, 1.0], [0, 1.0, 0], [-1.0, 0, 0]])}
+"""Rows ``e_x, e_y, e_z`` (the toml's frames: bays in the x-y plane, stiffeners along +z)."""
+
+
+def tie_mismatch(solution, case, n: int = 201) -> dict[str, float]:
+    """vtcr's own ties, per weld: the largest 3D displacement difference between a member
+    and the first along the weld (``n`` points), relative to the largest 3D displacement of
+    the pair on the weld (the line's own, often far below the plates' field)."""
+    y = np.linspace(0.0, 0.4, n)
+    out = {}
+    for name, joint in case.joints.items():
+        sides = []
+        for edge in map(str, joint.between):
+            plate, side = edge.split(".")
+            x = 0.0 if side == "left" else case.plates[plate].size[0]
+            points = np.column_stack([np.full(n, x), y])
+            uvw = np.column_stack([solution.in_plane(plate, points),
+                                   solution.plates[plate].field(points)["w"]])
+            sides.append(uvw @ FRAMES["skin" if plate.startswith("B") else "stiffener"])
+        worst = 0.0
+        for other in sides[1:]:
+            d = np.linalg.norm(other - sides[0], axis=1).max()
+            scale = max(np.linalg.norm(s, axis=1).max() for s in (sides[0], other))
+            worst = max(worst, d / scale)
+        out[name] = worst
     return out
 
 
@@ -75,24 +117,26 @@ def compare(frequency: float, resolution: float, fe: dict, held: bool = False,
     t0 = time.perf_counter()
     solution = solve_assembly(case, frequency, residuals=False)
     t_solve = time.perf_counter() - t0
-    found = errors(solution, fe, plates)
+    found = errors(solution, fe, case)
     est = estimate_error(case, solution) if estimate else None
     label = "held" if held else "moving"
     print(f"\n{frequency:g} Hz, resolution {resolution:g}, {label} lines: solve {t_solve:.1f} s"
-          + (f", estimate {est.seconds:.1f} s" if est else ""))
-    print(f"  {'plate':5} {'err w':>8} {'err uv':>8}" + (
+          + (f", estimate {est.seconds:.1f} s" if est else "")
+          + ("" if held else "; its ties (3D) " + ", ".join(
+              f"{k} {v:.1e}" for k, v in tie_mismatch(solution, case).items())))
+    print(f"  {'plate':5} {'err w':>8} {'err uv':>8} {'uv away':>8}" + (
         f" {'est w':>8} {'est uv':>8} {'est/err w':>9} {'est/err uv':>10}" if est else ""))
     for p in plates:
-        w, uv = found[p]
-        row = f"  {p:5} {w:8.1e} {uv:8.1e}"
+        w, uv, away = found[p]
+        row = f"  {p:5} {w:8.1e} {uv:8.1e} {away:8.1e}"
         if est:
             ew, euv = est.plates[p], est.in_plane.get(p, float("nan"))
             row += f" {ew:8.1e} {euv:8.1e} {ew / w:9.2f} {euv / uv:10.2f}"
         print(row)
-    worst_w = max(plates, key=lambda p: found[p][0])
-    worst_uv = max(plates, key=lambda p: found[p][1])
-    print(f"  worst: w {worst_w} {found[worst_w][0]:.1e}, (u, v) {worst_uv} "
-          f"{found[worst_uv][1]:.1e}", flush=True)
+    worst = [max(plates, key=lambda p: found[p][i]) for i in range(3)]
+    print(f"  worst: w {worst[0]} {found[worst[0]][0]:.1e}, (u, v) {worst[1]} "
+          f"{found[worst[1]][1]:.1e}, (u, v) away from the lines {worst[2]} "
+          f"{found[worst[2]][2]:.1e}", flush=True)
 
 
 def main() -> None:

@@ -122,7 +122,7 @@ from scipy.sparse.linalg import splu
 from skfem import MeshTri
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from fem_folded import SS_X_EDGE, inner_grid, reduction
+from fem_folded import SS_X_EDGE, inner_grid, reduction, richardson
 from fem_junction import JunctionPlate, cut, line_relations, point_grading, refined_to
 
 SS_Y_EDGE = ["u", "u_x", "u_xx"]  # Argyris dofs fixed on a simply supported edge y = const
@@ -572,6 +572,26 @@ def save(frequency: float, levels, solutions: dict[int, LevelSolution], change: 
     return path
 
 
+def summary(frequencies=FREQUENCIES, layout: Layout = PANEL) -> None:
+    """From the saved fields: per frequency and plate, each level's difference from the
+    finest (w | (u, v)) and the Richardson estimate of the finest ``w``'s error from the last
+    three levels (``fem_folded.richardson``; the bending meshes are one h-family, the membrane
+    meshes are not: level 3's are finer than level 4's away from the lines, so no Richardson
+    estimate of ``(u, v)``)."""
+    for frequency in frequencies:
+        saved = np.load(OUT / f"fields_panel_{frequency:g}.npz")
+        levels = [int(n) for n in saved["levels"]]
+        print(f"\n{frequency:g} Hz: difference from level {levels[-1]}, w | (u, v); "
+              f"Richardson estimate of w at level {levels[-1]} from levels {levels[-3:]}")
+        for p in layout.lengths:
+            w, uv = saved[f"w_{p}"], saved[f"uv_{p}"]
+            row = "  ".join(f"n{n} {relative(saved[f'w_{p}_n{n}'], w):.1e}|"
+                            f"{relative(saved[f'uv_{p}_n{n}'], uv):.1e}" for n in levels[:-1])
+            steps = [relative(saved[f"w_{p}_n{b}"], saved[f"w_{p}_n{a}"])
+                     for a, b in itertools.pairwise(levels[-3:])]
+            print(f"  {p}: {row}  Richardson w {richardson(levels[-3:], steps):.1e}")
+
+
 def check_junction(level: int = 2, frequency: float = 1000.0) -> None:
     """This module on :data:`T_JUNCTION` against ``fem_junction`` (diaphragm ends, free top)
     at the same level: the same meshes, so the same fields to round-off."""
@@ -596,7 +616,12 @@ def main() -> None:
     parser.add_argument("--frequencies", type=float, nargs="+", default=list(FREQUENCIES))
     parser.add_argument("--check-junction", action="store_true")
     parser.add_argument("--no-save", action="store_true")
+    parser.add_argument("--summary", action="store_true",
+                        help="only print the saved fields' differences and estimates")
     args = parser.parse_args()
+    if args.summary:
+        summary(args.frequencies)
+        return
     check_case()
     if args.check_junction:
         check_junction()
