@@ -88,20 +88,45 @@ The module is parametrised by a :class:`Layout`; :data:`PANEL` is the case,
 :data:`T_JUNCTION` ``fem_junction``'s T junction (diaphragm ends, free top), on which
 :func:`check_junction` compares this module with ``fem_junction`` on the same meshes.
 
-Self-checks (run and measured below)
-------------------------------------
-``OPENBLAS_NUM_THREADS=1 python bench/fem_panel.py --levels 1 2 3 4`` prints, per frequency,
-the relative L2 change of ``w`` and of ``(u, v)`` of each plate between successive levels on
-``fem_folded.inner_grid(L_p, 0.4)`` (15 x 15 points, 2 % in from the edges), reciprocity (a
-second unit force on B3 at ``(0.31, 0.27)``: ``w_B3`` there under the first force against
-``w_B1(0.17, 0.13)`` under the second), the relative residual of the reduced system, and the
-ties sampled at 401 points of every line (the 3D displacements of the three members computed
-from their frames, independently of the hand-derived relations, and the skin's ``w_x``);
-``--check-junction`` compares with ``fem_junction`` first. It saves the finest level's
-fields to ``/tmp/fem_panel/fields_panel_<freq>.npz`` (:func:`save`).
+Self-checks
+-----------
+``OPENBLAS_NUM_THREADS=1 python bench/fem_panel.py --levels 1 2 3 4 --check-junction`` prints,
+per frequency, the relative L2 change of ``w`` and of ``(u, v)`` of each plate between
+successive levels on ``fem_folded.inner_grid(L_p, 0.4)`` (15 x 15 points, 2 % in from the
+edges), reciprocity (a second unit force on B3 at ``(0.31, 0.27)``: ``w_B3`` there under the
+first force against ``w_B1(0.17, 0.13)`` under the second), the relative residual of the
+reduced system, and the ties sampled at 401 points of every line (the 3D displacements of
+the three members computed from their frames, independently of the hand-derived relations,
+and the skin's ``w_x``); ``--check-junction`` first compares with ``fem_junction``. It saves
+every level's fields to ``/tmp/fem_panel/fields_panel_<freq>.npz`` (:func:`save`);
+``--summary`` prints from them each level's difference from the finest and the Richardson
+estimate of ``w``; ``--check-membrane 2 4`` solves level 2 with a membrane four times finer
+at the lines (:func:`check_membrane`). Measured on a 2-core AMD EPYC, one BLAS thread,
+2026-11-28:
 
-MEASURED: see ``bench/README.md`` (section "Stiffened panel against a finite-element
-reference"), which holds the numbers, run times and memory of the runs.
+* ``fem_junction``'s T junction (diaphragm ends, free top), level 2, 1 kHz: this module's
+  fields against ``fem_junction``'s on the same meshes, 7.7e-11 to 7.9e-11 in ``w`` and
+  ``(u, v)`` of S1, S2, T1 (43 928 unknowns both): the generalisation to several lines
+  (plates seen at a line, shifted relations, springs at any offset) is exact;
+* levels 1, 2, 3, 4: 156 319, 179 386, 714 690, 652 090 unknowns (level 3's membrane mesh is
+  uniform at 0.05 / 3, level 4's graded from 0.05: not nested), set-up 14 / 15 / 71 / 76 s,
+  a solve 5-9 / 8-11 / 44-63 / 36-58 s, 4.9 GB peak; 9 min 47 s for the twelve solves;
+* change of ``w`` from level 3 to 4, per plate: 1.0e-8 to 5.9e-8 (184.8 Hz), 9.1e-8 to
+  2.0e-7 (230 Hz), 1.2e-7 to 7.0e-7 (257 Hz, T1), after 1e-4 to 1.8e-3 (1 to 2) and 2.7e-7
+  to 8.1e-6 (2 to 3); the Richardson estimate of level 4 from levels 2, 3, 4 is 1.2e-9 to
+  1.6e-7 (T1 at 257 Hz). Of ``(u, v)``: 1.7e-7 to 5.4e-6 (184.8 Hz), 9.0e-7 to 5.5e-6
+  (230 Hz), 3.4e-6 to 2.0e-5 (257 Hz);
+* level 2 with the membrane four times finer towards the lines (495 094 unknowns, 3.7 GB,
+  4 min 24 s) against level 4 within 0.05 m of the lines: ``(u, v)`` 2.6e-7 to 1.4e-6,
+  2.2e-6 to 6.5e-6, 1.9e-6 to 6.5e-6 at the three frequencies (against level 2 itself up to
+  2.5e-4 at 257 Hz): level 4's membrane is converged to a few 1e-6 where the lines drive it;
+* reciprocity 5e-14 to 2.3e-9, reduced residual 1.3e-13 to 1.8e-9, line ties (3D
+  displacement and the skin's ``w_x``) 2e-12 to 4e-11 of the line's largest values, at every
+  level and frequency.
+
+So level 4 is taken as the reference, within about 1e-7 in ``w`` (7e-7 for T1 at 257 Hz) and
+about 2e-5 in ``(u, v)``. ``bench/bench_panel.py`` compares vtcr with it; ``bench/README.md``
+(section ``bench_panel.py``) holds the comparison.
 """
 
 from __future__ import annotations
@@ -260,9 +285,14 @@ def skin_grid(layout: Layout, cell: float) -> MeshTri:
     return MeshTri.init_tensor(x, y)
 
 
-def skin_meshes(layout: Layout, n: int) -> tuple[MeshTri, MeshTri]:
+def skin_meshes(layout: Layout, n: int, line_refinement: int = 1
+                ) -> tuple[MeshTri, MeshTri]:
     """The skin's bending and membrane meshes at level ``n`` (module docstring), before they
-    are matched on the lines; ``fem_junction.skin_meshes`` for several lines."""
+    are matched on the lines; ``fem_junction.skin_meshes`` for several lines. With
+    ``line_refinement`` (a power of 2) the membrane's grading towards the lines is that many
+    times finer (size ``max(0.05 / n, 2 d / n) / line_refinement``): a check of the
+    membrane's convergence where the lines drive it (its meshes are not nested from level
+    to level, and a finer mesh everywhere would not fit in memory)."""
     c = n / 2
     corners = grading_points(layout)
     load_plate, lx, ly = layout.loads[0]
@@ -275,7 +305,7 @@ def skin_meshes(layout: Layout, n: int) -> tuple[MeshTri, MeshTri]:
     def membrane(P):
         sizes = [point_grading(P, x, y, c, 1e-6) for x, y in corners]
         d = np.min([np.abs(P[0] - x).min(axis=0) for x in layout.lines], axis=0)
-        return np.minimum.reduce(sizes + [np.maximum(d / c, 0.05 / n)])
+        return np.minimum.reduce(sizes + [np.maximum(d / c, 0.05 / n) / line_refinement])
 
     power = min((n & -n).bit_length() - 1, 2)  # 2-adic valuation of n, at most 2
     return (refined_to(skin_grid(layout, 0.05 / n), bending),
@@ -368,10 +398,11 @@ class PanelModel:
     """Every plate of ``layout`` on the meshes of level ``n``: matrices, springs, ties,
     supports (``self.T``) and loads. Unknowns: the bays' in order, then the stiffeners'."""
 
-    def __init__(self, layout: Layout, n: int):
+    def __init__(self, layout: Layout, n: int, line_refinement: int = 1):
         t0 = time.perf_counter()
         self.layout, self.n = layout, n
-        bending, membrane = matched_on_lines(*skin_meshes(layout, n), layout.lines)
+        bending, membrane = matched_on_lines(*skin_meshes(layout, n, line_refinement),
+                                             layout.lines)
         pieces = {name: (x0, x0 + layout.bays[name]) for name, x0 in layout.bay_x.items()}
         pieces |= {t: (x, x + layout.stiffeners[t]) for t, x in zip(layout.stiffeners,
                                                                      layout.lines)}
@@ -592,6 +623,52 @@ def summary(frequencies=FREQUENCIES, layout: Layout = PANEL) -> None:
             print(f"  {p}: {row}  Richardson w {richardson(levels[-3:], steps):.1e}")
 
 
+def near_lines(layout: Layout, plate: str, points: np.ndarray, d: float = 0.05):
+    """Which of the plate's ``points`` lie within ``d`` of one of its lines."""
+    if plate in layout.stiffeners:
+        return points[:, 0] < d
+    bays = list(layout.bays)
+    near = np.zeros(len(points), bool)
+    if plate != bays[0]:
+        near |= points[:, 0] < d
+    if plate != bays[-1]:
+        near |= points[:, 0] > layout.bays[plate] - d
+    return near
+
+
+def check_membrane(n: int = 4, line_refinement: int = 2, frequencies=FREQUENCIES) -> None:
+    """Level ``n`` with the membrane's grading towards the lines ``line_refinement`` times
+    finer, against the saved levels: at level ``n`` the change of ``(u, v)`` it brings is
+    the error of the saved membrane near the lines. Saves its fields to
+    ``fields_panel_<freq>_n<n>_lines<line_refinement>.npz`` (``w_<p>``, ``uv_<p>``,
+    ``points_<p>``)."""
+    model = PanelModel(PANEL, n, line_refinement)
+    print(f"level {n}, membrane {line_refinement} times finer towards the lines: "
+          f"{model.T.shape[1]} "
+          f"unknowns, triangles (bending, membrane) {model.n_triangles}, setup "
+          f"{model.t_setup:.0f} s", flush=True)
+    for frequency in frequencies:
+        s = solve_level(model, frequency)
+        saved = np.load(OUT / f"fields_panel_{frequency:g}.npz")
+        levels = [int(m) for m in saved["levels"]]
+        print(f"{frequency:g} Hz: solve {s.t_solve:.0f} s, RSS {s.max_rss_gb:.1f} GB, resid "
+              f"{s.residual:.1e}, recip {s.reciprocity:.1e}, ties "
+              f"{max(s.mismatch.values()):.1e}; difference w | (u, v) from the saved levels")
+        for p in PANEL.lengths:
+            near = near_lines(PANEL, p, model.grid(p))
+            print(f"  {p}: " + "  ".join(
+                f"n{m} {relative(saved[f'w_{p}_n{m}'], s.w[p]):.1e}|"
+                f"{relative(saved[f'uv_{p}_n{m}'], s.uv[p]):.1e}" for m in levels[1:])
+                + "; (u, v) within 0.05 m of a line: " + "  ".join(
+                f"n{m} {relative(saved[f'uv_{p}_n{m}'][near], s.uv[p][near]):.1e}"
+                for m in levels[1:]),
+                flush=True)
+        np.savez(OUT / f"fields_panel_{frequency:g}_n{n}_lines{line_refinement}.npz",
+                 **{f"w_{p}": s.w[p] for p in PANEL.lengths},
+                 **{f"uv_{p}": s.uv[p] for p in PANEL.lengths},
+                 **{f"points_{p}": model.grid(p) for p in PANEL.lengths})
+
+
 def check_junction(level: int = 2, frequency: float = 1000.0) -> None:
     """This module on :data:`T_JUNCTION` against ``fem_junction`` (diaphragm ends, free top)
     at the same level: the same meshes, so the same fields to round-off."""
@@ -618,9 +695,14 @@ def main() -> None:
     parser.add_argument("--no-save", action="store_true")
     parser.add_argument("--summary", action="store_true",
                         help="only print the saved fields' differences and estimates")
+    parser.add_argument("--check-membrane", type=int, nargs=2, metavar=("LEVEL", "FACTOR"),
+                        help="only solve LEVEL with a membrane FACTOR times finer at the lines")
     args = parser.parse_args()
     if args.summary:
         summary(args.frequencies)
+        return
+    if args.check_membrane:
+        check_membrane(*args.check_membrane, frequencies=args.frequencies)
         return
     check_case()
     if args.check_junction:
