@@ -47,9 +47,15 @@ def description(resolution: float, held: bool = False) -> dict:
     return data
 
 
-def fe_fields(frequency: float) -> dict:
-    """The FE fields of ``fem_panel.save`` at ``frequency``."""
-    return dict(np.load(FE_FIELDS / f"fields_panel_{frequency:g}.npz"))
+def fe_fields(frequency: float, level: int | None = None) -> dict:
+    """The FE fields of ``fem_panel.save`` at ``frequency``: its finest level's, or
+    ``level``'s (to see how the comparison depends on the reference)."""
+    fe = dict(np.load(FE_FIELDS / f"fields_panel_{frequency:g}.npz"))
+    if level is not None:
+        for p in ("B1", "B2", "B3", "B4", "T1", "T2", "T3"):
+            fe[f"w_{p}"], fe[f"uv_{p}"] = fe[f"w_{p}_n{level}"], fe[f"uv_{p}_n{level}"]
+        fe["finest"] = level
+    return fe
 
 
 def relative(a: np.ndarray, b: np.ndarray) -> float:
@@ -145,11 +151,13 @@ def main() -> None:
     parser.add_argument("--frequencies", type=float, nargs="+",
                         default=tomllib.loads(CASE.read_text())["frequencies"])
     parser.add_argument("--held-resolution", type=float, default=2.25)
+    parser.add_argument("--fe-level", type=int, default=None,
+                        help="compare with this saved FE level instead of the finest")
     args = parser.parse_args()
     for frequency in args.frequencies:
-        fe = fe_fields(frequency)
+        fe = fe_fields(frequency, args.fe_level)
         print(f"\n=== {frequency:g} Hz: FE level {int(fe['finest'])} (levels "
-              f"{list(fe['levels'])}); its last change per plate, w | (u, v): "
+              f"{[int(n) for n in fe['levels']]}); the finest's last change per plate, w | (u, v): "
               + ", ".join(f"{p} {float(fe[f'change_w_{p}']):.1e}|"
                           f"{float(fe[f'change_uv_{p}']):.1e}"
                           for p in ("B1", "B2", "B3", "B4", "T1", "T2", "T3")))
