@@ -286,7 +286,7 @@ def matched_on_line(a: MeshTri, b: MeshTri) -> tuple[MeshTri, MeshTri]:
         ya, yb = line_ys(a), line_ys(b)
         if ya.size == yb.size and np.abs(ya - yb).max() < TOL:
             break
-        a, b = _split_line_edges(a, yb), _split_line_edges(b, ya)
+        a, b = split_line_edges(a, LINE_X, yb), split_line_edges(b, LINE_X, ya)
     p = b.p.copy()
     on_line = np.nonzero(np.abs(p[0] - LINE_X) < TOL)[0]
     p[0, on_line] = LINE_X
@@ -296,10 +296,10 @@ def matched_on_line(a: MeshTri, b: MeshTri) -> tuple[MeshTri, MeshTri]:
     return MeshTri(p2, a.t), MeshTri(p, b.t)
 
 
-def _split_line_edges(mesh: MeshTri, ys: np.ndarray) -> MeshTri:
-    """``mesh`` with the triangles beside every line edge that holds one of ``ys`` strictly
-    inside it refined."""
-    facets = mesh.facets_satisfying(lambda x: np.abs(x[0] - LINE_X) < TOL)
+def split_line_edges(mesh: MeshTri, x0: float, ys: np.ndarray) -> MeshTri:
+    """``mesh`` with the triangles beside every edge on the line ``x = x0`` that holds one of
+    ``ys`` strictly inside it refined."""
+    facets = mesh.facets_satisfying(lambda x: np.abs(x[0] - x0) < TOL)
     y = np.sort(mesh.p[1, mesh.facets[:, facets]], axis=0)
     holds = np.array([np.any((ys > y0 + TOL) & (ys < y1 - TOL)) for y0, y1 in y.T])
     if not holds.any():

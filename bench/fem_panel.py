@@ -148,7 +148,14 @@ from skfem import MeshTri
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from fem_folded import SS_X_EDGE, inner_grid, reduction, richardson
-from fem_junction import JunctionPlate, cut, line_relations, point_grading, refined_to
+from fem_junction import (
+    JunctionPlate,
+    cut,
+    line_relations,
+    point_grading,
+    refined_to,
+    split_line_edges,
+)
 
 SS_Y_EDGE = ["u", "u_x", "u_xx"]  # Argyris dofs fixed on a simply supported edge y = const
 TOL = 1e-12  # coordinates closer than this are the same point
@@ -315,18 +322,6 @@ def skin_meshes(layout: Layout, n: int, line_refinement: int = 1
 def line_ys(mesh: MeshTri, x0: float) -> np.ndarray:
     """Sorted ``y`` of the vertices on ``x = x0``."""
     return np.sort(mesh.p[1, np.abs(mesh.p[0] - x0) < TOL])
-
-
-def split_line_edges(mesh: MeshTri, x0: float, ys: np.ndarray) -> MeshTri:
-    """``mesh`` with the triangles beside every edge on ``x = x0`` that holds one of ``ys``
-    strictly inside it refined."""
-    facets = mesh.facets_satisfying(lambda x: np.abs(x[0] - x0) < TOL)
-    y = np.sort(mesh.p[1, mesh.facets[:, facets]], axis=0)
-    holds = np.array([np.any((ys > y0 + TOL) & (ys < y1 - TOL)) for y0, y1 in y.T])
-    if not holds.any():
-        return mesh
-    cells = mesh.f2t[:, facets[holds]].ravel()
-    return mesh.refined(np.unique(cells[cells >= 0]))
 
 
 def matched_on_lines(a: MeshTri, b: MeshTri, lines: list[float]) -> tuple[MeshTri, MeshTri]:
