@@ -1,0 +1,528 @@
+r"""Finite-element reference for the forward problem of ``cases/box_with_wall.toml`` (the
+model's joint parameters, not its ``[truth]``), scikit-fem, written apart from the VTCR solver
+(it imports only the bench modules ``fem_corner``, ``fem_folded``, ``fem_clamped``).
+
+DOCSTRING_PLACEHOLDER
+"""
+
+from __future__ import annotations
+
+import math
+import pickle
+import resource
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+from scipy.sparse import block_diag, coo_matrix, csr_matrix, diags
+from scipy.sparse.linalg import splu
+from skfem import MeshTri
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from fem_corner import (
+    EDGES,
+    ROW,
+    CornerModel,
+    CornerPlate,
+    FoldGeometry,
+    PlateSpec,
+    Structure,
+    Tie,
+    edge_line,
+    edge_vertex_coords,
+    fold_ties,
+    grading_points,
+    reduction,
+    split_edge,
+)
+from fem_folded import graded_mesh, relative
+
+E, NU, RHO, H, ETA = 210e9, 0.3, 7800.0, 0.001, 0.01
+D_STAR = E * (1 + 1j * ETA) * H ** 3 / (12 * (1 - NU ** 2))
+A_STAR = E * (1 + 1j * ETA) * H / (1 - NU ** 2)
+RHO_H = RHO * H
+FREQUENCIES = (189.6, 277.5)
+LEVELS = (2, 3, 4)
+OUT = Path("/tmp/fem_box")
+TOL = 1e-12
+H_LINE_END = 1e-3  # grading floor at the plates' corners (all of them line ends)
+K_HINGE = 10.0 ** 2.0  # the 16 folds, N m/m/rad, loss 0
+K_WALL = 10.0 ** 3.0  # the wall's member of each weld line (the faces' halves: rigid)
+MAX_REFINEMENT = 12
+
+
+# ---------------------------------------------------------------------------------------------
+# The structure (cases/box_with_wall.toml's header table, by hand)
+# ---------------------------------------------------------------------------------------------
+def _plate(lx, ly, origin, ex, ey) -> PlateSpec:
+    return PlateSpec(lx, ly, origin, ex, ey, {})  # nothing supported: the box floats
+
+
+PLATES = {
+    "Top1": _plate(0.3, 0.4, (0.0, 0.0, 0.3), (1, 0, 0), (0, 1, 0)),
+    "Top2": _plate(0.2, 0.4, (0.3, 0.0, 0.3), (1, 0, 0), (0, 1, 0)),
+    "Bottom1": _plate(0.3, 0.4, (0.0, 0.4, 0.0), (1, 0, 0), (0, -1, 0)),
+    "Bottom2": _plate(0.2, 0.4, (0.3, 0.4, 0.0), (1, 0, 0), (0, -1, 0)),
+    "Front1": _plate(0.3, 0.3, (0.0, 0.0, 0.0), (1, 0, 0), (0, 0, 1)),
+    "Front2": _plate(0.2, 0.3, (0.3, 0.0, 0.0), (1, 0, 0), (0, 0, 1)),
+    "Back1": _plate(0.3, 0.3, (0.3, 0.4, 0.0), (-1, 0, 0), (0, 0, 1)),
+    "Back2": _plate(0.2, 0.3, (0.5, 0.4, 0.0), (-1, 0, 0), (0, 0, 1)),
+    "Left": _plate(0.4, 0.3, (0.0, 0.4, 0.0), (0, -1, 0), (0, 0, 1)),
+    "Right": _plate(0.4, 0.3, (0.5, 0.0, 0.0), (0, 1, 0), (0, 0, 1)),
+    "Wall": _plate(0.4, 0.3, (0.3, 0.0, 0.0), (0, 1, 0), (0, 0, 1)),
+}
+
+# right-angled lines of two members on a spring: (name, (P, edge), (Q, edge), k)
+HINGES = (
+    ("top1_front1", ("Top1", "bottom"), ("Front1", "top")),
+    ("top1_back1", ("Top1", "top"), ("Back1", "top")),
+    ("top1_left", ("Top1", "left"), ("Left", "top")),
+    ("bottom1_back1", ("Bottom1", "bottom"), ("Back1", "bottom")),
+    ("bottom1_front1", ("Bottom1", "top"), ("Front1", "bottom")),
+    ("bottom1_left", ("Bottom1", "left"), ("Left", "bottom")),
+    ("front1_left", ("Front1", "left"), ("Left", "right")),
+    ("back1_left", ("Back1", "right"), ("Left", "left")),
+    ("top2_front2", ("Top2", "bottom"), ("Front2", "top")),
+    ("top2_right", ("Top2", "right"), ("Right", "top")),
+    ("top2_back2", ("Top2", "top"), ("Back2", "top")),
+    ("bottom2_back2", ("Bottom2", "bottom"), ("Back2", "bottom")),
+    ("bottom2_right", ("Bottom2", "right"), ("Right", "bottom")),
+    ("bottom2_front2", ("Bottom2", "top"), ("Front2", "bottom")),
+    ("front2_right", ("Front2", "right"), ("Right", "left")),
+    ("back2_right", ("Back2", "left"), ("Right", "right")),
+)
+# the welds: the face's first half, its second half (rigid to it: one C1 plate) and the wall
+WELDS = (
+    ("W_top", ("Top1", "right"), ("Top2", "left"), ("Wall", "top")),
+    ("W_bottom", ("Bottom1", "right"), ("Bottom2", "left"), ("Wall", "bottom")),
+    ("W_front", ("Front1", "right"), ("Front2", "left"), ("Wall", "left")),
+    ("W_back", ("Back1", "left"), ("Back2", "right"), ("Wall", "right")),
+)
+SPRING_FOLDS = tuple((*h, K_HINGE) for h in HINGES) + tuple(
+    (f"{name}.Wall", first, wall, K_WALL) for name, first, _, wall in WELDS)
+LOADS = {"main": ("Top1", 0.17, 0.13), "recip": ("Right", 0.23, 0.11)}
+
+BOX = Structure(plates=PLATES, folds=tuple(f[:3] for f in SPRING_FOLDS), loads=LOADS,
+                h_fold_end=H_LINE_END)
+
+
+def weld_geometry(structure: Structure, name: str, first, second) -> FoldGeometry:
+    """A coplanar rigid joint of two plates with the same frame axes (a face's two halves),
+    as a ``FoldGeometry`` (``cross`` 0: no right angle; only ``line_s``, ``local`` are used)."""
+    (P, eP), (Q, eQ) = first, second
+    specs = structure.plates
+    assert np.allclose(specs[P].axes, specs[Q].axes), f"{name}: frames differ"
+    _, _, aP, oP, t = edge_line(specs[P], eP)
+    _, _, aQ, oQ, tQ = edge_line(specs[Q], eQ)
+    sigma_Q = float(tQ @ t)
+    assert abs(sigma_Q - 1) < TOL and np.linalg.norm(oQ - oP) < TOL, f"{name}: not one edge"
+    assert abs(specs[P].size(aP) - specs[Q].size(aQ)) < TOL
+    return FoldGeometry(name, P, Q, {P: eP, Q: eQ}, t, specs[P].size(aP), {P: 1.0, Q: 1.0},
+                        0.0, {P: 0.0, Q: 0.0}, {P: 1.0, Q: 1.0})
+
+
+def line_geometries(structure: Structure = BOX):
+    """``(spring folds [(geometry, k)], welds [geometry])``."""
+    folds = [(FoldGeometry.of(structure, name, a, b), k) for name, a, b, k in SPRING_FOLDS]
+    welds = [weld_geometry(structure, name, a, b) for name, a, b, _ in WELDS]
+    return folds, welds
+
+
+def line_end_points(geometries, structure: Structure = BOX) -> list[np.ndarray]:
+    """3D points where two line ends or more meet (the box's 8 corners and the wall's 4)."""
+    ends = []
+    for g in geometries:
+        _, _, a, o, e = edge_line(structure.plates[g.P], g.edge[g.P])
+        ends += [o, o + structure.plates[g.P].size(a) * e]
+    points = []
+    for p in ends:
+        if (sum(np.linalg.norm(p - q) < TOL for q in ends) >= 2
+                and not any(np.linalg.norm(p - q) < TOL for q in points)):
+            points.append(p)
+    return points
+
+
+# ---------------------------------------------------------------------------------------------
+# Meshes
+# ---------------------------------------------------------------------------------------------
+def box_meshes(structure: Structure, geometries, n: float) -> dict[str, MeshTri]:
+    """``fem_corner.structure_meshes`` over every line (folds and welds): graded squares of
+    ``0.05 / n``, refined until both plates of every line have the same vertices on it, Q's
+    snapped to P's."""
+    meshes = {}
+    for name, spec in structure.plates.items():
+        nx, ny = round(spec.lx / 0.05 * n), round(spec.ly / 0.05 * n)
+        assert abs(nx - spec.lx / 0.05 * n) < 1e-9 and abs(ny - spec.ly / 0.05 * n) < 1e-9
+        meshes[name] = graded_mesh(nx, ny, spec.lx, spec.ly,
+                                   grading_points(structure, name, n / 2))
+    changed = True
+    while changed:
+        changed = False
+        for f in geometries:
+            s = {p: f.line_s(p, edge_vertex_coords(meshes[p], structure.plates[p], f.edge[p]))
+                 for p in (f.P, f.Q)}
+            for p, other in ((f.P, f.Q), (f.Q, f.P)):
+                refined = split_edge(meshes[p], structure.plates[p], f.edge[p],
+                                     f.local(p, s[other]))
+                if refined is not None:
+                    meshes[p], changed = refined, True
+    for f in geometries:
+        sP = edge_vertex_coords(meshes[f.P], structure.plates[f.P], f.edge[f.P])
+        spec = structure.plates[f.Q]
+        k, end = EDGES[f.edge[f.Q]]
+        p = meshes[f.Q].p.copy()
+        on = np.nonzero(np.abs(p[k] - end * spec.size(k)) < TOL)[0]
+        s_on = f.line_s(f.Q, p[1 - k, on])
+        i = np.searchsorted(sP, s_on - 1e-10)
+        assert np.abs(sP[i] - s_on).max() < 1e-10, f"line {f.name}: vertices differ"
+        p[1 - k, on] = f.local(f.Q, sP[i])
+        p[k, on] = end * spec.size(k)
+        meshes[f.Q] = MeshTri(p, meshes[f.Q].t)
+    return {name: MeshTri(np.ascontiguousarray(m.p), np.ascontiguousarray(m.t))
+            for name, m in meshes.items()}
+
+
+# ---------------------------------------------------------------------------------------------
+# Plates, ties, springs
+# ---------------------------------------------------------------------------------------------
+class BoxPlate(CornerPlate):
+    """``fem_corner.CornerPlate`` with the box's 1 mm steel."""
+
+    def dynamic(self, omega: float):
+        return block_diag([D_STAR * self.bending.K - omega ** 2 * RHO_H * self.bending.M,
+                           A_STAR * self.K_membrane - omega ** 2 * RHO_H * self.M_membrane])
+
+
+def weld_ties(g: FoldGeometry, plates, offsets) -> list[Tie]:
+    """Q = P on the shared edge: at each vertex the Argyris nodal values but ``w_,bb`` (``b``
+    the axis across the line), the midpoint normal derivative (the facets' normals compared)
+    and ``u``, ``v`` at every P5 node; the frames are the same, so ``w``, ``w_,b`` and ``(u,
+    v)`` continue across (the whole ``C1`` field, the curvature across free to jump)."""
+    P, Q = plates[g.P], plates[g.Q]
+    oP, oQ = offsets[g.P], offsets[g.Q]
+    vP, fP, nP, aP = P.edge(g.edge[g.P])
+    vQ, fQ, nQ, aQ = Q.edge(g.edge[g.Q])
+    kP, kQ = EDGES[g.edge[g.P]][0], EDGES[g.edge[g.Q]][0]
+    assert kP == kQ and np.abs(aP - aQ).max() < 1e-10, f"{g.name}: P5 nodes differ"
+    svP, svQ = P.mesh.p[1 - kP, vP], Q.mesh.p[1 - kQ, vQ]
+    assert np.abs(svP - svQ).max() < 1e-12, f"{g.name}: vertices differ"
+    spec = P.spec
+    k, end = EDGES[g.edge[g.P]]
+
+    def point(s):
+        local = [0.0, 0.0]
+        local[k], local[1 - k] = end * spec.size(k), s
+        return spec.point3d(*local)[0]
+
+    ties = []
+    nodal_P, nodal_Q = P.bending.basis.nodal_dofs, Q.bending.basis.nodal_dofs
+    # not w_,bb: the wall's couple jumps the moment across the line (fem_junction: tying it
+    # made a stiff spring's couple converge like 1 / n)
+    rows = [row for name, row in ROW.items() if name != ("u_xx", "u_yy")[kP]]
+    for a, b, s in zip(vP, vQ, svP):
+        for row in rows:
+            ties.append(Tie(oQ + nodal_Q[row, b], np.array([oP + nodal_P[row, a]]),
+                            np.ones(1), point(s), g.name, "weld bending"))
+    nbP, nbQ = P.facet_normals(fP)[kP], Q.facet_normals(fQ)[kQ]
+    midP = P.mesh.p[1 - kP, P.mesh.facets[:, fP]].mean(axis=0)
+    midQ = Q.mesh.p[1 - kQ, Q.mesh.facets[:, fQ]].mean(axis=0)
+    assert np.abs(midP - midQ).max() < 1e-12
+    for a, b, r, s in zip(P.bending.basis.facet_dofs[0, fP], Q.bending.basis.facet_dofs[0, fQ],
+                          np.round(nbQ / nbP), midP):
+        ties.append(Tie(oQ + b, np.array([oP + a]), np.array([r]), point(s), g.name,
+                        "weld bending"))
+    for a, b, s in zip(nP, nQ, aP):
+        for c in (0, 1):
+            ties.append(Tie(oQ + Q.comp(c) + b, np.array([oP + P.comp(c) + a]), np.ones(1),
+                            point(s), g.name, "weld membrane"))
+    return ties
+
+
+def rotation_rows(f: FoldGeometry, plates, offsets, size: int, n_gauss: int = 5):
+    """``B`` with ``B x = theta_P . t - theta_Q . t`` at the Gauss points of the line's
+    intervals (``theta . t = kappa w_,b`` on each plate's edge, ``fem_corner.FoldGeometry``)
+    and their weights: 5 points per interval integrate the quartic ``w_,b`` traces' product
+    exactly."""
+    P = plates[f.P]
+    kP = EDGES[f.edge[f.P]][0]
+    s = np.sort(f.line_s(f.P, P.mesh.p[1 - kP, P.edge(f.edge[f.P])[0]]))
+    g, gw = np.polynomial.legendre.leggauss(n_gauss)
+    lengths = np.diff(s)
+    sq = (s[:-1, None] + lengths[:, None] * 0.5 * (g + 1)).ravel()
+    wq = (lengths[:, None] * 0.5 * gw).ravel()
+    blocks = []
+    for name, sign in ((f.P, 1.0), (f.Q, -1.0)):
+        plate = plates[name]
+        k, end = EDGES[f.edge[name]]
+        a = f.local(name, sq)
+        pts = np.zeros((2, a.size))
+        pts[k], pts[1 - k] = end * plate.spec.size(k), a
+        slope = plate.bending.eval_matrix(pts, plate.edge_cells(f.edge[name], a),
+                                          what="dx" if k == 0 else "dy").tocoo()
+        blocks.append(coo_matrix((sign * f.kappa[name] * slope.data,
+                                  (slope.row, offsets[name] + slope.col)),
+                                 shape=(sq.size, size)))
+    return (blocks[0] + blocks[1]).tocsr(), wq
+
+
+def spring_matrix(f: FoldGeometry, k: float, plates, offsets, size: int) -> csr_matrix:
+    """``k int (theta_P . t - theta_Q . t)(same)^ ds``: the spring's energy, twice."""
+    B, wq = rotation_rows(f, plates, offsets, size)
+    return (k * (B.T @ diags(wq) @ B)).tocsr()
+
+
+# ---------------------------------------------------------------------------------------------
+# The model
+# ---------------------------------------------------------------------------------------------
+class BoxModel(CornerModel):
+    """The box on the meshes of level ``n``: plates, ties (spring folds: translation; welds:
+    everything), the reduction with the line-end clusters, springs and loads."""
+
+    def __init__(self, n: float, structure: Structure = BOX, folds=None, welds=None):
+        t0 = time.perf_counter()
+        self.structure, self.n = structure, n
+        if folds is None:
+            folds, welds = line_geometries(structure)
+        self.spring_folds, self.welds = folds, welds
+        self.folds = [f for f, _ in folds]
+        geometries = self.folds + self.welds
+        meshes = box_meshes(structure, geometries, n)
+        self.plates, self.offsets, self.size = {}, {}, 0
+        for name, spec in structure.plates.items():
+            self.plates[name] = BoxPlate(spec, meshes[name])
+            self.offsets[name] = self.size
+            self.size += self.plates[name].size
+        self.n_triangles = sum(m.t.shape[1] for m in meshes.values())
+        self.ties = []
+        for f, k in folds:  # k = inf: a rigid fold, its rotation tied (fem_corner)
+            ties = fold_ties(f, self.plates, self.offsets)
+            self.ties += ties if math.isinf(k) else [t for t in ties if t.kind != "rotation"]
+        self.ties += [t for g in self.welds for t in weld_ties(g, self.plates, self.offsets)]
+        self.junctions = line_end_points(geometries, structure)
+        fixed = np.concatenate([self.offsets[name] + p.fixed() for name, p in self.plates.items()])
+        self.reduction = reduction(self.size, fixed.astype(int), self.ties, self.junctions)
+        self.T = self.reduction.T
+        self.springs = csr_matrix((self.size, self.size), dtype=float)
+        for f, k in folds:
+            if not math.isinf(k):
+                self.springs += spring_matrix(f, k, self.plates, self.offsets, self.size)
+        self.loads = {}
+        for key, (plate, x, y) in structure.loads.items():
+            load = np.zeros(self.size)
+            p = self.plates[plate]
+            load[self.offsets[plate]:self.offsets[plate] + p.n_w] = \
+                p.bending.eval_matrix(np.array([[x], [y]], float)).toarray()[0]
+            self.loads[key] = load
+        self.t_setup = time.perf_counter() - t0
+
+    def solve(self, frequency: float) -> dict[str, np.ndarray]:
+        """``fem_corner.CornerModel.solve`` with the springs added to the plates' matrix."""
+        t0 = time.perf_counter()
+        omega = 2 * math.pi * frequency
+        K = (block_diag([p.dynamic(omega) for p in self.plates.values()]).tocsr()
+             + self.springs)
+        Kr = (self.T.T @ K @ self.T).tocsc()
+        del K  # memory: the LU is what counts
+        s = diags(1.0 / np.sqrt(np.abs(Kr.diagonal())))
+        Ks = (s @ Kr @ s).tocsc()
+        del Kr
+        keys = list(self.loads)
+        b = s @ (self.T.T @ np.column_stack([self.loads[k] for k in keys])).astype(complex)
+        lu = splu(Ks, permc_spec="MMD_AT_PLUS_A", options={"SymmetricMode": True})
+        x = lu.solve(b)
+        KL, bL = Ks.astype(np.clongdouble), b.astype(np.clongdouble)
+        del Ks
+        # refinement with the residual in extended precision (fem_corner); the 1 mm plates'
+        # membranes make the system worse conditioned than fem_corner's (three steps left
+        # 2e-7 at level 2), so it goes on while the residual falls
+        self.residuals = []
+        for _ in range(MAX_REFINEMENT):
+            r = np.asarray(bL - KL @ x.astype(np.clongdouble), dtype=complex)
+            self.residuals.append(float(np.linalg.norm(r) / np.linalg.norm(b)))
+            if self.residuals[-1] < 1e-14 or (len(self.residuals) > 3
+                                              and self.residuals[-1] > 0.5 * self.residuals[-2]):
+                break
+            x = x + lu.solve(r)
+        self.residual = self.residuals[-1]
+        self.t_solve = time.perf_counter() - t0
+        full = self.T @ (s @ x)
+        return {k: full[:, i] for i, k in enumerate(keys)}
+
+    def line_mismatch(self, x: np.ndarray, n: int = 401) -> dict[str, dict[str, float]]:
+        """Per line, at ``n`` points: the largest difference of the two plates' 3D
+        displacements relative to the largest of them (``U``) and, on the welds, of the
+        rotation about the line (``theta``; on a spring fold it differs by the spring's
+        twist: ``twist`` its largest over the largest rotation there)."""
+        out = {}
+        parts = self.parts(x)
+        for f in self.folds + self.welds:
+            s = np.linspace(0.0, f.length, n)
+            U, R = {}, {}
+            for p in (f.P, f.Q):
+                plate, xp = parts[p]
+                k, end = EDGES[f.edge[p]]
+                a = f.local(p, s)
+                pts = np.zeros((n, 2))
+                pts[:, k], pts[:, 1 - k] = end * plate.spec.size(k), a
+                vals = plate.values(xp, pts, plate.edge_cells(f.edge[p], a))
+                e = plate.spec.axes
+                U[p] = (np.outer(vals["u"], e[0]) + np.outer(vals["v"], e[1])
+                        + np.outer(vals["w"], e[2]))
+                R[p] = vals["w_y"] * (e[0] @ f.t) - vals["w_x"] * (e[1] @ f.t)
+            key = "theta" if f in self.welds else "twist"
+            out[f.name] = {"U": float(np.abs(U[f.P] - U[f.Q]).max() / np.abs(U[f.P]).max()),
+                           key: float(np.abs(R[f.P] - R[f.Q]).max() / np.abs(R[f.P]).max())}
+        return out
+
+    def spring_energy_of_rigid_motions(self) -> float:
+        """``max |x^T S x| / (k_max |x|^2)`` over the six rigid motions (``S`` the springs):
+        zero if the rotations about the lines are measured alike on both sides."""
+        worst = 0.0
+        for mode in range(6):
+            c, th = np.zeros(3), np.zeros(3)
+            (c if mode < 3 else th)[mode % 3] = 1.0
+            x = np.concatenate([self.rigid_interpolant(name, c, th) for name in self.plates])
+            worst = max(worst, abs(x @ (self.springs @ x)) / (K_WALL * (x @ x)))
+        return worst
+
+
+# ---------------------------------------------------------------------------------------------
+# Runs
+# ---------------------------------------------------------------------------------------------
+def peak_memory_gb() -> float:
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1e6
+
+
+def run_level(n: float, frequencies=FREQUENCIES, rigid: bool = True) -> dict:
+    """Build level ``n``, solve both loads at every frequency: fields on the inner grids,
+    reciprocity, ties, rigid motions, clusters."""
+    model = BoxModel(n)
+    run = {"n": n, "dofs": model.n_dofs, "triangles": model.n_triangles,
+           "setup": model.t_setup, "tie_residual": model.tie_residual(),
+           "clusters": [(c["rows"], len(c["dofs"]), c["rank"], c["N"].shape[1])
+                        for c in model.reduction.clusters],
+           "w": {}, "uv": {}, "recip": {}, "mismatch": {}, "solve": {}, "residual": {}}
+    if rigid:
+        run["rigid"] = model.rigid_body_check()["modes"]
+        run["rigid_spring"] = model.spring_energy_of_rigid_motions()
+    (pa, *xa), (pc, *xc) = LOADS["main"], LOADS["recip"]
+    for f in frequencies:
+        xs = model.solve(f)
+        run["solve"][f], run["residual"][f] = model.t_solve, model.residual
+        run.setdefault("residuals", {})[f] = model.residuals
+        run["w"][f], run["uv"][f] = model.fields(xs["main"])
+        run["recip"][f] = (model.point_w(xs["main"], pc, xc), model.point_w(xs["recip"], pa, xa))
+        run["mismatch"][f] = {k: model.line_mismatch(x) for k, x in xs.items()}
+    print(f"level {n}: {model.n_triangles} triangles, {model.n_dofs} unknowns, set-up "
+          f"{model.t_setup:.0f} s, solves "
+          + ", ".join(f"{t:.0f} s" for t in run["solve"].values())
+          + f", peak memory {peak_memory_gb():.2f} GB", flush=True)
+    return run
+
+
+def print_checks(runs: list[dict], frequencies=FREQUENCIES) -> None:
+    plates = list(PLATES)
+    for f in frequencies:
+        print(f"\n{f:g} Hz: relative L2 change of w, then of (u, v), from the previous level "
+              "on each plate's 225 inner points")
+        print("  " + " ".join(f"{p:>8}" for p in plates))
+        for prev, r in zip(runs, runs[1:]):
+            for kind in ("w", "uv"):
+                print(f"  {prev['n']:g} -> {r['n']:g} {kind:>2}: " + " ".join(
+                    f"{relative(r[kind][f][p], prev[kind][f][p]):8.1e}" for p in plates))
+        print("  reciprocity: w_Right(0.23, 0.11; load on Top1) vs w_Top1(0.17, 0.13; load "
+              "on Right)")
+        for r in runs:
+            a, b = r["recip"][f]
+            print(f"    n = {r['n']:g}: {a:.10e}  {b:.10e}  rel. diff {abs(a - b) / abs(a):.1e}")
+        print("  lines sampled at 401 points, worst over both loads: |U_P - U_Q| / max |U|; "
+              "welds |theta_P - theta_Q| / max |theta|; folds' twist")
+        for r in runs:
+            worst_U = max(m[line]["U"] for m in r["mismatch"][f].values() for line in m)
+            worst_theta = max(m[line].get("theta", 0.0) for m in r["mismatch"][f].values()
+                              for line in m)
+            twist = [m[line]["twist"] for m in r["mismatch"][f].values() for line in m
+                     if "twist" in m[line]]
+            print(f"    n = {r['n']:g}: U {worst_U:.1e}, weld theta {worst_theta:.1e}, fold "
+                  f"twist {min(twist):.1e} to {max(twist):.1e}; refinement residuals "
+                  + " ".join(f"{x:.0e}" for x in r["residuals"][f]))
+    print("\nties on the columns of T, max |C T|; clusters at the line ends (rows, dofs, rank, "
+          "null space):")
+    for r in runs:
+        print(f"  n = {r['n']:g}: {r['tie_residual']:.1e}; {sorted(set(r['clusters']))}")
+    print("rigid motions: tie residual, distance from range(T), |K x| / ||K| |x||; springs' "
+          "energy / (k |x|^2):")
+    for r in runs:
+        if "rigid" in r:
+            print(f"  n = {r['n']:g}: " + "; ".join(
+                f"{m['mode']} {m['ties']:.0e} {m['range']:.0e} {m['stiffness']:.0e}"
+                for m in r["rigid"]) + f"; springs {r['rigid_spring']:.0e}")
+
+
+def save(runs: list[dict], frequencies=FREQUENCIES) -> Path:
+    """``/tmp/fem_box/fields.npz``: the finest level's ``w_{p}_{f}`` (225,), ``uv_{p}_{f}``
+    (225, 2) and the last change of ``w`` and ``(u, v)`` per plate, ``change_w_{f}``,
+    ``change_uv_{f}`` (the order of ``PLATES``), and the levels."""
+    OUT.mkdir(parents=True, exist_ok=True)
+    last, prev = runs[-1], runs[-2] if len(runs) > 1 else None
+    packed = {"levels": np.array([r["n"] for r in runs], float)}
+    for f in frequencies:
+        for p in PLATES:
+            packed[f"w_{p}_{f:g}"] = last["w"][f][p]
+            packed[f"uv_{p}_{f:g}"] = last["uv"][f][p]
+        if prev is not None:
+            for kind in ("w", "uv"):
+                packed[f"change_{kind}_{f:g}"] = np.array(
+                    [relative(last[kind][f][p], prev[kind][f][p]) for p in PLATES])
+    path = OUT / "fields.npz"
+    np.savez_compressed(path, **packed)
+    return path
+
+
+def spring_limit_check(n: float = 2, frequency: float = 277.5,
+                       stiffnesses=(1e2, 1e4, 1e6, 1e8)) -> None:
+    """``fem_corner``'s L fold (diaphragm ends; here 1 mm steel) with its fold on a spring of
+    growing ``k`` against the rigid fold (``k = inf``, rotation tied as in ``fem_corner``):
+    the difference must fall like ``1 / k``."""
+    from fem_corner import L_FOLD
+    name, first, second = L_FOLD.folds[0]
+    geometry = FoldGeometry.of(L_FOLD, name, first, second)
+
+    def fields(k):
+        model = BoxModel(n, L_FOLD, [(geometry, k)], [])
+        return model.fields(model.solve(frequency)["main"]), model.n_dofs
+
+    (w0, uv0), dofs = fields(math.inf)
+    print(f"\nspring limit, L fold of fem_corner (1 mm), level {n:g} ({dofs} unknowns), "
+          f"{frequency:g} Hz: relative difference from the rigid fold, w then (u, v), A / B")
+    for k in stiffnesses:
+        (w, uv), _ = fields(k)
+        print(f"  k = {k:.0e}: " + " / ".join(f"{relative(w[p], w0[p]):.1e}" for p in w0)
+              + "; " + " / ".join(f"{relative(uv[p], uv0[p]):.1e}" for p in uv0), flush=True)
+
+
+def main(argv) -> None:
+    """``python bench/fem_box.py LEVEL``: solve one level and keep it in ``/tmp/fem_box/
+    run_LEVEL.pkl`` (one process per level: the memory is the finest level's alone);
+    ``--report L1 L2 ...``: the checks of those kept levels, and ``fields.npz`` of the last;
+    ``--spring-limit``: the spring against the rigid fold."""
+    t0 = time.perf_counter()
+    if "--spring-limit" in argv:
+        spring_limit_check()
+        return
+    levels = [float(a) for a in argv if not a.startswith("--")] or list(LEVELS)
+    OUT.mkdir(parents=True, exist_ok=True)
+    if "--report" in argv:
+        runs = [pickle.loads((OUT / f"run_{n:g}.pkl").read_bytes()) for n in levels]
+        print_checks(runs)
+        print(f"wrote {save(runs)}")
+        return
+    for n in levels:
+        run = run_level(n)
+        (OUT / f"run_{n:g}.pkl").write_bytes(pickle.dumps(run))
+    print(f"total {time.perf_counter() - t0:.0f} s, peak memory {peak_memory_gb():.2f} GB")
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])
