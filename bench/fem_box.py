@@ -2,7 +2,86 @@ r"""Finite-element reference for the forward problem of ``cases/box_with_wall.to
 model's joint parameters, not its ``[truth]``), scikit-fem, written apart from the VTCR solver
 (it imports only the bench modules ``fem_corner``, ``fem_folded``, ``fem_clamped``).
 
-DOCSTRING_PLACEHOLDER
+The structure
+-------------
+Steel, ``E* = E (1 + j eta)`` (E = 210 GPa, nu = 0.3, rho = 7800 kg/m^3, eta = 0.01), h = 1 mm in
+every plate, ``D* = E* h^3 / (12 (1 - nu^2))``, ``A* = E* h / (1 - nu^2)``; time factor
+``exp(+j omega t)``; Kirchhoff bending and plane-stress membrane in each plate. Plate ``p``
+occupies its local ``[0, Lx] x [0, Ly]``, placed by the toml's frame ``(o, e_x, e_y, e_z = e_x x
+e_y)``: the local point ``(x, y)`` is ``o + x e_x + y e_y`` and the displacement the 3D vector
+``u e_x + v e_y + w e_z`` (:data:`PLATES`, written by hand from the case's header table):
+
+=========  ===========  ==================  =========  =========  ======
+plate      size (m)     origin              e_x        e_y        e_z
+=========  ===========  ==================  =========  =========  ======
+Top1|2     0.3|0.2x0.4  (0|0.3, 0, 0.3)     +x         +y         +z
+Bottom1|2  0.3|0.2x0.4  (0|0.3, 0.4, 0)     +x         -y         -z
+Front1|2   0.3|0.2x0.3  (0|0.3, 0, 0)       +x         +z         -y
+Back1|2    0.3|0.2x0.3  (0.3|0.5, 0.4, 0)   -x         +z         +y
+Left       0.4x0.3      (0, 0.4, 0)         -y         +z         -x
+Right      0.4x0.3      (0.5, 0, 0)         +y         +z         +x
+Wall       0.4x0.3      (0.3, 0, 0)         +y         +z         +x
+=========  ===========  ==================  =========  =========  ======
+
+Nothing supports the box. Loads: 1 N along Top1's ``e_z`` at Top1's (0.17, 0.13) (the case's,
+the fields kept) and, for reciprocity, 1 N along Right's ``e_z`` at Right's (0.23, 0.11).
+
+The lines (the case's ``[joints]``, model values, not ``[truth]``)
+------------------------------------------------------------------
+* 16 hinges (:data:`HINGES`, the toml's ``between`` pairs, P first): right-angled folds whose
+  3D translations are tied and whose rotations about the line are each the plate's own,
+  coupled by the spring energy ``1/2 k int (theta_P . t - theta_Q . t)^2 ds``, ``k = 10^2``
+  N m/m/rad, loss 0 (a line of two members, the first rigid: ``Theta = theta_P``, ``C_Q = k
+  (Theta - theta_Q)``).
+* 4 welds W_top, W_bottom, W_front, W_back (:data:`WELDS`): the face's two halves rigid to
+  the line and the wall on ``k = 10^3``. Rigid halves with the same frame (checked) are one
+  plate across the line: :func:`weld_ties` ties ``w``, its first derivatives, the tangential
+  second and the mixed derivative at each line vertex, the midpoint normal derivative
+  (the two facets' normals compared) and ``u``, ``v`` at every P5 node, so that ``w``,
+  ``w_,b`` and ``(u, v)`` are continuous identically; ``w_,bb`` (``b`` across the line) is
+  left free on each side, because the wall's couple jumps the moment there
+  (``fem_junction``: tying it made the couple converge like ``1 / n``; here it changed
+  ``w`` by 1e-2 between levels). The wall is then a spring fold with the first half
+  (``W_top.Wall``: Top1's right edge and Wall's top edge), ``Theta = theta_Top1 =
+  theta_Top2``, ``C_Wall = k (Theta - theta_Wall)``.
+
+Signs: every fold's from the frames, by ``fem_corner.FoldGeometry`` (for any right-angled
+fold; see its docstring): translation ``d_b,P = (e_b,P . e_z,Q) w_Q``, ``d_b,Q = (e_b,Q .
+e_z,P) w_P``, ``d_a,Q = sigma_Q d_a,P``; rotation about the line ``theta . t = kappa w_,b``
+with ``theta = w_y e_x - w_x e_y``, ``kappa = e_x . t`` (edge ``y = const``) or ``-e_y . t``
+(edge ``x = const``). The spring (:func:`spring_matrix`) integrates ``k (kappa_P w_P,b -
+kappa_Q w_Q,b)^2`` with 5 Gauss points per line interval (exact for the quartic traces of
+``w_,b``). Check: the six rigid motions give springs' energy ``<= 3e-21 k |x|^2`` (below).
+
+Weak form: ``fem_folded``'s bending and membrane forms summed over the 11 plates plus the 20
+springs' energy, in the space of fields meeting the ties (their multipliers, the lines'
+forces, do no virtual work there; the moment balance of each line is natural).
+
+Discretisation and ties
+-----------------------
+``w``: Argyris (``fem_clamped.ArgyrisLocal`` via ``fem_corner.CornerPlate``), ``(u, v)``: P5
+Lagrange; the folds' translation ties are ``fem_corner.fold_ties`` without its rotation rows
+(master-slave, exact along the line: P5 normal components equal the other plate's quintic
+Hermite trace of ``w``, tangential components node by node). Where lines meet (the box's 8
+corners: three hinges; the wall's 4 corners: two hinges, two welds and two wall folds) all
+ties located at the point are gathered and their dofs replaced by an orthonormal basis of
+their null space (``fem_corner.reduction``). Ranks, printed: at a box corner 9 rows on 9
+dofs (``w, u, v`` of three plates), rank 6 (three copies of one 3D translation), null space
+3; at a wall corner 26 rows (two welds' 7 vertex ties each, four folds' 3 translation ties)
+on 31 dofs (both halves' ``w, w_x, w_y, w_xy``, the tangential ``w_,aa``, ``u, v`` of two
+faces and the wall's ``w, u, v``), rank 20 (14 weld + the wall's and the two faces' 3D
+translations equal: 6), null space 11 (one 3D translation, and per face ``w_x, w_y, w_xy,
+w_,aa``: the hinges leave the rotations free).
+
+Meshes: per plate ``fem_folded.graded_mesh`` of squares ``0.05 / n``, graded (``min(0.05, 2 r)
+/ n``) towards every corner (all are line ends; floor 1e-3, :data:`H_LINE_END`) and the load
+on Top1 (floor 1e-3), refined until both plates of every line have the same vertices on it
+(:func:`box_meshes`). Solve: ``T^T K T`` scaled by its diagonal, SuperLU (``MMD_AT_PLUS_A``,
+partial pivoting), refinement with the residual in extended precision, kept while it falls.
+
+Self-checks
+-----------
+CHECKS_PLACEHOLDER
 """
 
 from __future__ import annotations
@@ -279,6 +358,8 @@ class BoxModel(CornerModel):
     """The box on the meshes of level ``n``: plates, ties (spring folds: translation; welds:
     everything), the reduction with the line-end clusters, springs and loads."""
 
+    rounding = 0  # a seed: the solve's matrix perturbed by one rounding (round-off check)
+
     def __init__(self, n: float, structure: Structure = BOX, folds=None, welds=None):
         t0 = time.perf_counter()
         self.structure, self.n = structure, n
@@ -327,6 +408,10 @@ class BoxModel(CornerModel):
         s = diags(1.0 / np.sqrt(np.abs(Kr.diagonal())))
         Ks = (s @ Kr @ s).tocsc()
         del Kr
+        if self.rounding:  # every entry moved by ~one rounding, symmetrically (round-off check)
+            noise = np.random.default_rng(self.rounding).standard_normal(Ks.data.size)
+            Ks.data *= 1 + np.finfo(float).eps * noise
+            Ks = ((Ks + Ks.T) * 0.5).tocsc()
         keys = list(self.loads)
         b = s @ (self.T.T @ np.column_stack([self.loads[k] for k in keys])).astype(complex)
         # partial pivoting: SuperLU's symmetric mode (fem_corner's) chose pivots whose LU made
@@ -506,6 +591,20 @@ def spring_limit_check(n: float = 2, frequency: float = 277.5,
               + "; " + " / ".join(f"{relative(uv[p], uv0[p]):.1e}" for p in uv0), flush=True)
 
 
+def roundoff_check(n: float, frequencies=FREQUENCIES) -> None:
+    """Level ``n`` solved as it is and with every entry of its matrix moved by one rounding:
+    the fields' change per plate is the round-off the conditioning allows."""
+    model = BoxModel(n)
+    for f in frequencies:
+        model.rounding = 0
+        exact = model.fields(model.solve(f)["main"])
+        model.rounding = 1
+        moved = model.fields(model.solve(f)["main"])
+        print(f"round-off, level {n:g}, {f:g} Hz: w " + " ".join(
+            f"{relative(moved[0][p], exact[0][p]):.0e}" for p in PLATES) + "; (u, v) "
+            + " ".join(f"{relative(moved[1][p], exact[1][p]):.0e}" for p in PLATES), flush=True)
+
+
 def main(argv) -> None:
     """``python bench/fem_box.py LEVEL``: solve one level and keep it in ``/tmp/fem_box/
     run_LEVEL.pkl`` (one process per level: the memory is the finest level's alone);
@@ -514,6 +613,9 @@ def main(argv) -> None:
     t0 = time.perf_counter()
     if "--spring-limit" in argv:
         spring_limit_check()
+        return
+    if "--roundoff" in argv:
+        roundoff_check(float(argv[-1]))
         return
     levels = [float(a) for a in argv if not a.startswith("--")] or list(LEVELS)
     OUT.mkdir(parents=True, exist_ok=True)
