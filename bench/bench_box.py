@@ -85,7 +85,8 @@ def main() -> None:
     reference = np.load(args.reference)
     case = load_case(CASE)
     names = list(case.plates)
-    print(f"box_with_wall against fem_box (levels {reference['levels'].tolist()}); FE chg: the "
+    levels = reference["levels"].tolist() if "levels" in reference else "?"
+    print(f"box_with_wall against fem_box (levels {levels}, {args.reference}); FE chg: the "
           "FE's last level change per plate (its convergence level)")
     for frequency in args.frequencies:
         change = {}

@@ -81,7 +81,52 @@ partial pivoting), refinement with the residual in extended precision, kept whil
 
 Self-checks
 -----------
-CHECKS_PLACEHOLDER
+Run, one process per level (the memory is then the level's own), on a 2-core AMD EPYC, one
+BLAS thread, 2026-11-28::
+
+    OPENBLAS_NUM_THREADS=1 python bench/fem_box.py 1.5   # 151 s, 1.8 GB
+    OPENBLAS_NUM_THREADS=1 python bench/fem_box.py 2     # 241 s, 2.4 GB
+    OPENBLAS_NUM_THREADS=1 python bench/fem_box.py 2.5   # 697 s, 5.0 GB
+    python bench/fem_box.py --report 1.5 2 2.5           # the tables; /tmp/fem_box/fields.npz
+
+Level 1.5: 4612 triangles, 1.36e5 unknowns (27 s, 38 s per solve of both loads); level 2:
+5798, 1.71e5 (71 s, 62 s); level 2.5: 10740, 3.17e5 (248 s, 290 s; 43 s set-up).
+``fields.npz`` holds level 2.5's ``w_{p}_{f}`` (225,) and ``uv_{p}_{f}`` (225, 2) on each
+plate's ``fem_folded.inner_grid(Lx, Ly)`` at 189.6 and 277.5 Hz, and the change from level 2
+per plate (``change_w_{f}``, ``change_uv_{f}``, the order of :data:`PLATES`). Measured:
+
+* self-convergence, relative L2 change on the 225 points of each plate, 1.5 -> 2 then 2 ->
+  2.5, range over the 11 plates: 277.5 Hz ``w`` 2.2e-5 to 8.1e-5, then 2.5e-6 to 8.7e-6;
+  ``(u, v)`` 1.5e-5 to 9.0e-5, then 1.5e-6 to 9.6e-6 (a clean fall of about 8). 189.6 Hz
+  ``w`` 1.1e-5 to 2.0e-5, then 3.0e-6 to 2.9e-5 (not falling on the Front and Back halves
+  and Left: round-off, below); ``(u, v)`` 9e-6 to 1.3e-5, then 2.0e-6 to 5.3e-6. So level 2.5 is
+  within about 1e-5 at 277.5 Hz and, at 189.6 Hz, about 3e-5 in ``w`` and 5e-6 in ``(u, v)``.
+  The frequencies are the true structure's resonance peaks, where a relative shift ``d`` of a
+  natural frequency changes the response by about ``2 d / eta = 200 d``.
+* round-off: ROUNDOFF_PLACEHOLDER
+  The 1 mm plates' membranes, 1e6 times stiffer than their bending over a plate's width,
+  make the system badly conditioned: the LU's residual is 1e-8 to 2e-7 and the refinement in
+  extended precision stalls there (at level 2.5, 189.6 Hz, it diverges, 2e-7 -> 8e-5; the
+  first iterate is kept). SuperLU's symmetric mode (``fem_corner``'s) was no better (level
+  1.5, 277.5 Hz: 1e-7 -> 2e-6, diverging).
+* reciprocity (``w_Right(0.23, 0.11)`` under the load on Top1 against ``w_Top1(0.17, 0.13)``
+  under the load on Right; exact for the symmetric discrete system, so round-off): 2.5e-6 /
+  5.1e-7 / 4.1e-6 at 189.6 Hz, 2.3e-6 / 3.1e-7 / 1.9e-7 at 277.5 Hz (levels 1.5 / 2 / 2.5).
+* ties: ``max |C T|`` = 5.0e-16 at every level; sampled at 401 points of every line (both
+  loads), the two plates' 3D displacements differ by at most 2.7e-11 of their largest value,
+  the welds' rotations about the line by 1.6e-13; the folds' twist (spring) is 0.2 to 8.7 of
+  the rotation there, as it may. Clusters, at every level: at each of the 8 box corners 9
+  rows on 9 dofs, rank 6, null space 3; at each of the 4 wall corners 26 rows on 31 dofs,
+  rank 20, null space 11 (above).
+* rigid motions (3 translations, 3 rotations of the whole box, interpolated in every plate):
+  tie residual <= 3e-14, distance from the range of ``T`` <= 1e-15, ``|K x| / ||K| |x||`` <=
+  3e-16, the springs' energy <= 2e-21 ``k_wall |x|^2``: the free box has all six.
+* the spring against the rigid fold (``--spring-limit``: ``fem_corner``'s L fold, diaphragm
+  ends, here 1 mm, level 2, 277.5 Hz; 66 s): the difference from the rigid fold (rotation
+  tied, ``fem_corner.fold_ties``) in ``w`` (A / B) 1.0 / 1.1 (k = 1e2), 5.7e-2 / 6.2e-2
+  (1e4), 5.4e-4 / 6.0e-4 (1e6), 5.4e-6 / 6.0e-6 (1e8): ``1 / k``, as it must.
+* a first version tied ``w_,bb`` across the welds too: the fields then changed by 1e-2
+  between levels 1 and 2 (and differed by as much from these).
 """
 
 from __future__ import annotations
@@ -122,7 +167,7 @@ D_STAR = E * (1 + 1j * ETA) * H ** 3 / (12 * (1 - NU ** 2))
 A_STAR = E * (1 + 1j * ETA) * H / (1 - NU ** 2)
 RHO_H = RHO * H
 FREQUENCIES = (189.6, 277.5)
-LEVELS = (2, 3, 4)
+LEVELS = (1.5, 2, 2.5)
 OUT = Path("/tmp/fem_box")
 TOL = 1e-12
 H_LINE_END = 1e-3  # grading floor at the plates' corners (all of them line ends)
@@ -614,8 +659,9 @@ def main(argv) -> None:
     if "--spring-limit" in argv:
         spring_limit_check()
         return
-    if "--roundoff" in argv:
-        roundoff_check(float(argv[-1]))
+    if "--roundoff" in argv:  # --roundoff LEVEL [FREQUENCY ...]
+        level, *frequencies = (float(a) for a in argv[argv.index("--roundoff") + 1:])
+        roundoff_check(level, frequencies or FREQUENCIES)
         return
     levels = [float(a) for a in argv if not a.startswith("--")] or list(LEVELS)
     OUT.mkdir(parents=True, exist_ok=True)
