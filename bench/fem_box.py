@@ -158,13 +158,11 @@ from fem_corner import (
     Structure,
     Tie,
     edge_line,
-    edge_vertex_coords,
     fold_ties,
-    grading_points,
     reduction,
-    split_edge,
+    structure_meshes,
 )
-from fem_folded import graded_mesh, relative
+from fem_folded import relative
 
 E, NU, RHO, H, ETA = 210e9, 0.3, 7800.0, 0.001, 0.01
 D_STAR = E * (1 + 1j * ETA) * H ** 3 / (12 * (1 - NU ** 2))
@@ -278,37 +276,7 @@ def box_meshes(structure: Structure, geometries, n: float) -> dict[str, MeshTri]
     """``fem_corner.structure_meshes`` over every line (folds and welds): graded squares of
     ``0.05 / n``, refined until both plates of every line have the same vertices on it, Q's
     snapped to P's."""
-    meshes = {}
-    for name, spec in structure.plates.items():
-        nx, ny = round(spec.lx / 0.05 * n), round(spec.ly / 0.05 * n)
-        assert abs(nx - spec.lx / 0.05 * n) < 1e-9 and abs(ny - spec.ly / 0.05 * n) < 1e-9
-        meshes[name] = graded_mesh(nx, ny, spec.lx, spec.ly,
-                                   grading_points(structure, name, n / 2))
-    changed = True
-    while changed:
-        changed = False
-        for f in geometries:
-            s = {p: f.line_s(p, edge_vertex_coords(meshes[p], structure.plates[p], f.edge[p]))
-                 for p in (f.P, f.Q)}
-            for p, other in ((f.P, f.Q), (f.Q, f.P)):
-                refined = split_edge(meshes[p], structure.plates[p], f.edge[p],
-                                     f.local(p, s[other]))
-                if refined is not None:
-                    meshes[p], changed = refined, True
-    for f in geometries:
-        sP = edge_vertex_coords(meshes[f.P], structure.plates[f.P], f.edge[f.P])
-        spec = structure.plates[f.Q]
-        k, end = EDGES[f.edge[f.Q]]
-        p = meshes[f.Q].p.copy()
-        on = np.nonzero(np.abs(p[k] - end * spec.size(k)) < TOL)[0]
-        s_on = f.line_s(f.Q, p[1 - k, on])
-        i = np.searchsorted(sP, s_on - 1e-10)
-        assert np.abs(sP[i] - s_on).max() < 1e-10, f"line {f.name}: vertices differ"
-        p[1 - k, on] = f.local(f.Q, sP[i])
-        p[k, on] = end * spec.size(k)
-        meshes[f.Q] = MeshTri(p, meshes[f.Q].t)
-    return {name: MeshTri(np.ascontiguousarray(m.p), np.ascontiguousarray(m.t))
-            for name, m in meshes.items()}
+    return structure_meshes(structure, n, folds=geometries)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -437,13 +405,7 @@ class BoxModel(CornerModel):
         for f, k in folds:
             if not math.isinf(k):
                 self.springs += spring_matrix(f, k, self.plates, self.offsets, self.size)
-        self.loads = {}
-        for key, (plate, x, y) in structure.loads.items():
-            load = np.zeros(self.size)
-            p = self.plates[plate]
-            load[self.offsets[plate]:self.offsets[plate] + p.n_w] = \
-                p.bending.eval_matrix(np.array([[x], [y]], float)).toarray()[0]
-            self.loads[key] = load
+        self.loads = self.point_loads(structure)
         self.t_setup = time.perf_counter() - t0
 
     def solve(self, frequency: float) -> dict[str, np.ndarray]:

@@ -433,13 +433,14 @@ def split_edge(mesh: MeshTri, spec: PlateSpec, edge: str, a_other: np.ndarray):
     return mesh.refined(np.unique(mesh.f2t[0, facets[holds]]))
 
 
-def structure_meshes(structure: Structure, n: int,
-                     meshes: dict | None = None) -> dict[str, MeshTri]:
+def structure_meshes(structure: Structure, n: float, meshes: dict | None = None,
+                     folds: list | None = None) -> dict[str, MeshTri]:
     """Per plate ``fem_folded.graded_mesh`` of its rectangle (squares ``0.05 / n``, size
     ``max(min(0.05, 2 r) / n``, floor``)`` near the grading points), then refined until the two
     plates of every fold have the same vertices on it (dyadic subdivisions of common cells:
-    this ends), and the vertex coordinates of Q on a fold snapped to P's."""
-    folds = folds_of(structure)
+    this ends), and the vertex coordinates of Q on a fold snapped to P's. ``folds``: the
+    lines to match (:class:`FoldGeometry`-like, ``folds_of(structure)`` by default)."""
+    folds = folds_of(structure) if folds is None else folds
     if meshes is None:
         meshes = {}
         for name, spec in structure.plates.items():
@@ -467,7 +468,7 @@ def structure_meshes(structure: Structure, n: int,
         on = np.nonzero(np.abs(p[k] - end * spec.size(k)) < TOL)[0]
         s_on = f.line_s(f.Q, p[1 - k, on])
         i = np.searchsorted(sP, s_on - 1e-10)
-        assert np.abs(sP[i] - s_on).max() < 1e-10, f"fold {f.name}: vertices differ"
+        assert np.abs(sP[i] - s_on).max() < 1e-10, f"line {f.name}: vertices differ"
         p[1 - k, on] = f.local(f.Q, sP[i])
         p[k, on] = end * spec.size(k)
         meshes[f.Q] = MeshTri(p, meshes[f.Q].t)
@@ -798,14 +799,20 @@ class CornerModel:
         fixed = np.concatenate([self.offsets[name] + p.fixed() for name, p in self.plates.items()])
         self.reduction = reduction(self.size, fixed, self.ties, self.junctions)
         self.T = self.reduction.T
-        self.loads = {}
+        self.loads = self.point_loads(structure)
+        self.t_setup = time.perf_counter() - t0
+
+    def point_loads(self, structure: Structure) -> dict[str, np.ndarray]:
+        """Per load of ``structure``, the full load vector of its unit force along its plate's
+        ``w`` at its point (the Argyris basis functions there)."""
+        loads = {}
         for key, (plate, x, y) in structure.loads.items():
             f = np.zeros(self.size)
             p = self.plates[plate]
             f[self.offsets[plate]:self.offsets[plate] + p.n_w] = \
                 p.bending.eval_matrix(np.array([[x], [y]], float)).toarray()[0]
-            self.loads[key] = f
-        self.t_setup = time.perf_counter() - t0
+            loads[key] = f
+        return loads
 
     @property
     def n_dofs(self) -> int:
