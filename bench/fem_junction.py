@@ -150,7 +150,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-from scipy.sparse import block_diag, coo_matrix, diags, hstack
+from scipy.sparse import block_diag, coo_matrix, diags
 from scipy.sparse.linalg import splu
 from skfem import Basis, MeshTri
 
@@ -463,23 +463,27 @@ def line_relations(plates: dict[str, JunctionPlate], offsets: dict[str, int]
     return relations
 
 
-def spring_matrix(S: JunctionPlate, T: JunctionPlate, offset_T: int, size: int, k: complex):
+def spring_matrix(S: JunctionPlate, T: JunctionPlate, offset_T: int, size: int, k: complex,
+                  offset_S: int = 0):
     """``k int (w_T,x(0, y) - w_S,x(0.4, y)) (w^_T,x - w^_S,x) dy`` as a (size x size)
-    matrix, ``S`` (S1) first in the unknowns, ``T`` (T1) at ``offset_T``: 5 Gauss points on
-    each line edge (exact for the quartic ``w_x`` traces)."""
+    matrix, ``S`` (S1, the skin member at its line) at ``offset_S`` in the unknowns, ``T``
+    (T1, the stiffener) at ``offset_T``: 5 Gauss points on each line edge (exact for the
+    quartic ``w_x`` traces)."""
     y = S.mesh.p[1, S.line()[0]]
     assert np.array_equal(y, T.mesh.p[1, T.line()[0]])
     g, gw = np.polynomial.legendre.leggauss(5)
     lengths = np.diff(y)
     yq = (y[:-1, None] + lengths[:, None] * 0.5 * (g + 1)).ravel()
     wq = (lengths[:, None] * 0.5 * gw).ravel()
-    slope_S = S.bending.eval_matrix(np.vstack([np.full(yq.size, S.line_x), yq]),
-                                    S.line_cells(S.mesh, yq), what="dx")
-    slope_T = T.bending.eval_matrix(np.vstack([np.full(yq.size, T.line_x), yq]),
-                                    T.line_cells(T.mesh, yq), what="dx")
-    zeros_S = coo_matrix((yq.size, offset_T - S.n_w))
-    zeros_T = coo_matrix((yq.size, size - offset_T - T.n_w))
-    B = hstack([-slope_S, zeros_S, slope_T, zeros_T]).tocsr()  # Theta_S - Theta_T
+    rows, cols, vals = [], [], []
+    for plate, offset, sign in ((S, offset_S, -1.0), (T, offset_T, 1.0)):
+        slope = plate.bending.eval_matrix(np.vstack([np.full(yq.size, plate.line_x), yq]),
+                                          plate.line_cells(plate.mesh, yq), what="dx").tocoo()
+        rows.append(slope.row)
+        cols.append(slope.col + offset)
+        vals.append(sign * slope.data)
+    B = coo_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+                   shape=(yq.size, size)).tocsr()  # Theta_S - Theta_T
     return (k * (B.T @ diags(wq) @ B)).tocsr()
 
 

@@ -142,7 +142,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-from scipy.sparse import block_diag, coo_matrix, diags
+from scipy.sparse import block_diag, diags
 from scipy.sparse.linalg import splu
 from skfem import MeshTri
 
@@ -155,6 +155,7 @@ from fem_junction import (
     point_grading,
     refined_to,
     split_line_edges,
+    spring_matrix,
 )
 
 SS_Y_EDGE = ["u", "u_x", "u_xx"]  # Argyris dofs fixed on a simply supported edge y = const
@@ -363,29 +364,6 @@ def shifted(relations: dict[int, tuple], offset: int) -> dict[int, tuple]:
             for slave, (dofs, weights) in relations.items()}
 
 
-def spring_matrix(S: JunctionPlate, offset_S: int, T: JunctionPlate, offset_T: int,
-                  size: int, k: complex):
-    """``k int (w_T,x - w_S,x)(w^_T,x - w^_S,x) dy`` on the line (``S`` the left bay at its
-    line, ``T`` the stiffener), 5 Gauss points per line edge (the quartic ``w_x`` traces
-    exactly); ``fem_junction.spring_matrix`` with both plates at any offset."""
-    y = S.mesh.p[1, S.line()[0]]
-    assert np.array_equal(y, T.mesh.p[1, T.line()[0]])
-    g, gw = np.polynomial.legendre.leggauss(5)
-    lengths = np.diff(y)
-    yq = (y[:-1, None] + lengths[:, None] * 0.5 * (g + 1)).ravel()
-    wq = (lengths[:, None] * 0.5 * gw).ravel()
-    rows, cols, vals = [], [], []
-    for plate, offset, sign in ((S, offset_S, -1.0), (T, offset_T, 1.0)):
-        slope = plate.bending.eval_matrix(np.vstack([np.full(yq.size, plate.line_x), yq]),
-                                          plate.line_cells(plate.mesh, yq), what="dx").tocoo()
-        rows.append(slope.row)
-        cols.append(slope.col + offset)
-        vals.append(sign * slope.data)
-    B = coo_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
-                   shape=(yq.size, size)).tocsr()  # Theta_S - Theta_T
-    return (k * (B.T @ diags(wq) @ B)).tocsr()
-
-
 # ---------------------------------------------------------------------------------------------
 # The model
 # ---------------------------------------------------------------------------------------------
@@ -417,8 +395,8 @@ class PanelModel:
             local = {"S2": self.offsets[b] - self.offsets[a],
                      "T1": self.offsets[t] - self.offsets[a]}
             relations |= shifted(line_relations(members, local), self.offsets[a])
-            spring = spring_matrix(members["S1"], self.offsets[a], members["T1"],
-                                   self.offsets[t], self.size, k)
+            spring = spring_matrix(members["S1"], members["T1"], self.offsets[t], self.size, k,
+                                   offset_S=self.offsets[a])
             self.spring = spring if self.spring is None else self.spring + spring
         self.T = reduction(self.size, self.fixed(), relations)
         self.loads = np.zeros((self.size, len(layout.loads)))
