@@ -385,13 +385,7 @@ class BoxModel(CornerModel):
         self.spring_folds, self.welds = folds, welds
         self.folds = [f for f, _ in folds]
         geometries = self.folds + self.welds
-        meshes = box_meshes(structure, geometries, n)
-        self.plates, self.offsets, self.size = {}, {}, 0
-        for name, spec in structure.plates.items():
-            self.plates[name] = BoxPlate(spec, meshes[name])
-            self.offsets[name] = self.size
-            self.size += self.plates[name].size
-        self.n_triangles = sum(m.t.shape[1] for m in meshes.values())
+        self.place_plates(structure, box_meshes(structure, geometries, n), BoxPlate)
         self.ties = []
         for f, k in folds:  # k = inf: a rigid fold, its rotation tied (fem_corner)
             ties = fold_ties(f, self.plates, self.offsets)

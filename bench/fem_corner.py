@@ -786,13 +786,7 @@ class CornerModel:
     def __init__(self, structure: Structure, n: int, meshes: dict | None = None):
         t0 = time.perf_counter()
         self.structure, self.n = structure, n
-        meshes = structure_meshes(structure, n, meshes)
-        self.plates, self.offsets, self.size = {}, {}, 0
-        for name, spec in structure.plates.items():
-            self.plates[name] = CornerPlate(spec, meshes[name])
-            self.offsets[name] = self.size
-            self.size += self.plates[name].size
-        self.n_triangles = sum(m.t.shape[1] for m in meshes.values())
+        self.place_plates(structure, structure_meshes(structure, n, meshes), CornerPlate)
         self.folds = folds_of(structure)
         self.ties = [t for f in self.folds for t in fold_ties(f, self.plates, self.offsets)]
         self.junctions = junction_points(structure)
@@ -801,6 +795,17 @@ class CornerModel:
         self.T = self.reduction.T
         self.loads = self.point_loads(structure)
         self.t_setup = time.perf_counter() - t0
+
+    def place_plates(self, structure: Structure, meshes: dict[str, MeshTri],
+                     plate_type: type) -> None:
+        """Every plate of ``structure`` as a ``plate_type`` on its mesh, their unknowns one
+        after the other (``self.plates``, ``self.offsets``, ``self.size``)."""
+        self.plates, self.offsets, self.size = {}, {}, 0
+        for name, spec in structure.plates.items():
+            self.plates[name] = plate_type(spec, meshes[name])
+            self.offsets[name] = self.size
+            self.size += self.plates[name].size
+        self.n_triangles = sum(m.t.shape[1] for m in meshes.values())
 
     def point_loads(self, structure: Structure) -> dict[str, np.ndarray]:
         """Per load of ``structure``, the full load vector of its unit force along its plate's
