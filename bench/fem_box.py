@@ -159,6 +159,7 @@ from fem_corner import (
     Tie,
     edge_line,
     fold_ties,
+    line_traces,
     reduction,
     structure_meshes,
 )
@@ -451,19 +452,7 @@ class BoxModel(CornerModel):
         out = {}
         parts = self.parts(x)
         for f in self.folds + self.welds:
-            s = np.linspace(0.0, f.length, n)
-            U, R = {}, {}
-            for p in (f.P, f.Q):
-                plate, xp = parts[p]
-                k, end = EDGES[f.edge[p]]
-                a = f.local(p, s)
-                pts = np.zeros((n, 2))
-                pts[:, k], pts[:, 1 - k] = end * plate.spec.size(k), a
-                vals = plate.values(xp, pts, plate.edge_cells(f.edge[p], a))
-                e = plate.spec.axes
-                U[p] = (np.outer(vals["u"], e[0]) + np.outer(vals["v"], e[1])
-                        + np.outer(vals["w"], e[2]))
-                R[p] = vals["w_y"] * (e[0] @ f.t) - vals["w_x"] * (e[1] @ f.t)
+            U, R = line_traces(parts, f, n)
             key = "theta" if f in self.welds else "twist"
             out[f.name] = {"U": float(np.abs(U[f.P] - U[f.Q]).max() / np.abs(U[f.P]).max()),
                            key: float(np.abs(R[f.P] - R[f.Q]).max() / np.abs(R[f.P]).max())}

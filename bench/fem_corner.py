@@ -776,6 +776,27 @@ def reduction(size: int, fixed: np.ndarray, ties: list[Tie], junctions) -> Reduc
     return Reduction(T, masters, clusters, forced)
 
 
+def line_traces(parts: dict, f, n: int) -> tuple[dict, dict]:
+    """On ``n`` points of the line ``f`` (a :class:`FoldGeometry`), each of its two plates'
+    3D displacement ``u e_x + v e_y + w e_z`` (n, 3) and rotation about the line
+    ``theta . t`` (``theta = w_y e_x - w_x e_y``); ``parts``: per plate, ``(plate, its
+    unknowns)`` (:meth:`CornerModel.parts`)."""
+    s = np.linspace(0.0, f.length, n)
+    U, R = {}, {}
+    for p in (f.P, f.Q):
+        plate, xp = parts[p]
+        k, end = EDGES[f.edge[p]]
+        a = f.local(p, s)
+        pts = np.zeros((n, 2))
+        pts[:, k] = end * plate.spec.size(k)
+        pts[:, 1 - k] = a
+        vals = plate.values(xp, pts, plate.edge_cells(f.edge[p], a))
+        e = plate.spec.axes
+        U[p] = np.outer(vals["u"], e[0]) + np.outer(vals["v"], e[1]) + np.outer(vals["w"], e[2])
+        R[p] = vals["w_y"] * (e[0] @ f.t) - vals["w_x"] * (e[1] @ f.t)
+    return U, R
+
+
 # ---------------------------------------------------------------------------------------------
 # The model
 # ---------------------------------------------------------------------------------------------
@@ -866,20 +887,7 @@ class CornerModel:
         out = {}
         parts = self.parts(x)
         for f in self.folds:
-            s = np.linspace(0.0, f.length, n)
-            U, R = {}, {}
-            for p in (f.P, f.Q):
-                plate, xp = parts[p]
-                k, end = EDGES[f.edge[p]]
-                a = f.local(p, s)
-                pts = np.zeros((n, 2))
-                pts[:, k] = end * plate.spec.size(k)
-                pts[:, 1 - k] = a
-                vals = plate.values(xp, pts, plate.edge_cells(f.edge[p], a))
-                e = plate.spec.axes
-                U[p] = (np.outer(vals["u"], e[0]) + np.outer(vals["v"], e[1])
-                        + np.outer(vals["w"], e[2]))
-                R[p] = vals["w_y"] * (e[0] @ f.t) - vals["w_x"] * (e[1] @ f.t)
+            U, R = line_traces(parts, f, n)
             out[f.name] = {
                 "U": float(np.abs(U[f.P] - U[f.Q]).max() / np.abs(U[f.P]).max()),
                 "theta": float(np.abs(R[f.P] - R[f.Q]).max() / np.abs(R[f.P]).max())}
