@@ -215,7 +215,7 @@ corner of ``tests/test_meeting_corner.py`` (``bench/bench_corner.py``), worst pl
 300 Hz and resolutions 1.5, 2.25, 3.375 and 5, is 4.7e-5, 8.2e-6, 1.6e-6 and 1.5e-7 off with the
 reach growing, 4.7e-5, 8.2e-6, 5.4e-6 and 4.4e-5 with it fixed at three times (the estimate 6
 to 42 times the error at 3.375), and 4.1e-4, 5.9e-4, 2.1e-4 and 2.4e-4 with the usual reach.
-``cases/box_with_wall.toml`` at 189.6 Hz, whose wall's corners no reference covers, changed by
+``cases/box_with_wall.toml`` at 189.6 Hz (its finite elements: ``bench/fem_box.py``) changed by
 6.2e-3, 2.3e-3, 9.4e-4 and 3.9e-6 from resolution 1.5 to 2.25, 3.375, 5 and 7.5 with the reach
 fixed (the last step frozen: the count at its stop, the estimate blind), growing by 6.1e-3,
 2.3e-3, 7.5e-4 and 1.4e-4; the two fields at 7.5 differ by 1.7e-4."""
