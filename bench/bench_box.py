@@ -19,7 +19,9 @@ from pathlib import Path
 import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT))
+sys.path[:0] = [str(ROOT), str(ROOT / "bench")]
+
+from fem_folded import relative  # noqa: E402
 
 from assembly import load_case  # noqa: E402
 from solver.estimate import estimate_error  # noqa: E402
@@ -33,10 +35,6 @@ def inner_grid(lx: float, ly: float, n: int = 15) -> np.ndarray:
     """``fem_folded.inner_grid``: n x n points 2 % in from the edges, x fastest."""
     x, y = np.meshgrid(np.linspace(0.02, 0.98, n) * lx, np.linspace(0.02, 0.98, n) * ly)
     return np.column_stack([x.ravel(), y.ravel()])
-
-
-def relative(a: np.ndarray, b: np.ndarray) -> float:
-    return float(np.linalg.norm(a - b) / np.linalg.norm(b))
 
 
 def compare(case, frequency: float, resolution: float, reference) -> tuple[dict, float]:

@@ -25,7 +25,9 @@ from pathlib import Path
 import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
-sys.path[:0] = [str(ROOT)]
+sys.path[:0] = [str(ROOT), str(ROOT / "bench")]
+
+from fem_folded import relative  # noqa: E402
 
 from assembly import parse_case  # noqa: E402
 from solver.estimate import estimate_error  # noqa: E402
@@ -56,10 +58,6 @@ def fe_fields(frequency: float, level: int | None = None) -> dict:
             fe[f"w_{p}"], fe[f"uv_{p}"] = fe[f"w_{p}_n{level}"], fe[f"uv_{p}_n{level}"]
         fe["finest"] = level
     return fe
-
-
-def relative(a: np.ndarray, b: np.ndarray) -> float:
-    return float(np.linalg.norm(a - b) / np.linalg.norm(b))
 
 
 NEAR = 0.05  # m: points closer than this to a line are left out of the "away" error

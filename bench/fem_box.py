@@ -461,13 +461,8 @@ class BoxModel(CornerModel):
     def spring_energy_of_rigid_motions(self) -> float:
         """``max |x^T S x| / (k_max |x|^2)`` over the six rigid motions (``S`` the springs):
         zero if the rotations about the lines are measured alike on both sides."""
-        worst = 0.0
-        for mode in range(6):
-            c, th = np.zeros(3), np.zeros(3)
-            (c if mode < 3 else th)[mode % 3] = 1.0
-            x = np.concatenate([self.rigid_interpolant(name, c, th) for name in self.plates])
-            worst = max(worst, abs(x @ (self.springs @ x)) / (K_WALL * (x @ x)))
-        return worst
+        return max(abs(x @ (self.springs @ x)) / (K_WALL * (x @ x))
+                   for x in self.rigid_motions())
 
 
 # ---------------------------------------------------------------------------------------------

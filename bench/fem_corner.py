@@ -966,10 +966,7 @@ class CornerModel:
         absK = abs(K)
         # y from x: masters are identity columns; junction columns are N^T x
         results = []
-        for mode in range(6):
-            c, th = np.zeros(3), np.zeros(3)
-            (c if mode < 3 else th)[mode % 3] = 1.0
-            x = np.concatenate([self.rigid_interpolant(name, c, th) for name in self.plates])
+        for mode, x in enumerate(self.rigid_motions()):
             y = np.zeros(T0.shape[1])
             y[:red0.masters.size] = x[red0.masters]
             for cl in red0.clusters:
@@ -980,6 +977,14 @@ class CornerModel:
                             "stiffness": float(np.linalg.norm(K @ x)
                                                / np.linalg.norm(absK @ np.abs(x)))})
         return {"modes": results, "clusters": red0.clusters}
+
+    def rigid_motions(self):
+        """The six rigid motions, translations along X, Y, Z then rotations about them, each
+        the full vector of every plate's dofs (:meth:`rigid_interpolant`)."""
+        for mode in range(6):
+            c, th = np.zeros(3), np.zeros(3)
+            (c if mode < 3 else th)[mode % 3] = 1.0
+            yield np.concatenate([self.rigid_interpolant(name, c, th) for name in self.plates])
 
     def rigid_interpolant(self, name: str, c: np.ndarray, th: np.ndarray) -> np.ndarray:
         """The plate's dofs of the rigid motion ``U(X) = c + th x X``: ``w = U . e_z`` is

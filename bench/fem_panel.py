@@ -147,7 +147,7 @@ from scipy.sparse.linalg import splu
 from skfem import MeshTri
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from fem_folded import SS_X_EDGE, inner_grid, reduction, richardson
+from fem_folded import SS_X_EDGE, inner_grid, reduction, relative_mismatch, richardson
 from fem_junction import (
     JunctionPlate,
     cut,
@@ -486,9 +486,7 @@ class PanelModel:
                 d = np.linalg.norm(side[name][0] - side[a][0], axis=1).max()
                 scale = max(np.linalg.norm(side[p][0], axis=1).max() for p in (a, name))
                 out[f"W{i} 3D {name}-{a}"] = float(d / scale)
-            slopes = side[a][1], side[b][1]
-            out[f"W{i} w_x {b}-{a}"] = float(np.abs(slopes[1] - slopes[0]).max()
-                                             / max(np.abs(s).max() for s in slopes))
+            out |= relative_mismatch([(f"W{i} w_x {b}-{a}", side[b][1], side[a][1])])
         return out
 
 
