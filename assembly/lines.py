@@ -55,8 +55,8 @@ from .models import FRAME_TOLERANCE, cross
 from .types import EdgeId, parse_edge_ref
 
 __all__ = ["LINE_JOINTS", "members_coplanar", "member_directions", "given_supports",
-           "free_ends", "line_ends", "symmetry_halves", "singular_ends", "singular_line_ends",
-           "hanging_members", "meeting_ends", "line_moves", "moving_lines"]
+           "free_ends", "held_ends", "line_ends", "symmetry_halves", "singular_ends",
+           "singular_line_ends", "hanging_members", "meeting_ends", "line_moves", "moving_lines"]
 
 SYMMETRY_PLANE = ("symmetric", "roller")
 """The bending and in-plane conditions of an edge on a plane of symmetry of the structure."""
@@ -100,6 +100,14 @@ def free_ends(joint: JunctionJoint, conditions: Mapping[EdgeId, str],
     module notes."""
     return [edge for edge in _end_edges(joint)
             if conditions[edge] == "free" or supports.get(edge, ("", ""))[1] == "free"]
+
+
+def held_ends(joint: JunctionJoint, supports: Mapping[EdgeId, tuple[str, str]]) -> list[EdgeId]:
+    """The edges at the line's ends that hold it in their plane without being a mirror of it:
+    supported edges with ``in_plane = "fixed"`` (``supports`` as for :func:`singular_ends`).
+    The line's in-plane loads are singular there (``docs/method.md`` section 10.4, *Ends held
+    in their plane*)."""
+    return [edge for edge in _end_edges(joint) if supports.get(edge, ("", ""))[1] == "fixed"]
 
 
 def member_directions(joint: Any, plates: Mapping[str, Any]) -> tuple[int, ...]:

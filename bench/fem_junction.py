@@ -183,7 +183,8 @@ THICKNESS = {"skin": 0.001, "T1": 0.002}
 LOG10_K = 2.5  # T1's rotational spring (N m/m/rad), lossless (docs: loss_factor default 0)
 SPRING_LOSS = 0.0
 LOAD = (0.17, 0.13)  # on S1 (= skin coordinates), along e_z = (0, 0, 1), 1 N
-END_IN_PLANE = {"diaphragm": "u", "roller": "v"}  # the in-plane component fixed on y = 0, LY
+END_IN_PLANE = {"diaphragm": ("u",), "roller": ("v",), "fixed": ("u", "v")}
+"""The in-plane components fixed on the ends y = 0, LY."""
 TOPS = ("free", "fixed")
 SS_Y_EDGE = ["u", "u_x", "u_xx"]  # Argyris dofs fixed on a simply supported edge y = const
 OUT = Path("/tmp/fem_T")
@@ -518,11 +519,11 @@ class JunctionModel:
         self.t_setup = time.perf_counter() - t0
 
     def reduced(self, ends: str, top: str):
-        """``T`` (size x n_free) for ``ends`` ('diaphragm', 'roller') and ``top`` ('free',
+        """``T`` (size x n_free) for ``ends`` ('diaphragm', 'roller', 'fixed') and ``top`` ('free',
         'fixed')."""
         if ends not in END_IN_PLANE or top not in TOPS:
             raise ValueError(f"ends in {sorted(END_IN_PLANE)}, top in {TOPS}: {ends}, {top}")
-        end = (SS_Y_EDGE, [END_IN_PLANE[ends]])
+        end = (SS_Y_EDGE, list(END_IN_PLANE[ends]))
         support = (SS_X_EDGE, ["u", "v"])  # simply supported, fixed in plane
         edges = {"S1": {"x=0": support},
                  "S2": {f"x={LENGTHS['S2']}": support},
@@ -731,6 +732,7 @@ def main() -> None:
 
 
 TEST_DATA = ROOT / "tests" / "data" / "fem_junction_roller.npz"
+FIXED_TEST_DATA = ROOT / "tests" / "data" / "fem_junction_fixed.npz"
 
 
 def write_test_data() -> None:
@@ -747,8 +749,25 @@ def write_test_data() -> None:
     print(f"wrote {TEST_DATA}")
 
 
+def write_fixed_test_data() -> None:
+    """Pack the fields :func:`main` saved with ends fixed in plane and the stiffener's top
+    simply supported and fixed (``--ends fixed --tops fixed --frequencies 300 1000``, finest
+    level) into ``tests/data/fem_junction_fixed.npz``, the reference of
+    ``tests/test_moving_lines.py``'s held-end test: ``w_S1_300``, ``uv_T1_1000``, ... and
+    ``change_300``, ``change_1000`` (as for :func:`write_test_data`)."""
+    packed = {}
+    for frequency in (300, 1000):
+        saved = np.load(OUT / f"fields_T_fixed_fixed_{frequency}.npz")
+        packed |= {f"{key}_{frequency}": saved[key] for key in FIELDS}
+        packed[f"change_{frequency}"] = saved["change"]
+    np.savez_compressed(FIXED_TEST_DATA, **packed)
+    print(f"wrote {FIXED_TEST_DATA}")
+
+
 if __name__ == "__main__":
     if sys.argv[1:] == ["--test-data"]:
         write_test_data()
+    elif sys.argv[1:] == ["--test-data", "fixed"]:
+        write_fixed_test_data()
     else:
         main()

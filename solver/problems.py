@@ -11,7 +11,7 @@ from collections.abc import Iterable, Mapping
 
 from assembly.case import Case
 from assembly.geometry import EDGE_NAMES, plate_edges
-from assembly.lines import free_ends, given_supports, meeting_ends, symmetry_halves
+from assembly.lines import free_ends, given_supports, held_ends, meeting_ends, symmetry_halves
 from solver.kirchhoff import complex_bending_stiffness
 from solver.plate import EdgeCondition, EdgeLoad, PlateProblem, PointForce
 from solver.plate_corners import WedgeFamily, clamped_free_wedges, logarithmic_wedges
@@ -21,7 +21,8 @@ __all__ = ["plate_problem", "plate_problems", "plate_ray_counts", "plate_basis",
            "plate_wedges", "joint_edge_kinds", "SINGULAR_END_REACH", "singular_end_plates",
            "singular_end_corners", "MEETING_END_REACH", "meeting_end_plates", "FREE_END_REACH",
            "REACH_GROWTH_FROM", "free_end_lines", "meeting_end_lines", "end_layer_lines",
-           "free_end_plates", "edge_reach", "reach_growth"]
+           "free_end_plates", "HELD_END_REACH", "HELD_END_FROM", "held_end_lines",
+           "held_end_plates", "edge_reach", "reach_growth"]
 
 
 def joint_edge_kinds(case: Case) -> dict[tuple[str, str], str]:
@@ -244,6 +245,57 @@ def free_end_plates(case: Case) -> frozenset[str]:
     return frozenset(plate for jid in free_end_lines(case) for plate in case.joints[jid].plates)
 
 
+HELD_END_REACH = 2.0
+r"""How much further than elsewhere the edge waves of a member of a moving line reach where an
+end of the line is held in its plane (``in_plane = "fixed"``, the default of supported edges),
+bending and in-plane alike, from resolution :data:`HELD_END_FROM` on (:func:`held_end_lines`;
+``docs/method.md`` section 10.4, *Ends held in their plane*).
+
+Why: there the members' in-plane fields meet at a corner that is not a mirror, the line's
+in-plane loads converge slowly at the end (as singular loads would), and their Legendre
+functions, stopped at the usual reach (:func:`solver.joint_rules.interface_function_count`),
+leave the members' traces apart beyond them: on ``cases/stiffened_panel.toml`` at 230 Hz and
+resolution 2.25 the skin's translation along a weld differs from its neighbour's by 3e-4 of
+the line's (root mean square), nearly all of it in Legendre degrees above the line's 13
+functions, and by 100 times less with the same ends made shear diaphragms (mirrors). With
+twice the reach the count follows it. Against independent finite elements (``bench/bench_panel.py``,
+``bench/fem_junction.py --ends fixed``), worst plate's ``(u, v)``:
+
+* the panel at 184.8 / 230 / 257 Hz stalled at 4.4e-4 / 3.4e-4 / 6.4e-4 from resolution 1.5 on,
+  its estimate falling to 0.04 to 0.5 of that; with twice the reach 1.1e-4 / 7.6e-5 / 2.5e-4 at
+  2.25 and 6.4e-5 / 9.9e-5 / 3.4e-4 at 3.4, the estimate 0.5 to 2.5 times the error on the
+  skin;
+* the T junction of ``tests/test_moving_lines.py`` with fixed ends (its stiffener's top fixed)
+  at 1 kHz, resolutions 1.5 and 2.25: 3.1e-4 and 3.4e-4 before, 9.3e-5 and 1.2e-4 after; at
+  300 Hz 1.3e-2 and 8.5e-4 before, 3.2e-4 and 8.0e-4 after (a stall the reach does not lift).
+
+1.5 times (the panel at 230 Hz, resolution 3.4: 2.6e-3), or twice growing with the resolution
+as at a free end (184.8 Hz, 3.4: 3.5e-4), were erratic; three times, growing, 3e-5 at 2.25 but
+5.4 times the solve. The solve costs 1.4 to 3.9 times more at 230 Hz, 300 Hz and 1 kHz, 4 to 6
+times on a two-stiffener panel at 2.5 kHz (where resolutions 1.5 and 2.25 then agree to 1e-5
+instead of 3e-4)."""
+
+HELD_END_FROM = 1.5
+"""The resolution from which :data:`HELD_END_REACH` applies. Below it the solve keeps its cost
+(the descriptions' resolutions 1 and 1.25); the error estimate's enriched solve, at 1.5 times
+the resolution, has the wider reach from resolution 1 on, and so sees what the narrower one
+leaves along the lines."""
+
+
+def held_end_lines(case: Case) -> frozenset[str]:
+    """The moving lines with an end held in its plane (:func:`assembly.lines.held_ends`)."""
+    moving = case.moving_lines()
+    if not moving:
+        return frozenset()
+    supports = given_supports(case.boundaries)
+    return frozenset(jid for jid in moving if held_ends(case.joints[jid], supports))
+
+
+def held_end_plates(case: Case) -> frozenset[str]:
+    """The members of the moving lines with an end held in its plane (:func:`held_end_lines`)."""
+    return frozenset(plate for jid in held_end_lines(case) for plate in case.joints[jid].plates)
+
+
 def edge_reach(case: Case, plate_id: str,
                resolution: float | Mapping[str, float] | None = None) -> float:
     r"""The largest edge-wave wavenumber of a plate in units of its bending wavenumber: the
@@ -276,11 +328,13 @@ def reach_growth(case: Case, plate_id: str,
 def _reach_factors(case: Case, plate_id: str,
                    resolution: float | Mapping[str, float] | None) -> tuple[float, float]:
     r"""A plate's edge reach in units of :math:`\tau`, and the same without its growth."""
-    singular, meeting, free = _far_reaching_plates(case)
+    singular, meeting, free, held = _far_reaching_plates(case)
     if plate_id in singular:
         return SINGULAR_END_REACH, SINGULAR_END_REACH
     if plate_id not in meeting and plate_id not in free:
-        return 1.0, 1.0
+        wide = (plate_id in held
+                and plate_resolution(case, plate_id, resolution) >= HELD_END_FROM - 1e-9)
+        return (HELD_END_REACH, HELD_END_REACH) if wide else (1.0, 1.0)
     fixed = max(MEETING_END_REACH if plate_id in meeting else 1.0,
                 FREE_END_REACH if plate_id in free else 1.0)
     growing = max(1.0, plate_resolution(case, plate_id, resolution) / REACH_GROWTH_FROM)
@@ -291,7 +345,8 @@ _FAR_REACHING: dict[int, tuple[Case, tuple[frozenset[str], ...]]] = {}
 
 
 def _far_reaching_plates(case: Case) -> tuple[frozenset[str], ...]:
-    """:func:`singular_end_plates`, :func:`meeting_end_plates` and :func:`free_end_plates` of
+    """:func:`singular_end_plates`, :func:`meeting_end_plates`, :func:`free_end_plates` and
+    :func:`held_end_plates` of
     ``case``, found once per case (a frozen model) for the few cases in use: they find the
     moving lines, 5 ms on a 50-bay panel, and :func:`edge_reach` is asked for every plate by
     several builders (0.5 s a pass over its 99 plates without the memo)."""
@@ -301,7 +356,8 @@ def _far_reaching_plates(case: Case) -> tuple[frozenset[str], ...]:
             _FAR_REACHING.clear()
         entry = _FAR_REACHING[id(case)] = (case, (singular_end_plates(case),
                                                   meeting_end_plates(case),
-                                                  free_end_plates(case)))
+                                                  free_end_plates(case),
+                                                  held_end_plates(case)))
     return entry[1]
 
 

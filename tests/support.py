@@ -235,11 +235,12 @@ reference, a complex log10 gives a lossy spring: ``log10(k (1 + j zeta))``)."""
 
 
 FOLD_ENDS = {"diaphragm": ("simply_supported", "diaphragm"), "symmetric": ("symmetric", "roller"),
-             "roller": ("simply_supported", "roller")}
+             "roller": ("simply_supported", "roller"), "fixed": ("simply_supported", "fixed")}
 """The ends y = 0 and y = ``ly`` of a prismatic folded plate: shear diaphragms, or planes of
 symmetry (the exact reference's ``ends``), or mixed ends, simply supported in bending and
-in-plane rollers (their line's loads log-singular there; no exact reference); their bending
-and in-plane conditions."""
+in-plane rollers (their line's loads log-singular there; no exact reference), or simply
+supported and fixed in plane (no exact reference either); their bending and in-plane
+conditions."""
 
 
 def folded_description(plates: FoldedPlates, lines: FoldLines, load: tuple[str, float, float],
