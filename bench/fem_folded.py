@@ -174,6 +174,7 @@ ENDS = {"diaphragm": (["u", "u_x", "u_xx"], "u"),
         "symmetric": (["u_y", "u_xy", "u_n"], "v"),
         "symmetric_diaphragm": (["u_y", "u_xy", "u_n"], "u"),
         "symmetric_fixed": (["u_y", "u_xy", "u_n"], "uv"),
+        "fixed": (["u", "u_x", "u_xx"], "uv"),  # simply supported, fixed in plane
         "free": ([], ""),  # nothing fixed: the line's ends are free corners
         "sliding": (["u", "u_x", "u_xx"], "")}  # simply supported, free in plane
 SELF_CHECKED_ENDS = ("diaphragm", "roller", "symmetric")
@@ -863,15 +864,17 @@ def write_test_data(mixed_level: int = 6) -> None:
 
 
 ENDS_DATA = {"free": ROOT / "tests" / "data" / "fem_fold_free_ends.npz",
-             "sliding": ROOT / "tests" / "data" / "fem_fold_sliding_ends.npz"}
+             "sliding": ROOT / "tests" / "data" / "fem_fold_sliding_ends.npz",
+             "fixed": ROOT / "tests" / "data" / "fem_fold_fixed_ends.npz"}
 FREE_ENDS_FREQUENCIES = (300.0, 1000.0)
 
 
 def write_ends_data(ends: str, levels: tuple[int, int] = (4, 6)) -> None:
     """The L fold whose line's ends nothing holds along it (``ends``: 'free', nothing fixed
     on ``y = 0, LY``, so the fold line's ends are free corners; or 'sliding', simply supported
-    and free in plane) at :data:`FREE_ENDS_FREQUENCIES`, into ``ENDS_DATA[ends]``, the
-    references of ``tests/test_free_ends.py`` and ``bench/bench_free_ends.py``: at 300 Hz
+    and free in plane), or holds in every direction ('fixed': simply supported and fixed in
+    plane), at :data:`FREE_ENDS_FREQUENCIES`, into ``ENDS_DATA[ends]``, the references of
+    ``tests/test_free_ends.py``, ``bench/bench_free_ends.py`` and ``tests/test_held_ends.py``: at 300 Hz
     ``w_A``, ``w_B``, ``uv_A``, ``uv_B`` at the finer level, and ``change``, the relative L2
     change of ``w_A``, ``w_B``, ``uv_A``, ``uv_B`` from the coarser; at 1 kHz the same keys
     ending ``_1000`` (about four minutes each)."""
@@ -898,5 +901,7 @@ if __name__ == "__main__":
         write_ends_data("free")
     elif sys.argv[1:] == ["--sliding-ends"]:
         write_ends_data("sliding")
+    elif sys.argv[1:] == ["--fixed-ends"]:
+        write_ends_data("fixed")
     else:
         main([int(n) for n in sys.argv[1:]] or LEVELS)
