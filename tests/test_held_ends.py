@@ -9,8 +9,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from support import folded_description, inner_grid
-from test_moving_lines import L_FOLD, LY, T_JUNCTION
+from support import folded_description
+from test_moving_lines import L_FOLD, LY, T_JUNCTION, _finite_element_errors
 
 import solver.problems
 from assembly import parse_case
@@ -44,20 +44,11 @@ def _junction(frequency: float, resolution: float = 1.5):
                                          LY, resolution, ends="fixed"))
 
 
-def _errors(solution, frequency: float, plates=PLATES, reference: Path = FINITE_ELEMENT_JUNCTION,
-            suffix: str | None = None) -> dict[str, tuple[float, float]]:
-    """Per plate, the relative L2 differences of ``w`` and ``(u, v)`` to the finite elements
-    ``reference`` (keys ``w_<plate><suffix>``, the suffix ``_<frequency>`` unless given)."""
-    fields = np.load(reference)
-    suffix = f"_{frequency:.0f}" if suffix is None else suffix
-    errors = {}
-    for name, (length, *_) in plates.items():
-        points = inner_grid(length, LY)
-        w, uv = fields[f"w_{name}{suffix}"], fields[f"uv_{name}{suffix}"]
-        errors[name] = (np.linalg.norm(solution.plates[name].field(points)["w"] - w)
-                        / np.linalg.norm(w),
-                        np.linalg.norm(solution.in_plane(name, points) - uv) / np.linalg.norm(uv))
-    return errors
+def _errors(solution, frequency: float) -> dict[str, tuple[float, float]]:
+    """Per plate of the T junction, the relative L2 differences of ``w`` and ``(u, v)`` to
+    :data:`FINITE_ELEMENT_JUNCTION` at ``frequency``."""
+    return _finite_element_errors(solution, PLATES, np.load(FINITE_ELEMENT_JUNCTION),
+                                  f"_{frequency:.0f}")
 
 
 def test_the_members_of_a_line_held_at_its_ends_reach_twice_as_far_from_resolution_one_and_a_half():
@@ -114,7 +105,8 @@ def test_an_l_fold_held_at_its_ends_meets_independent_finite_elements(monkeypatc
         case = parse_case(folded_description(plates, lines, load, 300.0, None, LY, 1.5,
                                              ends="fixed"))
         solution = solve_assembly(case, 300.0, residuals=False)
-        return list(_errors(solution, 300.0, plates, FINITE_ELEMENT_FOLD, "").values())
+        return list(_finite_element_errors(solution, plates, np.load(FINITE_ELEMENT_FOLD),
+                                           "").values())
 
     wide = errors()
     assert max(uv for _, uv in wide) < 1.6e-5 and max(w for w, _ in wide) < 7.5e-7, wide
