@@ -105,8 +105,8 @@ def free_ends(joint: JunctionJoint, conditions: Mapping[EdgeId, str],
 def held_ends(joint: JunctionJoint, supports: Mapping[EdgeId, tuple[str, str]]) -> list[EdgeId]:
     """The edges at the line's ends that hold it in their plane without being a mirror of it:
     supported edges with ``in_plane = "fixed"`` (``supports`` as for :func:`singular_ends`).
-    The line's in-plane loads are singular there (``docs/method.md`` section 10.4, *Ends held
-    in their plane*)."""
+    The line's in-plane loads converge slowly there (``docs/method.md`` section 10.4, *Ends
+    held in their plane*)."""
     return [edge for edge in _end_edges(joint) if supports.get(edge, ("", ""))[1] == "fixed"]
 
 

@@ -21,7 +21,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path[:0] = [str(ROOT), str(ROOT / "bench")]
 
-from fem_folded import relative  # noqa: E402
+from fem_folded import inner_grid, relative  # noqa: E402
 
 from assembly import load_case  # noqa: E402
 from solver.estimate import estimate_error  # noqa: E402
@@ -29,12 +29,6 @@ from solver.substructure import solve_assembly  # noqa: E402
 
 CASE = ROOT / "cases" / "box_with_wall.toml"
 REFERENCE = Path("/tmp/fem_box/fields.npz")
-
-
-def inner_grid(lx: float, ly: float, n: int = 15) -> np.ndarray:
-    """``fem_folded.inner_grid``: n x n points 2 % in from the edges, x fastest."""
-    x, y = np.meshgrid(np.linspace(0.02, 0.98, n) * lx, np.linspace(0.02, 0.98, n) * ly)
-    return np.column_stack([x.ravel(), y.ravel()])
 
 
 def compare(case, frequency: float, resolution: float, reference) -> tuple[dict, float]:

@@ -870,14 +870,14 @@ FREE_ENDS_FREQUENCIES = (300.0, 1000.0)
 
 
 def write_ends_data(ends: str, levels: tuple[int, int] = (4, 6)) -> None:
-    """The L fold whose line's ends nothing holds along it (``ends``: 'free', nothing fixed
-    on ``y = 0, LY``, so the fold line's ends are free corners; or 'sliding', simply supported
-    and free in plane), or holds in every direction ('fixed': simply supported and fixed in
-    plane), at :data:`FREE_ENDS_FREQUENCIES`, into ``ENDS_DATA[ends]``, the references of
-    ``tests/test_free_ends.py``, ``bench/bench_free_ends.py`` and ``tests/test_held_ends.py``: at 300 Hz
-    ``w_A``, ``w_B``, ``uv_A``, ``uv_B`` at the finer level, and ``change``, the relative L2
-    change of ``w_A``, ``w_B``, ``uv_A``, ``uv_B`` from the coarser; at 1 kHz the same keys
-    ending ``_1000`` (about four minutes each)."""
+    """The L fold whose line's ends nothing holds along it (``ends``: 'free', nothing fixed on
+    ``y = 0, LY``, so the fold line's ends are free corners; or 'sliding', simply supported and
+    free in plane), or holds in every direction ('fixed': simply supported and fixed in plane), at
+    :data:`FREE_ENDS_FREQUENCIES`, into ``ENDS_DATA[ends]``, the references of
+    ``tests/test_free_ends.py``, ``bench/bench_free_ends.py`` and ``tests/test_held_ends.py``:
+    at 300 Hz ``w_A``, ``w_B``, ``uv_A``, ``uv_B`` at the finer level, and ``change``, the
+    relative L2 change of ``w_A``, ``w_B``, ``uv_A``, ``uv_B`` from the coarser; at 1 kHz the
+    same keys ending ``_1000`` (about four minutes each)."""
     packed = {}
     for frequency in FREE_ENDS_FREQUENCIES:
         coarse, fine = (folded_fields(frequency, ends, n) for n in levels)

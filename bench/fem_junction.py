@@ -28,10 +28,10 @@ rotational spring ``k = 10^2.5`` N m/m/rad in rotation; ``docs/description.md`` 
 
 Outer edges: the skin's ``x = 0`` and ``x = 0.75`` simply supported and fixed in plane
 (``u = v = 0``); the ends ``y = 0, 0.5`` of every plate simply supported in bending and, in
-plane, shear diaphragms (``u = 0``, ``N_yy = 0`` natural) or rollers (``v = 0``, ``N_xy = 0``
-natural); T1's top ``x = 0.1`` free (bending and in plane: all natural) or simply supported
-and fixed in plane. A unit force along the skin's ``e_z = (0, 0, 1)`` acts at S1's
-``(0.17, 0.13)``.
+plane, shear diaphragms (``u = 0``, ``N_yy = 0`` natural), rollers (``v = 0``, ``N_xy = 0``
+natural) or fixed (``u = v = 0``, ``--ends fixed``); T1's top ``x = 0.1`` free (bending and
+in plane: all natural) or simply supported and fixed in plane. A unit force along the skin's
+``e_z = (0, 0, 1)`` acts at S1's ``(0.17, 0.13)``.
 
 The line (every sign)
 ---------------------
@@ -122,7 +122,8 @@ and, for diaphragm ends, its error against the exact prismatic solution
 points of a plate, ``(u, v)`` together. It saves the finest fields to
 ``/tmp/fem_T/fields_T_<ends>_<top>_<freq>.npz`` (:func:`save`); ``python
 bench/fem_junction.py --test-data`` then packs the 1 kHz roller fields into
-``tests/data/fem_junction_roller.npz`` (:func:`write_test_data`). Measured with
+``tests/data/fem_junction_roller.npz``, ``--test-data fixed`` the fixed-end ones into
+``tests/data/fem_junction_fixed.npz`` (:func:`write_test_data`). Measured with
 ``--levels 2 4 6 8 --frequencies 1000 3000`` (32 solves, 45 minutes on one core; n = 8 has
 5.0e5 unknowns, 80 s set-up, 50 to 125 s per solve, 7.0 GB):
 
@@ -519,8 +520,8 @@ class JunctionModel:
         self.t_setup = time.perf_counter() - t0
 
     def reduced(self, ends: str, top: str):
-        """``T`` (size x n_free) for ``ends`` ('diaphragm', 'roller', 'fixed') and ``top`` ('free',
-        'fixed')."""
+        """``T`` (size x n_free) for ``ends`` ('diaphragm', 'roller', 'fixed') and ``top``
+        ('free', 'fixed')."""
         if ends not in END_IN_PLANE or top not in TOPS:
             raise ValueError(f"ends in {sorted(END_IN_PLANE)}, top in {TOPS}: {ends}, {top}")
         end = (SS_Y_EDGE, list(END_IN_PLANE[ends]))
@@ -735,39 +736,28 @@ TEST_DATA = ROOT / "tests" / "data" / "fem_junction_roller.npz"
 FIXED_TEST_DATA = ROOT / "tests" / "data" / "fem_junction_fixed.npz"
 
 
-def write_test_data() -> None:
-    """Pack the roller fields :func:`main` saved at 1 kHz (both tops, finest level) into
-    ``tests/data/fem_junction_roller.npz``, the reference of ``tests/test_moving_lines.py``:
-    ``w_S1_free``, ``uv_T1_fixed``, ... and ``change_free``, ``change_fixed`` (each field's
-    change from the previous level, in the order of ``FIELDS``)."""
+def write_test_data(ends: str = "roller") -> None:
+    """Pack fields :func:`main` saved (finest level) into a reference of the tests:
+    ``ends = "roller"``, both tops at 1 kHz, into ``tests/data/fem_junction_roller.npz``
+    (``tests/test_moving_lines.py``: ``w_S1_free``, ``uv_T1_fixed``, ...); ``ends = "fixed"``,
+    the top fixed at 300 Hz and 1 kHz (``--ends fixed --tops fixed --frequencies 300 1000``),
+    into ``tests/data/fem_junction_fixed.npz`` (``tests/test_held_ends.py``: ``w_S1_300``,
+    ``uv_T1_1000``, ...). With each suffix, ``change_<suffix>``: each field's change from the
+    previous level, in the order of ``FIELDS``."""
+    saved = ({top: f"fields_T_roller_{top}_1000.npz" for top in TOPS} if ends == "roller"
+             else {f"{f}": f"fields_T_fixed_fixed_{f}.npz" for f in (300, 1000)})
     packed = {}
-    for top in TOPS:
-        saved = np.load(OUT / f"fields_T_roller_{top}_1000.npz")
-        packed |= {f"{key}_{top}": saved[key] for key in FIELDS}
-        packed[f"change_{top}"] = saved["change"]
-    np.savez_compressed(TEST_DATA, **packed)
-    print(f"wrote {TEST_DATA}")
-
-
-def write_fixed_test_data() -> None:
-    """Pack the fields :func:`main` saved with ends fixed in plane and the stiffener's top
-    simply supported and fixed (``--ends fixed --tops fixed --frequencies 300 1000``, finest
-    level) into ``tests/data/fem_junction_fixed.npz``, the reference of
-    ``tests/test_moving_lines.py``'s held-end test: ``w_S1_300``, ``uv_T1_1000``, ... and
-    ``change_300``, ``change_1000`` (as for :func:`write_test_data`)."""
-    packed = {}
-    for frequency in (300, 1000):
-        saved = np.load(OUT / f"fields_T_fixed_fixed_{frequency}.npz")
-        packed |= {f"{key}_{frequency}": saved[key] for key in FIELDS}
-        packed[f"change_{frequency}"] = saved["change"]
-    np.savez_compressed(FIXED_TEST_DATA, **packed)
-    print(f"wrote {FIXED_TEST_DATA}")
+    for suffix, name in saved.items():
+        fields = np.load(OUT / name)
+        packed |= {f"{key}_{suffix}": fields[key] for key in FIELDS}
+        packed[f"change_{suffix}"] = fields["change"]
+    path = TEST_DATA if ends == "roller" else FIXED_TEST_DATA
+    np.savez_compressed(path, **packed)
+    print(f"wrote {path}")
 
 
 if __name__ == "__main__":
-    if sys.argv[1:] == ["--test-data"]:
-        write_test_data()
-    elif sys.argv[1:] == ["--test-data", "fixed"]:
-        write_fixed_test_data()
+    if sys.argv[1:2] == ["--test-data"]:
+        write_test_data(*sys.argv[2:3])
     else:
         main()

@@ -167,7 +167,7 @@ def meeting_end_lines(case: Case) -> frozenset[str]:
 def meeting_end_plates(case: Case) -> frozenset[str]:
     """The members of the moving lines whose ends meet other moving lines
     (:func:`meeting_end_lines`)."""
-    return frozenset(plate for jid in meeting_end_lines(case) for plate in case.joints[jid].plates)
+    return _members(case, meeting_end_lines(case))
 
 
 FREE_END_REACH = 3.0
@@ -242,7 +242,7 @@ def end_layer_lines(case: Case) -> frozenset[str]:
 
 def free_end_plates(case: Case) -> frozenset[str]:
     """The members of the moving lines with an end free to slide (:func:`free_end_lines`)."""
-    return frozenset(plate for jid in free_end_lines(case) for plate in case.joints[jid].plates)
+    return _members(case, free_end_lines(case))
 
 
 HELD_END_REACH = 2.0
@@ -273,7 +273,9 @@ twice the reach the count follows it. Against independent finite elements (``ben
 as at a free end (184.8 Hz, 3.4: 3.5e-4), were erratic; three times, growing, 3e-5 at 2.25 but
 5.4 times the solve. The solve costs 1.4 to 3.9 times more at 230 Hz, 300 Hz and 1 kHz, 4 to 6
 times on a two-stiffener panel at 2.5 kHz (where resolutions 1.5 and 2.25 then agree to 1e-5
-instead of 3e-4)."""
+instead of 3e-4). Not better everywhere: the L fold with fixed ends at resolution 3.4 is 7.7e-4
+off in ``(u, v)`` at 300 Hz against 1.9e-5 with the usual reach, the line's count following
+the doubled reach too far (``docs/method.md`` section 10.4)."""
 
 HELD_END_FROM = 1.5
 """The resolution from which :data:`HELD_END_REACH` applies. Below it the solve keeps its cost
@@ -284,16 +286,19 @@ leaves along the lines."""
 
 def held_end_lines(case: Case) -> frozenset[str]:
     """The moving lines with an end held in its plane (:func:`assembly.lines.held_ends`)."""
-    moving = case.moving_lines()
-    if not moving:
-        return frozenset()
     supports = given_supports(case.boundaries)
-    return frozenset(jid for jid in moving if held_ends(case.joints[jid], supports))
+    return frozenset(jid for jid in case.moving_lines()
+                     if held_ends(case.joints[jid], supports))
 
 
 def held_end_plates(case: Case) -> frozenset[str]:
     """The members of the moving lines with an end held in its plane (:func:`held_end_lines`)."""
-    return frozenset(plate for jid in held_end_lines(case) for plate in case.joints[jid].plates)
+    return _members(case, held_end_lines(case))
+
+
+def _members(case: Case, joint_ids: Iterable[str]) -> frozenset[str]:
+    """The plates of the joints ``joint_ids``."""
+    return frozenset(plate for jid in joint_ids for plate in case.joints[jid].plates)
 
 
 def edge_reach(case: Case, plate_id: str,
@@ -331,14 +336,14 @@ def _reach_factors(case: Case, plate_id: str,
     singular, meeting, free, held = _far_reaching_plates(case)
     if plate_id in singular:
         return SINGULAR_END_REACH, SINGULAR_END_REACH
-    if plate_id not in meeting and plate_id not in free:
-        wide = (plate_id in held
-                and plate_resolution(case, plate_id, resolution) >= HELD_END_FROM - 1e-9)
-        return (HELD_END_REACH, HELD_END_REACH) if wide else (1.0, 1.0)
-    fixed = max(MEETING_END_REACH if plate_id in meeting else 1.0,
-                FREE_END_REACH if plate_id in free else 1.0)
-    growing = max(1.0, plate_resolution(case, plate_id, resolution) / REACH_GROWTH_FROM)
-    return fixed * growing, fixed
+    scale = plate_resolution(case, plate_id, resolution)
+    if plate_id in meeting or plate_id in free:
+        fixed = max(MEETING_END_REACH if plate_id in meeting else 1.0,
+                    FREE_END_REACH if plate_id in free else 1.0)
+        return fixed * max(1.0, scale / REACH_GROWTH_FROM), fixed
+    if plate_id in held and scale >= HELD_END_FROM - 1e-9:
+        return HELD_END_REACH, HELD_END_REACH
+    return 1.0, 1.0
 
 
 _FAR_REACHING: dict[int, tuple[Case, tuple[frozenset[str], ...]]] = {}
@@ -346,8 +351,8 @@ _FAR_REACHING: dict[int, tuple[Case, tuple[frozenset[str], ...]]] = {}
 
 def _far_reaching_plates(case: Case) -> tuple[frozenset[str], ...]:
     """:func:`singular_end_plates`, :func:`meeting_end_plates`, :func:`free_end_plates` and
-    :func:`held_end_plates` of
-    ``case``, found once per case (a frozen model) for the few cases in use: they find the
+    :func:`held_end_plates` of ``case``, found once per case (a frozen model) for the few cases
+    in use: they find the
     moving lines, 5 ms on a 50-bay panel, and :func:`edge_reach` is asked for every plate by
     several builders (0.5 s a pass over its 99 plates without the memo)."""
     entry = _FAR_REACHING.get(id(case))  # the memo holds its cases: their ids stay theirs
