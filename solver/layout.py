@@ -31,7 +31,7 @@ from solver.joint_rules import (
 from solver.membrane import MembraneProblem, membrane_edge_rule
 from solver.membrane_basis import MembraneBasis, membrane_edge_traces
 from solver.plate import PlateBoundary, PlateProblem, edge_projection
-from solver.problems import edge_reach, end_layer_lines, plate_resolution
+from solver.problems import HELD_END_FROM, edge_reach, end_layer_lines, plate_resolution
 
 __all__ = ["InterfaceLayout", "interface_layout", "answered_wavenumber", "members_wavenumber",
            "plate_loads", "membrane_loads", "plate_sides", "rigid_members", "balancing_member",
@@ -324,12 +324,51 @@ def answered_wavenumber(case: Case, joint_id: str, problems: Mapping[str, PlateP
     :func:`solver.joint_rules.legendre_count_floor` carry its ends, and more functions cost it
     reciprocity and convergence (the hanging L fold of ``tests/test_moving_lines.py`` at 1 kHz
     and resolution 2.25: reciprocity 3.7e-6 to 4.1e-5, the change of ``w`` to 3.4 from 2.9e-5
-    to 3.2e-4)."""
+    to 3.2e-4).
+
+    A line held in its plane at an end (:func:`solver.problems.held_end_lines`), whose members
+    reach twice as far from resolution :data:`solver.problems.HELD_END_FROM` on, has its count
+    follow that reach only where the usual one would cap it below the wavenumbers' count at
+    that resolution, :math:`\tfrac\tau2\kappa_a < 0.75\,s_h\max_m\kappa_{0,m}`
+    (:func:`_held_count_follows`): members of different wavenumbers, the slowest capping the
+    count (a stiffened skin). Elsewhere the count stays at the usual reach
+    (``docs/method.md`` section 10.4, *Ends held in their plane*)."""
     if any(singular_load_ends(case, joint_id)):
         return members_wavenumber(case, joint_id, problems)
+    plates = case.joints[joint_id].plates
     tau = case.discretisation.edge_wavenumber_ratio
-    return min(problems[plate].kappa.real * edge_reach(case, plate, resolution) / tau
-               for plate in case.joints[joint_id].plates)
+
+    def answered(held_ends: bool) -> float:
+        return min(problems[plate].kappa.real * edge_reach(case, plate, resolution, held_ends)
+                   / tau for plate in plates)
+
+    usual, wider = answered(False), answered(True)
+    if wider == usual or _held_count_follows(max(problems[plate].kappa.real for plate in plates),
+                                             usual, tau):
+        return wider
+    return usual
+
+
+def _held_count_follows(kappa0: float, kappa_usual: float, tau: float) -> bool:
+    r"""Whether the Legendre count of a line held at an end follows its members' doubled reach:
+    :math:`\tfrac\tau2\kappa_a < 0.75\,s_h\kappa_0`, :math:`\kappa_a` what the usual reach
+    answers, :math:`\kappa_0` the members' largest bending wavenumber and :math:`s_h`
+    :data:`solver.problems.HELD_END_FROM`: the usual cap of
+    :func:`solver.joint_rules.interface_function_count` would stop the count below the
+    wavenumbers' at :math:`s_h`.
+
+    Why: the loads of a held end converge slowly (``docs/method.md`` section 10.4). On a skin
+    of 1 mm stiffened by plates of 1.5 to 2 mm (:math:`\kappa_0/\kappa_a` = 1.2 to 1.4) the
+    usual cap binds from resolution 1.2 and the line's count must grow past it: with the
+    doubled reach alone and that cap, ``cases/stiffened_panel.toml`` stalls 4.3e-4, 3.4e-4 and
+    6.2e-4 off its finite elements in ``(u, v)`` at 184.8, 230 and 257 Hz from resolution 1.5
+    to 3.4, and the error estimate says 0.00 to 0.04 of it; with the count following, 6.4e-5
+    to 3.4e-4 at 3.4, the estimate 0.5 to 2.5 times the error. Between members alike (the L
+    fold of two 2 mm plates) the count reaches the wavenumbers' before the cap binds, and
+    following the doubled reach past it spoils the solve at high resolution: at 3.4 the fold
+    is 7.7e-4 and 5.2e-4 off in ``(u, v)`` at 300 Hz and 1 kHz, against 3.0e-6 and 7.4e-5 at
+    the usual cap, where its count stays."""
+    return 0.5 * tau * kappa_usual < 0.75 * HELD_END_FROM * kappa0
 
 
 def members_wavenumber(case: Case, joint_id: str, problems: Mapping[str, PlateProblem]

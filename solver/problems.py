@@ -258,8 +258,9 @@ leave the members' traces apart beyond them: on ``cases/stiffened_panel.toml`` a
 resolution 2.25 the skin's translation along a weld differs from its neighbour's by 3e-4 of
 the line's (root mean square), nearly all of it in Legendre degrees above the line's 13
 functions, and by 100 times less with the same ends made shear diaphragms (mirrors). With
-twice the reach the count follows it. Against independent finite elements (``bench/bench_panel.py``,
-``bench/fem_junction.py --ends fixed``), worst plate's ``(u, v)``:
+twice the reach the count follows it where the members' wavenumbers differ
+(:func:`solver.layout.answered_wavenumber`). Against independent finite elements
+(``bench/bench_panel.py``, ``bench/fem_junction.py --ends fixed``), worst plate's ``(u, v)``:
 
 * the panel at 184.8 / 230 / 257 Hz stalled at 4.4e-4 / 3.4e-4 / 6.4e-4 from resolution 1.5 on,
   its estimate falling to 0.04 to 0.5 of that; with twice the reach 1.1e-4 / 7.6e-5 / 2.5e-4 at
@@ -273,9 +274,9 @@ twice the reach the count follows it. Against independent finite elements (``ben
 as at a free end (184.8 Hz, 3.4: 3.5e-4), were erratic; three times, growing, 3e-5 at 2.25 but
 5.4 times the solve. The solve costs 1.4 to 3.9 times more at 230 Hz, 300 Hz and 1 kHz, 4 to 6
 times on a two-stiffener panel at 2.5 kHz (where resolutions 1.5 and 2.25 then agree to 1e-5
-instead of 3e-4). Not better everywhere: the L fold with fixed ends at resolution 3.4 is 7.7e-4
-off in ``(u, v)`` at 300 Hz against 1.9e-5 with the usual reach, the line's count following
-the doubled reach too far (``docs/method.md`` section 10.4)."""
+instead of 3e-4). Not better everywhere: the T junction at 300 Hz is 8.0e-4 and 2.9e-3 off at
+resolutions 2.25 and 3.4, an ill-conditioned interface problem that the error estimate reports
+(``docs/method.md`` section 10.4)."""
 
 HELD_END_FROM = 1.5
 """The resolution from which :data:`HELD_END_REACH` applies. Below it the solve keeps its cost
@@ -302,7 +303,8 @@ def _members(case: Case, joint_ids: Iterable[str]) -> frozenset[str]:
 
 
 def edge_reach(case: Case, plate_id: str,
-               resolution: float | Mapping[str, float] | None = None) -> float:
+               resolution: float | Mapping[str, float] | None = None,
+               held_ends: bool = True) -> float:
     r"""The largest edge-wave wavenumber of a plate in units of its bending wavenumber: the
     description's ``edge_wavenumber_ratio`` :math:`\tau`, times :data:`SINGULAR_END_REACH` on a
     member of a moving line with a singular end (:func:`singular_end_plates`), times
@@ -310,9 +312,12 @@ def edge_reach(case: Case, plate_id: str,
     (:func:`meeting_end_plates`) or :data:`FREE_END_REACH` on one with an end on a free edge
     (:func:`free_end_plates`), those two times :math:`\max(1, s/s_g)`, :math:`s` the plate's
     resolution (``resolution`` as for :func:`plate_resolution`) and :math:`s_g` =
-    :data:`REACH_GROWTH_FROM`."""
+    :data:`REACH_GROWTH_FROM`; times :data:`HELD_END_REACH` on a member of a line held at an
+    end (:func:`held_end_plates`) from resolution :data:`HELD_END_FROM` on, unless
+    ``held_ends`` is false (the reach the line's count may follow instead:
+    :func:`solver.layout.answered_wavenumber`)."""
     return case.discretisation.edge_wavenumber_ratio * _reach_factors(case, plate_id,
-                                                                       resolution)[0]
+                                                                       resolution, held_ends)[0]
 
 
 def reach_growth(case: Case, plate_id: str,
@@ -331,8 +336,10 @@ def reach_growth(case: Case, plate_id: str,
 
 
 def _reach_factors(case: Case, plate_id: str,
-                   resolution: float | Mapping[str, float] | None) -> tuple[float, float]:
-    r"""A plate's edge reach in units of :math:`\tau`, and the same without its growth."""
+                   resolution: float | Mapping[str, float] | None,
+                   held_ends: bool = True) -> tuple[float, float]:
+    r"""A plate's edge reach in units of :math:`\tau`, and the same without its growth
+    (``held_ends`` as in :func:`edge_reach`)."""
     singular, meeting, free, held = _far_reaching_plates(case)
     if plate_id in singular:
         return SINGULAR_END_REACH, SINGULAR_END_REACH
@@ -341,7 +348,7 @@ def _reach_factors(case: Case, plate_id: str,
         fixed = max(MEETING_END_REACH if plate_id in meeting else 1.0,
                     FREE_END_REACH if plate_id in free else 1.0)
         return fixed * max(1.0, scale / REACH_GROWTH_FROM), fixed
-    if plate_id in held and scale >= HELD_END_FROM - 1e-9:
+    if held_ends and plate_id in held and scale >= HELD_END_FROM - 1e-9:
         return HELD_END_REACH, HELD_END_REACH
     return 1.0, 1.0
 
