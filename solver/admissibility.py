@@ -21,7 +21,7 @@ import numpy as np
 
 from assembly import Case
 from assembly.geometry import edge_geometry
-from solver.dense import factorise_dense
+from solver.dense import MEMBRANE_RANK_TOLERANCE, factorise_dense
 from solver.interface import Block
 from solver.layout import InterfaceLayout, membrane_loads, plate_loads, plate_sides
 from solver.membrane import MembraneProblem, assemble_membrane
@@ -277,7 +277,7 @@ def membrane_blocks(case: Case, problems: Mapping[str, MembraneProblem],
         key = _membrane_signature(problem, bases[pid])
         if key not in factorised:
             matrix, _ = assemble_membrane(problem, bases[pid], cache)
-            factorised[key] = factorise_dense(matrix)
+            factorised[key] = factorise_dense(matrix, MEMBRANE_RANK_TOLERANCE)
         solve, rcond = factorised[key]
         unknowns = arrangement.membrane_unknowns[pid]
         loads = membrane_loads(case, problem, bases[pid], sides[pid], arrangement.counts,

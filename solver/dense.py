@@ -10,7 +10,7 @@ from collections.abc import Callable
 import numpy as np
 import scipy.linalg
 
-__all__ = ["RANK_TOLERANCE", "factorise_dense", "solve_dense"]
+__all__ = ["RANK_TOLERANCE", "MEMBRANE_RANK_TOLERANCE", "factorise_dense", "solve_dense"]
 
 
 RANK_TOLERANCE = 1e-14
@@ -20,15 +20,36 @@ is about this size, so those directions are not determined by them. 1e-12 to 1e-
 measured on the panels, the corner, Navier and the four plates (docs/method.md section 10.4):
 larger values lose accuracy, smaller ones move round-off-level figures both ways."""
 
+MEMBRANE_RANK_TOLERANCE = 1e-16
+r""":data:`RANK_TOLERANCE` of a plate's in-plane (membrane) VTCR matrix. The in-plane
+matrices of a moving line's members have a few pivots between 1e-16 and 1e-14 of the largest
+(3 to 10 of 92 to 152 on ``cases/stiffened_panel.toml`` at 257 Hz and resolution 1.25), and
+the directions they carry count: cut at 1e-14, a plate whose in-plane field is weak beside
+what the line's loads excite was off by its own size. On ``cases/stiffened_panel.toml``
+against independent finite elements (``bench/bench_panel.py``) the far bay B4 at 257 Hz and
+resolution 1.25 was 1.8e-1 off (its neighbours 2e-2 to 8e-2), at 1e-16 1.8e-3 (every plate
+within 5.2e-3); at 184.8 Hz 1.1e-3 and 5.5e-4 on the worst plate; at 1.5 the same; from
+2.25 on 1.2 to 2.4 times closer (257 Hz, resolution 3.4: 3.4e-4 and 1.4e-4), never further.
+The T junction of ``tests/test_held_ends.py`` (``bench/bench_held_counts.py``) at 1 kHz and
+resolutions 1.5, 2.25, 3.4: 9.3e-5, 1.2e-4, 5.5e-5 and 3.1e-5, 6.2e-5, 4.8e-5; at 300 Hz,
+where its interface system is ill-conditioned (``docs/method.md`` section 10.4, *The count*),
+3.2e-4, 8.0e-4, 2.9e-3 and 3.3e-4, 1.2e-3, 9.0e-4. 0 (every pivot kept) gave the same as
+1e-16 on the panel at 1.25 and 1.5. The bending matrices keep
+1e-14: their round-off figures (the exact folded panel at 600 and 2500 Hz,
+``bench/bench_moving_lines.py``) move both ways at 1e-16, 4 times worse on the held panel at
+600 Hz and resolution 1.25."""
 
-def factorise_dense(matrix: np.ndarray) -> tuple[Callable[[np.ndarray], np.ndarray], float]:
+
+def factorise_dense(matrix: np.ndarray, tolerance: float | None = None
+                    ) -> tuple[Callable[[np.ndarray], np.ndarray], float]:
     r"""Truncated rank-revealing factorisation of a plate's VTCR matrix, and its reciprocal
     condition estimate.
 
     With :math:`E` the column equilibration (unit largest entry per column) and QR with column
     pivoting (LAPACK ``geqp3``), :math:`KEP = QR`, :math:`|R_{11}|\ge|R_{22}|\ge\dots`; the
-    rank :math:`r` counts the pivots :math:`|R_{ii}| > \epsilon_r|R_{11}|`
-    (:data:`RANK_TOLERANCE`), and
+    rank :math:`r` counts the pivots :math:`|R_{ii}| > \epsilon_r|R_{11}|` (``tolerance``,
+    :data:`RANK_TOLERANCE` unless given: :data:`MEMBRANE_RANK_TOLERANCE` for in-plane
+    matrices), and
 
     .. math:: x = EP\begin{bmatrix}R_{[r]}^{-1}Q_{[r]}^Hb\\ 0\end{bmatrix}
 
@@ -63,7 +84,8 @@ def factorise_dense(matrix: np.ndarray) -> tuple[Callable[[np.ndarray], np.ndarr
     (factors, tau), _, pivots = scipy.linalg.qr(matrix * scale, mode="raw", pivoting=True,
                                                 check_finite=False)
     pivot_sizes = np.abs(np.diag(factors))
-    rank = int(np.count_nonzero(pivot_sizes > RANK_TOLERANCE * pivot_sizes[0]))
+    tolerance = RANK_TOLERANCE if tolerance is None else tolerance
+    rank = int(np.count_nonzero(pivot_sizes > tolerance * pivot_sizes[0]))
     kept, triangle = pivots[:rank], factors[:rank, :rank]
     trcon, unmqr = scipy.linalg.get_lapack_funcs(("trcon", "unmqr"), (factors,))
     rcond, _ = trcon(triangle, norm="1")

@@ -36,7 +36,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from assembly.geometry import EDGE_NAMES, EdgeGeometry, plate_edges
-from solver.dense import factorise_dense
+from solver.dense import MEMBRANE_RANK_TOLERANCE, factorise_dense
 from solver.membrane_basis import MembraneBasis, membrane_edge_traces, membrane_field
 from solver.rays import edge_rule
 
@@ -201,7 +201,7 @@ class MembraneSolution:
 def solve_membrane(problem: MembraneProblem, basis: MembraneBasis) -> MembraneSolution:
     """Assemble and solve one plate's membrane VTCR problem."""
     matrix, force = assemble_membrane(problem, basis)
-    solve, rcond = factorise_dense(matrix)
+    solve, rcond = factorise_dense(matrix, MEMBRANE_RANK_TOLERANCE)
     return MembraneSolution(problem, basis, solve(force), rcond)
 
 

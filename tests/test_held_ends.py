@@ -72,35 +72,39 @@ def test_the_members_of_a_line_held_at_its_ends_reach_twice_as_far_from_resoluti
 @pytest.mark.parametrize("frequency", [300.0, 1000.0])
 def test_a_junction_held_at_its_ends_meets_independent_finite_elements(frequency, monkeypatch):
     """The T junction with fixed ends at resolution 1.5 against
-    :data:`FINITE_ELEMENT_JUNCTION`. Measured: the skin's ``(u, v)`` 2.8e-4 and 3.2e-4 off
-    (300 Hz), 3.5e-5 and 4.1e-5 (1 kHz); with the usual reach 1.3e-2 and 6.9e-3, 2.6e-4 and
-    3.1e-4, the line's Legendre functions stopped where its in-plane loads, singular at the
-    fixed ends, still need more. ``w`` is within 4e-7 either way. At 1 kHz the estimate is 1.8 to
-    2.5 times the error of ``(u, v)`` (at 300 Hz 2.7 to 3.8: the enriched solve meets the same
-    ends). Tolerances three times the measured errors; without the wider reach, at least 60 %
-    of the measured."""
+    :data:`FINITE_ELEMENT_JUNCTION`. Measured: the skin's ``(u, v)`` 2.9e-4 and 3.3e-4 off
+    (300 Hz), 1.1e-5 and 1.0e-5 (1 kHz); with the usual reach 1.1e-3 and 1.2e-3, 1.6e-3 and
+    1.2e-3, the line's Legendre functions stopped where its in-plane loads, singular at the
+    fixed ends, still need more (1.3e-2 and 3.1e-4 before the in-plane matrices kept their
+    pivots down to 1e-16, :data:`solver.dense.MEMBRANE_RANK_TOLERANCE`). ``w`` is within 2e-7.
+    At 1 kHz the estimate of the skin's ``(u, v)`` is 5.2 and 7.3 times its error: the
+    enriched solve (resolution 2.25) is itself 6e-5 off, an ill-conditioned interface problem
+    (``docs/method.md`` section 10.4, *The count*); the test asks that it is not blind (above
+    half the error) and within ten times. Tolerances three times the measured errors; without
+    the wider reach, at least 60 % of the measured."""
     solution = solve_assembly(_junction(frequency), frequency, residuals=False)
     errors = _errors(solution, frequency)
     skin = max(errors[p][1] for p in SKIN)
-    assert skin < (1e-3 if frequency < 500.0 else 1.3e-4), errors
-    assert max(w for w, _ in errors.values()) < 1.5e-6, errors
+    assert skin < (1e-3 if frequency < 500.0 else 3.3e-5), errors
+    assert max(w for w, _ in errors.values()) < 6e-7, errors
     if frequency > 500.0:
         estimate = estimate_error(_junction(frequency), solution)
         for plate in SKIN:
-            assert 0.5 < estimate.in_plane[plate] / errors[plate][1] < 3.0, (plate, estimate)
+            assert 0.5 < estimate.in_plane[plate] / errors[plate][1] < 10.0, (plate, estimate)
     monkeypatch.setattr(solver.problems, "HELD_END_REACH", 1.0)
     narrow = _errors(solve_assembly(_junction(frequency), frequency, residuals=False), frequency)
-    assert max(narrow[p][1] for p in SKIN) > (4e-3 if frequency < 500.0 else 1.6e-4), narrow
+    assert max(narrow[p][1] for p in SKIN) > 7e-4, narrow
 
 
 def test_an_l_fold_held_at_its_ends_meets_independent_finite_elements(monkeypatch):
     """The L fold with fixed ends at 300 Hz and resolution 1.5 against
     :data:`FINITE_ELEMENT_FOLD`. Its only exponent below 1 is each plate's own fixed-free
     corner, which the plates carry (``bench/junction_exponents.py``), yet the wider reach
-    counts here as on the T junction. Measured: ``(u, v)`` 5.0e-6 and 5.1e-6 off (A, B), ``w``
-    7.3e-8 and 2.5e-7; with the usual reach 1.3e-4 and 1.3e-4, ``w`` 4.1e-7 and 8.9e-7 (at 1
-    kHz: 2.5e-4 against 1.3e-3). Tolerances three times the measured errors; without the wider
-    reach, at least 60 % of the measured."""
+    counts here as on the T junction. Measured: ``(u, v)`` 4.4e-6 and 3.7e-6 off (A, B), ``w``
+    7.3e-8 and 2.5e-7; with the usual reach 2.6e-5 and 2.8e-5, ``w`` 4.1e-7 and 8.3e-7 (at 1
+    kHz: 2.6e-4 against 1.1e-3; with the in-plane matrices cut at 1e-14 instead of
+    :data:`solver.dense.MEMBRANE_RANK_TOLERANCE`, 1.3e-4 with the usual reach). Tolerances
+    three times the measured errors; without the wider reach, at least 60 % of the measured."""
     plates, lines, load = L_FOLD
 
     def errors() -> list[tuple[float, float]]:
@@ -111,21 +115,21 @@ def test_an_l_fold_held_at_its_ends_meets_independent_finite_elements(monkeypatc
                                            "").values())
 
     wide = errors()
-    assert max(uv for _, uv in wide) < 1.6e-5 and max(w for w, _ in wide) < 7.5e-7, wide
+    assert max(uv for _, uv in wide) < 1.3e-5 and max(w for w, _ in wide) < 7.5e-7, wide
     monkeypatch.setattr(solver.problems, "HELD_END_REACH", 1.0)
     narrow = errors()
-    assert max(uv for _, uv in narrow) > 8e-5, narrow
+    assert max(uv for _, uv in narrow) > 1.7e-5, narrow
 
 
 def test_the_count_of_a_fold_of_like_members_stays_at_the_usual_reach(monkeypatch):
     """The L fold's members are alike, so its count reaches the wavenumbers' before the usual
     cap binds and stays at that cap (:func:`solver.layout._held_count_follows`); the T
     junction's skin is faster than its stiffener, and its count follows the doubled reach. At
-    300 Hz and resolution 3.4 the fold is then 3.0e-6 off :data:`FINITE_ELEMENT_FOLD` in
-    ``(u, v)`` (A and B); with its count following the doubled reach, 7.7e-4 and 6.1e-4, a
-    figure of the interface problem's conditioning that moves with rounding (1.4e-4 with the
-    plates' rank tolerance at 1e-15 instead of 1e-14), so the test asks only ten times its
-    bound. The bound: three times the measured."""
+    300 Hz and resolution 3.4 the fold is then 3.0e-6 and 2.7e-6 off :data:`FINITE_ELEMENT_FOLD`
+    in ``(u, v)`` (A, B); with its count following the doubled reach, 1.1e-4 (7.7e-4 with the
+    in-plane matrices cut at 1e-14, :data:`solver.dense.MEMBRANE_RANK_TOLERANCE`), a figure of
+    the interface problem's conditioning that moves with rounding, so the test asks only three
+    times its bound. The bound: three times the measured."""
     plates, lines, load = L_FOLD
     fold = parse_case(folded_description(plates, lines, load, 300.0, None, LY, 3.4,
                                          ends="fixed"))
@@ -144,4 +148,4 @@ def test_the_count_of_a_fold_of_like_members_stays_at_the_usual_reach(monkeypatc
 
     assert worst() < 1e-5
     monkeypatch.setattr(solver.layout, "_held_count_follows", lambda *_: True)
-    assert worst() > 1e-4
+    assert worst() > 3e-5
