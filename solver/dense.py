@@ -33,11 +33,20 @@ within 5.2e-3); at 184.8 Hz 1.1e-3 and 5.5e-4 on the worst plate; at 1.5 the sam
 The T junction of ``tests/test_held_ends.py`` (``bench/bench_held_counts.py``) at 1 kHz and
 resolutions 1.5, 2.25, 3.4: 9.3e-5, 1.2e-4, 5.5e-5 and 3.1e-5, 6.2e-5, 4.8e-5; at 300 Hz,
 where its interface system is ill-conditioned (``docs/method.md`` section 10.4, *The count*),
-3.2e-4, 8.0e-4, 2.9e-3 and 3.3e-4, 1.2e-3, 9.0e-4. 0 (every pivot kept) gave the same as
-1e-16 on the panel at 1.25 and 1.5. The bending matrices keep
-1e-14: their round-off figures (the exact folded panel at 600 and 2500 Hz,
-``bench/bench_moving_lines.py``) move both ways at 1e-16, 4 times worse on the held panel at
-600 Hz and resolution 1.25."""
+3.2e-4, 8.0e-4, 2.9e-3 and 3.3e-4, 1.2e-3, 9.0e-4. ``cases/box_with_wall.toml`` against its
+finite elements (``bench/bench_box.py``, resolutions 1.5 and 2.25): the same to two digits, and
+its estimates. 0 (every pivot kept) gave the same as
+1e-16 on the panel at 1.25 and 1.5. At resolution 1 the in-plane
+fields of the L fold, U channel and T junction of ``tests/test_moving_lines.py`` against their
+exact solutions (1 and 3 kHz) are the same within 10 %.
+
+The bending matrices keep 1e-14. At 1e-16 (on the moving lines' members only) the fields at
+resolution 1.5 and above gain (the L fold with fixed ends at 1 kHz, ``(u, v)`` 5.0e-5 instead
+of 2.6e-4; the panel's T1 at 257 Hz, ``w`` 2.8e-6 instead of 3.2e-5), but at resolution 1,
+where the cut acts as a regularisation, they lose: against the exact solutions the L fold at 3
+kHz is 8.2e-3 off in ``w`` instead of 1.3e-3, the T junction at 1 kHz 3.9e-3 instead of 7.1e-4,
+the U channel at 3 kHz 2.9e-3 instead of 1.3e-3; and the held panel at 600 Hz and resolution
+1.25 (all its plates at 1e-16) 6.8e-6 instead of 1.7e-6."""
 
 
 def factorise_dense(matrix: np.ndarray, tolerance: float | None = None
