@@ -35,10 +35,9 @@ resolutions 1.5, 2.25, 3.4: 9.3e-5, 1.2e-4, 5.5e-5 and 3.1e-5, 6.2e-5, 4.8e-5; a
 where its interface system is ill-conditioned (``docs/method.md`` section 10.4, *The count*),
 3.2e-4, 8.0e-4, 2.9e-3 and 3.3e-4, 1.2e-3, 9.0e-4. ``cases/box_with_wall.toml`` against its
 finite elements (``bench/bench_box.py``, resolutions 1.5 and 2.25): the same to two digits, and
-its estimates. 0 (every pivot kept) gave the same as
-1e-16 on the panel at 1.25 and 1.5. At resolution 1 the in-plane
-fields of the L fold, U channel and T junction of ``tests/test_moving_lines.py`` against their
-exact solutions (1 and 3 kHz) are the same within 10 %.
+so are its estimates. At resolution 1 the in-plane fields of the L fold, U channel and T
+junction of ``tests/test_moving_lines.py`` against their exact solutions (1 and 3 kHz) are the
+same within 10 %. 0 (every pivot kept) gave the same as 1e-16 on the panel at 1.25 and 1.5.
 
 The bending matrices keep 1e-14. At 1e-16 (on the moving lines' members only) the fields at
 resolution 1.5 and above gain (the L fold with fixed ends at 1 kHz, ``(u, v)`` 5.0e-5 instead
