@@ -37,7 +37,11 @@ where its interface system is ill-conditioned (``docs/method.md`` section 10.4, 
 finite elements (``bench/bench_box.py``, resolutions 1.5 and 2.25): the same to two digits, and
 so are its estimates. At resolution 1 the in-plane fields of the L fold, U channel and T
 junction of ``tests/test_moving_lines.py`` against their exact solutions (1 and 3 kHz) are the
-same within 10 %. 0 (every pivot kept) gave the same as 1e-16 on the panel at 1.25 and 1.5.
+same within 10 %; at 1.5 closer (the T junction at 300 Hz 2.9e-6 against 6.3e-6, the L fold
+at 1 kHz 9.1e-7 against 5.6e-6) but for the U channel at 1 kHz, 1.2e-5 against 1.7e-6 (its
+``w`` 2.4e-7 against 4.4e-8), and the error estimate of ``(u, v)`` at 1.5 now 1.00 to 1.33 times
+the error where it read up to 35 (the L fold at 3 kHz, ``bench/bench_estimate_moving.py``).
+0 (every pivot kept) gave the same as 1e-16 on the panel at 1.25 and 1.5.
 
 The bending matrices keep 1e-14. At 1e-16 (on the moving lines' members only) the fields at
 resolution 1.5 and above gain (the L fold with fixed ends at 1 kHz, ``(u, v)`` 5.0e-5 instead
