@@ -37,6 +37,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path[:0] = [str(ROOT), str(ROOT / "tests")]
 
 from support import folded_description  # noqa: E402
+from test_held_ends import FINITE_ELEMENT_FOLD, FINITE_ELEMENT_JUNCTION, PLATES  # noqa: E402
 from test_moving_lines import L_FOLD, LY, T_JUNCTION, _finite_element_errors  # noqa: E402
 
 import solver.admissibility  # noqa: E402
@@ -47,12 +48,9 @@ from assembly import parse_case  # noqa: E402
 from solver.estimate import estimate_error  # noqa: E402
 from solver.substructure import solve_assembly  # noqa: E402
 
-DATA = ROOT / "tests" / "data"
-T_PLATES = {**T_JUNCTION[0], "T1": T_JUNCTION[0]["T1"][:4] + ("simply_supported",)}
 STRUCTURES = {  # name: (plates, lines, load, finite elements, key of a frequency)
-    "L fold": (L_FOLD[0], L_FOLD[1], L_FOLD[2], DATA / "fem_fold_fixed_ends.npz",
-               lambda f: "" if f == 300.0 else f"_{f:.0f}"),
-    "T junction": (T_PLATES, T_JUNCTION[1], T_JUNCTION[2], DATA / "fem_junction_fixed.npz",
+    "L fold": (*L_FOLD, FINITE_ELEMENT_FOLD, lambda f: "" if f == 300.0 else f"_{f:.0f}"),
+    "T junction": (PLATES, T_JUNCTION[1], T_JUNCTION[2], FINITE_ELEMENT_JUNCTION,
                    lambda f: f"_{f:.0f}"),
 }
 RULE = solver.layout._held_count_follows

@@ -19,11 +19,19 @@ from assembly.case import Case
 from assembly.joints import JunctionJoint
 from solver.rays import end_graded_rule, gauss_legendre
 
-__all__ = ["interface_function_count", "end_layer_count", "END_LAYER_FROM",
+__all__ = ["LOAD_WAVENUMBER_COUNT", "interface_function_count", "end_layer_count",
+           "END_LAYER_FROM",
            "load_function_projection", "singular_load_ends",
            "extra_load_functions", "legendre_count_floor", "mixed_end_legendre_count",
            "load_function_values", "joint_gauss", "channel_parameters",
            "joint_parameters", "translational_stiffness"]
+
+
+LOAD_WAVENUMBER_COUNT = 0.75
+r"""The count of a joint's wavenumbers, :math:`0.75\,s\,\kappa_0L` Legendre functions at
+resolution :math:`s` (:func:`interface_function_count`): its loads carry wavenumbers up to
+about :math:`1.5\kappa_0`, and a Legendre series resolves :math:`e^{j\beta\sigma}` on
+:math:`[0, L]` from :math:`\beta L/2` functions."""
 
 
 def interface_function_count(kappa0: float, length: float, resolution: float = 1.0,
@@ -60,7 +68,8 @@ def interface_function_count(kappa0: float, length: float, resolution: float = 1
     (:func:`solver.layout.answered_wavenumber`).
     """
     answered = kappa0 if kappa_answered is None else kappa_answered
-    return math.ceil(min(0.75 * resolution * kappa0, 0.5 * tau * answered) * length) + 2
+    return math.ceil(min(LOAD_WAVENUMBER_COUNT * resolution * kappa0, 0.5 * tau * answered)
+                     * length) + 2
 
 
 END_LAYER_FROM = 1.5

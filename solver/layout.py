@@ -21,6 +21,7 @@ from assembly.geometry import EDGE_NAMES, edge_geometry
 from assembly.joints import Joint
 from solver.in_plane import in_plane_edge_conditions, in_plane_plates
 from solver.joint_rules import (
+    LOAD_WAVENUMBER_COUNT,
     end_layer_count,
     extra_load_functions,
     interface_function_count,
@@ -351,7 +352,8 @@ def answered_wavenumber(case: Case, joint_id: str, problems: Mapping[str, PlateP
 
 def _held_count_follows(kappa0: float, kappa_usual: float, tau: float) -> bool:
     r"""Whether the Legendre count of a line held at an end follows its members' doubled reach:
-    :math:`\tfrac\tau2\kappa_a < 0.75\,s_h\kappa_0`, :math:`\kappa_a` what the usual reach
+    :math:`\tfrac\tau2\kappa_a < 0.75\,s_h\kappa_0` (0.75:
+    :data:`solver.joint_rules.LOAD_WAVENUMBER_COUNT`), :math:`\kappa_a` what the usual reach
     answers, :math:`\kappa_0` the members' largest bending wavenumber and :math:`s_h`
     :data:`solver.problems.HELD_END_FROM`: the usual cap of
     :func:`solver.joint_rules.interface_function_count` would stop the count below the
@@ -368,7 +370,7 @@ def _held_count_follows(kappa0: float, kappa_usual: float, tau: float) -> bool:
     following the doubled reach past it spoils the solve at high resolution: at 3.4 the fold
     is 7.7e-4 and 5.2e-4 off in ``(u, v)`` at 300 Hz and 1 kHz, against 3.0e-6 and 7.4e-5 at
     the usual cap, where its count stays."""
-    return 0.5 * tau * kappa_usual < 0.75 * HELD_END_FROM * kappa0
+    return 0.5 * tau * kappa_usual < LOAD_WAVENUMBER_COUNT * HELD_END_FROM * kappa0
 
 
 def members_wavenumber(case: Case, joint_id: str, problems: Mapping[str, PlateProblem]

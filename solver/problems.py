@@ -359,9 +359,8 @@ _FAR_REACHING: dict[int, tuple[Case, tuple[frozenset[str], ...]]] = {}
 def _far_reaching_plates(case: Case) -> tuple[frozenset[str], ...]:
     """:func:`singular_end_plates`, :func:`meeting_end_plates`, :func:`free_end_plates` and
     :func:`held_end_plates` of ``case``, found once per case (a frozen model) for the few cases
-    in use: they find the
-    moving lines, 5 ms on a 50-bay panel, and :func:`edge_reach` is asked for every plate by
-    several builders (0.5 s a pass over its 99 plates without the memo)."""
+    in use: they find the moving lines, 5 ms on a 50-bay panel, and :func:`edge_reach` is asked
+    for every plate by several builders (0.5 s a pass over its 99 plates without the memo)."""
     entry = _FAR_REACHING.get(id(case))  # the memo holds its cases: their ids stay theirs
     if entry is None:
         if len(_FAR_REACHING) >= 8:

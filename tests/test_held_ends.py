@@ -46,6 +46,18 @@ def _junction(frequency: float, resolution: float = 1.5):
                                          LY, resolution, ends="fixed"))
 
 
+def _fold(resolution: float):
+    """The L fold with fixed ends at 300 Hz."""
+    return parse_case(folded_description(*L_FOLD, 300.0, None, LY, resolution, ends="fixed"))
+
+
+def _fold_errors(solution) -> list[tuple[float, float]]:
+    """Per plate of the L fold, the relative L2 differences of ``w`` and ``(u, v)`` to
+    :data:`FINITE_ELEMENT_FOLD` at 300 Hz."""
+    return list(_finite_element_errors(solution, L_FOLD[0], np.load(FINITE_ELEMENT_FOLD),
+                                       "").values())
+
+
 def _errors(solution, frequency: float) -> dict[str, tuple[float, float]]:
     """Per plate of the T junction, the relative L2 differences of ``w`` and ``(u, v)`` to
     :data:`FINITE_ELEMENT_JUNCTION` at ``frequency``."""
@@ -105,14 +117,8 @@ def test_an_l_fold_held_at_its_ends_meets_independent_finite_elements(monkeypatc
     kHz: 2.6e-4 against 1.1e-3; with the in-plane matrices cut at 1e-14 instead of
     :data:`solver.dense.MEMBRANE_RANK_TOLERANCE`, 1.3e-4 with the usual reach). Tolerances
     three times the measured errors; without the wider reach, at least 60 % of the measured."""
-    plates, lines, load = L_FOLD
-
     def errors() -> list[tuple[float, float]]:
-        case = parse_case(folded_description(plates, lines, load, 300.0, None, LY, 1.5,
-                                             ends="fixed"))
-        solution = solve_assembly(case, 300.0, residuals=False)
-        return list(_finite_element_errors(solution, plates, np.load(FINITE_ELEMENT_FOLD),
-                                           "").values())
+        return _fold_errors(solve_assembly(_fold(1.5), 300.0, residuals=False))
 
     wide = errors()
     assert max(uv for _, uv in wide) < 1.3e-5 and max(w for w, _ in wide) < 7.5e-7, wide
@@ -130,9 +136,7 @@ def test_the_count_of_a_fold_of_like_members_stays_at_the_usual_reach(monkeypatc
     in-plane matrices cut at 1e-14, :data:`solver.dense.MEMBRANE_RANK_TOLERANCE`), a figure of
     the interface problem's conditioning that moves with rounding, so the test asks only three
     times its bound. The bound: three times the measured."""
-    plates, lines, load = L_FOLD
-    fold = parse_case(folded_description(plates, lines, load, 300.0, None, LY, 3.4,
-                                         ends="fixed"))
+    fold = _fold(3.4)
     problems = plate_problems(fold, 300.0)
     junction = _junction(300.0, 3.4)
     junction_problems = plate_problems(junction, 300.0)
@@ -142,9 +146,7 @@ def test_the_count_of_a_fold_of_like_members_stays_at_the_usual_reach(monkeypatc
             == pytest.approx(HELD_END_REACH * members_wavenumber(junction, "W", junction_problems)))
 
     def worst() -> float:
-        solution = solve_assembly(fold, 300.0, residuals=False)
-        errors = _finite_element_errors(solution, plates, np.load(FINITE_ELEMENT_FOLD), "")
-        return max(uv for _, uv in errors.values())
+        return max(uv for _, uv in _fold_errors(solve_assembly(fold, 300.0, residuals=False)))
 
     assert worst() < 1e-5
     monkeypatch.setattr(solver.layout, "_held_count_follows", lambda *_: True)
