@@ -104,6 +104,7 @@ class PlateAdmissibility:
     rcond: dict[str, float]
     membranes: dict[str, MembraneBlock] = field(default_factory=dict)
     corner_columns: dict[tuple[str, int], int] = field(default_factory=dict)
+    load_ends: dict[str, tuple] = field(default_factory=dict)
 
     @property
     def omega(self) -> float:
@@ -244,13 +245,15 @@ def plate_admissibility(case: Case, frequency: float, problems: Mapping[str, Pla
         if key is not None:
             shared[key] = block
         loads = plate_loads(case, block.boundary, sides[pid], corners[pid], arrangement.counts,
+                            arrangement.load_ends,
                             arrangement.slots, arrangement.unknowns[pid])
         solution = solved.get(key, loads, functools.partial(_with_force, block))
         u0[pid], transfer[pid], rcond[pid] = solution[:, 0], solution[:, 1:], block.rcond
         corner_w[pid] = block.boundary.corner_w, block.boundary.corner_w_p
     plates = PlateAdmissibility(frequency, dict(problems), dict(bases), arrangement.unknowns, u0,
                                 transfer, arrangement.n_s, arrangement.slots, rcond,
-                                corner_columns=dict(arrangement.corner_columns))
+                                corner_columns=dict(arrangement.corner_columns),
+                                load_ends=dict(arrangement.load_ends))
     return plates, corner_w
 
 
@@ -281,6 +284,7 @@ def membrane_blocks(case: Case, problems: Mapping[str, MembraneProblem],
         solve, rcond = factorised[key]
         unknowns = arrangement.membrane_unknowns[pid]
         loads = membrane_loads(case, problem, bases[pid], sides[pid], arrangement.counts,
+                               arrangement.load_ends,
                                arrangement.slots, unknowns, cache)
         blocks[pid] = MembraneBlock(problem, bases[pid],
                                     solved.get(key, loads, solve), rcond, unknowns)

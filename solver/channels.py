@@ -28,7 +28,6 @@ from solver.joint_rules import (
     joint_gauss,
     load_function_projection,
     load_function_values,
-    singular_load_ends,
     translational_stiffness,
 )
 from solver.layout import (
@@ -245,7 +244,7 @@ def junction_line(build: JointBuild, jid: str, group: int) -> tuple[list[Block],
     joint = case.joints[jid]
     sides, directions = joint.sides, case.member_directions(jid)
     length = case.edge_length(sides[0])
-    ends = singular_load_ends(case, jid)
+    ends = plates.load_ends[jid]
     sigma, wq = joint_gauss(length, max(build.k_max[p] for p in joint.plates), ends)
     root_w = np.sqrt(wq)
     psi = load_function_values(sigma, length, counts[jid], ends)

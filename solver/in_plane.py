@@ -16,9 +16,20 @@ from assembly.case import Case
 from assembly.geometry import EDGE_NAMES
 from solver.membrane import MembraneEdge, MembraneProblem, membrane_stiffness
 from solver.membrane_basis import MembraneBasis, build_membrane_basis, membrane_ray_counts
-from solver.membrane_corners import fixed_free_corners, fixed_free_layout, logarithmic_corners
+from solver.membrane_corners import (
+    fixed_free_corners,
+    fixed_free_layout,
+    loaded_corners,
+    logarithmic_corners,
+)
 from solver.plate import PlateProblem
-from solver.problems import edge_reach, plate_resolution, reach_growth, singular_end_corners
+from solver.problems import (
+    edge_reach,
+    held_end_corners,
+    plate_resolution,
+    reach_growth,
+    singular_end_corners,
+)
 
 __all__ = ["MIRROR_CONDITIONS", "membrane_edge_reach", "in_plane_plates", "coplanar_closure",
            "in_plane_edge_conditions", "membrane_problems", "membrane_bases"]
@@ -125,13 +136,15 @@ def membrane_bases(case: Case, problems: Mapping[str, MembraneProblem],
         # differ elsewhere (a panel's mirrored end bays) still share one basis and its traces
         layout = fixed_free_layout(problem.conditions)
         logarithmic = singular_end_corners(case, pid)
+        loaded = held_end_corners(case, pid, resolution)
         key = (problem.size, k_long, k_shear, counts, beta_max, layout,
-               problem.poisson_ratio if layout else None, logarithmic)
+               problem.poisson_ratio if layout or loaded else None, logarithmic, loaded)
         if key not in shared:
             rays = build_membrane_basis(problem.size, k_long, k_shear, counts, beta_max,
                                         settings.quadrature_per_sector)
             shared[key] = dataclasses.replace(rays, corners=fixed_free_corners(
                 problem.size, problem.conditions, problem.poisson_ratio, k_long, k_shear)
-                + logarithmic_corners(problem.size, logarithmic, k_long, k_shear))
+                + logarithmic_corners(problem.size, logarithmic, k_long, k_shear)
+                + loaded_corners(problem.size, loaded, problem.poisson_ratio, k_long, k_shear))
         bases[pid] = shared[key]
     return bases

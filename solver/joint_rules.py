@@ -17,9 +17,11 @@ from numpy.typing import ArrayLike
 
 from assembly.case import Case
 from assembly.joints import JunctionJoint
+from solver.problems import held_end_exponents
 from solver.rays import end_graded_rule, gauss_legendre
 
-__all__ = ["LOAD_WAVENUMBER_COUNT", "interface_function_count", "end_layer_count",
+__all__ = ["LOAD_WAVENUMBER_COUNT", "LoadEnds", "NO_SINGULAR_ENDS", "interface_function_count",
+           "end_layer_count",
            "END_LAYER_FROM",
            "load_function_projection", "singular_load_ends",
            "extra_load_functions", "legendre_count_floor", "mixed_end_legendre_count",
@@ -130,39 +132,53 @@ def load_function_projection(root_w: np.ndarray, psi: np.ndarray) -> np.ndarray:
     return scipy.linalg.orth(root_w[:, None] * psi).conj().T * root_w
 
 
-NO_SINGULAR_ENDS = (False, False)
+LoadEnds = tuple[bool | tuple[float, ...], ...]
+"""Per end of a joint line (start, end), how its loads are singular there
+(:func:`singular_load_ends`)."""
+
+NO_SINGULAR_ENDS: LoadEnds = (False, False)
 
 SINGULAR_END_FUNCTIONS = 2
 """Load functions added per singular end of a moving line (:func:`load_function_values`)."""
 
 
-def singular_load_ends(case: Case, joint_id: str) -> tuple[bool, bool]:
-    """Whether a joint's loads are log-singular at its start and its end (along the line): the
-    mixed ends of a moving line (:meth:`assembly.Case.singular_line_ends`,
-    ``docs/method.md`` section 10.4). A held line's loads are not: without the in-plane field
-    no member's deflection is tied to another's translation. A line with a mixed end moves
-    only with ``held = false`` (:func:`assembly.lines.moving_lines`), so that is all this
-    reads of the assembly: one joint, called per joint side, stays independent of its size."""
+def singular_load_ends(case: Case, joint_id: str,
+                       resolution: float | Mapping[str, float] | None = None) -> LoadEnds:
+    r"""How a joint's loads are singular at its start and its end (along the line), per end:
+    ``True`` where they are log-singular, at the mixed ends of a moving line
+    (:meth:`assembly.Case.singular_line_ends`, ``docs/method.md`` section 10.4; a held line's
+    loads are not: without the in-plane field no member's deflection is tied to another's
+    translation, and a line with a mixed end moves only with ``held = false``,
+    :func:`assembly.lines.moving_lines`); the exponents :math:`\lambda` of
+    :func:`solver.problems.held_end_exponents` where they go like :math:`t^{\lambda - 1}`, at
+    an end fixed in its plane (``resolution`` as there); ``False`` elsewhere."""
     joint = case.joints[joint_id]
-    if joint.kind == "coplanar" or joint.held is not False:
+    if joint.kind == "coplanar":
         return NO_SINGULAR_ENDS
-    return case.singular_line_ends(joint_id)
+    logarithmic = case.singular_line_ends(joint_id) if joint.held is False else NO_SINGULAR_ENDS
+    powers = held_end_exponents(case, joint_id, resolution)
+    return tuple(True if log else (power or False) for log, power in zip(logarithmic, powers))
 
 
-def extra_load_functions(ends: tuple[bool, bool]) -> int:
+def extra_load_functions(ends: LoadEnds) -> int:
     """The load functions :func:`load_function_values` adds to the Legendre ones at the
-    singular ``ends``."""
-    return SINGULAR_END_FUNCTIONS * sum(ends)
+    singular ``ends``: :data:`SINGULAR_END_FUNCTIONS` at a log-singular end, one per exponent
+    at an end fixed in its plane."""
+    return sum(SINGULAR_END_FUNCTIONS if end is True else len(end) if end else 0
+               for end in ends)
 
 
-def _singular_functions(t: np.ndarray, s: np.ndarray, ends: tuple[bool, bool]
-                        ) -> list[np.ndarray]:
-    r""":math:`\ln t`, :math:`t\ln t` if the start is singular, :math:`\ln s`, :math:`s\ln s`
-    if the end is, at ``t`` in (0, 1) with ``s`` = 1 - ``t`` (given apart: near the end ``t``
-    rounds to 1 before ``s`` to 0)."""
-    functions = [np.log(t), t * np.log(t)] if ends[0] else []
-    if ends[1]:
-        functions += [np.log(s), s * np.log(s)]
+def _singular_functions(t: np.ndarray, s: np.ndarray, ends: LoadEnds) -> list[np.ndarray]:
+    r""":math:`\ln t`, :math:`t\ln t` if the start is log-singular, :math:`t^{\lambda - 1}` for
+    each of its exponents if it is fixed in its plane; likewise of :math:`s` at the end; at
+    ``t`` in (0, 1) with ``s`` = 1 - ``t`` (given apart: near the end ``t`` rounds to 1 before
+    ``s`` to 0)."""
+    functions = []
+    for end, x in zip(ends, (t, s)):
+        if end is True:
+            functions += [np.log(x), x * np.log(x)]
+        elif end:
+            functions += [x ** (lam - 1.0) for lam in end]
     return functions
 
 
@@ -225,14 +241,14 @@ def mixed_end_legendre_count(remainder: float = SINGULAR_REMAINDER, most: int = 
     return int(np.argmax(left <= remainder)) + 1
 
 
-def legendre_count_floor(ends: tuple[bool, bool]) -> int:
+def legendre_count_floor(ends: LoadEnds) -> int:
     """The fewest Legendre functions of a joint whose loads are log-singular at ``ends``
     (:func:`singular_load_ends`): :func:`mixed_end_legendre_count` at a mixed end, else 0."""
-    return mixed_end_legendre_count() if any(ends) else 0
+    return mixed_end_legendre_count() if any(end is True for end in ends) else 0
 
 
 @functools.cache
-def _orthonormal_singular_parts(n_legendre: int, ends: tuple[bool, bool]) -> np.ndarray:
+def _orthonormal_singular_parts(n_legendre: int, ends: LoadEnds) -> np.ndarray:
     r"""The coefficients :math:`A`, shape ``(n_legendre + k, k)``, of the parts of the ``k``
     functions of :func:`_singular_functions` orthogonal to the ``n_legendre`` Legendre
     functions and to each other, of unit :math:`L^2(0, 1)` norm: ``[P, S] @ A`` (modified
@@ -255,10 +271,13 @@ def _orthonormal_singular_parts(n_legendre: int, ends: tuple[bool, bool]) -> np.
 
 
 def load_function_values(sigma: ArrayLike, length: float, n: int,
-                         ends: tuple[bool, bool] = NO_SINGULAR_ENDS) -> np.ndarray:
+                         ends: LoadEnds = NO_SINGULAR_ENDS) -> np.ndarray:
     r"""The joint's ``n`` load functions at arc lengths ``sigma``, shape ``(len(sigma), n)``:
     the Legendre functions :math:`P_m(2t - 1)`, :math:`t = \sigma/L`, then at each singular
-    end (``ends``: start, end) the two leading singular terms of the loads there,
+    end (``ends``: start, end, :func:`singular_load_ends`) the singular terms of the loads
+    there: at an end fixed in its plane :math:`t^{\lambda - 1}` for each of its exponents
+    (``docs/method.md`` section 10.4, *The loads' singular terms*); at a log-singular end the
+    two leading ones,
     :math:`\ln t` and :math:`t\ln t` at the start, :math:`\ln(1 - t)` and
     :math:`(1 - t)\ln(1 - t)` at the end, each by its part orthogonal to the functions before
     it, of unit norm (:func:`_orthonormal_singular_parts`).
@@ -285,7 +304,7 @@ def load_function_values(sigma: ArrayLike, length: float, n: int,
                                                                            tuple(ends))])
 
 
-def joint_gauss(length: float, k_max: float, ends: tuple[bool, bool] = NO_SINGULAR_ENDS
+def joint_gauss(length: float, k_max: float, ends: LoadEnds = NO_SINGULAR_ENDS
                 ) -> tuple[np.ndarray, np.ndarray]:
     r"""Gauss points and weights on a joint line of ``length`` (m):
     :math:`\lceil k_{max}L\rceil + 16` points, where :math:`k_{max}` is the largest ray

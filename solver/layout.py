@@ -22,6 +22,7 @@ from assembly.joints import Joint
 from solver.in_plane import in_plane_edge_conditions, in_plane_plates
 from solver.joint_rules import (
     LOAD_WAVENUMBER_COUNT,
+    LoadEnds,
     end_layer_count,
     extra_load_functions,
     interface_function_count,
@@ -248,6 +249,9 @@ class InterfaceLayout:
         field.
     junction_axes : list
         Per junction, :func:`junction_point_axes` (None: the coplanar rule of section 6.4).
+    load_ends : dict of str to tuple
+        Per joint, how its loads are singular at its ends
+        (:func:`solver.joint_rules.singular_load_ends` at the joint's resolution).
     """
 
     counts: dict
@@ -258,6 +262,7 @@ class InterfaceLayout:
     unknowns: dict
     membrane_unknowns: dict
     junction_axes: list
+    load_ends: dict
 
 
 def interface_layout(case: Case, problems: Mapping[str, PlateProblem],
@@ -272,7 +277,7 @@ def interface_layout(case: Case, problems: Mapping[str, PlateProblem],
     end that slides, or a junction point: :func:`solver.problems.end_layer_lines`) at least
     :func:`solver.joint_rules.end_layer_count`.
     """
-    counts = {}
+    counts, load_ends = {}, {}
     moving = set(case.moving_lines())
     layered = end_layer_lines(case)
     tau = case.discretisation.edge_wavenumber_ratio
@@ -280,7 +285,7 @@ def interface_layout(case: Case, problems: Mapping[str, PlateProblem],
         length = case.edge_length(joint.sides[0])
         kappas = [problems[plate].kappa.real for plate in joint.plates]
         joint_scale = max(plate_resolution(case, side.plate, resolution) for side in joint.sides)
-        ends = singular_load_ends(case, jid)
+        ends = load_ends[jid] = singular_load_ends(case, jid, resolution)
         answered = answered_wavenumber(case, jid, problems, resolution) if jid in moving else None
         counts[jid] = (case.discretisation.interface_functions
                        or max(interface_function_count(max(kappas), length, joint_scale, tau,
@@ -300,7 +305,7 @@ def interface_layout(case: Case, problems: Mapping[str, PlateProblem],
     in_plane = in_plane_edge_conditions(case)
     axes = [junction_point_axes(case, flags, in_plane) for flags in junctions]
     return InterfaceLayout(counts, layout, junctions, corner_columns, n_s,
-                           *_plate_unknowns(case, layout, corner_columns), axes)
+                           *_plate_unknowns(case, layout, corner_columns), axes, load_ends)
 
 
 def answered_wavenumber(case: Case, joint_id: str, problems: Mapping[str, PlateProblem],
@@ -327,14 +332,20 @@ def answered_wavenumber(case: Case, joint_id: str, problems: Mapping[str, PlateP
     and resolution 2.25: reciprocity 3.7e-6 to 4.1e-5, the change of ``w`` to 3.4 from 2.9e-5
     to 3.2e-4).
 
-    A line held in its plane at an end (:func:`solver.problems.held_end_lines`), whose members
-    reach twice as far from resolution :data:`solver.problems.HELD_END_FROM` on, has its count
-    follow that reach only where the usual one would cap it below the wavenumbers' count at
+    A line held in its plane at an end whose loads carry their singular terms there
+    (:func:`solver.problems.held_end_exponents`) keeps the usual cap: those terms carry the
+    ends' layer, and following the doubled reach then spoils the solve (the T junction of
+    ``tests/test_held_ends.py`` at 300 Hz, resolutions 2.25 and 3.4: 5.6e-4 and 3.0e-4 off its
+    finite elements, against 1.8e-5 and 1.4e-5). Another line held in its plane at an end
+    (:func:`solver.problems.held_end_lines`), whose members reach twice as far from resolution
+    :data:`solver.problems.HELD_END_FROM` on, has its count follow that reach only where the
+    usual one would cap it below the wavenumbers' count at
     that resolution, :math:`\tfrac\tau2\kappa_a < 0.75\,s_h\max_m\kappa_{0,m}`
     (:func:`_held_count_follows`): members of different wavenumbers, the slowest capping the
     count (a stiffened skin). Elsewhere the count stays at the usual reach
     (``docs/method.md`` section 10.4, *Ends held in their plane*)."""
-    if any(singular_load_ends(case, joint_id)):
+    ends = singular_load_ends(case, joint_id, resolution)
+    if any(end is True for end in ends):
         return members_wavenumber(case, joint_id, problems)
     plates = case.joints[joint_id].plates
     tau = case.discretisation.edge_wavenumber_ratio
@@ -344,6 +355,8 @@ def answered_wavenumber(case: Case, joint_id: str, problems: Mapping[str, PlateP
                    / tau for plate in plates)
 
     usual, wider = answered(False), answered(True)
+    if any(ends):  # its loads' functions t^(lambda - 1) carry the held ends' layer
+        return usual
     if wider == usual or _held_count_follows(max(problems[plate].kappa.real for plate in plates),
                                              usual, tau):
         return wider
@@ -369,7 +382,11 @@ def _held_count_follows(kappa0: float, kappa_usual: float, tau: float) -> bool:
     fold of two 2 mm plates) the count reaches the wavenumbers' before the cap binds, and
     following the doubled reach past it spoils the solve at high resolution: at 3.4 the fold
     is 7.7e-4 and 5.2e-4 off in ``(u, v)`` at 300 Hz and 1 kHz, against 3.0e-6 and 7.4e-5 at
-    the usual cap, where its count stays."""
+    the usual cap, where its count stays. Those figures are from before the lines' loads
+    carried their singular terms (0.3.8): the panel's and the T junction's lines carry them
+    now and keep the usual cap (:func:`answered_wavenumber`), so the rule decides only for
+    held lines whose ends have no exponent loading them, between unlike members (an L fold of
+    a 1 mm and a 2 mm plate), which no reference has measured."""
     return 0.5 * tau * kappa_usual < LOAD_WAVENUMBER_COUNT * HELD_END_FROM * kappa0
 
 
@@ -483,7 +500,8 @@ def plate_sides(case: Case, corner_columns: Mapping[Corner, int]
 
 def plate_loads(case: Case, boundary: PlateBoundary, sides: Sequence[JointSide],
                 corners: Sequence[tuple[int, int]], counts: Mapping[str, int],
-                layout: Mapping[str, Mapping[str, slice]], unknowns: np.ndarray) -> np.ndarray:
+                load_ends: Mapping[str, LoadEnds], layout: Mapping[str, Mapping[str, slice]],
+                unknowns: np.ndarray) -> np.ndarray:
     r""":math:`B_i`: the plate's VTCR right-hand sides per unit interface unknown, over the
     interface unknowns ``unknowns`` it sees: the Legendre loads of its joint ``sides`` and the
     forces of its junction ``corners`` (:func:`plate_sides`), with the signs of
@@ -503,8 +521,7 @@ def plate_loads(case: Case, boundary: PlateBoundary, sides: Sequence[JointSide],
         traces = boundary.edges[side.edge]
         direction = case.member_directions(jid)[side_index]
         sigma = traces.s if direction > 0 else length - traces.s
-        psi = load_function_values(sigma, length, counts[jid],
-                                   singular_load_ends(case, jid))
+        psi = load_function_values(sigma, length, counts[jid], load_ends[jid])
         if case.is_line(jid):  # M_n = s_i C_i and, moving, K_n = K_i
             add_terms(member_load(case, jid, layout[jid], side.plate, "C"),
                       direction * edge_projection(traces, "moment", psi))
@@ -525,6 +542,7 @@ def plate_loads(case: Case, boundary: PlateBoundary, sides: Sequence[JointSide],
 
 def membrane_loads(case: Case, problem: MembraneProblem, basis: MembraneBasis,
                    sides: Sequence[JointSide], counts: Mapping[str, int],
+                   load_ends: Mapping[str, LoadEnds],
                    layout: Mapping[str, Mapping[str, slice]], unknowns: np.ndarray,
                    cache: dict | None = None) -> np.ndarray:
     r""":math:`B_i^m`: the membrane VTCR right-hand sides of an in-plane plate per unit
@@ -543,8 +561,7 @@ def membrane_loads(case: Case, problem: MembraneProblem, basis: MembraneBasis,
                                       cache)
         direction = case.member_directions(jid)[side_index]
         sigma = s if direction > 0 else edge.length - s
-        psi = load_function_values(sigma, edge.length, counts[jid],
-                                   singular_load_ends(case, jid))
+        psi = load_function_values(sigma, edge.length, counts[jid], load_ends[jid])
         for terms, displacement in zip(tractions, ("u_n", "u_t")):
             work = traces[displacement].conj().T @ (weights[:, None] * psi)
             for part, coefficient in terms:

@@ -64,7 +64,8 @@ from solver.plate_corners import ORDER_STEP, WedgeFamily, newton_roots, wedge_fi
 __all__ = ["CORNER_EXPONENT_LIMIT", "CLOSED_FORMS_BEYOND", "fixed_free_exponents",
            "CornerFamily",
            "corner_family", "fixed_free_layout", "fixed_free_corners", "LOGARITHMIC_DEGREES",
-           "logarithmic_family", "logarithmic_corners", "corner_fields",
+           "logarithmic_family", "logarithmic_corners", "loaded_corner_family",
+           "loaded_corners", "corner_fields",
            "corner_displacements", "plane_stress_resultants"]
 
 CORNER_EXPONENT_LIMIT = 4.0
@@ -298,16 +299,23 @@ def corner_family(point: np.ndarray, fixed_direction: np.ndarray, free_direction
     leave it along ``fixed_direction`` and ``free_direction``, for the exponents of
     :func:`fixed_free_exponents`; ``radius`` bounds the distance from the corner to any point of
     the plate (the series' length)."""
-    fixed_direction, free_direction = np.asarray(fixed_direction), np.asarray(free_direction)
-    turned = np.array([-fixed_direction[1], fixed_direction[0]])
-    fixed_first = bool(np.allclose(turned, free_direction))
-    first, second = ((fixed_direction, free_direction) if fixed_first
-                     else (free_direction, fixed_direction))
+    fixed_first, first, second = _corner_frame(fixed_direction, free_direction)
     exponents = fixed_free_exponents(float(poisson_ratio))
     combinations = np.zeros((4 * len(exponents), len(exponents)), complex)
     for e, lam in enumerate(exponents):
         combinations[4 * e:4 * e + 4, e] = _static_null_vector(lam, fixed_first, poisson_ratio)
     return _family(point, first, second, exponents, combinations, k_long, k_shear, radius)
+
+
+def _corner_frame(fixed_direction: np.ndarray, other_direction: np.ndarray
+                  ) -> tuple[bool, np.ndarray, np.ndarray]:
+    """``(fixed_first, first, second)``: whether the fixed edge is the x axis of the corner's
+    right-handed frame, and the frame's axes (the plate the quadrant x, y >= 0)."""
+    fixed_direction, other_direction = np.asarray(fixed_direction), np.asarray(other_direction)
+    turned = np.array([-fixed_direction[1], fixed_direction[0]])
+    fixed_first = bool(np.allclose(turned, other_direction))
+    return (fixed_first, *((fixed_direction, other_direction) if fixed_first
+                           else (other_direction, fixed_direction)))
 
 
 def _family(point: np.ndarray, first: np.ndarray, second: np.ndarray,
@@ -383,6 +391,56 @@ def fixed_free_corners(size: tuple[float, float], conditions: Sequence[str],
                        else (along_outgoing, along_incoming))
         families.append(corner_family(edges[i].start, fixed, free, poisson_ratio, k_long,
                                       k_shear, diagonal))
+    return tuple(families)
+
+
+@functools.lru_cache(maxsize=256)
+def _fixed_edge_space(lam: complex, fixed_first: bool, poisson_ratio: float) -> np.ndarray:
+    r"""The combinations (4, 2) of the four static functions of degree ``lam`` that vanish on
+    the fixed edge (the x axis of the corner's frame if ``fixed_first``, else the y axis),
+    their tractions on the other edge free: the fields a load :math:`r^{\lambda - 1}` on that
+    edge drives (an orthonormal basis of the null space of the displacements there)."""
+    leading = _wedge_functions(lam, 1.0, 2.0 / (1.0 - poisson_ratio), 1)
+    on_fixed = np.array([[1.0, 0.0]]) if fixed_first else np.array([[0.0, 1.0]])
+    u, _ = _local_fields(leading, on_fixed[:, None], len(leading.alpha))
+    _, _, vh = np.linalg.svd(u[0])
+    space = vh[2:].conj().T
+    space.flags.writeable = False
+    return space
+
+
+def loaded_corner_family(point: np.ndarray, fixed_direction: np.ndarray,
+                         loaded_direction: np.ndarray, poisson_ratio: float, k_long: complex,
+                         k_shear: complex, radius: float,
+                         exponents: Sequence[float]) -> CornerFamily:
+    r"""The corner functions of degree :math:`\lambda` (each of ``exponents``) of a right-angle
+    corner whose fixed edge leaves ``point`` along ``fixed_direction`` and whose other edge,
+    along ``loaded_direction``, carries a load :math:`r^{\lambda - 1}` (a moving line's member
+    at an end fixed in its plane, :func:`solver.problems.held_end_exponents`): two per
+    exponent (:func:`_fixed_edge_space`). ``radius`` as for :func:`corner_family`."""
+    fixed_first, first, second = _corner_frame(fixed_direction, loaded_direction)
+    combinations = np.zeros((4 * len(exponents), 2 * len(exponents)), complex)
+    for e, lam in enumerate(exponents):
+        combinations[4 * e:4 * e + 4, 2 * e:2 * e + 2] = _fixed_edge_space(
+            complex(lam), fixed_first, poisson_ratio)
+    return _family(point, first, second, [complex(lam) for lam in exponents], combinations,
+                   k_long, k_shear, radius)
+
+
+def loaded_corners(size: tuple[float, float],
+                   corners: Sequence[tuple[int, bool, tuple[float, ...]]], poisson_ratio: float,
+                   k_long: complex, k_shear: complex) -> tuple[CornerFamily, ...]:
+    """The :func:`loaded_corner_family` of each ``(corner, incoming_fixed, exponents)``
+    (corner ``c`` joins edges ``c - 1`` and ``c``; ``incoming_fixed``: edge ``c - 1`` is the
+    fixed one)."""
+    edges = plate_edges(size)
+    families = []
+    for c, incoming_fixed, exponents in corners:
+        along_outgoing, along_incoming = edges[c].tangent, -edges[c - 1].tangent
+        fixed, loaded = ((along_incoming, along_outgoing) if incoming_fixed
+                         else (along_outgoing, along_incoming))
+        families.append(loaded_corner_family(edges[c].start, fixed, loaded, poisson_ratio,
+                                             k_long, k_shear, math.hypot(*size), exponents))
     return tuple(families)
 
 

@@ -280,7 +280,8 @@ def _pair_traces(
     """
     axis = int(np.argmax(np.abs(edges[0].tangent)))
     length = edges[0].length
-    s, weights = edge_rule(edges, q, [family.point for family in basis.wedges])
+    s, weights = edge_rule(edges, q, [family.point for family in basis.wedges]
+                           + list(basis.graded_points))
     u = np.concatenate([[0.0], s, [length]])  # symmetric: u[::-1] = length - u
     shared, constants = line_exponentials(basis, axis, u, [e.start[1 - axis] for e in edges])
     # each edge's node constants fold into its trace factors: one sector-mean product serves

@@ -56,7 +56,6 @@ from solver.joint_rules import (
     joint_gauss,
     joint_parameters,
     load_function_values,
-    singular_load_ends,
     translational_stiffness,
 )
 from solver.layout import (
@@ -281,7 +280,7 @@ def _joint_rule(case: Case, system: Any, jid: str
     joint = case.joints[jid]
     length = case.edge_length(joint.sides[0])
     k_max = max(float(np.max(np.abs(system.bases[side.plate].k))) for side in joint.sides)
-    ends = singular_load_ends(case, jid)
+    ends = system.load_ends[jid]
     sigma, wq = joint_gauss(length, k_max, ends)
     slots = system.layout[jid]
     count = next(iter(slots.values())).stop - next(iter(slots.values())).start

@@ -6,12 +6,21 @@ arrays and frozen dataclasses.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Iterable, Mapping
 
 from assembly.case import Case
 from assembly.geometry import EDGE_NAMES, plate_edges
-from assembly.lines import free_ends, given_supports, held_ends, meeting_ends, symmetry_halves
+from assembly.lines import (
+    free_ends,
+    given_supports,
+    held_ends,
+    line_ends,
+    meeting_ends,
+    symmetry_halves,
+)
+from solver.junction_exponents import EndMember, line_loading_exponents
 from solver.kirchhoff import complex_bending_stiffness
 from solver.plate import EdgeCondition, EdgeLoad, PlateProblem, PointForce
 from solver.plate_corners import WedgeFamily, clamped_free_wedges, logarithmic_wedges
@@ -22,7 +31,8 @@ __all__ = ["plate_problem", "plate_problems", "plate_ray_counts", "plate_basis",
            "singular_end_corners", "MEETING_END_REACH", "meeting_end_plates", "FREE_END_REACH",
            "REACH_GROWTH_FROM", "free_end_lines", "meeting_end_lines", "end_layer_lines",
            "free_end_plates", "HELD_END_REACH", "HELD_END_FROM", "held_end_lines",
-           "held_end_plates", "edge_reach", "reach_growth"]
+           "held_end_plates", "held_end_exponents", "held_end_corners", "edge_reach",
+           "reach_growth"]
 
 
 def joint_edge_kinds(case: Case) -> dict[tuple[str, str], str]:
@@ -258,8 +268,10 @@ leave the members' traces apart beyond them: on ``cases/stiffened_panel.toml`` a
 resolution 2.25 the skin's translation along a weld differs from its neighbour's by 3e-4 of
 the line's (root mean square), nearly all of it in Legendre degrees above the line's 13
 functions, and by 100 times less with the same ends made shear diaphragms (mirrors). With
-twice the reach the count follows it where the members' wavenumbers differ
-(:func:`solver.layout.answered_wavenumber`). Against independent finite elements
+twice the reach the count followed it where the members' wavenumbers differ
+(:func:`solver.layout.answered_wavenumber`) until 0.3.8, when the loads came to carry their
+singular terms there (:func:`held_end_exponents`; the figures below are from before).
+Against independent finite elements
 (``bench/bench_panel.py``, ``bench/fem_junction.py --ends fixed``), worst plate's ``(u, v)``:
 
 * the panel at 184.8 / 230 / 257 Hz stalled at 4.4e-4 / 3.4e-4 / 6.4e-4 from resolution 1.5 on,
@@ -295,6 +307,73 @@ def held_end_lines(case: Case) -> frozenset[str]:
 def held_end_plates(case: Case) -> frozenset[str]:
     """The members of the moving lines with an end held in its plane (:func:`held_end_lines`)."""
     return _members(case, held_end_lines(case))
+
+
+def held_end_exponents(case: Case, joint_id: str,
+                       resolution: float | Mapping[str, float] | None = None
+                       ) -> tuple[tuple[float, ...], ...]:
+    r"""Per end of a moving line (start, end, along the line), the exponents :math:`\lambda` of
+    the in-plane field whose modes load the line there (:mod:`solver.junction_exponents`), at
+    an end where every member's end edge is fixed in its plane, from the joint's resolution
+    :data:`HELD_END_FROM` on (its members' reach doubles there: below, the rays do not answer
+    the loads' layer at the end); none elsewhere. The line's loads go like
+    :math:`t^{\lambda - 1}` at that end (``resolution`` as for :func:`plate_resolution`, the
+    joint's the finest of its members')."""
+    if joint_id not in held_end_lines(case):
+        return ((), ())
+    joint_scale = max(plate_resolution(case, plate, resolution)
+                      for plate in case.joints[joint_id].plates)
+    if joint_scale < HELD_END_FROM - 1e-9:
+        return ((), ())
+    supports = given_supports(case.boundaries)
+    joint = case.joints[joint_id]
+    members = _end_members(case, joint_id)
+    return tuple(line_loading_exponents(members)
+                 if all(supports.get(edge, ("", ""))[1] == "fixed" for edge in edges) else ()
+                 for edges in line_ends(joint, case.plates))
+
+
+def held_end_corners(case: Case, plate_id: str,
+                     resolution: float | Mapping[str, float] | None = None
+                     ) -> tuple[tuple[int, bool, tuple[float, ...]], ...]:
+    """The corners of a plate where its edge on a moving line meets an end of the line with
+    :func:`held_end_exponents` (``resolution`` as there): ``(corner, incoming_fixed,
+    exponents)``, corner ``c`` joining
+    edges ``c - 1`` and ``c``, ``incoming_fixed`` if edge ``c - 1`` is the end edge."""
+    if plate_id not in _far_reaching_plates(case)[3]:  # the common case
+        return ()
+    corners = []
+    for jid in held_end_lines(case):
+        joint = case.joints[jid]
+        if plate_id not in joint.plates:
+            continue
+        start, end = held_end_exponents(case, jid, resolution)
+        for side, direction in zip(joint.sides, case.member_directions(jid)):
+            if side.plate != plate_id:
+                continue
+            i = EDGE_NAMES.index(side.edge)
+            first, last = (start, end) if direction > 0 else (end, start)
+            if first:
+                corners.append((i, True, first))
+            if last:
+                corners.append(((i + 1) % 4, False, last))
+    return tuple(corners)
+
+
+def _end_members(case: Case, joint_id: str) -> tuple[EndMember, ...]:
+    """The :class:`~solver.junction_exponents.EndMember` of each member of a line: two
+    members whose in-plane normals on the line are opposite continue each other."""
+    sides = case.joints[joint_id].sides
+    normals = [case.plates[side.plate].edge_in_space(side.edge)[2] for side in sides]
+    members = []
+    for i, side in enumerate(sides):
+        partner = next((j for j in range(len(sides))
+                        if j != i and float(normals[i] @ normals[j]) < -1.0 + 1e-9), None)
+        material = case.material_of(side.plate)
+        shear = material.young_modulus / (2.0 * (1.0 + material.poisson_ratio))
+        members.append(EndMember(case.plates[side.plate].thickness, shear,
+                                 material.poisson_ratio, partner))
+    return tuple(members)
 
 
 def _members(case: Case, joint_ids: Iterable[str]) -> frozenset[str]:
@@ -451,6 +530,11 @@ def plate_basis(case: Case, plate_id: str, problem: PlateProblem,
     rays = build_ray_basis(problem.size, problem.kappa, counts,
                            n_q=settings.quadrature_per_sector,
                            tau=edge_reach(case, plate_id, resolution))
+    held = held_end_corners(case, plate_id, resolution)
+    if held:  # the line's loads t^(lambda - 1) there: their work on the rays needs the grading
+        edges = plate_edges(problem.size)
+        rays = dataclasses.replace(rays, graded_points=tuple(
+            tuple(float(x) for x in edges[c].start) for c, _, _ in held))
     wedges = plate_wedges(case, plate_id, problem)
     if not wedges:
         return rays
@@ -465,7 +549,8 @@ def plate_bases(case: Case, problems: Mapping[str, PlateProblem],
     bases, shared = {}, {}
     for pid, problem in problems.items():
         key = (problem.size, problem.kappa, plate_ray_counts(case, pid, problem, resolution),
-               edge_reach(case, pid, resolution), plate_wedges(case, pid, problem))
+               edge_reach(case, pid, resolution), plate_wedges(case, pid, problem),
+               held_end_corners(case, pid, resolution))
         if key not in shared:
             shared[key] = plate_basis(case, pid, problem, resolution)
         bases[pid] = shared[key]

@@ -50,7 +50,7 @@ from __future__ import annotations
 import functools
 import math
 from collections.abc import Callable, Iterable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -161,7 +161,7 @@ def automatic_ray_counts(kappa0: float, size: tuple[float, float], resolution: f
 
 @dataclass(frozen=True)
 class RayBasis:
-    """Sector-averaged complex rays of one plate, stored node by node.
+    r"""Sector-averaged complex rays of one plate, stored node by node.
 
     Attributes
     ----------
@@ -175,6 +175,10 @@ class RayBasis:
         Nodes per sector; the nodes of dof ``i`` are ``i*n_q:(i+1)*n_q``.
     family : tuple of str
         Family of each dof (``"interior"``, ``"edge_propagating:<edge>"``, ...).
+    graded_points : tuple of (float, float)
+        Corners of the plate towards which its edge rules are graded though it has no corner
+        functions there: where a moving line's loads are singular at an end fixed in its plane
+        (:func:`solver.problems.held_end_corners`), :math:`t^{\lambda - 1}`.
     """
 
     k: np.ndarray
@@ -182,6 +186,7 @@ class RayBasis:
     weight: np.ndarray
     n_q: int
     family: tuple[str, ...]
+    graded_points: tuple[tuple[float, float], ...] = field(default=(), kw_only=True)
 
     @property
     def n_dof(self) -> int:
@@ -241,7 +246,8 @@ class WedgeBasis(RayBasis):
     def extending(cls, rays: RayBasis, kappa: complex,
                   wedges: tuple[WedgeFamily, ...]) -> WedgeBasis:
         """``rays`` followed by the corner functions ``wedges``."""
-        return cls(rays.k, rays.origin, rays.weight, rays.n_q, rays.family, kappa, wedges)
+        return cls(rays.k, rays.origin, rays.weight, rays.n_q, rays.family, kappa, wedges,
+                   graded_points=rays.graded_points)
 
     @property
     def n_dof(self) -> int:
