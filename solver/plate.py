@@ -64,6 +64,7 @@ from solver.rays import (
     RayBasis,
     edge_exponentials,
     edge_rule,
+    end_graded_rule,
     line_exponentials,
     ray_field,
 )
@@ -280,8 +281,10 @@ def _pair_traces(
     """
     axis = int(np.argmax(np.abs(edges[0].tangent)))
     length = edges[0].length
-    s, weights = edge_rule(edges, q, [family.point for family in basis.wedges]
-                           + list(basis.graded_points))
+    if any(edge.name in basis.graded_edges for edge in edges):
+        s, weights = end_graded_rule(length, q)
+    else:
+        s, weights = edge_rule(edges, q, [family.point for family in basis.wedges])
     u = np.concatenate([[0.0], s, [length]])  # symmetric: u[::-1] = length - u
     shared, constants = line_exponentials(basis, axis, u, [e.start[1 - axis] for e in edges])
     # each edge's node constants fold into its trace factors: one sector-mean product serves

@@ -530,11 +530,13 @@ def plate_basis(case: Case, plate_id: str, problem: PlateProblem,
     rays = build_ray_basis(problem.size, problem.kappa, counts,
                            n_q=settings.quadrature_per_sector,
                            tau=edge_reach(case, plate_id, resolution))
-    held = held_end_corners(case, plate_id, resolution)
-    if held:  # the line's loads t^(lambda - 1) there: their work on the rays needs the grading
-        edges = plate_edges(problem.size)
-        rays = dataclasses.replace(rays, graded_points=tuple(
-            tuple(float(x) for x in edges[c].start) for c, _, _ in held))
+    if held_end_corners(case, plate_id, resolution):
+        # the loads t^(lambda - 1) at those corners: their work on the rays, and the field they
+        # drive near the corners, need the rules graded there (the end edges' too: on the
+        # panel's far bay at 257 Hz and resolution 3.4, w 2.4e-5 off with the line edges
+        # graded alone, 8.7e-6 with all, 5.8e-5 with none); every edge, so that the members
+        # of a panel's lines, whose held corners differ, share one basis and its traces
+        rays = dataclasses.replace(rays, graded_edges=EDGE_NAMES)
     wedges = plate_wedges(case, plate_id, problem)
     if not wedges:
         return rays
@@ -550,7 +552,7 @@ def plate_bases(case: Case, problems: Mapping[str, PlateProblem],
     for pid, problem in problems.items():
         key = (problem.size, problem.kappa, plate_ray_counts(case, pid, problem, resolution),
                edge_reach(case, pid, resolution), plate_wedges(case, pid, problem),
-               held_end_corners(case, pid, resolution))
+               bool(held_end_corners(case, pid, resolution)))
         if key not in shared:
             shared[key] = plate_basis(case, pid, problem, resolution)
         bases[pid] = shared[key]

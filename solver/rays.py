@@ -175,10 +175,10 @@ class RayBasis:
         Nodes per sector; the nodes of dof ``i`` are ``i*n_q:(i+1)*n_q``.
     family : tuple of str
         Family of each dof (``"interior"``, ``"edge_propagating:<edge>"``, ...).
-    graded_points : tuple of (float, float)
-        Corners of the plate towards which its edge rules are graded though it has no corner
-        functions there: where a moving line's loads are singular at an end fixed in its plane
-        (:func:`solver.problems.held_end_corners`), :math:`t^{\lambda - 1}`.
+    graded_edges : tuple of str
+        Edges whose rules are graded towards both ends though the plate has no corner functions
+        there: every edge of a member of a moving line whose loads are singular at an end fixed
+        in its plane, :math:`t^{\lambda - 1}` (:func:`solver.problems.plate_basis`).
     """
 
     k: np.ndarray
@@ -186,7 +186,7 @@ class RayBasis:
     weight: np.ndarray
     n_q: int
     family: tuple[str, ...]
-    graded_points: tuple[tuple[float, float], ...] = field(default=(), kw_only=True)
+    graded_edges: tuple[str, ...] = field(default=(), kw_only=True)
 
     @property
     def n_dof(self) -> int:
@@ -247,7 +247,7 @@ class WedgeBasis(RayBasis):
                   wedges: tuple[WedgeFamily, ...]) -> WedgeBasis:
         """``rays`` followed by the corner functions ``wedges``."""
         return cls(rays.k, rays.origin, rays.weight, rays.n_q, rays.family, kappa, wedges,
-                   graded_points=rays.graded_points)
+                   graded_edges=rays.graded_edges)
 
     @property
     def n_dof(self) -> int:
