@@ -33,7 +33,7 @@ from solver.joint_rules import (
 from solver.membrane import MembraneProblem, membrane_edge_rule
 from solver.membrane_basis import MembraneBasis, membrane_edge_traces
 from solver.plate import PlateBoundary, PlateProblem, edge_projection
-from solver.problems import HELD_END_FROM, edge_reach, end_layer_lines, plate_resolution
+from solver.problems import HELD_END_FROM, edge_reach, end_layer_lines, joint_resolution
 
 __all__ = ["InterfaceLayout", "interface_layout", "answered_wavenumber", "members_wavenumber",
            "plate_loads", "membrane_loads", "plate_sides", "rigid_members", "balancing_member",
@@ -284,7 +284,7 @@ def interface_layout(case: Case, problems: Mapping[str, PlateProblem],
     for jid, joint in case.joints.items():
         length = case.edge_length(joint.sides[0])
         kappas = [problems[plate].kappa.real for plate in joint.plates]
-        joint_scale = max(plate_resolution(case, side.plate, resolution) for side in joint.sides)
+        joint_scale = joint_resolution(case, jid, resolution)
         ends = load_ends[jid] = singular_load_ends(case, jid, resolution)
         answered = answered_wavenumber(case, jid, problems, resolution) if jid in moving else None
         counts[jid] = (case.discretisation.interface_functions

@@ -386,12 +386,19 @@ def fixed_free_corners(size: tuple[float, float], conditions: Sequence[str],
     edges = plate_edges(size)
     families = []
     for i, incoming_fixed in fixed_free_layout(conditions):
-        along_outgoing, along_incoming = edges[i].tangent, -edges[i - 1].tangent
-        fixed, free = ((along_incoming, along_outgoing) if incoming_fixed
-                       else (along_outgoing, along_incoming))
+        fixed, free = _corner_edges(edges, i, incoming_fixed)
         families.append(corner_family(edges[i].start, fixed, free, poisson_ratio, k_long,
                                       k_shear, diagonal))
     return tuple(families)
+
+
+def _corner_edges(edges: Sequence, corner: int, incoming_fixed: bool
+                  ) -> tuple[np.ndarray, np.ndarray]:
+    """The directions away from ``corner`` (joining edges ``corner - 1`` and ``corner``) of its
+    fixed edge and of its other edge; ``incoming_fixed``: edge ``corner - 1`` is the fixed one."""
+    along_outgoing, along_incoming = edges[corner].tangent, -edges[corner - 1].tangent
+    return ((along_incoming, along_outgoing) if incoming_fixed
+            else (along_outgoing, along_incoming))
 
 
 @functools.lru_cache(maxsize=256)
@@ -434,14 +441,10 @@ def loaded_corners(size: tuple[float, float],
     (corner ``c`` joins edges ``c - 1`` and ``c``; ``incoming_fixed``: edge ``c - 1`` is the
     fixed one)."""
     edges = plate_edges(size)
-    families = []
-    for c, incoming_fixed, exponents in corners:
-        along_outgoing, along_incoming = edges[c].tangent, -edges[c - 1].tangent
-        fixed, loaded = ((along_incoming, along_outgoing) if incoming_fixed
-                         else (along_outgoing, along_incoming))
-        families.append(loaded_corner_family(edges[c].start, fixed, loaded, poisson_ratio,
-                                             k_long, k_shear, math.hypot(*size), exponents))
-    return tuple(families)
+    return tuple(loaded_corner_family(edges[c].start, *_corner_edges(edges, c, incoming_fixed),
+                                      poisson_ratio, k_long, k_shear, math.hypot(*size),
+                                      exponents)
+                 for c, incoming_fixed, exponents in corners)
 
 
 def _closed_fields(family: CornerFamily, local: np.ndarray, gradient: bool

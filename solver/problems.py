@@ -31,7 +31,8 @@ __all__ = ["plate_problem", "plate_problems", "plate_ray_counts", "plate_basis",
            "singular_end_corners", "MEETING_END_REACH", "meeting_end_plates", "FREE_END_REACH",
            "REACH_GROWTH_FROM", "free_end_lines", "meeting_end_lines", "end_layer_lines",
            "free_end_plates", "HELD_END_REACH", "HELD_END_FROM", "held_end_lines",
-           "held_end_plates", "held_end_exponents", "held_end_corners", "edge_reach",
+           "held_end_plates", "held_end_exponents", "held_end_corners", "joint_resolution",
+           "edge_reach",
            "reach_growth"]
 
 
@@ -319,18 +320,17 @@ def held_end_exponents(case: Case, joint_id: str,
     the loads' layer at the end); none elsewhere. The line's loads go like
     :math:`t^{\lambda - 1}` at that end (``resolution`` as for :func:`plate_resolution`, the
     joint's the finest of its members')."""
-    if joint_id not in held_end_lines(case):
+    exponents = _held_line_exponents(case).get(joint_id)
+    if exponents is None or joint_resolution(case, joint_id, resolution) < HELD_END_FROM - 1e-9:
         return ((), ())
-    joint_scale = max(plate_resolution(case, plate, resolution)
-                      for plate in case.joints[joint_id].plates)
-    if joint_scale < HELD_END_FROM - 1e-9:
-        return ((), ())
-    supports = given_supports(case.boundaries)
-    joint = case.joints[joint_id]
-    members = _end_members(case, joint_id)
-    return tuple(line_loading_exponents(members)
-                 if all(supports.get(edge, ("", ""))[1] == "fixed" for edge in edges) else ()
-                 for edges in line_ends(joint, case.plates))
+    return exponents
+
+
+def joint_resolution(case: Case, joint_id: str,
+                     resolution: float | Mapping[str, float] | None = None) -> float:
+    """The resolution factor of a joint: the finest of its plates' (:func:`plate_resolution`)."""
+    return max(plate_resolution(case, plate, resolution)
+               for plate in case.joints[joint_id].plates)
 
 
 def held_end_corners(case: Case, plate_id: str,
@@ -343,7 +343,7 @@ def held_end_corners(case: Case, plate_id: str,
     if plate_id not in _far_reaching_plates(case)[3]:  # the common case
         return ()
     corners = []
-    for jid in held_end_lines(case):
+    for jid in _held_line_exponents(case):
         joint = case.joints[jid]
         if plate_id not in joint.plates:
             continue
@@ -358,6 +358,16 @@ def held_end_corners(case: Case, plate_id: str,
             if last:
                 corners.append(((i + 1) % 4, False, last))
     return tuple(corners)
+
+
+def _line_exponents(case: Case) -> dict[str, tuple[tuple[float, ...], ...]]:
+    """Per held line of ``case`` (:func:`held_end_lines`), per end, the exponents of
+    :func:`held_end_exponents` at any resolution from :data:`HELD_END_FROM` on."""
+    supports = given_supports(case.boundaries)
+    return {jid: tuple(line_loading_exponents(_end_members(case, jid))
+                       if all(supports.get(edge, ("", ""))[1] == "fixed" for edge in edges)
+                       else () for edges in line_ends(case.joints[jid], case.plates))
+            for jid in held_end_lines(case)}
 
 
 def _end_members(case: Case, joint_id: str) -> tuple[EndMember, ...]:
@@ -432,14 +442,15 @@ def _reach_factors(case: Case, plate_id: str,
     return 1.0, 1.0
 
 
-_FAR_REACHING: dict[int, tuple[Case, tuple[frozenset[str], ...]]] = {}
+_FAR_REACHING: dict[int, tuple[Case, tuple[frozenset[str], ...], dict]] = {}
 
 
-def _far_reaching_plates(case: Case) -> tuple[frozenset[str], ...]:
-    """:func:`singular_end_plates`, :func:`meeting_end_plates`, :func:`free_end_plates` and
-    :func:`held_end_plates` of ``case``, found once per case (a frozen model) for the few cases
-    in use: they find the moving lines, 5 ms on a 50-bay panel, and :func:`edge_reach` is asked
-    for every plate by several builders (0.5 s a pass over its 99 plates without the memo)."""
+def _case_lines(case: Case) -> tuple[Case, tuple[frozenset[str], ...], dict]:
+    """The memo of ``case`` (a frozen model), for the few cases in use: its
+    :func:`_far_reaching_plates` and :func:`_held_line_exponents`, which find the moving lines
+    (5 ms on a 50-bay panel) and are asked for every plate and joint by several builders (0.5 s
+    a pass over its 99 plates without the memo; the lines' exponents, asked per joint, grew
+    the 50-bay panel's layout from 0.09 s to 2.4 s)."""
     entry = _FAR_REACHING.get(id(case))  # the memo holds its cases: their ids stay theirs
     if entry is None:
         if len(_FAR_REACHING) >= 8:
@@ -447,8 +458,20 @@ def _far_reaching_plates(case: Case) -> tuple[frozenset[str], ...]:
         entry = _FAR_REACHING[id(case)] = (case, (singular_end_plates(case),
                                                   meeting_end_plates(case),
                                                   free_end_plates(case),
-                                                  held_end_plates(case)))
-    return entry[1]
+                                                  held_end_plates(case)),
+                                           _line_exponents(case))
+    return entry
+
+
+def _far_reaching_plates(case: Case) -> tuple[frozenset[str], ...]:
+    """:func:`singular_end_plates`, :func:`meeting_end_plates`, :func:`free_end_plates` and
+    :func:`held_end_plates` of ``case``, found once per case (:func:`_case_lines`)."""
+    return _case_lines(case)[1]
+
+
+def _held_line_exponents(case: Case) -> dict[str, tuple[tuple[float, ...], ...]]:
+    """:func:`_line_exponents` of ``case``, found once per case (:func:`_case_lines`)."""
+    return _case_lines(case)[2]
 
 
 def plate_ray_counts(case: Case, plate_id: str, problem: PlateProblem,
