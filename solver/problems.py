@@ -357,17 +357,19 @@ def held_end_corners(case: Case, plate_id: str,
                 corners.append((i, True, first))
             if last:
                 corners.append(((i + 1) % 4, False, last))
-    return tuple(corners)
+    # in the corners' order, whatever the joints': plates alike (a panel's inner bays) then
+    # have equal corners and share one basis (solver.in_plane.membrane_bases)
+    return tuple(sorted(corners))
 
 
 def _line_exponents(case: Case) -> dict[str, tuple[tuple[float, ...], ...]]:
     """Per held line of ``case`` (:func:`held_end_lines`), per end, the exponents of
     :func:`held_end_exponents` at any resolution from :data:`HELD_END_FROM` on."""
-    supports = given_supports(case.boundaries)
+    supports, held = given_supports(case.boundaries), held_end_lines(case)
     return {jid: tuple(line_loading_exponents(_end_members(case, jid))
                        if all(supports.get(edge, ("", ""))[1] == "fixed" for edge in edges)
                        else () for edges in line_ends(case.joints[jid], case.plates))
-            for jid in held_end_lines(case)}
+            for jid in case.joints if jid in held}  # the case's order, not the set's
 
 
 def _end_members(case: Case, joint_id: str) -> tuple[EndMember, ...]:
