@@ -107,20 +107,19 @@ def fixed_free_exponents(poisson_ratio: float) -> tuple[complex, ...]:
 
 @dataclass(frozen=True)
 class _Series:
-    r"""Functions :math:`\sum_m(a_m\nabla + b_m\nabla\times)(z^{\alpha+m}\bar z^{\beta+m})`,
-    one per row: ``alpha``, ``beta`` (n_functions,), ``m``, ``gradient`` (:math:`a_m`),
-    ``curl`` (:math:`b_m`) (n_functions, n_terms)."""
+    r"""Functions :math:`\sum_{m\ge0}(a_m\nabla + b_m\nabla\times)(z^{\alpha+m}\bar
+    z^{\beta+m})`, one per row: ``alpha``, ``beta`` (n_functions,), ``gradient``
+    (:math:`a_m`), ``curl`` (:math:`b_m`) (n_functions, n_terms)."""
 
     alpha: np.ndarray
     beta: np.ndarray
-    m: np.ndarray
     gradient: np.ndarray
     curl: np.ndarray
 
     @staticmethod
     def stack(series: Sequence[_Series]) -> _Series:
         return _Series(*(np.concatenate([getattr(one, name) for one in series])
-                         for name in ("alpha", "beta", "m", "gradient", "curl")))
+                         for name in ("alpha", "beta", "gradient", "curl")))
 
 
 def _pochhammer(x: complex, n: int) -> complex:
@@ -144,70 +143,81 @@ def _wedge_functions(lam: complex, k_long2: complex, k_shear2: complex,
     # function is r^(lam + 1) times a polynomial in r^2 and no power of r is negative
     return _Series(np.array([lam + 1.0, 0.0, lam, 1.0], complex),
                    np.array([0.0, lam + 1.0, 1.0, lam], complex),
-                   np.stack([m0, m0, m1 - 1, m1 - 1]),
                    np.stack([first, first, longitudinal, longitudinal]),
                    np.stack([none, none, shear, -shear]))
 
 
-def _wirtinger(series: _Series, log_r: np.ndarray, theta: np.ndarray, powers: np.ndarray,
-               second: bool) -> np.ndarray:
-    r""":math:`(\partial f, \bar\partial f)` and, if ``second``, :math:`(\partial^2f,
-    \partial\bar\partial f, \bar\partial^2f)` of :math:`f = \sum_m c_m z^{\alpha+m}
-    \bar z^{\beta+m}` at the points, for :math:`c = a` and :math:`c = b` of every function:
-    shape (2 or 5, 2, n_points, n_functions). ``powers`` holds :math:`r^{2j}` (points, j);
-    with :math:`p = \alpha + m`, :math:`q = \beta + m`,
-    :math:`\partial(z^p\bar z^q) = p\,r^{p+q-1}e^{j(p-q-1)\theta}` and so on, the sum over
-    :math:`m` a polynomial in :math:`r^2`."""
-    p, q = series.alpha[:, None] + series.m, series.beta[:, None] + series.m
-    factors = [p, q] + ([p * (p - 1), p * q, q * (q - 1)] if second else [])
-    factors = np.stack(factors, axis=-1)  # (functions, terms, orders)
-    coefficients = np.concatenate([series.gradient[..., None] * factors,
-                                   series.curl[..., None] * factors], axis=-1)
-    on_points = np.take_along_axis(powers, series.m[None], axis=2)  # (n, functions, terms)
-    sums = np.matmul(on_points.transpose(1, 0, 2), coefficients)  # (functions, n, 2 orders)
-    # r^(s-1) e^{j(d-1)theta}, r^(s-1) e^{j(d+1)theta}, r^(s-2) e^{j(d-2)theta}, ...; each
-    # power of r formed once, as an exponential (at the corner itself r^(s-2) is large but
-    # finite, and r^(s-1) vanishes)
-    angle = 1j * theta * (series.alpha - series.beta)
-    turn = np.exp(1j * theta)
+def _local_fields(series: _Series, local: np.ndarray, gradient: bool = True,
+                  combinations: np.ndarray | None = None
+                  ) -> tuple[np.ndarray, np.ndarray | None]:
+    r"""``u`` (points, 2, n) and, if ``gradient``, :math:`\partial_ju_i` (points, 2, 2, n) of
+    the functions of ``series`` (or of their ``combinations``, (functions, n)) at ``local``
+    (points, 2), the points in their corner's frame (the plate in the quadrant x, y >= 0).
+
+    Each function is :math:`\nabla f + \nabla\times(g\mathbf e_z)` with
+    :math:`f = \sum_m a_m z^{p_m}\bar z^{q_m}`, :math:`g = \sum_m b_m z^{p_m}\bar z^{q_m}`,
+    :math:`p_m = \alpha + m`, :math:`q_m = \beta + m`. With
+    :math:`\partial_x = \partial + \bar\partial`, :math:`\partial_y = j(\partial -
+    \bar\partial)` and :math:`c_\pm = a \pm jb`,
+
+    .. math::
+        u_x = X + Y,\quad u_y = j(X - Y),\qquad
+        X = \sum_m c_{+,m}\,\partial(z^{p_m}\bar z^{q_m}),\quad
+        Y = \sum_m c_{-,m}\,\bar\partial(z^{p_m}\bar z^{q_m}),
+
+    and with :math:`Z = \sum c_+\partial^2`, :math:`\bar Z = \sum c_-\bar\partial^2`,
+    :math:`Z_a = 2\sum a\,\partial\bar\partial`, :math:`Z_b = 2\sum b\,\partial\bar\partial`
+    of the same monomials,
+
+    .. math::
+        \partial_xu_x = Z + \bar Z + Z_a,\quad \partial_yu_y = Z_a - Z - \bar Z,\quad
+        \partial_yu_x = j(Z - \bar Z) + Z_b,\quad \partial_xu_y = j(Z - \bar Z) - Z_b.
+
+    Along a series :math:`p - q = \alpha - \beta = d` and :math:`p + q = s + 2m`
+    (:math:`s = \alpha + \beta`), so :math:`\partial(z^p\bar z^q) =
+    p\,r^{s+2m-1}e^{j(d-1)\theta}`, :math:`\bar\partial(z^p\bar z^q) =
+    q\,r^{s+2m-1}e^{j(d+1)\theta}`, and :math:`\partial^2`, :math:`\partial\bar\partial`,
+    :math:`\bar\partial^2` give :math:`p(p-1)`, :math:`pq`, :math:`q(q-1)` times
+    :math:`r^{s+2m-2}e^{j(d-2)\theta}`, :math:`r^{s+2m-2}e^{jd\theta}`,
+    :math:`r^{s+2m-2}e^{j(d+2)\theta}`: each of the six sums is a polynomial in :math:`r^2`
+    (one product of the points' powers of :math:`r^2` with every function's coefficients) times
+    one power of :math:`r` and one exponential of :math:`\theta`. The combinations, linear,
+    are applied to the six sums."""
+    radius = np.maximum(np.hypot(local[:, 0], local[:, 1]), np.finfo(float).tiny)
+    # the branch cut on the far side of the bisector theta = pi/4, outside the quadrant
+    theta = np.angle((local[:, 0] + 1j * local[:, 1]) * np.exp(-0.25j * np.pi)) + 0.25 * np.pi
+    a, b = series.gradient, series.curl  # (functions, terms)
+    m = np.arange(a.shape[1])
+    p, q = series.alpha[:, None] + m, series.beta[:, None] + m
+    coefficients = [p * (a + 1j * b), q * (a - 1j * b)]
+    if gradient:
+        coefficients += [p * (p - 1) * (a + 1j * b), q * (q - 1) * (a - 1j * b),
+                         2 * p * q * a, 2 * p * q * b]
+    coefficients = np.stack(coefficients).transpose(2, 0, 1)  # (terms, sums, functions)
+    n_points, (n_terms, n_sums, n_functions) = len(radius), coefficients.shape
+    sums = (((radius**2)[:, None] ** m) @ coefficients.reshape(n_terms, -1)).reshape(
+        n_points, n_sums, n_functions)
+    # r^(s-1) e^{j(d-1)theta}, r^(s-1) e^{j(d+1)theta}, then r^(s-2) e^{j(d-2)theta},
+    # r^(s-2) e^{j(d+2)theta}, r^(s-2) e^{jd theta} (twice); each power of r formed once, as
+    # an exponential (at the corner itself r^(s-2) is large but finite, and r^(s-1) vanishes)
+    log_r, turn = np.log(radius)[:, None], np.exp(1j * theta)[:, None]
+    angle = 1j * theta[:, None] * (series.alpha - series.beta)
     first = np.exp(log_r * (series.alpha + series.beta - 1.0) + angle)
     prefactors = [first / turn, first * turn]
-    if second:
-        second_power = np.exp(log_r * (series.alpha + series.beta - 2.0) + angle)
-        prefactors += [second_power / turn**2, second_power, second_power * turn**2]
-    orders = len(prefactors)
-    sums = sums.transpose(2, 1, 0).reshape(2, orders, log_r.shape[0], -1)
-    return (sums * np.stack(prefactors)).transpose(1, 0, 2, 3)
-
-
-def _local_fields(series: _Series, local: np.ndarray, repeats: int | Sequence[int],
-                  gradient: bool = True) -> tuple[np.ndarray, np.ndarray | None]:
-    r"""``u`` (points, 2, n) and, if ``gradient``, :math:`\partial_ju_i` (points, 2, 2, n) of
-    the functions of ``series`` at ``local`` (points, corners, 2), the points in each corner's
-    frame (the plate in the quadrant x, y >= 0), ``repeats`` series per corner (one count
-    for all, or one per corner): with
-    :math:`f_x = \partial f + \bar\partial f`, :math:`f_y = j(\partial f - \bar\partial f)`,
-    :math:`f_{xx} = \partial^2f + 2\partial\bar\partial f + \bar\partial^2f`,
-    :math:`f_{yy} = -\partial^2f + 2\partial\bar\partial f - \bar\partial^2f`,
-    :math:`f_{xy} = j(\partial^2f - \bar\partial^2f)`; :math:`\nabla f` gives
-    :math:`(f_x, f_y)` and the Hessian, :math:`\nabla\times(g\mathbf e_z)` gives
-    :math:`(g_y, -g_x)` and :math:`[[g_{xy}, g_{yy}], [-g_{xx}, -g_{xy}]]`."""
-    radius = np.maximum(np.hypot(local[..., 0], local[..., 1]), np.finfo(float).tiny)
-    # the branch cut on the far side of the bisector theta = pi/4, outside the quadrant
-    theta = np.angle((local[..., 0] + 1j * local[..., 1]) * np.exp(-0.25j * np.pi)) + 0.25 * np.pi
-    powers = (radius**2)[..., None] ** np.arange(int(series.m.max()) + 1)
-    log_r, theta, powers = (np.repeat(a, repeats, axis=1)
-                            for a in (np.log(radius), theta, powers))
-    derivatives = _wirtinger(series, log_r, theta, powers, gradient)
-    d1, d1b = derivatives[:2]
-    fx, fy = d1 + d1b, 1j * (d1 - d1b)
-    u = np.stack([fx[0] + fy[1], fy[0] - fx[1]], axis=1)
+    if gradient:
+        second = np.exp(log_r * (series.alpha + series.beta - 2.0) + angle)
+        prefactors += [second / turn**2, second * turn**2, second, second]
+    sums *= np.stack(prefactors, axis=1)
+    if combinations is not None:
+        sums = sums @ combinations
+    x, y = sums[:, 0], sums[:, 1]
+    u = np.stack([x + y, 1j * (x - y)], axis=1)
     if not gradient:
         return u, None
-    d2, d11, d2b = derivatives[2:]
-    fxx, fyy, fxy = d2 + 2 * d11 + d2b, -d2 + 2 * d11 - d2b, 1j * (d2 - d2b)
-    return u, np.stack([np.stack([fxx[0] + fxy[1], fxy[0] + fyy[1]], axis=1),
-                        np.stack([fxy[0] - fxx[1], fyy[0] - fxy[1]], axis=1)], axis=1)
+    z, z_bar, z_a, z_b = sums[:, 2], sums[:, 3], sums[:, 4], sums[:, 5]
+    pure, mixed = z + z_bar, 1j * (z - z_bar)
+    return u, np.stack([np.stack([pure + z_a, mixed + z_b], axis=1),
+                        np.stack([mixed - z_b, z_a - pure], axis=1)], axis=1)
 
 
 def plane_stress_resultants(gradient: np.ndarray, stiffness: complex,
@@ -235,9 +245,10 @@ def _static_null_vector(lam: complex, fixed_first: bool, poisson_ratio: float) -
     normal = np.array([-1.0, 0.0])  # outward on the y axis
     if not fixed_first:
         on_fixed, on_free, normal = on_free, on_fixed, np.array([0.0, -1.0])
-    u, _ = _local_fields(leading, on_fixed[:, None], len(leading.alpha))
-    _, gradient = _local_fields(leading, on_free[:, None], len(leading.alpha))
-    traction = np.einsum("ijn,j->in", plane_stress_resultants(gradient, 1.0, poisson_ratio)[0], normal)
+    u, _ = _local_fields(leading, on_fixed, gradient=False)
+    _, gradient = _local_fields(leading, on_free)
+    traction = np.einsum("ijn,j->in", plane_stress_resultants(gradient, 1.0, poisson_ratio)[0],
+                         normal)
     system = np.vstack([u[0], traction])
     _, singular, vh = np.linalg.svd(system)
     if singular[-1] > 1e-9 * singular[0]:
@@ -409,7 +420,7 @@ def _fixed_edge_space(lam: complex, fixed_first: bool, poisson_ratio: float) -> 
     edge drives (an orthonormal basis of the null space of the displacements there)."""
     leading = _wedge_functions(lam, 1.0, 2.0 / (1.0 - poisson_ratio), 1)
     on_fixed = np.array([[1.0, 0.0]]) if fixed_first else np.array([[0.0, 1.0]])
-    u, _ = _local_fields(leading, on_fixed[:, None], len(leading.alpha))
+    u, _ = _local_fields(leading, on_fixed, gradient=False)
     _, _, vh = np.linalg.svd(u[0])
     space = vh[2:].conj().T
     space.flags.writeable = False
@@ -497,52 +508,49 @@ def _closed_fields(family: CornerFamily, local: np.ndarray, gradient: bool
     return u, np.concatenate([g_first, g_second], axis=-1)[..., order]
 
 
-def _stacked(families: tuple[CornerFamily, ...]
-             ) -> tuple[_Series, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """Every family's series in one: the series, the corners (n, 2) and their frames
-    (n, 2, 2), the block-diagonal combinations (series, corner functions), and each corner
-    function's frame. A combination mixes the series of one corner only, so it may come
-    before the rotation to the plate's axes."""
-    series = _Series.stack([family.functions for family in families])
-    counts = [len(family.functions.alpha) for family in families]
-    points = np.array([family.point for family in families])
-    frames = np.array([family.frame for family in families])
-    combinations = np.zeros((sum(counts), sum(f.n_functions for f in families)), complex)
-    row = column = 0
-    for family in families:
-        rows, columns = family.combinations.shape
-        combinations[row:row + rows, column:column + columns] = family.combinations
-        row, column = row + rows, column + columns
-    function_frames = np.repeat([family.frame for family in families],
-                                [family.n_functions for family in families], axis=0)
-    return series, points, frames, combinations, function_frames
+def _frame_fields(family: CornerFamily, local: np.ndarray, gradient: bool
+                  ) -> tuple[np.ndarray, np.ndarray | None]:
+    """The corner functions of ``family`` at ``local`` (points, 2), in its frame, as
+    :func:`_local_fields` gives them: from their series within ``family.series_radius`` of the
+    corner, in closed form beyond (:func:`_closed_fields`)."""
+    far = np.hypot(local[:, 0], local[:, 1]) > family.series_radius
+    if not far.any():
+        return _local_fields(family.functions, local, gradient, family.combinations)
+    shape = (len(local), 2, family.n_functions)
+    u = np.empty(shape, complex)
+    derivatives = np.empty(shape[:2] + (2,) + shape[2:], complex) if gradient else None
+    near = ~far
+    if near.any():
+        u[near], near_derivatives = _local_fields(family.functions, local[near], gradient,
+                                                  family.combinations)
+        if gradient:
+            derivatives[near] = near_derivatives
+    far_u, far_derivatives = _closed_fields(family, local[far], gradient)
+    u[far] = far_u @ family.combinations
+    if gradient:
+        derivatives[far] = far_derivatives @ family.combinations
+    return u, derivatives
 
 
 def _plate_axes(families: tuple[CornerFamily, ...], points: np.ndarray, gradient: bool
                 ) -> tuple[np.ndarray, np.ndarray | None]:
     r"""Displacement (points, 2, n) and, if ``gradient``, :math:`\partial_ju_i`
-    (points, 2, 2, n) of the corner functions of ``families`` in the plate's axes: for a frame
-    :math:`Q = [\mathbf x'\ \mathbf y']`, :math:`\mathbf u = Q\mathbf u'` and
-    :math:`\nabla\mathbf u = Q\nabla'\mathbf u'Q^T`."""
-    series, corners, frames, combinations, rotations = _stacked(families)
-    local = np.einsum("nfa,fab->nfb", points[:, None, :] - corners[None], frames)
-    repeats = [len(family.functions.alpha) for family in families]
-    starts = np.cumsum([0] + repeats)
-    u, derivatives = _local_fields(series, local, repeats, gradient)
-    for f, family in enumerate(families):
-        far = np.hypot(local[:, f, 0], local[:, f, 1]) > family.series_radius
-        if far.any():
-            columns = slice(starts[f], starts[f + 1])
-            u[far, :, columns], closed = _closed_fields(family, local[far, f], gradient)
-            if gradient:
-                derivatives[far, :, :, columns] = closed
-    u = np.einsum("fia,naf->nif", rotations, u @ combinations)
-    if derivatives is None:
-        return u, None
-    derivatives = np.einsum("nibf,fjb->nijf",
-                            np.einsum("fia,nabf->nibf", rotations, derivatives @ combinations),
-                            rotations)
-    return u, derivatives
+    (points, 2, 2, n) of the corner functions of ``families`` in the plate's axes, corner by
+    corner (:func:`_frame_fields`): for a frame :math:`Q = [\mathbf x'\ \mathbf y']`,
+    :math:`\mathbf u = Q\mathbf u'` and :math:`\nabla\mathbf u = Q\nabla'\mathbf u'Q^T`,
+    the latter as :math:`(Q\otimes Q)` on the four components."""
+    n_functions = [family.n_functions for family in families]
+    u = np.empty((len(points), 2, sum(n_functions)), complex)
+    derivatives = np.empty((len(points), 4, sum(n_functions)), complex) if gradient else None
+    for family, end in zip(families, np.cumsum(n_functions)):
+        columns = slice(end - family.n_functions, end)
+        frame_u, frame_derivatives = _frame_fields(
+            family, (points - family.point) @ family.frame, gradient)
+        u[..., columns] = family.frame @ frame_u
+        if gradient:
+            derivatives[..., columns] = np.kron(family.frame, family.frame) @ (
+                frame_derivatives.reshape(len(points), 4, -1))
+    return u, None if derivatives is None else derivatives.reshape(len(points), 2, 2, -1)
 
 
 def corner_fields(families: tuple[CornerFamily, ...], points: np.ndarray, stiffness: complex,

@@ -96,8 +96,7 @@ def _series_and_closed_forms(family, k_shear: complex, gradient: bool):
     angles = np.linspace(0.0, 0.5 * math.pi, 12)
     radii = np.linspace(1.0, 6.0, 12) / abs(k_shear)
     local = np.column_stack([radii * np.cos(angles), radii * np.sin(angles)])
-    return (_local_fields(family.functions, local[:, None, :], len(family.functions.alpha),
-                          gradient),
+    return (_local_fields(family.functions, local, gradient),
             _closed_fields(family, local, gradient))
 
 
