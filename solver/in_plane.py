@@ -124,7 +124,7 @@ def membrane_bases(case: Case, problems: Mapping[str, MembraneProblem],
     for pid, problem in problems.items():
         k_long, k_shear = problem.wavenumbers
         radius = 0.5 * math.hypot(*problem.size)
-        reach = edge_reach(case, pid, resolution)
+        reach = edge_reach(case, pid, resolution, in_plane=True)
         beta_max = membrane_edge_reach(
             {edge: condition.condition for edge, condition in problem.edges.items()},
             reach * max(bending[pid].kappa.real, k_shear.real, 5.0 / radius),
