@@ -233,23 +233,34 @@ def plane_stress_resultants(gradient: np.ndarray, stiffness: complex,
     return stiffness * resultants
 
 
+def _static_on_edges(lam: complex, fixed_first: bool, poisson_ratio: float
+                     ) -> tuple[_Series, np.ndarray, np.ndarray, np.ndarray]:
+    """The four static functions of degree ``lam`` (the leading terms of
+    :func:`_wedge_functions`, whose coefficients do not depend on the wavenumbers:
+    :math:`k_S^2/k_L^2 = 2/(1 - \nu)`), a point of the fixed edge and one of the other edge at
+    unit distance (the x axis of the corner's frame is the fixed edge if ``fixed_first``), the
+    other edge's outward normal, and the functions' displacement at the fixed edge's point
+    (2, 4)."""
+    leading = _wedge_functions(lam, 1.0, 2.0 / (1.0 - poisson_ratio), 1)
+    on_fixed, on_other = np.array([[1.0, 0.0]]), np.array([[0.0, 1.0]])
+    normal = np.array([-1.0, 0.0])  # outward on the y axis
+    if not fixed_first:
+        on_fixed, on_other, normal = on_other, on_fixed, np.array([0.0, -1.0])
+    u, _ = _local_fields(leading, on_fixed, gradient=False)
+    return leading, on_other, normal, u[0]
+
+
 @functools.lru_cache(maxsize=256)
 def _static_null_vector(lam: complex, fixed_first: bool, poisson_ratio: float) -> np.ndarray:
     r"""The combination of the four static functions of degree ``lam`` that is the wedge's
     eigenfunction: :math:`\mathbf u = 0` on the fixed edge, :math:`\mathbf N\mathbf n = 0` on
     the free one (the x axis of the corner's frame is the fixed edge if ``fixed_first``, else
-    the free one). Static limits: the leading terms of :func:`_wedge_functions`, whose
-    coefficients do not depend on the wavenumbers (:math:`k_S^2/k_L^2 = 2/(1 - \nu)`)."""
-    leading = _wedge_functions(lam, 1.0, 2.0 / (1.0 - poisson_ratio), 1)
-    on_fixed, on_free = (np.array([[1.0, 0.0]]), np.array([[0.0, 1.0]]))
-    normal = np.array([-1.0, 0.0])  # outward on the y axis
-    if not fixed_first:
-        on_fixed, on_free, normal = on_free, on_fixed, np.array([0.0, -1.0])
-    u, _ = _local_fields(leading, on_fixed, gradient=False)
+    the free one), of their static limits (:func:`_static_on_edges`)."""
+    leading, on_free, normal, u_fixed = _static_on_edges(lam, fixed_first, poisson_ratio)
     _, gradient = _local_fields(leading, on_free)
     traction = np.einsum("ijn,j->in", plane_stress_resultants(gradient, 1.0, poisson_ratio)[0],
                          normal)
-    system = np.vstack([u[0], traction])
+    system = np.vstack([u_fixed, traction])
     _, singular, vh = np.linalg.svd(system)
     if singular[-1] > 1e-9 * singular[0]:
         raise ArithmeticError(f"the static wedge system of exponent {lam} is not singular "
@@ -416,12 +427,11 @@ def _corner_edges(edges: Sequence, corner: int, incoming_fixed: bool
 def _fixed_edge_space(lam: complex, fixed_first: bool, poisson_ratio: float) -> np.ndarray:
     r"""The combinations (4, 2) of the four static functions of degree ``lam`` that vanish on
     the fixed edge (the x axis of the corner's frame if ``fixed_first``, else the y axis),
-    their tractions on the other edge free: the fields a load :math:`r^{\lambda - 1}` on that
-    edge drives (an orthonormal basis of the null space of the displacements there)."""
-    leading = _wedge_functions(lam, 1.0, 2.0 / (1.0 - poisson_ratio), 1)
-    on_fixed = np.array([[1.0, 0.0]]) if fixed_first else np.array([[0.0, 1.0]])
-    u, _ = _local_fields(leading, on_fixed, gradient=False)
-    _, _, vh = np.linalg.svd(u[0])
+    their tractions on the other edge left unconstrained: the fields a load
+    :math:`r^{\lambda - 1}` on that edge drives (an orthonormal basis of the null space of the
+    displacements on the fixed edge, :func:`_static_on_edges`)."""
+    *_, u_fixed = _static_on_edges(lam, fixed_first, poisson_ratio)
+    _, _, vh = np.linalg.svd(u_fixed)
     space = vh[2:].conj().T
     space.flags.writeable = False
     return space
