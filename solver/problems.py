@@ -305,9 +305,10 @@ columns of the comparison grid nearest it, spread along its length); three times
 last refinement changed ``(u, v)`` by 1.2e-5), four times no better. The members' in-plane
 reach, or the line's count, changed nothing, or made it worse (the count 1.5 times: 6.6e-4). At
 300 Hz the fold is at the finite elements' accuracy either way. The solve at 1 kHz and 1.5:
-0.70 s against 0.46 s (2044 unknowns against 1684). A T junction, whose loads carry their
+0.51 s against 0.33 s, a warm solve, the fastest of six processes alternating between the two
+reaches (2044 unknowns against 1684). A T junction, whose loads carry their
 singular terms, gains nothing from it (the same errors to two digits at 300 Hz and 1 kHz, for
-1.5 times the solve) and keeps :data:`HELD_END_REACH`."""
+1.5 times the solve, one run each) and keeps :data:`HELD_END_REACH`."""
 
 HELD_END_FROM = 1.5
 """The resolution from which :data:`HELD_END_REACH` applies. Below it the solve keeps its cost
