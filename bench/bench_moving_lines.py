@@ -12,9 +12,10 @@ supported and fixed in-plane, the stiffeners' tops free, 1 N on bay B1.
   the two models' solves alternating in one process (``alternating``: a steadier ratio on a
   noisy machine);
   and each model's time and error against its own exact solution by resolution (at the same
-  accuracy), and the cheapest resolution of each that reaches 1e-3 to 1e-7 (``matched_accuracy``,
-  ``--matched`` alone); and where one solve's time goes, by part of the build; and one solve of the
-  panel widened to 6, 12 and 24 bays (its two stiffeners alternating), where the ratio grows.
+  accuracy), and the smallest resolution of each that reaches 1e-3 to 1e-7, the two timed
+  alternately (``matched_accuracy``, ``--matched`` alone); and where one solve's time goes, by
+  part of the build; and one solve of the panel widened to 6, 12 and 24 bays (its two
+  stiffeners alternating), where the ratio grows.
 * **Identification**: the "measured" field is the exact prismatic folded plate of
   ``tests/exact_prismatic.py`` (bending and in-plane motion, lines free in translation) with
   the weld W2.T2 at log10 k = 2.0 (the model says 3.5), sampled on the skin only (0.1 m cell
@@ -235,34 +236,46 @@ def same_accuracy(frequencies: list[float]) -> None:
 
 
 def matched_accuracy(frequencies: list[float],
-                     targets: tuple[float, ...] = (1e-3, 1e-4, 1e-5, 1e-6, 1e-7)) -> None:
-    """Each model against its own exact solution at resolutions 1 to 1.5 in steps of 0.05 (the
-    worst plate's error of w, the fastest of five solves: at 600 Hz a solve takes 0.1 to
-    0.25 s, and the fastest of two moved the ratios by up to 1.5x between runs); then, per
-    target, the cheapest resolution of each model that reaches it and the ratio of their
-    times: the cost at the same accuracy, which the errors' uneven fall with the resolution
-    makes a scan, not one resolution."""
-    print("at the same accuracy: the cheapest resolution in 1, 1.05, ..., 1.5 that reaches each "
-          "target, moving / held (processor time, fastest of five solves)")
+                     targets: tuple[float, ...] = (1e-3, 1e-4, 1e-5, 1e-6, 1e-7),
+                     rounds: dict[float, int] | None = None) -> None:
+    """The cost at the same accuracy. Each model against its own exact solution at resolutions
+    1 to 1.5 in steps of 0.05 (the worst plate's error of w, one solve each: the errors do not
+    depend on the machine); per target, the smallest resolution of each model that reaches
+    it; then the chosen solves timed in turn in one process, ``rounds[frequency]`` rounds
+    (default 15 at 600 Hz, 7 above), and the ratio of their fastest and of their median
+    processor times. Timed one model after the other (the fastest of five solves each, until
+    2026-11-28), the ratios moved by up to 1.5x between runs on a busy machine; alternating,
+    a burst of other work slows both models alike."""
+    print("at the same accuracy: the smallest resolution in 1, 1.05, ..., 1.5 that reaches each "
+          "target, moving / held, timed alternately (processor time; fastest, median)")
     resolutions = [round(1.0 + 0.05 * i, 2) for i in range(11)]
     for frequency in frequencies:
-        scans = {}
+        picks = {}
         for held in (False, True):
             exact = folded_reference(PLATES, lines(MODEL_LOG_K), LOAD, frequency, held, LY, 800)
-            scans[held] = []
-            for resolution in resolutions:
-                seconds, solution = best_solve(
-                    parse_case(description([frequency], held, resolution)), frequency, 5)
-                scans[held].append((resolution, worst_error(solution, exact), seconds))
+            errors = [(resolution, worst_error(solve_assembly(
+                parse_case(description([frequency], held, resolution)), frequency,
+                residuals=False), exact)) for resolution in resolutions]
+            picks[held] = [next((r for r, e in errors if e <= target), None)
+                           for target in targets]
+        chosen = {(held, r) for held in picks for r in picks[held] if r is not None}
+        cases = {key: parse_case(description([frequency], *key)) for key in sorted(chosen)}
+        times = {key: [] for key in cases}
+        for key, case in cases.items():  # the first solve of a process also pays for imports
+            solve_assembly(case, frequency, residuals=False)
+        for _ in range((rounds or {}).get(frequency, 15 if frequency < 1000.0 else 7)):
+            for key, case in cases.items():
+                start = time.process_time()
+                solve_assembly(case, frequency, residuals=False)
+                times[key].append(time.process_time() - start)
         cells = []
-        for target in targets:
-            picks = [next(((r, t) for r, e, t in scans[held] if e <= target), None)
-                     for held in (False, True)]
-            if None in picks:
+        for target, moving, held in zip(targets, picks[False], picks[True]):
+            if moving is None or held is None:
                 cells.append(f"{target:.0e}: not reached")
                 continue
-            (mr, mt), (hr, ht) = picks
-            cells.append(f"{target:.0e}: {mr} / {hr}, {mt:.2f} / {ht:.2f} s ({mt / ht:.1f}x)")
+            m, h = times[False, moving], times[True, held]
+            cells.append(f"{target:.0e}: {moving} / {held}, {min(m):.3f} / {min(h):.3f} s "
+                         f"({min(m) / min(h):.2f}x; median {np.median(m) / np.median(h):.2f}x)")
         print(f"  {frequency:6.0f} Hz: " + "; ".join(cells), flush=True)
 
 

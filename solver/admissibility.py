@@ -45,22 +45,24 @@ solution's (4,)."""
 @dataclass(frozen=True)
 class MembraneBlock:
     """One plate's in-plane field: its problem, basis, transfer operator :math:`T_i^m` (membrane
-    amplitudes per unit interface unknown of ``unknowns``, those that load it) and the
-    reciprocal condition estimate of its VTCR matrix."""
+    amplitudes per unit interface unknown of ``unknowns``, those that load it), the
+    reciprocal condition estimate of its VTCR matrix and, per joint whose tractions load it,
+    the moments of its shape functions' ``u_n``, ``u_t`` on the joint's load functions
+    (:func:`solver.layout.membrane_loads`)."""
 
     problem: MembraneProblem
     basis: MembraneBasis
     transfer: np.ndarray
     rcond: float
     unknowns: np.ndarray
+    moments: Mapping[str, tuple[np.ndarray, np.ndarray]] = field(default_factory=dict)
 
-    def edge_traces(self, edge: str, arc: np.ndarray,
-                    cache: dict | None = None) -> dict[str, np.ndarray]:
+    def edge_traces(self, edge: str, arc: np.ndarray) -> dict[str, np.ndarray]:
         """The traces ``u_n``, ``u_t``, ``N_nn``, ``N_nt`` of the plate's in-plane shape
         functions at the arc lengths ``arc`` of its edge ``edge``
-        (:func:`solver.membrane_basis.membrane_edge_traces`, ``cache`` as there)."""
+        (:func:`solver.membrane_basis.membrane_edge_traces`)."""
         return membrane_edge_traces(self.basis, edge_geometry(self.problem.size, edge), arc,
-                                    self.problem.stiffness, self.problem.poisson_ratio, cache)
+                                    self.problem.stiffness, self.problem.poisson_ratio)
 
 
 @dataclass
@@ -283,9 +285,9 @@ def membrane_blocks(case: Case, problems: Mapping[str, MembraneProblem],
             factorised[key] = factorise_dense(matrix, MEMBRANE_RANK_TOLERANCE)
         solve, rcond = factorised[key]
         unknowns = arrangement.membrane_unknowns[pid]
-        loads = membrane_loads(case, problem, bases[pid], sides[pid], arrangement.counts,
-                               arrangement.load_ends,
-                               arrangement.slots, unknowns, cache)
-        blocks[pid] = MembraneBlock(problem, bases[pid],
-                                    solved.get(key, loads, solve), rcond, unknowns)
+        loads, moments = membrane_loads(case, problem, bases[pid], sides[pid],
+                                        arrangement.counts, arrangement.load_ends,
+                                        arrangement.slots, unknowns, cache)
+        blocks[pid] = MembraneBlock(problem, bases[pid], solved.get(key, loads, solve), rcond,
+                                    unknowns, moments)
     return blocks

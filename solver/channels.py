@@ -21,7 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from assembly import Case, EdgeId
+from assembly import Case
 from solver.admissibility import CornerDeflections, PlateAdmissibility
 from solver.interface import Block, residual_weight, squared_norm
 from solver.joint_rules import (
@@ -202,25 +202,23 @@ def two_plate_joint(build: JointBuild, jid: str, group: int
     if joint.kind == "coplanar":
         rows.append(Block.union(ta["w moments"], tb["w moments"].scaled(-1.0)).constraint(group))
     if "Nn" in slots:
-        rows += _in_plane_continuity(build, (a, sigma), (b, length - sigma),
-                                     weighted=psi.T * wq, group=group)
+        rows += _in_plane_continuity(build.plates, jid, a.plate, b.plate, group)
     return rows, channels
 
 
-def _in_plane_continuity(build: JointBuild, *sides_at: tuple[EdgeId, np.ndarray],
-                         weighted: np.ndarray, group: int) -> list[Block]:
+def _in_plane_continuity(plates: PlateAdmissibility, jid: str, plate_a: str, plate_b: str,
+                         group: int) -> list[Block]:
     r"""The in-plane continuity of a coplanar joint between plates with in-plane waves
     (``docs/method.md`` section 10.4): its edges' normals and tangents are opposite, so the
     same displacement reads :math:`u_n^A = -u_n^B`, :math:`u_t^A = -u_t^B`;
     :math:`\int(u_\alpha^A + u_\alpha^B)\psi_m = 0` for :math:`\alpha\in\{n, t\}`, the
-    traction unknowns ``Nn``, ``Nt`` acting on both edges."""
-    plates = build.plates
-    traces = [plates.membranes[side.plate].edge_traces(side.edge, arc, build.traces_cache)
-              for side, arc in sides_at]
-    (side_a, _), (side_b, _) = sides_at
-    return [Block.union(plates.affine_membrane_operator(side_a.plate, weighted @ traces[0][key]),
-                        plates.affine_membrane_operator(side_b.plate, weighted @ traces[1][key]))
-            .constraint(group) for key in ("u_n", "u_t")]
+    traction unknowns ``Nn``, ``Nt`` acting on both edges. The moments of each plate's
+    ``u_n``, ``u_t`` are those its tractions were loaded with
+    (:attr:`solver.admissibility.MembraneBlock.moments`), as on a moving line."""
+    moments = [plates.membranes[plate].moments[jid] for plate in (plate_a, plate_b)]
+    return [Block.union(plates.affine_membrane_operator(plate_a, on_a),
+                        plates.affine_membrane_operator(plate_b, on_b)).constraint(group)
+            for on_a, on_b in zip(*moments)]
 
 
 def junction_line(build: JointBuild, jid: str, group: int) -> tuple[list[Block], list[Channel]]:
@@ -318,10 +316,13 @@ def _moving_line_rows(build: JointBuild, jid: str, group: int, sigma: np.ndarray
     :math:`k_{t,i}^* = k_{t,i}(1 + j\zeta_{t,i})` its translational spring (no term for a
     rigid member). The balances of the massless line, :math:`\sum_iC_i = 0` and
     :math:`\sum_i\mathbf f_i = 0` per Legendre coefficient, need no rows: the balancing
-    member's loads are the others' (:func:`solver.layout.member_load`). The traces are taken
-    on the moments :math:`\psi^TW` (``weighted``) before the transfer operators multiply
-    them, as in :func:`two_plate_joint`; the loads on the Gram matrix
-    :math:`\int\psi_m\psi_n` of their functions ``psi`` (at the Gauss points)."""
+    member's loads are the others' (:func:`solver.layout.member_load`). The deflection's
+    traces are taken on the moments :math:`\psi^TW` (``weighted``) before the transfer
+    operators multiply them, as in :func:`solver.channels.two_plate_joint`; the in-plane
+    displacements' moments are those the member's tractions were loaded with
+    (:attr:`solver.admissibility.MembraneBlock.moments`: the same sums on the plate's own edge
+    rule, not evaluated again); the loads on the Gram matrix :math:`\int\psi_m\psi_n` of
+    their functions ``psi`` (at the Gauss points)."""
     case, plates = build.case, build.plates
     joint = case.joints[jid]
     length = case.edge_length(joint.sides[0])
@@ -332,9 +333,8 @@ def _moving_line_rows(build: JointBuild, jid: str, group: int, sigma: np.ndarray
         rays, part = edge_values(plates.problems[side.plate], plates.bases[side.plate],
                                  side.edge, arc, build.traces_cache)
         w = plates.affine_plate_operator(side.plate, weighted @ rays["w"], weighted @ part["w"])
-        traces = plates.membranes[side.plate].edge_traces(side.edge, arc, build.traces_cache)
-        u_n = plates.affine_membrane_operator(side.plate, weighted @ traces["u_n"])
-        u_t = plates.affine_membrane_operator(side.plate, weighted @ traces["u_t"])
+        u_n, u_t = (plates.affine_membrane_operator(side.plate, moments)
+                    for moments in plates.membranes[side.plate].moments[jid])
         # a member along the axes has zero components: those terms would be explicit zeros,
         # as many entries again in the constraint matrix, and fill in its factorisation
         displacements[side.plate] = [

@@ -544,13 +544,21 @@ def membrane_loads(case: Case, problem: MembraneProblem, basis: MembraneBasis,
                    sides: Sequence[JointSide], counts: Mapping[str, int],
                    load_ends: Mapping[str, LoadEnds],
                    layout: Mapping[str, Mapping[str, slice]], unknowns: np.ndarray,
-                   cache: dict | None = None) -> np.ndarray:
+                   cache: dict | None = None
+                   ) -> tuple[np.ndarray, dict[str, tuple[np.ndarray, np.ndarray]]]:
     r""":math:`B_i^m`: the membrane VTCR right-hand sides of an in-plane plate per unit
     interface unknown, over the interface unknowns ``unknowns`` it sees: on each of its
     moving-line edges the static data :math:`N_{nn} = \sum_m(N_n)_m\psi_m` and
     :math:`N_{nt} = \sum_m(N_t)_m\psi_m`, whose columns are
-    :math:`\int\overline{u_\alpha(\Phi_k)}\,\psi_m\,ds` (``docs/method.md`` section 10.2)."""
+    :math:`\int\overline{u_\alpha(\Phi_k)}\,\psi_m\,ds` (``docs/method.md`` section 10.2).
+
+    Also, per joint, the moments :math:`\int\psi_m\,u_n(\Phi_k)\,ds` and
+    :math:`\int\psi_m\,u_t(\Phi_k)\,ds`, (functions, n_dof): the conjugates of the same
+    sums, which a moving line's translation rows and a coplanar joint's in-plane continuity
+    test (``solver.channels``), so that the rows and the loads pair the plate's functions
+    with the joint's on one quadrature rule."""
     loads = np.zeros((basis.n_dof, len(unknowns)), dtype=complex)
+    moments = {}
     for jid, side_index, side in sides:
         tractions = traction_loads(case, jid, layout[jid], side.plate)
         if tractions is None:
@@ -562,9 +570,11 @@ def membrane_loads(case: Case, problem: MembraneProblem, basis: MembraneBasis,
         direction = case.member_directions(jid)[side_index]
         sigma = s if direction > 0 else edge.length - s
         psi = load_function_values(sigma, edge.length, counts[jid], load_ends[jid])
-        for terms, displacement in zip(tractions, ("u_n", "u_t")):
-            work = traces[displacement].conj().T @ (weights[:, None] * psi)
+        works = [traces[displacement].conj().T @ (weights[:, None] * psi)
+                 for displacement in ("u_n", "u_t")]
+        moments[jid] = (works[0].conj().T, works[1].conj().T)
+        for terms, work in zip(tractions, works):
             for part, coefficient in terms:
                 columns = np.searchsorted(unknowns, np.arange(part.start, part.stop))
                 loads[:, columns] += coefficient * work
-    return loads
+    return loads, moments
