@@ -235,7 +235,7 @@ def plane_stress_resultants(gradient: np.ndarray, stiffness: complex,
 
 def _static_on_edges(lam: complex, fixed_first: bool, poisson_ratio: float
                      ) -> tuple[_Series, np.ndarray, np.ndarray, np.ndarray]:
-    """The four static functions of degree ``lam`` (the leading terms of
+    r"""The four static functions of degree ``lam`` (the leading terms of
     :func:`_wedge_functions`, whose coefficients do not depend on the wavenumbers:
     :math:`k_S^2/k_L^2 = 2/(1 - \nu)`), a point of the fixed edge and one of the other edge at
     unit distance (the x axis of the corner's frame is the fixed edge if ``fixed_first``), the
