@@ -223,7 +223,7 @@ def boundary_layer_node(beta: np.ndarray, k_long: complex, k_shear: complex,
 
 
 def _per_edge(edge_wavenumber: float | Sequence[float]) -> tuple[float, ...]:
-    """:math:`\beta_{max}` of each of the four edges."""
+    r""":math:`\beta_{max}` of each of the four edges."""
     return tuple(float(b) for b in np.broadcast_to(np.asarray(edge_wavenumber, float), (4,)))
 
 

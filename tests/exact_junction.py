@@ -76,7 +76,7 @@ _GEOMETRY_TOL = 1e-9
 
 @dataclass(frozen=True)
 class StripPlate:
-    """One plate, simply supported on its local edges ``y = 0`` and ``y = Ly``.
+    r"""One plate, simply supported on its local edges ``y = 0`` and ``y = Ly``.
 
     Attributes
     ----------

@@ -130,7 +130,7 @@ def _as_hinge(description: dict, loss_factor: float = 0.0) -> dict:
 
 @pytest.mark.parametrize("frequency", [300.0, 1000.0])
 def test_a_hinge_between_non_coplanar_plates_moves_as_a_line_of_two_members(frequency):
-    """A hinge between framed, non-coplanar plates moves by default: a junction line of two
+    r"""A hinge between framed, non-coplanar plates moves by default: a junction line of two
     members, the first rigid and the second on the hinge's spring (the same law,
     :math:`M_n^A = M_n^B = k(\theta_A + \theta_B)`), its one channel named by the joint.
     Against that junction, the fields agree to round-off (0 measured: the same system); against
