@@ -25,6 +25,8 @@ part ``x < 0.4``, S2 its part ``x > 0.4``, S2's local ``x`` = skin ``x - 0.4``) 
 T1 is tied rigidly in translation and through a
 rotational spring ``k = 10^2.5`` N m/m/rad in rotation; ``docs/description.md`` (junction):
 ``C_i = k_i (1 + j zeta_i) (Theta - theta_i)``, ``loss_factor`` default 0, so ``k* = k``.
+``--stiffener-ends free`` leaves T1's ends ``y = 0, 0.5`` free (a stiffener not attached at its
+ends; ``tests/test_held_ends.py``).
 
 Outer edges: the skin's ``x = 0`` and ``x = 0.75`` simply supported and fixed in plane
 (``u = v = 0``); the ends ``y = 0, 0.5`` of every plate simply supported in bending and, in
@@ -187,6 +189,7 @@ LOAD = (0.17, 0.13)  # on S1 (= skin coordinates), along e_z = (0, 0, 1), 1 N
 END_IN_PLANE = {"diaphragm": ("u",), "roller": ("v",), "fixed": ("u", "v")}
 """The in-plane components fixed on the ends y = 0, LY."""
 TOPS = ("free", "fixed")
+STIFFENER_ENDS = ("same", "free")
 SS_Y_EDGE = ["u", "u_x", "u_xx"]  # Argyris dofs fixed on a simply supported edge y = const
 OUT = Path("/tmp/fem_T")
 TOL = 1e-12  # coordinates closer than this are the same point
@@ -519,18 +522,22 @@ class JunctionModel:
         self.load[:S1.n_w] = S1.bending.eval_matrix(np.array(LOAD, float)[:, None]).toarray()[0]
         self.t_setup = time.perf_counter() - t0
 
-    def reduced(self, ends: str, top: str):
+    def reduced(self, ends: str, top: str, stiffener_ends: str = "same"):
         """``T`` (size x n_free) for ``ends`` ('diaphragm', 'roller', 'fixed') and ``top``
-        ('free', 'fixed')."""
-        if ends not in END_IN_PLANE or top not in TOPS:
-            raise ValueError(f"ends in {sorted(END_IN_PLANE)}, top in {TOPS}: {ends}, {top}")
+        ('free', 'fixed'); ``stiffener_ends`` 'free' leaves T1's ends y = 0, LY free (no
+        condition: a stiffener not attached at its ends), 'same' gives them ``ends``."""
+        if ends not in END_IN_PLANE or top not in TOPS or stiffener_ends not in STIFFENER_ENDS:
+            raise ValueError(f"ends in {sorted(END_IN_PLANE)}, top in {TOPS}, stiffener ends "
+                             f"in {STIFFENER_ENDS}: {ends}, {top}, {stiffener_ends}")
         end = (SS_Y_EDGE, list(END_IN_PLANE[ends]))
         support = (SS_X_EDGE, ["u", "v"])  # simply supported, fixed in plane
         edges = {"S1": {"x=0": support},
                  "S2": {f"x={LENGTHS['S2']}": support},
                  "T1": {f"x={STIFFENER}": support} if top == "fixed" else {}}
-        fixed = [self.offsets[name] + self.plates[name].fixed({**e, "y=0": end, f"y={LY}": end})
-                 for name, e in edges.items()]
+        ends_of = {name: {} if name == "T1" and stiffener_ends == "free"
+                   else {"y=0": end, f"y={LY}": end} for name in edges}
+        fixed = [self.offsets[name] + self.plates[name].fixed({**e, **ends_of[name]})
+                 for name, e in edges.items() if {**e, **ends_of[name]}]
         return reduction(self.size, np.concatenate(fixed), self.relations)
 
     def solve(self, frequency: float, T) -> np.ndarray:
@@ -595,7 +602,8 @@ class JunctionSolution:
 
 def solve_junction(frequency: float, ends: str, top: str, model: JunctionModel,
                    T=None) -> JunctionSolution:
-    """Solve ``model`` at ``frequency`` with ``ends`` and ``top`` (``T`` reused if given)."""
+    """Solve ``model`` at ``frequency`` with ``ends`` and ``top`` (``T`` reused if given, as
+    :meth:`JunctionModel.reduced` makes it)."""
     T = model.reduced(ends, top) if T is None else T
     x = model.solve(frequency, T)
     w, uv = model.fields(x)
@@ -705,8 +713,10 @@ def main() -> None:
     parser.add_argument("--frequencies", type=float, nargs="+", default=[1000.0])
     parser.add_argument("--ends", nargs="+", default=["diaphragm", "roller"])
     parser.add_argument("--tops", nargs="+", default=list(TOPS))
+    parser.add_argument("--stiffener-ends", choices=STIFFENER_ENDS, default="same")
     parser.add_argument("--no-save", action="store_true")
     args = parser.parse_args()
+    stiffener = "" if args.stiffener_ends == "same" else f"_stiffener_{args.stiffener_ends}"
     levels = sorted(args.levels)
     cases = [(e, t) for e in args.ends for t in args.tops]
     solutions = {}
@@ -715,25 +725,27 @@ def main() -> None:
         print(f"level {n}: triangles (bending, membrane) {model.n_triangles}, "
               f"setup {model.t_setup:.0f} s", flush=True)
         for ends, top in cases:
-            T = model.reduced(ends, top)
+            T = model.reduced(ends, top, args.stiffener_ends)
             for frequency in args.frequencies:
                 solutions[ends, top, frequency, n] = solve_junction(frequency, ends, top,
                                                                     model, T)
         del model
     for ends, top in cases:
         for frequency in args.frequencies:
-            exact = exact_fields(frequency, top) if ends == "diaphragm" else None
-            summary = print_table(f"{ends} ends, {top} top, {frequency:g} Hz", levels,
+            exact = (exact_fields(frequency, top)
+                     if ends == "diaphragm" and not stiffener else None)
+            summary = print_table(f"{ends} ends{stiffener}, {top} top, {frequency:g} Hz", levels,
                                   {n: solutions[ends, top, frequency, n] for n in levels},
                                   exact)
             if not args.no_save and len(levels) > 1:
-                path = save(ends, top, frequency, levels[-1], levels[-2],
+                path = save(ends + stiffener, top, frequency, levels[-1], levels[-2],
                             solutions[ends, top, frequency, levels[-1]], summary)
                 print(f"  saved {path}")
 
 
 TEST_DATA = ROOT / "tests" / "data" / "fem_junction_roller.npz"
 FIXED_TEST_DATA = ROOT / "tests" / "data" / "fem_junction_fixed.npz"
+STIFFENER_FREE_TEST_DATA = ROOT / "tests" / "data" / "fem_junction_stiffener_free.npz"
 
 
 def write_test_data(ends: str = "roller") -> None:
@@ -742,16 +754,22 @@ def write_test_data(ends: str = "roller") -> None:
     (``tests/test_moving_lines.py``: ``w_S1_free``, ``uv_T1_fixed``, ...); ``ends = "fixed"``,
     the top fixed at 300 Hz and 1 kHz (``--ends fixed --tops fixed --frequencies 300 1000``),
     into ``tests/data/fem_junction_fixed.npz`` (``tests/test_held_ends.py``: ``w_S1_300``,
-    ``uv_T1_1000``, ...). With each suffix, ``change_<suffix>``: each field's change from the
+    ``uv_T1_1000``, ...); ``ends = "stiffener_free"``, the skin's ends fixed, the stiffener's
+    ends and top free at 300 Hz and 1 kHz (``--ends fixed --tops free --stiffener-ends free
+    --frequencies 300 1000``), into ``tests/data/fem_junction_stiffener_free.npz``, keyed as
+    the fixed ones. With each suffix, ``change_<suffix>``: each field's change from the
     previous level, in the order of ``FIELDS``."""
     saved = ({top: f"fields_T_roller_{top}_1000.npz" for top in TOPS} if ends == "roller"
+             else {f"{f}": f"fields_T_fixed_stiffener_free_free_{f}.npz" for f in (300, 1000)}
+             if ends == "stiffener_free"
              else {f"{f}": f"fields_T_fixed_fixed_{f}.npz" for f in (300, 1000)})
     packed = {}
     for suffix, name in saved.items():
         fields = np.load(OUT / name)
         packed |= {f"{key}_{suffix}": fields[key] for key in FIELDS}
         packed[f"change_{suffix}"] = fields["change"]
-    path = TEST_DATA if ends == "roller" else FIXED_TEST_DATA
+    path = {"roller": TEST_DATA, "stiffener_free": STIFFENER_FREE_TEST_DATA}.get(ends,
+                                                                               FIXED_TEST_DATA)
     np.savez_compressed(path, **packed)
     print(f"wrote {path}")
 
