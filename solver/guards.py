@@ -550,8 +550,8 @@ def _hanging_issues(case: Case) -> list[tuple[_Loc, str]]:
                          else (f"plate {names} hangs", "its"))
         warnings.append((("joints", jid),
                          f"{plates} in plane on line {jid} alone: none of {their} edges is "
-                         "held in plane, so its in-plane motion across the line rests on the "
-                         f"bending of {others}, and where the line's end is "
+                         f"held in plane, so {their} in-plane motion across the line rests on "
+                         f"the bending of {others}, and where the line's end is "
                          "supported, on a layer at that end thinner than the rays resolve: the "
                          "solve can stay percents off, refinement may not settle it and the "
                          "error estimate may read half the error (a stiffener with its ends and "
