@@ -54,7 +54,8 @@ from .joints import HingeJoint, JunctionJoint
 from .models import FRAME_TOLERANCE, cross
 from .types import EdgeId, parse_edge_ref
 
-__all__ = ["LINE_JOINTS", "members_coplanar", "member_directions", "given_supports",
+__all__ = ["LINE_JOINTS", "members_coplanar", "continuing_members", "member_directions",
+           "given_supports",
            "free_ends", "held_ends", "line_ends", "symmetry_halves", "singular_ends",
            "singular_line_ends", "hanging_members", "meeting_ends", "line_moves", "moving_lines"]
 
@@ -70,6 +71,16 @@ def members_coplanar(joint: JunctionJoint, plates: Mapping[str, Any]) -> bool:
     if any(frame is None for frame in frames):
         return True
     return all(_parallel(frames[0], frame) for frame in frames[1:])
+
+
+def continuing_members(joint: JunctionJoint, plates: Mapping[str, Any]
+                       ) -> tuple[int | None, ...]:
+    """For each member of a line, the index of the member that continues it in its plane across
+    the line (their edges' in-plane normals opposite: a skin's two bays), or None."""
+    normals = [plates[side.plate].edge_in_space(side.edge)[2] for side in joint.sides]
+    return tuple(next((j for j in range(len(normals))
+                       if j != i and float(normals[i] @ normals[j]) < -1.0 + 1e-9), None)
+                 for i in range(len(normals)))
 
 
 def _parallel(first: Any, second: Any) -> bool:

@@ -759,17 +759,17 @@ def write_test_data(ends: str = "roller") -> None:
     --frequencies 300 1000``), into ``tests/data/fem_junction_stiffener_free.npz``, keyed as
     the fixed ones. With each suffix, ``change_<suffix>``: each field's change from the
     previous level, in the order of ``FIELDS``."""
-    saved = ({top: f"fields_T_roller_{top}_1000.npz" for top in TOPS} if ends == "roller"
-             else {f"{f}": f"fields_T_fixed_stiffener_free_free_{f}.npz" for f in (300, 1000)}
-             if ends == "stiffener_free"
-             else {f"{f}": f"fields_T_fixed_fixed_{f}.npz" for f in (300, 1000)})
+    saved = {"roller": {top: f"fields_T_roller_{top}_1000.npz" for top in TOPS},
+             "fixed": {f"{f}": f"fields_T_fixed_fixed_{f}.npz" for f in (300, 1000)},
+             "stiffener_free": {f"{f}": f"fields_T_fixed_stiffener_free_free_{f}.npz"
+                                for f in (300, 1000)}}[ends]
     packed = {}
     for suffix, name in saved.items():
         fields = np.load(OUT / name)
         packed |= {f"{key}_{suffix}": fields[key] for key in FIELDS}
         packed[f"change_{suffix}"] = fields["change"]
-    path = {"roller": TEST_DATA, "stiffener_free": STIFFENER_FREE_TEST_DATA}.get(ends,
-                                                                               FIXED_TEST_DATA)
+    path = {"roller": TEST_DATA, "fixed": FIXED_TEST_DATA,
+            "stiffener_free": STIFFENER_FREE_TEST_DATA}[ends]
     np.savez_compressed(path, **packed)
     print(f"wrote {path}")
 

@@ -15,7 +15,7 @@ import networkx as nx
 
 from assembly.case import Case
 from assembly.errors import DescriptionError, Issue, format_path
-from assembly.lines import members_coplanar
+from assembly.lines import continuing_members, members_coplanar
 from solver.in_plane import coplanar_closure, in_plane_edge_conditions, in_plane_plates
 from solver.problems import SINGULAR_END_REACH, plate_problems, plate_ray_counts
 from solver.rays import RayCounts, automatic_ray_counts
@@ -511,10 +511,13 @@ def _floating_issues(case: Case) -> list[tuple[_Loc, str]]:
 def _hanging_issues(case: Case) -> list[tuple[_Loc, str]]:
     """A warning per group of plates that hang in their plane on one moving line: plates held
     together stiffly in their plane (coplanar joints, and the members of a line that continue
-    each other in one plane) but held in plane by no edge of theirs
+    each other in one plane, :func:`assembly.lines.continuing_members`) but held in plane by
+    no edge of theirs
     (:func:`solver.in_plane.in_plane_edge_conditions`), tied to the rest only by that line, in
     a structure held in its plane elsewhere (else :func:`_floating_issues` speaks): a
-    stiffener whose ends and outstanding edge are free in plane. Their in-plane motion across
+    stiffener whose ends and outstanding edge are free in plane (the members that hang on a
+    line, :func:`assembly.lines.hanging_members`, with nothing else to hold them: that test
+    reads one line and its members' own edges). Their in-plane motion across
     the line rests on the other members' bending, and where the line's end is supported, on a
     layer at that end far thinner than the rays resolve: on such a T junction at 1 kHz the
     solve stays 2e-2 to 4e-2 off independent finite elements in ``w`` from resolution 1.5 to
@@ -526,15 +529,14 @@ def _hanging_issues(case: Case) -> list[tuple[_Loc, str]]:
     stiff.add_nodes_from(conditions)
     lines_of = {pid: set() for pid in conditions}
     for jid, joint in case.joints.items():
-        sides = [side for side in joint.sides if side.plate in conditions]
         if joint.kind == "coplanar":
+            sides = [side for side in joint.sides if side.plate in conditions]
             stiff.add_edges_from((sides[0].plate, side.plate) for side in sides[1:])
-        elif jid in moving:
-            normals = [case.plates[side.plate].edge_in_space(side.edge)[2] for side in sides]
-            for i, side in enumerate(sides):
+        elif jid in moving:  # every member of a moving line carries in-plane waves
+            for side, partner in zip(joint.sides, continuing_members(joint, case.plates)):
                 lines_of[side.plate].add(jid)
-                stiff.add_edges_from((side.plate, sides[j].plate) for j in range(i)
-                                     if float(normals[i] @ normals[j]) < -1.0 + 1e-9)
+                if partner is not None:
+                    stiff.add_edge(side.plate, joint.sides[partner].plate)
     held = {pid for pid, edges in conditions.items() if set(edges.values()) != {"free"}}
     held_groups = [set(group) for group in _in_plane_groups(case, conditions) if held & set(group)]
     warnings = []

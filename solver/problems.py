@@ -13,6 +13,7 @@ from collections.abc import Iterable, Mapping
 from assembly.case import Case
 from assembly.geometry import EDGE_NAMES, plate_edges
 from assembly.lines import (
+    continuing_members,
     free_ends,
     given_supports,
     held_ends,
@@ -400,13 +401,11 @@ def _line_exponents(case: Case) -> dict[str, tuple[tuple[float, ...], ...]]:
 
 def _end_members(case: Case, joint_id: str) -> tuple[EndMember, ...]:
     """The :class:`~solver.junction_exponents.EndMember` of each member of a line: two
-    members whose in-plane normals on the line are opposite continue each other."""
-    sides = case.joints[joint_id].sides
-    normals = [case.plates[side.plate].edge_in_space(side.edge)[2] for side in sides]
+    members whose in-plane normals on the line are opposite continue each other
+    (:func:`assembly.lines.continuing_members`)."""
+    joint = case.joints[joint_id]
     members = []
-    for i, side in enumerate(sides):
-        partner = next((j for j in range(len(sides))
-                        if j != i and float(normals[i] @ normals[j]) < -1.0 + 1e-9), None)
+    for side, partner in zip(joint.sides, continuing_members(joint, case.plates)):
         material = case.material_of(side.plate)
         shear = material.young_modulus / (2.0 * (1.0 + material.poisson_ratio))
         members.append(EndMember(case.plates[side.plate].thickness, shear,

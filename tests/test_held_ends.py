@@ -298,15 +298,15 @@ def test_a_stiffener_hanging_on_its_line_is_named_by_check_and_estimated():
     revisited), and the issue's [0.5, 3] for the estimate there."""
     from solver.guards import check_description
 
-    warnings = check_description(_hanging_stiffener(1000.0, 1.0), "t.toml")
+    case = _hanging_stiffener(1000.0, 1.0)
+    warnings = check_description(case, "t.toml")
     assert len(warnings) == 1 and warnings[0].startswith(
         "t.toml: joints.W: plate T1 hangs in plane on line W alone"), warnings
     assert check_description(_junction(1000.0), "t.toml") == []
-    case = _hanging_stiffener(1000.0, 1.0)
     solution = solve_assembly(case, 1000.0, residuals=False)
     errors = _finite_element_errors(solution, T_JUNCTION[0], np.load(FINITE_ELEMENT_HANGING),
                                     "_1000")
     assert max(errors[p][0] for p in SKIN) > 5e-2, errors
-    estimate = estimate_error(_hanging_stiffener(1000.0, 1.0), solution)
+    estimate = estimate_error(case, solution)
     for plate, (w, _) in errors.items():
         assert 0.5 < estimate.plates[plate] / w < 3.0, (plate, estimate.plates[plate], w)
