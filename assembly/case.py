@@ -19,7 +19,8 @@ from .errors import AssemblyError, CrossReferenceError, listing
 from .grid import grid_points
 from .joints import CoplanarJoint, HingeJoint, Joint, JunctionJoint
 from .lines import (LINE_JOINTS, given_supports, hanging_members, line_moves,
-                    member_directions, moving_lines, singular_ends, singular_line_ends)
+                    member_directions, moving_lines, pinned_ends, singular_ends,
+                    singular_line_ends)
 from .models import Boundary, Load, Material, Plate
 from .settings import Compute, Discretisation, Measurement, Truth, Updating, default_spacing
 from .types import (
@@ -307,6 +308,13 @@ class Case(FrozenModel):
         """Whether a junction line's start and end (along the line) are singular
         (:func:`assembly.lines.singular_line_ends`); neither for another joint."""
         return tuple(self._of_line(joint_id, singular_line_ends)) or (False, False)
+
+    def pinned_ends(self, joint_id: str) -> list[EdgeId]:
+        """The end edges of a junction line at its ends where a member is pinned at its corner
+        (:func:`assembly.lines.pinned_ends`); none for another joint."""
+        conditions = self.edge_conditions()
+        return self._of_line(joint_id, lambda joint, plates, supports: pinned_ends(
+            joint, plates, conditions, supports))
 
     def hanging_members(self, joint_id: str) -> list[str]:
         """The members of a junction line held across it in their plane by no boundary of

@@ -41,6 +41,17 @@ refinement converges more slowly (an L fold at 1.2 kHz, ``bench/bench_roller_end
 
 ``fixed`` ends, the default of a supported edge, converge since a moving line's functions stop
 at what every member's rays answer (:func:`solver.joint_rules.interface_function_count`).
+
+An end *pins* a member at its corner (:func:`pinned_ends`) where the member's end edge leaves
+its in-plane displacement across the line free (a free edge, ``free`` or ``roller`` in plane)
+and another member's end edge, not coplanar with it, holds that member's deflection
+(``simply_supported`` or ``clamped``): the line ties the two, so the first member is held
+across the line at one point, its corner, and the line's load is concentrated there (a
+stiffener free at its ends on a supported skin; each member of a fold whose ends slide). The
+members of such a line, if it meets no other and not every member hangs on it
+(:func:`hanging_members`), carry the mixed ends' logarithmic families at those corners and
+reach as at a free end, up to :data:`solver.problems.PINNED_END_REACH` (``docs/method.md``
+section 10.4, *Pinned ends*).
 """
 
 from __future__ import annotations
@@ -56,8 +67,9 @@ from .types import EdgeId, parse_edge_ref
 
 __all__ = ["LINE_JOINTS", "members_coplanar", "continuing_members", "member_directions",
            "given_supports",
-           "free_ends", "held_ends", "line_ends", "symmetry_halves", "singular_ends",
-           "singular_line_ends", "hanging_members", "meeting_ends", "line_moves", "moving_lines"]
+           "free_ends", "held_ends", "pinned_ends", "line_ends", "symmetry_halves",
+           "singular_ends", "singular_line_ends", "hanging_members", "meeting_ends",
+           "line_moves", "moving_lines"]
 
 SYMMETRY_PLANE = ("symmetric", "roller")
 """The bending and in-plane conditions of an edge on a plane of symmetry of the structure."""
@@ -201,6 +213,36 @@ def singular_line_ends(joint: JunctionJoint, plates: Mapping[str, Any],
     ``supports`` as for :func:`singular_ends`."""
     return tuple(bool(_mixed_end(edges, supports)) and _kinked(edges, supports)
                  for edges in line_ends(joint, plates))
+
+
+HOLDS_DEFLECTION = ("simply_supported", "clamped")
+"""The bending conditions of an end edge that hold a member's deflection at the line's end."""
+
+SLIDES_ACROSS = ("free", "roller")
+"""The in-plane conditions of an end edge that leave a member's displacement across its line
+free (:math:`N_{nt} = 0` on the end edge, whose tangent is the line's in-plane normal)."""
+
+
+def pinned_ends(joint: JunctionJoint, plates: Mapping[str, Any],
+                conditions: Mapping[EdgeId, str],
+                supports: Mapping[EdgeId, tuple[str, str]]) -> list[EdgeId]:
+    """The end edges at each end of a line where a member is *pinned* at its corner (module
+    notes): its end edge leaves its in-plane displacement across the line free (a free edge,
+    or one with ``in_plane`` in :data:`SLIDES_ACROSS`), and the end edge of a member not
+    coplanar with it holds that member's deflection (:data:`HOLDS_DEFLECTION`), which at the
+    line is the first member's displacement across it. ``conditions`` as for
+    :func:`free_ends`, ``supports`` as for :func:`singular_ends`."""
+    frames = [getattr(plates.get(side.plate), "frame", None) for side in joint.sides]
+    pinned = []
+    for edges in line_ends(joint, plates):
+        slides = [conditions.get(edge) == "free"
+                  or supports.get(edge, ("", ""))[1] in SLIDES_ACROSS for edge in edges]
+        holds = [supports.get(edge, ("", ""))[0] in HOLDS_DEFLECTION for edge in edges]
+        if any(slides[i] and holds[j] and frames[i] is not None and frames[j] is not None
+               and not _parallel(frames[i], frames[j])
+               for i in range(len(edges)) for j in range(len(edges))):
+            pinned.extend(edges)
+    return pinned
 
 
 HOLDS_ACROSS = {"end": ("fixed", "diaphragm"), "far": ("fixed", "roller")}

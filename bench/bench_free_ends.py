@@ -17,17 +17,22 @@ free, 1 N on the first leg).
   count following it (earlier that day), and the count stopped at the usual reach too (until
   then); about seven minutes;
 * **sliding ends** (``--sliding-ends``): the same with the fold's ends simply supported and free
-  in plane (``tests/test_free_ends.sliding_fold``) against
-  ``tests/data/fem_fold_sliding_ends.npz``: the rule, the members reaching as at a free end
-  without the count's floor, and as elsewhere (until 2026-11-28); the error and estimate of
-  ``(u, v)`` too; about eight minutes;
+  in plane (``tests/test_free_ends.sliding_fold``), each member pinned at its corners by the
+  other's supports (``assembly.lines.pinned_ends``), against
+  ``tests/data/fem_fold_sliding_ends.npz``: the rule (logarithmic families at the pinned
+  ends, the reach capped at ``solver.problems.PINNED_END_REACH``) and without the families
+  (the free end's rule alone, until 2026-11-28); the error and estimate of ``(u, v)`` too;
+  about eight minutes;
+* **pinned stiffener** (``--pinned-stiffener``): the same two on the T junction whose
+  stiffener's ends and top are free (``tests/test_held_ends.pinned_stiffener``), against
+  ``tests/data/fem_junction_stiffener_free.npz`` (``bench/fem_junction.py``);
 * **channel** (``--channel``): the U channel of ``tests/test_free_ends.channel`` (a web and two
   flanges, two rigid lines free at both ends) against ``tests/data/fem_channel.npz``
   (``bench/fem_channel.py``), by resolution with the count's floor and without it, then at
   resolution 1.5 the error by the lines' count: a third structure for the floor.
 
 Run: ``OPENBLAS_NUM_THREADS=1 python bench/bench_free_ends.py [--quick | --finite-elements |
---sliding-ends | --channel]`` (about two minutes; ``--quick`` stops at 1 kHz).
+--sliding-ends | --pinned-stiffener | --channel]`` (about two minutes; ``--quick`` stops at 1 kHz).
 """
 
 from __future__ import annotations
@@ -45,6 +50,8 @@ sys.path[:0] = [str(ROOT), str(ROOT / "tests")]
 
 from support import inner_grid  # noqa: E402
 from test_free_ends import CHANNEL_PLATES, LY, PLATES, _bracket, channel, sliding_fold  # noqa: E402
+from test_held_ends import pinned_stiffener  # noqa: E402
+from test_moving_lines import T_JUNCTION  # noqa: E402
 
 import solver.joint_rules  # noqa: E402
 import solver.layout  # noqa: E402
@@ -158,32 +165,41 @@ def finite_elements() -> None:
     solver.joint_rules.END_LAYER_FROM = floor
 
 
-SLIDING_RUNS = {300.0: (1.0, 1.5, 2.25, 3.375, 5.0), 1000.0: (1.0, 1.5, 2.25, 3.375)}
+SLIDING_RUNS = {300.0: (1.0, 1.5, 2.25, 3.375, 5.0), 1000.0: (1.0, 1.5, 2.25, 3.375, 5.0625)}
 """Per frequency of the sliding-ends reference, the resolutions compared."""
 
+PINNED_RUNS = {300.0: (1.0, 1.5, 2.25, 3.375), 1000.0: (1.0, 1.5, 2.25, 3.375)}
+"""Per frequency of the pinned stiffener's reference, the resolutions compared."""
 
-def sliding_ends() -> None:
-    """The rigid fold with sliding ends against the finite elements, by resolution: its
-    members reaching as at a free end (:func:`solver.problems.free_end_plates`, as today) and
-    as elsewhere (until 2026-11-28)."""
-    reference = np.load(ROOT / "tests" / "data" / "fem_fold_sliding_ends.npz")
-    print("sliding ends against finite elements (rigid line): worst plate's error of w, then "
-          "of (u, v); estimate / error over the plates; seconds of the solve and its estimate")
-    rule, floor = solver.problems.free_end_plates, solver.joint_rules.END_LAYER_FROM
-    models = {"rule": (rule, floor), "no floor": (rule, math.inf),
-              "usual reach": (lambda case: frozenset(), math.inf)}
-    for frequency, resolutions in SLIDING_RUNS.items():
-        for label, (members, floor_from) in models.items():
-            solver.problems.free_end_plates = members
-            solver.joint_rules.END_LAYER_FROM = floor_from
+
+def without_families(case, joint_id: str, meeting=None) -> set:
+    """:func:`solver.problems.singular_end_edges` as it was until 2026-11-28: the mixed ends
+    alone, a pinned end getting no logarithmic families and the free end's reach."""
+    return set(case.singular_ends(joint_id))
+
+
+def pinned_ends(label: str, description, reference: dict, plates: dict, runs: dict,
+                suffix) -> None:
+    """A structure with pinned ends against its finite elements, by resolution: the rule (the
+    logarithmic families at its pinned ends, the reach capped at
+    :data:`solver.problems.PINNED_END_REACH`) and without them, the free end's rule alone
+    (until 2026-11-28)."""
+    print(f"{label} against finite elements: worst plate's error of w, then of (u, v); estimate "
+          "/ error over the plates; seconds of the solve and its estimate")
+    rule = solver.problems.singular_end_edges
+    for frequency, resolutions in runs.items():
+        for model, edges in (("rule", rule), ("no families", without_families)):
+            solver.problems.singular_end_edges = edges
             for resolution in resolutions:
                 (w, low, high), (uv, uv_low, uv_high), seconds = solve_errors(
-                    sliding_fold(frequency, resolution), frequency, reference)
-                print(f"  {frequency:6.0f} Hz  {label:11s} {resolution:5.3g}: w {w:.1e} "
-                      f"({low:.2f} to {high:.2f}); (u, v) {uv:.1e} ({uv_low:.2f} to "
-                      f"{uv_high:.2f}); {seconds:.1f} s", flush=True)
-    solver.problems.free_end_plates = rule
-    solver.joint_rules.END_LAYER_FROM = floor
+                    description(frequency, resolution), frequency, reference, plates,
+                    suffix(frequency))
+                estimated = (f"({low:.2f} to {high:.2f})", f"({uv_low:.2f} to {uv_high:.2f})"
+                             ) if low is not None else ("(not estimated)", "")
+                print(f"  {frequency:6.0f} Hz  {model:11s} {resolution:6.4g}: w {w:.1e} "
+                      f"{estimated[0]}; (u, v) {uv:.1e} {estimated[1]}; {seconds:.1f} s",
+                      flush=True)
+    solver.problems.singular_end_edges = rule
 
 
 CHANNEL_RUNS = {300.0: (1.0, 1.5, 2.25, 3.375), 1000.0: (1.0, 1.5, 2.25)}
@@ -245,6 +261,7 @@ def main() -> None:
     parser.add_argument("--quick", action="store_true")
     parser.add_argument("--finite-elements", action="store_true")
     parser.add_argument("--sliding-ends", action="store_true")
+    parser.add_argument("--pinned-stiffener", action="store_true")
     parser.add_argument("--channel", action="store_true")
     args = parser.parse_args()
     if args.channel:
@@ -252,7 +269,15 @@ def main() -> None:
     if args.finite_elements:
         return finite_elements()
     if args.sliding_ends:
-        return sliding_ends()
+        return pinned_ends(
+            "sliding ends (rigid line)", sliding_fold,
+            np.load(ROOT / "tests" / "data" / "fem_fold_sliding_ends.npz"), PLATES, SLIDING_RUNS,
+            lambda frequency: "" if frequency == 300.0 else f"_{frequency:g}")
+    if args.pinned_stiffener:
+        return pinned_ends(
+            "stiffener free at its ends", pinned_stiffener,
+            np.load(ROOT / "tests" / "data" / "fem_junction_stiffener_free.npz"),
+            T_JUNCTION[0], PINNED_RUNS, lambda frequency: f"_{frequency:g}")
     frequencies = (300.0, 1000.0) if args.quick else (300.0, 1000.0, 3000.0)
     print("refinement: worst plate's change of w ; (u, v) between resolutions 1.5 and 2.25")
     for frequency in frequencies:

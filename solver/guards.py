@@ -15,7 +15,7 @@ import networkx as nx
 
 from assembly.case import Case
 from assembly.errors import DescriptionError, Issue, format_path
-from assembly.lines import continuing_members, members_coplanar
+from assembly.lines import members_coplanar
 from solver.in_plane import coplanar_closure, in_plane_edge_conditions, in_plane_plates
 from solver.problems import SINGULAR_END_REACH, plate_problems, plate_ray_counts
 from solver.rays import RayCounts, automatic_ray_counts
@@ -508,62 +508,6 @@ def _floating_issues(case: Case) -> list[tuple[_Loc, str]]:
     return warnings
 
 
-def _hanging_issues(case: Case) -> list[tuple[_Loc, str]]:
-    """A warning per group of plates that hang in their plane on one moving line: plates held
-    together stiffly in their plane (coplanar joints, and the members of a line that continue
-    each other in one plane, :func:`assembly.lines.continuing_members`) but held in plane by
-    no edge of theirs
-    (:func:`solver.in_plane.in_plane_edge_conditions`), tied to the rest only by that line, in
-    a structure held in its plane elsewhere (else :func:`_floating_issues` speaks): a
-    stiffener whose ends and outstanding edge are free in plane (the members that hang on a
-    line, :func:`assembly.lines.hanging_members`, with nothing else to hold them: that test
-    reads one line and its members' own edges). Their in-plane motion across
-    the line rests on the other members' bending, and where the line's end is supported, on a
-    layer at that end far thinner than the rays resolve: on such a T junction at 1 kHz the
-    solve stays 2e-2 to 4e-2 off independent finite elements in ``w`` from resolution 1.5 to
-    3.375, and the error estimate reads 0.44 to 0.52 of it at 2.25 (``docs/accuracy.md``
-    section 8)."""
-    conditions = in_plane_edge_conditions(case)
-    moving = set(case.moving_lines())
-    stiff = nx.Graph()  # plates whose in-plane fields are tied by membranes, not by bending
-    stiff.add_nodes_from(conditions)
-    lines_of = {pid: set() for pid in conditions}
-    for jid, joint in case.joints.items():
-        if joint.kind == "coplanar":
-            sides = [side for side in joint.sides if side.plate in conditions]
-            stiff.add_edges_from((sides[0].plate, side.plate) for side in sides[1:])
-        elif jid in moving:  # every member of a moving line carries in-plane waves
-            for side, partner in zip(joint.sides, continuing_members(joint, case.plates)):
-                lines_of[side.plate].add(jid)
-                if partner is not None:
-                    stiff.add_edge(side.plate, joint.sides[partner].plate)
-    held = {pid for pid, edges in conditions.items() if set(edges.values()) != {"free"}}
-    held_groups = [set(group) for group in _in_plane_groups(case, conditions) if held & set(group)]
-    warnings = []
-    for group in nx.connected_components(stiff):
-        lines = {jid for pid in group for jid in lines_of[pid]
-                 if not set(case.joints[jid].plates) <= group}
-        if group & held or len(lines) != 1 or not any(group <= g for g in held_groups):
-            continue
-        (jid,) = lines
-        names = ", ".join(pid for pid in case.plates if pid in group)
-        others = ", ".join(pid for pid in case.joints[jid].plates if pid not in group)
-        plates, their = ((f"plates {names} hang", "their") if len(group) > 1
-                         else (f"plate {names} hangs", "its"))
-        warnings.append((("joints", jid),
-                         f"{plates} in plane on line {jid} alone: none of {their} edges is "
-                         f"held in plane, so {their} in-plane motion across the line rests on "
-                         f"the bending of {others}, and where the line's end is "
-                         "supported, on a layer at that end thinner than the rays resolve: the "
-                         "solve can stay percents off, refinement may not settle it and the "
-                         "error estimate may read half the error (a stiffener with its ends and "
-                         "outstanding edge free: 2e-2 to 4e-2 off in w at resolutions 1.5 to "
-                         "3.375, 1 kHz; docs/accuracy.md section 8); read the error estimate as "
-                         "a lower bound, and give in_plane = \"fixed\", "
-                         "\"diaphragm\" or \"roller\" to an edge that is held in its plane"))
-    return warnings
-
-
 def _idle_in_plane_issues(case: Case) -> list[tuple[_Loc, str]]:
     """One warning naming the boundaries whose ``in_plane`` condition does nothing whatever
     the lines' ``held``: their plate carries no in-plane waves
@@ -630,8 +574,7 @@ def description_issues(
     * **moving lines** -- a junction line whose end is a plane of symmetry for part of the
       motion only warns, moving or held by default (:func:`_singular_end_issues`); so do
       in-plane conditions on plates without in-plane waves (:func:`_idle_in_plane_issues`) and
-      plates supported in bending but held in their plane nowhere (:func:`_floating_issues`)
-      or hanging in their plane on one line (:func:`_hanging_issues`);
+      plates supported in bending but held in their plane nowhere (:func:`_floating_issues`);
     * **weights** -- the scale-free weights with ``misfit = "global"`` warn
       (:func:`_weights_issues`).
 
@@ -669,7 +612,7 @@ def description_issues(
     errors = ([units] if units else []) + errors
     scale_errors, warnings = _scale_issues(case, frequencies, location)
     warnings += (_singular_end_issues(case) + _idle_in_plane_issues(case)
-                 + _floating_issues(case) + _hanging_issues(case) + _weights_issues(case))
+                 + _floating_issues(case) + _weights_issues(case))
     if scale_errors:  # the quantities below would overflow or vanish
         return errors + scale_errors, warnings
     plates = _plate_rays(case, f)

@@ -13,6 +13,7 @@ from collections.abc import Iterable, Mapping
 from assembly.case import Case
 from assembly.geometry import EDGE_NAMES, plate_edges
 from assembly.lines import (
+    HOLDS_DEFLECTION,
     continuing_members,
     free_ends,
     given_supports,
@@ -21,6 +22,7 @@ from assembly.lines import (
     meeting_ends,
     symmetry_halves,
 )
+from assembly.types import EdgeId
 from solver.junction_exponents import EndMember, line_loading_exponents
 from solver.kirchhoff import complex_bending_stiffness
 from solver.plate import EdgeCondition, EdgeLoad, PlateProblem, PointForce
@@ -28,7 +30,8 @@ from solver.plate_corners import WedgeFamily, clamped_free_wedges, logarithmic_w
 from solver.rays import RayBasis, RayCounts, WedgeBasis, automatic_ray_counts, build_ray_basis
 
 __all__ = ["plate_problem", "plate_problems", "plate_ray_counts", "plate_basis", "plate_bases",
-           "plate_wedges", "joint_edge_kinds", "SINGULAR_END_REACH", "singular_end_plates",
+           "plate_wedges", "joint_edge_kinds", "SINGULAR_END_REACH", "singular_end_edges",
+           "singular_end_lines", "singular_end_plates", "mixed_end_plates", "PINNED_END_REACH",
            "singular_end_corners", "MEETING_END_REACH", "meeting_end_plates", "FREE_END_REACH",
            "REACH_GROWTH_FROM", "free_end_lines", "meeting_end_lines", "end_layer_lines",
            "free_end_plates", "HELD_END_REACH", "UNLOADED_HELD_END_REACH", "HELD_END_FROM",
@@ -127,20 +130,88 @@ def plate_resolution(case: Case, plate_id: str,
 
 SINGULAR_END_REACH = 3.0
 r"""How much further than elsewhere the edge waves of a member of a moving line reach where an
-end of the line is a plane of symmetry for part of the motion only (an in-plane ``roller`` end
-simply supported in bending, say: :func:`assembly.lines.singular_ends`), bending
-(:math:`\tau\kappa_0`) and in-plane (:math:`\beta_{max}`) alike, beside the logarithmic
-families at those ends (:func:`singular_end_corners`) and the line's logarithmic load
-functions (:func:`solver.joint_rules.load_function_values`; ``docs/method.md`` section 10.4):
-there the line's loads are log-singular. Neither families nor reach alone converges where a
-member hangs on the line (:func:`assembly.lines.hanging_members`): an L fold so at 1 kHz
-changed by 6.8e-2 between resolutions 2.25 and 3.4 with the families and the usual reach, by
-3.8e-3 between 3.4 and 5 with six times the reach and no families, by 7.9e-5 with both at
-three times; with the logarithmic load functions as well, the usual reach leaves 1.9e-2 in
-``(u, v)``, three times 9.6e-4 (and 2.9e-5 in ``w``)."""
+end of the line is mixed (:func:`mixed_end_plates`), bending (:math:`\tau\kappa_0`) and
+in-plane (:math:`\beta_{max}`) alike. The members of a line with a singular end, mixed or
+pinned (:func:`singular_end_lines`), carry logarithmic families at those ends
+(:func:`singular_end_corners`).
+
+* Where the end is a plane of symmetry for part of the motion only (an in-plane ``roller`` end
+  simply supported in bending, say: :func:`assembly.lines.singular_ends`), the line's loads
+  are log-singular, and the line gains logarithmic load functions too
+  (:func:`solver.joint_rules.load_function_values`; ``docs/method.md`` section 10.4).
+  Neither families nor reach alone converges where a member hangs on the line
+  (:func:`assembly.lines.hanging_members`): an L fold so at 1 kHz changed by 6.8e-2 between
+  resolutions 2.25 and 3.4 with the families and the usual reach, by 3.8e-3 between 3.4 and 5
+  with six times the reach and no families, by 7.9e-5 with both at three times; with the
+  logarithmic load functions as well, the usual reach leaves 1.9e-2 in ``(u, v)``, three
+  times 9.6e-4 (and 2.9e-5 in ``w``).
+* Where a member is pinned at its corner (:func:`assembly.lines.pinned_ends`: its end slides
+  across the line, and another member's support holds the deflection that is its
+  displacement there), the line's loads are concentrated at the end: a point force on the
+  corner, spread over a layer far thinner than the rays resolve. There the members reach as
+  at a free end, up to :data:`PINNED_END_REACH`."""
+
+
+PINNED_END_REACH = 6.0
+r"""The furthest the members of a moving line with a pinned end (and no mixed end) reach, in
+units of :math:`\tau`: as at a free end (:data:`FREE_END_REACH`, growing with the resolution
+from :data:`REACH_GROWTH_FROM`), but not past this, unless the line meets others.
+
+* With the logarithmic families at its corners, growing further made the interface problem
+  of the rigid fold with sliding ends of ``bench/bench_free_ends.py`` nearly singular at
+  300 Hz and resolution 5 (reach 10: interface loads 2e4 times larger, ``w`` 1e3 off its
+  finite elements; 1.6e-6 at this cap).
+* Fixed at :data:`SINGULAR_END_REACH`, as a mixed end's, the same fold stalled at 1 kHz where
+  the line's count outgrew the reach (1.8e-6 at resolution 3.375, 1.4e-3 at 5.06; 6.2e-7 at
+  this cap).
+* Where every member hangs on the line (held across it in plane by no edge of its own, nor
+  of a member coplanar with it: :func:`assembly.lines.hanging_members`), the pins are all that
+  holds the line across, and the members keep the free end's rule, without families: on the
+  L fold with every supported edge free in plane at 300 Hz the families left ``w`` 7.5e-4 and
+  2.4e-4 from resolution 5 at 2.25 and 3.375, where without them it is 1.7e-4 and 1.2e-4 (the
+  two fields at 5 agree within 1.2e-4).
+* Where the line meets others, neither the families nor this cap (:func:`singular_end_edges`):
+  on the trihedral corner of ``bench/bench_corner.py --floating``, whose far ends slide and
+  pin its members, the families left ``w`` 1.1 to 1.6 times further off its finite elements
+  from resolution 2.25 to 5 at 300 Hz, and 3 to 11 times at 100 and 150 Hz (finite elements
+  of ``bench/fem_corner.py`` at those frequencies, levels 4 and 6 within 2.1e-7, measured
+  once on 2026-11-29: at resolution 2.25, 1.9e-2 and 7.5e-3 against 6.9e-3 and 7.1e-4); and
+  with the families the cap left it 1.3e-3 off at resolution 5 and 300 Hz, 5.7e-4 without.
+
+``docs/accuracy.md`` section 8."""
+
+
+def singular_end_edges(case: Case, joint_id: str,
+                       meeting: frozenset[str] | None = None) -> set[EdgeId]:
+    """The end edges of a line at its singular ends: an end that is a plane of symmetry for
+    part of the motion only (:meth:`assembly.Case.singular_ends`), or one where a member is
+    pinned at its corner (:meth:`assembly.Case.pinned_ends`) on a line that meets no other
+    (``meeting``: :func:`meeting_end_lines`, found if not given) and holds some member across
+    it (not every member hangs on it: :meth:`assembly.Case.hanging_members`);
+    :data:`PINNED_END_REACH` says why not elsewhere."""
+    meeting = meeting_end_lines(case) if meeting is None else meeting
+    floating = set(case.hanging_members(joint_id)) == set(case.joints[joint_id].plates)
+    pinned = case.pinned_ends(joint_id) if joint_id not in meeting and not floating else []
+    return set(case.singular_ends(joint_id)) | set(pinned)
+
+
+def singular_end_lines(case: Case) -> frozenset[str]:
+    """The moving lines with a singular end (:func:`singular_end_edges`)."""
+    supports = given_supports(case.boundaries).values()
+    if not any(symmetry_halves(support) or support[0] in HOLDS_DEFLECTION
+               for support in supports):
+        return frozenset()  # the common case, without finding the moving lines
+    meeting = meeting_end_lines(case)
+    return frozenset(jid for jid in case.moving_lines()
+                     if singular_end_edges(case, jid, meeting))
 
 
 def singular_end_plates(case: Case) -> frozenset[str]:
+    """The members of the moving lines with a singular end (:func:`singular_end_lines`)."""
+    return _members(case, singular_end_lines(case))
+
+
+def mixed_end_plates(case: Case) -> frozenset[str]:
     """The members of the moving lines with an end that is a plane of symmetry for part of the
     motion only (:meth:`assembly.Case.singular_ends`)."""
     if not any(map(symmetry_halves, given_supports(case.boundaries).values())):
@@ -423,13 +494,15 @@ def edge_reach(case: Case, plate_id: str,
                held_ends: bool = True, in_plane: bool = False) -> float:
     r"""The largest edge-wave wavenumber of a plate in units of its bending wavenumber: the
     description's ``edge_wavenumber_ratio`` :math:`\tau`, times :data:`SINGULAR_END_REACH` on a
-    member of a moving line with a singular end (:func:`singular_end_plates`), times
+    member of a moving line with a mixed end (:func:`mixed_end_plates`), times
     :data:`MEETING_END_REACH` on a member of a moving line that meets others at its ends
     (:func:`meeting_end_plates`) or :data:`FREE_END_REACH` on one with an end on a free edge
     (:func:`free_end_plates`), those two times :math:`\max(1, s/s_g)`, :math:`s` the plate's
     resolution (``resolution`` as for :func:`plate_resolution`) and :math:`s_g` =
-    :data:`REACH_GROWTH_FROM`; times :data:`HELD_END_REACH` on a member of a line held at an
-    end (:func:`held_end_plates`) from resolution :data:`HELD_END_FROM` on, unless
+    :data:`REACH_GROWTH_FROM` (at most :data:`PINNED_END_REACH` where the line has a pinned
+    end, :func:`singular_end_plates`, and meets no other); times :data:`HELD_END_REACH` on a
+    member of a line held at an end (:func:`held_end_plates`) from resolution
+    :data:`HELD_END_FROM` on, unless
     ``held_ends`` is false (the reach the line's count may follow instead:
     :func:`solver.layout.answered_wavenumber`), its bending waves
     :data:`UNLOADED_HELD_END_REACH` times where no exponent loads such a line
@@ -458,14 +531,16 @@ def _reach_factors(case: Case, plate_id: str,
                    held_ends: bool = True, in_plane: bool = False) -> tuple[float, float]:
     r"""A plate's edge reach in units of :math:`\tau`, and the same without its growth
     (``held_ends``, ``in_plane`` as in :func:`edge_reach`)."""
-    singular, meeting, free, held, unloaded = _far_reaching_plates(case)
-    if plate_id in singular:
+    singular, meeting, free, held, unloaded, mixed = _far_reaching_plates(case)
+    if plate_id in mixed:
         return SINGULAR_END_REACH, SINGULAR_END_REACH
     scale = plate_resolution(case, plate_id, resolution)
     if plate_id in meeting or plate_id in free:
         fixed = max(MEETING_END_REACH if plate_id in meeting else 1.0,
                     FREE_END_REACH if plate_id in free else 1.0)
-        return fixed * max(1.0, scale / REACH_GROWTH_FROM), fixed
+        reach = fixed * max(1.0, scale / REACH_GROWTH_FROM)
+        capped = plate_id in singular and plate_id not in meeting
+        return (min(reach, PINNED_END_REACH) if capped else reach), fixed
     if held_ends and plate_id in held and scale >= HELD_END_FROM - 1e-9:
         reach = (UNLOADED_HELD_END_REACH if plate_id in unloaded and not in_plane
                  else HELD_END_REACH)
@@ -492,15 +567,16 @@ def _case_lines(case: Case) -> tuple[Case, tuple[frozenset[str], ...], dict]:
                                                   meeting_end_plates(case),
                                                   free_end_plates(case),
                                                   held_end_plates(case),
-                                                  _members(case, unloaded)),
+                                                  _members(case, unloaded),
+                                                  mixed_end_plates(case)),
                                            exponents)
     return entry
 
 
 def _far_reaching_plates(case: Case) -> tuple[frozenset[str], ...]:
     """:func:`singular_end_plates`, :func:`meeting_end_plates`, :func:`free_end_plates`,
-    :func:`held_end_plates` and :func:`unloaded_held_end_plates` of ``case``, found once per
-    case (:func:`_case_lines`)."""
+    :func:`held_end_plates`, :func:`unloaded_held_end_plates` and :func:`mixed_end_plates` of
+    ``case``, found once per case (:func:`_case_lines`)."""
     return _case_lines(case)[1]
 
 
@@ -542,14 +618,15 @@ def plate_ray_counts(case: Case, plate_id: str, problem: PlateProblem,
 
 
 def singular_end_corners(case: Case, plate_id: str) -> tuple[int, ...]:
-    """The corners of a plate where its edge on a moving line with a singular end meets that
-    end's edge (:meth:`assembly.Case.singular_ends`), where the line's loads are log-singular:
-    corner ``c`` joins edges ``c - 1`` and ``c``."""
+    """The corners of a plate where its edge on a moving line meets the edge of a singular end
+    of that line (:func:`singular_end_edges`), where the line's loads are log-singular or
+    concentrated: corner ``c`` joins edges ``c - 1`` and ``c``."""
     if plate_id not in _far_reaching_plates(case)[0]:  # the common case
         return ()
-    corners = set()
+    corners, meeting = set(), meeting_end_lines(case)
     for jid in case.moving_lines():
-        ends = {edge.edge for edge in case.singular_ends(jid) if edge.plate == plate_id}
+        ends = {edge.edge for edge in singular_end_edges(case, jid, meeting)
+                if edge.plate == plate_id}
         for side in case.joints[jid].sides:
             if side.plate == plate_id:
                 i = EDGE_NAMES.index(side.edge)

@@ -246,21 +246,39 @@ def test_a_fold_sliding_at_its_ends_meets_independent_finite_elements(monkeypatc
     """A line whose ends are held across it by the members' bending supports alone, free in
     plane (``in_plane = "free"``), has the free end's slow loads: its members reach like a
     free end's (:func:`solver.problems.free_end_plates`), and its count has the same floor
-    (:func:`solver.joint_rules.end_layer_count`). Against :data:`SLIDING_FINITE_ELEMENTS`,
-    worst plate's ``w`` at resolutions 1.5 and 2.25: 8.2e-5 and 1.3e-5, the estimate 1.03 to
-    1.23 times the error (without the floor 1.2e-4 and 4.9e-5; ``bench/bench_free_ends.py
-    --sliding-ends``); with the usual reach, as until 2026-11-28, it stalled: 2.4e-4, 2.3e-4,
-    then 2.9e-4 at 3.375. Tolerances about twice the measured: 2e-4 at 1.5 and 3e-5 at 2.25;
-    1.5e-4 for the stall."""
+    (:func:`solver.joint_rules.end_layer_count`). Each member's supported end holds the
+    deflection that is the other's displacement across the line, so its ends are pinned
+    (:func:`assembly.lines.pinned_ends`): the members carry logarithmic families there and
+    their reach stops at :data:`solver.problems.PINNED_END_REACH`. Against
+    :data:`SLIDING_FINITE_ELEMENTS`, worst plate's ``w`` at 300 Hz and resolutions 1.5 and
+    2.25: 4.1e-5 and 2.2e-5, the estimate 0.57 to 0.75 times the error
+    (``bench/bench_free_ends.py --sliding-ends``). At 1 kHz and 2.25, 2.2e-5; without the
+    families, as until 2026-11-28, 6.3e-5 (and 3.1e-5 against 3.6e-6 at 3.375, where the
+    estimate read 0.52 to 0.70 of it, against 0.87 to 1.14). Tolerances: 2e-4 and 3e-5 at
+    300 Hz, about twice the measured; 4e-5 at 1 kHz, between the two."""
     import solver.problems
 
     case = parse_case(sliding_fold(300.0, 1.5))
     assert case.moving_lines() == ("F",) and free_end_plates(case) == {"A", "B"}
+    assert len(case.pinned_ends("F")) == 4
     for resolution, bound in ((1.5, 2e-4), (2.25, 3e-5)):
         for true, estimate in _sliding_errors(resolution):
             assert true < bound and 0.5 < estimate / true < 3.0, (resolution, true, estimate)
-    monkeypatch.setattr(solver.problems, "free_end_plates", lambda case: frozenset())
-    assert max(true for true, _ in _sliding_errors(2.25)) > 1.5e-4
+
+    reference = np.load(SLIDING_FINITE_ELEMENTS)
+
+    def worst_at_1khz() -> float:
+        solution = solve_assembly(parse_case(sliding_fold(1000.0, 2.25)), 1000.0,
+                                  residuals=False)
+        return max(np.linalg.norm(solution.plates[name].field(inner_grid(length, LY))["w"]
+                                  - reference[f"w_{name}_1000"])
+                   / np.linalg.norm(reference[f"w_{name}_1000"])
+                   for name, (length, *_) in PLATES.items())
+
+    assert worst_at_1khz() < 4e-5
+    monkeypatch.setattr(solver.problems, "singular_end_edges",
+                        lambda case, jid, meeting=None: set(case.singular_ends(jid)))
+    assert worst_at_1khz() > 4e-5
 
 
 def test_the_line_functions_follow_the_members_reach_on_a_free_ended_fold(monkeypatch):

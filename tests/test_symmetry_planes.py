@@ -24,6 +24,7 @@ from support import folded_description, folded_reference, folded_w, inner_grid
 from test_moving_lines import L_FOLD, SHAPES, _true_errors
 from test_moving_lines import LY as FOLD_LENGTH
 
+import solver.problems
 from assembly import AssemblyError, parse_case
 from assembly.types import EdgeId
 from solver.estimate import estimate_error
@@ -196,6 +197,39 @@ def test_a_member_that_nothing_holds_across_the_line_hangs_on_it():
         assert tee.hanging_members("W") == hanging, ends
     panel = parse_case(folded_description(*PANEL, 1000.0, None, FOLD_LENGTH, ends="symmetric"))
     assert (panel.hanging_members("W1"), panel.hanging_members("W2")) == (["T1"], ["T2"])
+
+
+def test_a_member_is_pinned_where_its_end_slides_and_another_member_is_supported():
+    """An end of a line pins a member at its corner (:func:`assembly.lines.pinned_ends`) when
+    the member's end edge leaves its displacement across the line free (``free`` or ``roller``
+    in plane, or a free edge) and the end edge of a member not coplanar with it holds that
+    member's deflection (``simply_supported`` or ``clamped``): per end, all of that end's
+    edges, or none."""
+    bottom = [EdgeId("A", "bottom"), EdgeId("B", "bottom")]
+    for a_bottom, b_bottom, pinned in (
+            (("simply_supported", "free"), ("simply_supported", "free"), bottom),
+            (("simply_supported", "fixed"), ("free", "free"), bottom),  # B hangs at its end
+            (("clamped", "diaphragm"), ("simply_supported", "roller"), bottom),
+            (("simply_supported", "diaphragm"), ("simply_supported", "diaphragm"), []),
+            (("symmetric", "free"), ("symmetric", "free"), []),  # no deflection held
+            (("free", "free"), ("free", "free"), [])):  # a free end: nothing pins it
+        case = _fold("diaphragm", A_bottom=a_bottom, B_bottom=b_bottom)
+        assert case.pinned_ends("F") == pinned, (a_bottom, b_bottom)
+    # the solver gives such a line's members their families unless every member hangs on it
+    sliding = {f"{plate}_{end}": ("simply_supported", "free")
+               for plate in ("A", "B") for end in ("bottom", "top")}
+    assert solver.problems.singular_end_plates(_fold(**sliding)) == {"A", "B"}
+    floating = _fold(**sliding, A_left=("simply_supported", "free"),
+                     B_right=("simply_supported", "free"))
+    assert floating.pinned_ends("F") and floating.hanging_members("F") == ["A", "B"]
+    assert solver.problems.singular_end_plates(floating) == frozenset()
+    # the T junction's coplanar skin bays do not pin each other: its stiffener's free ends do
+    tee = folded_description(*SHAPES["T"], 1000.0, None, FOLD_LENGTH, ends="fixed")
+    assert parse_case(tee).pinned_ends("W") == []
+    for boundary in tee["boundaries"]:
+        if boundary["edge"] in ("T1.bottom", "T1.top"):
+            boundary["in_plane"] = "free"
+    assert len(parse_case(tee).pinned_ends("W")) == 6
 
 
 def test_an_edge_moment_cannot_act_on_a_symmetric_edge():
