@@ -625,6 +625,9 @@ def singular_end_corners(case: Case, plate_id: str) -> tuple[int, ...]:
         return ()
     corners, meeting = set(), meeting_end_lines(case)
     for jid in case.moving_lines():
+        # its own lines only: each other line's ends would cost a pass over the description
+        if plate_id not in case.joints[jid].plates:
+            continue
         ends = {edge.edge for edge in singular_end_edges(case, jid, meeting)
                 if edge.plate == plate_id}
         for side in case.joints[jid].sides:
