@@ -26,13 +26,26 @@ free, 1 N on the first leg).
 * **pinned stiffener** (``--pinned-stiffener``): the same two on the T junction whose
   stiffener's ends and top are free (``tests/test_held_ends.pinned_stiffener``), against
   ``tests/data/fem_junction_stiffener_free.npz`` (``bench/fem_junction.py``);
+* **pinned stiffener over a band** (``--pinned-band``): the same T junction's refinement without
+  a reference, largest change over the plates of ``w`` and of ``(u, v)`` between resolutions
+  1.5, 2.25 and 3.375, at 2, 2.5, 3 and 3.5 kHz, then at 3 kHz with five times the loss factor
+  (5 %), with the stiffener's in-plane RMS displacement at resolution 3.375 beside: where the
+  refinement stalls, the stiffener, which hangs on its line, is near a resonance of its
+  in-plane motion (its amplitude about inversely proportional to the loss factor); about
+  twenty-five minutes;
+* **the pinned stiffener's count** (``--pinned-counts``): the same T junction against its finite
+  elements at 300 Hz and 1 kHz, resolutions 1, 1.5 and 2.25, with the line's Legendre count
+  fixed at 1 to 3 times the rule's; then with the floor raised from the free end's
+  4 sqrt(kappa_a L) (``solver.joint_rules.end_layer_count``) to ``PINNED_COUNT_FACTOR``
+  sqrt(kappa_a L), with the estimate over the error; about ten minutes;
 * **channel** (``--channel``): the U channel of ``tests/test_free_ends.channel`` (a web and two
   flanges, two rigid lines free at both ends) against ``tests/data/fem_channel.npz``
   (``bench/fem_channel.py``), by resolution with the count's floor and without it, then at
   resolution 1.5 the error by the lines' count: a third structure for the floor.
 
 Run: ``OPENBLAS_NUM_THREADS=1 python bench/bench_free_ends.py [--quick | --finite-elements |
---sliding-ends | --pinned-stiffener | --channel]`` (about two minutes; ``--quick`` stops at 1 kHz).
+--sliding-ends | --pinned-stiffener | --pinned-band | --pinned-counts | --channel]`` (about two
+minutes; ``--quick`` stops at 1 kHz).
 """
 
 from __future__ import annotations
@@ -202,6 +215,88 @@ def pinned_ends(label: str, description, reference: dict, plates: dict, runs: di
     solver.problems.singular_end_edges = rule
 
 
+BAND_RUNS = ((2000.0, 0.01), (2500.0, 0.01), (3000.0, 0.01), (3500.0, 0.01), (3000.0, 0.05))
+"""The pinned stiffener's frequencies and loss factors of ``--pinned-band``."""
+
+
+def stiffener_fields(frequency: float, resolution: float, loss_factor: float) -> dict:
+    """Per plate of the pinned stiffener's T junction ``(w, (u, v))`` on its inner grid, every
+    plate of ``loss_factor``."""
+    description = pinned_stiffener(frequency, resolution)
+    description["materials"] = {name: {**material, "loss_factor": loss_factor}
+                                for name, material in description["materials"].items()}
+    solution = solve_assembly(parse_case(description), frequency, residuals=False)
+    out = {}
+    for name, (length, *_) in T_JUNCTION[0].items():
+        points = inner_grid(length, LY)
+        out[name] = (solution.plates[name].field(points)["w"], solution.in_plane(name, points))
+    return out
+
+
+def pinned_band() -> None:
+    """The pinned stiffener's refinement over a band (:data:`BAND_RUNS`), without a reference:
+    the largest change over the plates of ``w`` and of ``(u, v)`` between resolutions 1.5, 2.25
+    and 3.375, and the stiffener's in-plane RMS displacement (over its grid and both components, at
+    3.375)."""
+    print("pinned stiffener over a band: largest change of w, then of (u, v), between "
+          "resolutions 1.5 -> 2.25 -> 3.375; the stiffener's in-plane RMS displacement")
+    for frequency, loss_factor in BAND_RUNS:
+        steps = [stiffener_fields(frequency, r, loss_factor) for r in (1.5, 2.25, 3.375)]
+        w, uv = (", ".join(f"{change(a, b, c):.1e}" for a, b in zip(steps, steps[1:]))
+                 for c in (0, 1))
+        rms = float(np.sqrt(np.mean(np.abs(steps[-1]["T1"][1]) ** 2)))
+        print(f"  {frequency:6.0f} Hz, loss factor {loss_factor:.2f}: w {w}; (u, v) {uv}; "
+              f"T1 (u, v) {rms:.2e} m", flush=True)
+
+
+COUNT_MULTIPLES = (1.0, 1.5, 2.0, 2.5, 3.0)
+"""The line's counts of ``--pinned-counts``, in multiples of the rule's."""
+PINNED_COUNT_FACTOR = 7.0
+r"""The factor :math:`c` of the floor :math:`c\sqrt{\kappa_aL}` tried in ``--pinned-counts``."""
+
+
+def pinned_counts() -> None:
+    """The pinned stiffener against its finite elements with the line's count fixed at
+    :data:`COUNT_MULTIPLES` of the rule's, then with the floor of the free end's count raised
+    to :data:`PINNED_COUNT_FACTOR` :math:`\\sqrt{\\kappa_aL}` (worst plate's ``w``, the
+    estimate of ``w`` over its error on every plate)."""
+    reference = np.load(ROOT / "tests" / "data" / "fem_junction_stiffener_free.npz")
+    print("pinned stiffener against finite elements by the line's count: worst plate's w")
+    for frequency in (300.0, 1000.0):
+        suffix = f"_{frequency:g}"
+        for resolution in (1.0, 1.5, 2.25):
+            rule = line_counts(pinned_stiffener(frequency, resolution), frequency)["W"]
+            cells = []
+            for multiple in COUNT_MULTIPLES:
+                description = pinned_stiffener(frequency, resolution)
+                count = round(multiple * rule)
+                description["discretisation"]["interface_functions"] = count
+                (w, *_), _, _ = solve_errors(description, frequency, reference, T_JUNCTION[0],
+                                             suffix, False)
+                cells.append(f"{count} {w:.1e}")
+            print(f"  {frequency:6.0f} Hz {resolution:5.3g}: " + ", ".join(cells), flush=True)
+    print(f"with a floor of {PINNED_COUNT_FACTOR:g} sqrt(kappa_a L): worst plate's w (estimate / "
+          "error), the count")
+    floor = solver.layout.end_layer_count
+
+    def raised(answered: float, length: float, resolution: float, tau: float = 2.5) -> int:
+        return max(floor(answered, length, resolution, tau),
+                   math.ceil(PINNED_COUNT_FACTOR * math.sqrt(answered * length)))
+
+    solver.layout.end_layer_count = raised
+    try:
+        for frequency in (300.0, 1000.0):
+            for resolution in (1.0, 1.5, 2.25):
+                description = pinned_stiffener(frequency, resolution)
+                (w, low, high), _, _ = solve_errors(description, frequency, reference,
+                                                    T_JUNCTION[0], f"_{frequency:g}")
+                count = line_counts(description, frequency)["W"]
+                print(f"  {frequency:6.0f} Hz {resolution:5.3g}: {w:.1e} ({low:.2f} to "
+                      f"{high:.2f}); {count}", flush=True)
+    finally:
+        solver.layout.end_layer_count = floor
+
+
 CHANNEL_RUNS = {300.0: (1.0, 1.5, 2.25, 3.375), 1000.0: (1.0, 1.5, 2.25)}
 """Per frequency of the channel's reference, the resolutions compared."""
 CHANNEL_COUNTS = tuple(range(12, 57, 4))
@@ -262,8 +357,14 @@ def main() -> None:
     parser.add_argument("--finite-elements", action="store_true")
     parser.add_argument("--sliding-ends", action="store_true")
     parser.add_argument("--pinned-stiffener", action="store_true")
+    parser.add_argument("--pinned-band", action="store_true")
+    parser.add_argument("--pinned-counts", action="store_true")
     parser.add_argument("--channel", action="store_true")
     args = parser.parse_args()
+    if args.pinned_band:
+        return pinned_band()
+    if args.pinned_counts:
+        return pinned_counts()
     if args.channel:
         return channel_ends()
     if args.finite_elements:
