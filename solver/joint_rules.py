@@ -22,7 +22,7 @@ from solver.rays import end_graded_rule, gauss_legendre
 
 __all__ = ["LOAD_WAVENUMBER_COUNT", "LoadEnds", "NO_SINGULAR_ENDS", "interface_function_count",
            "end_layer_count",
-           "END_LAYER_FROM",
+           "END_LAYER_FROM", "PINNED_LINE_FACTOR", "pinned_line_count",
            "load_function_projection", "singular_load_ends",
            "extra_load_functions", "legendre_count_floor", "mixed_end_legendre_count",
            "load_function_values", "joint_gauss", "channel_parameters",
@@ -115,6 +115,40 @@ def end_layer_count(kappa_answered: float, length: float, resolution: float,
         return 0
     reach = kappa_answered * length
     return min(math.ceil(4.0 * math.sqrt(reach)), math.ceil(0.5 * tau * reach) + 2)
+
+
+PINNED_LINE_FACTOR = 8.5
+r"""The factor :math:`c` of :func:`pinned_line_count`, :math:`c\sqrt{\kappa_aL}`."""
+
+
+def pinned_line_count(kappa_answered: float, length: float, resolution: float) -> int:
+    r"""The Legendre functions of a moving line with a pinned end on which a member hangs
+    (:func:`solver.problems.hanging_pinned_lines`: a stiffener free at its ends and top on a
+    supported skin), from resolution :data:`END_LAYER_FROM` on, in place of the usual count
+    and its floors:
+
+    .. math:: M_p = \lceil c\,\sqrt{\kappa_aL}\,\rceil,\qquad c =
+              \text{:data:`PINNED_LINE_FACTOR`},
+
+    :math:`\kappa_a` as for :func:`end_layer_count`. The member hangs on the pins at the
+    line's ends, layers about 0.2 mm wide, and its rigid motion in its plane, which is most of
+    its error, is held only through the line's functions. Against the finite elements
+    (``bench/bench_free_ends.py --pinned-counts``) the error falls steeply with the count to a
+    best count of 6.3 to 8.6 :math:`\sqrt{\kappa_aL}` and rises fast past it (the members'
+    reach no longer answers the functions), so the count is fixed, neither a floor nor the
+    usual count, which is too small at low frequency and resolution and too large at 3 kHz
+    from resolution 3.375 on. Worst plate's ``w`` at resolutions 1.5 and 2.25: 300 Hz 1.5e-2
+    and 4.1e-3 with the usual count (25, 32 functions), 1.0e-4 and 1.2e-5 with this one (52,
+    64); 1 kHz 6.1e-2 and 4.8e-3 (38, 56), 3.8e-4 and 2.2e-4 (70, 86); at 3 kHz (no reference)
+    the changes between resolutions 1.5, 2.25 and 3.375 fall, 1.0e-3 then 5.3e-4, where with
+    the usual count they do not (9.4e-3, 1.0e-2). Of 7.5, 8 and 8.5 times, 8.5 left the
+    estimates closest to the errors (``docs/method.md`` section 10.4, *Pinned ends*). Below
+    :data:`END_LAYER_FROM` the usual count stands: there the enriched solve of the error
+    estimate has this count, and the estimate sees what the usual count leaves. Returns 0
+    below it."""
+    if resolution < END_LAYER_FROM - 1e-9:
+        return 0
+    return math.ceil(PINNED_LINE_FACTOR * math.sqrt(kappa_answered * length))
 
 
 def load_function_projection(root_w: np.ndarray, psi: np.ndarray) -> np.ndarray:

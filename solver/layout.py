@@ -28,12 +28,19 @@ from solver.joint_rules import (
     interface_function_count,
     legendre_count_floor,
     load_function_values,
+    pinned_line_count,
     singular_load_ends,
 )
 from solver.membrane import MembraneProblem, membrane_edge_rule
 from solver.membrane_basis import MembraneBasis, membrane_edge_traces
 from solver.plate import PlateBoundary, PlateProblem, edge_projection
-from solver.problems import HELD_END_FROM, edge_reach, end_layer_lines, joint_resolution
+from solver.problems import (
+    HELD_END_FROM,
+    edge_reach,
+    end_layer_lines,
+    hanging_pinned_lines,
+    joint_resolution,
+)
 
 __all__ = ["InterfaceLayout", "interface_layout", "answered_wavenumber", "members_wavenumber",
            "plate_loads", "membrane_loads", "plate_sides", "rigid_members", "balancing_member",
@@ -275,11 +282,13 @@ def interface_layout(case: Case, problems: Mapping[str, PlateProblem],
     members' own edge reach: :func:`answered_wavenumber`); a moving line with a mixed end has
     at least :func:`legendre_count_floor` of them, one with an end that translates along it (an
     end that slides, or a junction point: :func:`solver.problems.end_layer_lines`) at least
-    :func:`solver.joint_rules.end_layer_count`.
+    :func:`solver.joint_rules.end_layer_count`, one with a pinned end on which a member hangs
+    (:func:`solver.problems.hanging_pinned_lines`) :func:`solver.joint_rules.pinned_line_count`
+    from the resolution where that applies.
     """
     counts, load_ends = {}, {}
     moving = set(case.moving_lines())
-    layered = end_layer_lines(case)
+    layered, pinned = end_layer_lines(case), hanging_pinned_lines(case)
     tau = case.discretisation.edge_wavenumber_ratio
     for jid, joint in case.joints.items():
         length = case.edge_length(joint.sides[0])
@@ -288,6 +297,7 @@ def interface_layout(case: Case, problems: Mapping[str, PlateProblem],
         ends = load_ends[jid] = singular_load_ends(case, jid, resolution)
         answered = answered_wavenumber(case, jid, problems, resolution) if jid in moving else None
         counts[jid] = (case.discretisation.interface_functions
+                       or (jid in pinned and pinned_line_count(answered, length, joint_scale))
                        or max(interface_function_count(max(kappas), length, joint_scale, tau,
                                                        answered),
                               legendre_count_floor(ends),

@@ -31,7 +31,8 @@ from solver.rays import RayBasis, RayCounts, WedgeBasis, automatic_ray_counts, b
 
 __all__ = ["plate_problem", "plate_problems", "plate_ray_counts", "plate_basis", "plate_bases",
            "plate_wedges", "joint_edge_kinds", "SINGULAR_END_REACH", "singular_end_edges",
-           "singular_end_lines", "singular_end_plates", "mixed_end_plates", "PINNED_END_REACH",
+           "singular_end_lines", "hanging_pinned_lines", "singular_end_plates",
+           "mixed_end_plates", "PINNED_END_REACH",
            "singular_end_corners", "MEETING_END_REACH", "meeting_end_plates", "FREE_END_REACH",
            "REACH_GROWTH_FROM", "free_end_lines", "meeting_end_lines", "end_layer_lines",
            "free_end_plates", "HELD_END_REACH", "UNLOADED_HELD_END_REACH", "HELD_END_FROM",
@@ -204,6 +205,14 @@ def singular_end_lines(case: Case) -> frozenset[str]:
     meeting = meeting_end_lines(case)
     return frozenset(jid for jid in case.moving_lines()
                      if singular_end_edges(case, jid, meeting))
+
+
+def hanging_pinned_lines(case: Case) -> frozenset[str]:
+    """The moving lines with a pinned end (:func:`singular_end_edges`; no mixed end) on which a
+    member hangs (:meth:`assembly.Case.hanging_members`): their count is
+    :func:`solver.joint_rules.pinned_line_count`."""
+    return frozenset(jid for jid in singular_end_lines(case)
+                     if not case.singular_ends(jid) and case.hanging_members(jid))
 
 
 def singular_end_plates(case: Case) -> frozenset[str]:
