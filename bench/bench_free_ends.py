@@ -29,13 +29,14 @@ free, 1 N on the first leg).
 * **pinned stiffener over a band** (``--pinned-band``): the same T junction's refinement without
   a reference, largest change over the plates of ``w`` and of ``(u, v)`` between resolutions
   1.5, 2.25 and 3.375, at 2, 2.5, 3 and 3.5 kHz, then at 3 kHz with five times the loss factor
-  (5 %), with the stiffener's in-plane RMS displacement at resolution 3.375 beside: where the
-  refinement stalls, the stiffener, which hangs on its line, is near a resonance of its
+  (5 %), with the stiffener's in-plane RMS displacement at resolution 3.375 beside; with the
+  usual count (before ``solver.joint_rules.pinned_line_count``) the refinement stalled from
+  2.5 kHz on, most where the stiffener, which hangs on its line, is near a resonance of its
   in-plane motion (its amplitude about inversely proportional to the loss factor); about
   twenty-five minutes;
 * **the pinned stiffener's count** (``--pinned-counts``): the same T junction against its finite
   elements at 300 Hz and 1 kHz, resolutions 1, 1.5 and 2.25, with the line's Legendre count
-  fixed at 1 to 3 times the rule's; then with the floor raised from the free end's
+  fixed at 1 to 3 times the usual count; then with the floor raised from the free end's
   4 sqrt(kappa_a L) (``solver.joint_rules.end_layer_count``) to ``PINNED_COUNT_FACTOR``
   sqrt(kappa_a L), with the estimate over the error; about ten minutes;
 * **channel** (``--channel``): the U channel of ``tests/test_free_ends.channel`` (a web and two
@@ -77,15 +78,20 @@ RULE = (solver.problems.FREE_END_REACH, solver.problems.REACH_GROWTH_FROM)
 MODELS = {"rule": (RULE, None), "usual reach": ((1.0, math.inf), None), "held": (RULE, True)}
 
 
-def fields(frequency: float, resolution: float, held: bool | None) -> dict:
-    """Per plate ``(w, (u, v))`` on a 15 x 15 grid."""
-    solution = solve_assembly(parse_case(_bracket(frequency, resolution, held)), frequency,
-                              residuals=False)
+def plate_fields(description: dict, frequency: float, plates: dict = PLATES) -> dict:
+    """Per plate of ``plates`` ``(w, (u, v))`` of a solve of ``description`` on its 15 x 15
+    grid."""
+    solution = solve_assembly(parse_case(description), frequency, residuals=False)
     out = {}
-    for name, (length, *_) in PLATES.items():
+    for name, (length, *_) in plates.items():
         points = inner_grid(length, LY)
         out[name] = (solution.plates[name].field(points)["w"], solution.in_plane(name, points))
     return out
+
+
+def fields(frequency: float, resolution: float, held: bool | None) -> dict:
+    """The bracket's :func:`plate_fields`."""
+    return plate_fields(_bracket(frequency, resolution, held), frequency)
 
 
 def change(a: dict, b: dict, component: int) -> float:
@@ -225,12 +231,7 @@ def stiffener_fields(frequency: float, resolution: float, loss_factor: float) ->
     description = pinned_stiffener(frequency, resolution)
     description["materials"] = {name: {**material, "loss_factor": loss_factor}
                                 for name, material in description["materials"].items()}
-    solution = solve_assembly(parse_case(description), frequency, residuals=False)
-    out = {}
-    for name, (length, *_) in T_JUNCTION[0].items():
-        points = inner_grid(length, LY)
-        out[name] = (solution.plates[name].field(points)["w"], solution.in_plane(name, points))
-    return out
+    return plate_fields(description, frequency, T_JUNCTION[0])
 
 
 def pinned_band() -> None:
@@ -250,17 +251,29 @@ def pinned_band() -> None:
 
 
 COUNT_MULTIPLES = (1.0, 1.5, 2.0, 2.5, 3.0)
-"""The line's counts of ``--pinned-counts``, in multiples of the rule's."""
+"""The line's counts of ``--pinned-counts``, in multiples of the usual count's (without
+``solver.joint_rules.pinned_line_count``, as measured before it was the rule)."""
 PINNED_COUNT_FACTOR = 7.0
 r"""The factor :math:`c` of the floor :math:`c\sqrt{\kappa_aL}` tried in ``--pinned-counts``."""
 
 
 def pinned_counts() -> None:
     """The pinned stiffener against its finite elements with the line's count fixed at
-    :data:`COUNT_MULTIPLES` of the rule's, then with the floor of the free end's count raised
-    to :data:`PINNED_COUNT_FACTOR` :math:`\\sqrt{\\kappa_aL}` (worst plate's ``w``, the
-    estimate of ``w`` over its error on every plate)."""
+    :data:`COUNT_MULTIPLES` of the usual count, then with, instead of the pinned line's count,
+    the floor of the free end's count raised to :data:`PINNED_COUNT_FACTOR`
+    :math:`\\sqrt{\\kappa_aL}` (worst plate's ``w``, the estimate of ``w`` over its error on
+    every plate): the measurements behind :func:`solver.joint_rules.pinned_line_count`."""
     reference = np.load(ROOT / "tests" / "data" / "fem_junction_stiffener_free.npz")
+    pinned_lines = solver.layout.hanging_pinned_lines
+    solver.layout.hanging_pinned_lines = lambda case: frozenset()  # the usual count
+    try:
+        _pinned_count_scan(reference)
+    finally:
+        solver.layout.hanging_pinned_lines = pinned_lines
+
+
+def _pinned_count_scan(reference) -> None:
+    """:func:`pinned_counts` with the pinned line's count off."""
     print("pinned stiffener against finite elements by the line's count: worst plate's w")
     for frequency in (300.0, 1000.0):
         suffix = f"_{frequency:g}"
