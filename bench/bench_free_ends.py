@@ -20,10 +20,11 @@ free, 1 N on the first leg).
   in plane (``tests/test_free_ends.sliding_fold``), each member pinned at its corners by the
   other's supports (``assembly.lines.pinned_ends``), against
   ``tests/data/fem_fold_sliding_ends.npz``: the rule (logarithmic families at the pinned
-  ends, the reach capped at ``solver.problems.PINNED_END_REACH``) and without the families
-  (the free end's rule alone, until 2026-11-28); the error and estimate of ``(u, v)`` too;
-  about eight minutes;
-* **pinned stiffener** (``--pinned-stiffener``): the same two on the T junction whose
+  ends, the reach capped at ``solver.problems.PINNED_END_REACH``, the line's count of
+  ``solver.joint_rules.pinned_line_count``), the same with the usual count and its floors (as
+  until 0.3.14), and without the families (the free end's rule alone, until 2026-11-28); the
+  error and estimate of ``(u, v)`` too; about twelve minutes;
+* **pinned stiffener** (``--pinned-stiffener``): the same three on the T junction whose
   stiffener's ends and top are free (``tests/test_held_ends.pinned_stiffener``), against
   ``tests/data/fem_junction_stiffener_free.npz`` (``bench/fem_junction.py``);
 * **pinned stiffener over a band** (``--pinned-band``): the same T junction's refinement without
@@ -39,14 +40,18 @@ free, 1 N on the first leg).
   fixed at 1 to 3 times the usual count; then with the floor raised from the free end's
   4 sqrt(kappa_a L) (``solver.joint_rules.end_layer_count``) to ``PINNED_COUNT_FACTOR``
   sqrt(kappa_a L), with the estimate over the error; about ten minutes;
+* **the sliding fold's count** (``--sliding-factors``): the fold with sliding ends against
+  its finite elements at 300 Hz and 1 kHz, resolutions 1.5, 2.25 and 3.375, with its line's
+  count c sqrt(kappa_a L) for each factor of ``SLIDING_FACTORS``, with the estimates
+  over the errors; about ten minutes;
 * **channel** (``--channel``): the U channel of ``tests/test_free_ends.channel`` (a web and two
   flanges, two rigid lines free at both ends) against ``tests/data/fem_channel.npz``
   (``bench/fem_channel.py``), by resolution with the count's floor and without it, then at
   resolution 1.5 the error by the lines' count: a third structure for the floor.
 
 Run: ``OPENBLAS_NUM_THREADS=1 python bench/bench_free_ends.py [--quick | --finite-elements |
---sliding-ends | --pinned-stiffener | --pinned-band | --pinned-counts | --channel]`` (about two
-minutes; ``--quick`` stops at 1 kHz).
+--sliding-ends | --pinned-stiffener | --pinned-band | --pinned-counts | --sliding-factors |
+--channel]`` (about two minutes; ``--quick`` stops at 1 kHz).
 """
 
 from __future__ import annotations
@@ -201,24 +206,31 @@ def pinned_ends(label: str, description, reference: dict, plates: dict, runs: di
                 suffix) -> None:
     """A structure with pinned ends against its finite elements, by resolution: the rule (the
     logarithmic families at its pinned ends, the reach capped at
-    :data:`solver.problems.PINNED_END_REACH`) and without them, the free end's rule alone
-    (until 2026-11-28)."""
+    :data:`solver.problems.PINNED_END_REACH`, the line's count of
+    :func:`solver.joint_rules.pinned_line_count`), the same with the usual count and its
+    floors (as until 0.3.13 on a line on which a member hangs, until 0.3.14 on the others),
+    and without the families, the free end's rule alone (until 2026-11-28)."""
     print(f"{label} against finite elements: worst plate's error of w, then of (u, v); estimate "
           "/ error over the plates; seconds of the solve and its estimate")
-    rule = solver.problems.singular_end_edges
-    for frequency, resolutions in runs.items():
-        for model, edges in (("rule", rule), ("no families", without_families)):
-            solver.problems.singular_end_edges = edges
-            for resolution in resolutions:
-                (w, low, high), (uv, uv_low, uv_high), seconds = solve_errors(
-                    description(frequency, resolution), frequency, reference, plates,
-                    suffix(frequency))
-                estimated = (f"({low:.2f} to {high:.2f})", f"({uv_low:.2f} to {uv_high:.2f})"
-                             ) if low is not None else ("(not estimated)", "")
-                print(f"  {frequency:6.0f} Hz  {model:11s} {resolution:6.4g}: w {w:.1e} "
-                      f"{estimated[0]}; (u, v) {uv:.1e} {estimated[1]}; {seconds:.1f} s",
-                      flush=True)
-    solver.problems.singular_end_edges = rule
+    rule, pinned_lines = solver.problems.singular_end_edges, solver.layout.pinned_lines
+    models = (("rule", rule, pinned_lines), ("usual count", rule, lambda case: {}),
+              ("no families", without_families, pinned_lines))
+    try:
+        for frequency, resolutions in runs.items():
+            for model, edges, lines in models:
+                solver.problems.singular_end_edges, solver.layout.pinned_lines = edges, lines
+                for resolution in resolutions:
+                    (w, low, high), (uv, uv_low, uv_high), seconds = solve_errors(
+                        description(frequency, resolution), frequency, reference, plates,
+                        suffix(frequency))
+                    estimated = (f"({low:.2f} to {high:.2f})",
+                                 f"({uv_low:.2f} to {uv_high:.2f})"
+                                 ) if low is not None else ("(not estimated)", "")
+                    print(f"  {frequency:6.0f} Hz  {model:11s} {resolution:6.4g}: w {w:.1e} "
+                          f"{estimated[0]}; (u, v) {uv:.1e} {estimated[1]}; {seconds:.1f} s",
+                          flush=True)
+    finally:
+        solver.problems.singular_end_edges, solver.layout.pinned_lines = rule, pinned_lines
 
 
 BAND_RUNS = ((2000.0, 0.01), (2500.0, 0.01), (3000.0, 0.01), (3500.0, 0.01), (3000.0, 0.05))
@@ -264,12 +276,12 @@ def pinned_counts() -> None:
     :math:`\\sqrt{\\kappa_aL}` (worst plate's ``w``, the estimate of ``w`` over its error on
     every plate): the measurements behind :func:`solver.joint_rules.pinned_line_count`."""
     reference = np.load(ROOT / "tests" / "data" / "fem_junction_stiffener_free.npz")
-    pinned_lines = solver.layout.hanging_pinned_lines
-    solver.layout.hanging_pinned_lines = lambda case: frozenset()  # the usual count
+    pinned_lines = solver.layout.pinned_lines
+    solver.layout.pinned_lines = lambda case: {}  # the usual count
     try:
         _pinned_count_scan(reference)
     finally:
-        solver.layout.hanging_pinned_lines = pinned_lines
+        solver.layout.pinned_lines = pinned_lines
 
 
 def _pinned_count_scan(reference) -> None:
@@ -308,6 +320,36 @@ def _pinned_count_scan(reference) -> None:
                       f"{high:.2f}); {count}", flush=True)
     finally:
         solver.layout.end_layer_count = floor
+
+
+SLIDING_FACTORS = (5.5, 6.5, 7.0, 7.5, 8.5)
+r"""The factors :math:`c` of the sliding fold's count :math:`c\sqrt{\kappa_aL}` tried in
+``--sliding-factors``."""
+
+
+def sliding_factors() -> None:
+    """The fold with sliding ends against its finite elements with the line's count
+    :func:`solver.joint_rules.pinned_line_count` at each factor of :data:`SLIDING_FACTORS` (no
+    member hangs on its line: :data:`solver.joint_rules.PINNED_LINE_FACTOR` patched), at
+    300 Hz and 1 kHz and resolutions 1.5, 2.25, 3.375: the measurements behind that factor."""
+    reference = np.load(ROOT / "tests" / "data" / "fem_fold_sliding_ends.npz")
+    print("sliding fold against finite elements by the factor of its line's count: worst "
+          "plate's w, then (u, v), each with the estimate / error over the plates; the count")
+    factor = solver.joint_rules.PINNED_LINE_FACTOR
+    try:
+        for frequency in (300.0, 1000.0):
+            for value in SLIDING_FACTORS:
+                solver.joint_rules.PINNED_LINE_FACTOR = value
+                for resolution in (1.5, 2.25, 3.375):
+                    description = sliding_fold(frequency, resolution)
+                    (w, low, high), (uv, uv_low, uv_high), _ = solve_errors(
+                        description, frequency, reference)
+                    count = line_counts(description, frequency)["F"]
+                    print(f"  {frequency:6.0f} Hz  c = {value:3.1f}  {resolution:5.4g}: w {w:.1e} "
+                          f"({low:.2f} to {high:.2f}); (u, v) {uv:.1e} ({uv_low:.2f} to "
+                          f"{uv_high:.2f}); {count}", flush=True)
+    finally:
+        solver.joint_rules.PINNED_LINE_FACTOR = factor
 
 
 CHANNEL_RUNS = {300.0: (1.0, 1.5, 2.25, 3.375), 1000.0: (1.0, 1.5, 2.25)}
@@ -372,12 +414,15 @@ def main() -> None:
     parser.add_argument("--pinned-stiffener", action="store_true")
     parser.add_argument("--pinned-band", action="store_true")
     parser.add_argument("--pinned-counts", action="store_true")
+    parser.add_argument("--sliding-factors", action="store_true")
     parser.add_argument("--channel", action="store_true")
     args = parser.parse_args()
     if args.pinned_band:
         return pinned_band()
     if args.pinned_counts:
         return pinned_counts()
+    if args.sliding_factors:
+        return sliding_factors()
     if args.channel:
         return channel_ends()
     if args.finite_elements:

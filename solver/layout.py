@@ -38,8 +38,8 @@ from solver.problems import (
     HELD_END_FROM,
     edge_reach,
     end_layer_lines,
-    hanging_pinned_lines,
     joint_resolution,
+    pinned_lines,
 )
 
 __all__ = ["InterfaceLayout", "interface_layout", "answered_wavenumber", "members_wavenumber",
@@ -282,13 +282,13 @@ def interface_layout(case: Case, problems: Mapping[str, PlateProblem],
     members' own edge reach: :func:`answered_wavenumber`); a moving line with a mixed end has
     at least :func:`legendre_count_floor` of them, one with an end that translates along it (an
     end that slides, or a junction point: :func:`solver.problems.end_layer_lines`) at least
-    :func:`solver.joint_rules.end_layer_count`, one with a pinned end on which a member hangs
-    (:func:`solver.problems.hanging_pinned_lines`) :func:`solver.joint_rules.pinned_line_count`
-    from the resolution where that applies.
+    :func:`solver.joint_rules.end_layer_count`, one with a pinned end
+    (:func:`solver.problems.pinned_lines`) :func:`solver.joint_rules.pinned_line_count` from
+    the resolution where that applies.
     """
     counts, load_ends = {}, {}
     moving = set(case.moving_lines())
-    layered, pinned = end_layer_lines(case), hanging_pinned_lines(case)
+    layered, pinned = end_layer_lines(case), pinned_lines(case)
     tau = case.discretisation.edge_wavenumber_ratio
     for jid, joint in case.joints.items():
         length = case.edge_length(joint.sides[0])
@@ -297,7 +297,8 @@ def interface_layout(case: Case, problems: Mapping[str, PlateProblem],
         ends = load_ends[jid] = singular_load_ends(case, jid, resolution)
         answered = answered_wavenumber(case, jid, problems, resolution) if jid in moving else None
         counts[jid] = (case.discretisation.interface_functions
-                       or (jid in pinned and pinned_line_count(answered, length, joint_scale))
+                       or (jid in pinned and pinned_line_count(answered, length, joint_scale,
+                                                            pinned[jid]))
                        or max(interface_function_count(max(kappas), length, joint_scale, tau,
                                                        answered),
                               legendre_count_floor(ends),

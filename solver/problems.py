@@ -31,7 +31,7 @@ from solver.rays import RayBasis, RayCounts, WedgeBasis, automatic_ray_counts, b
 
 __all__ = ["plate_problem", "plate_problems", "plate_ray_counts", "plate_basis", "plate_bases",
            "plate_wedges", "joint_edge_kinds", "SINGULAR_END_REACH", "singular_end_edges",
-           "singular_end_lines", "hanging_pinned_lines", "singular_end_plates",
+           "singular_end_lines", "pinned_lines", "singular_end_plates",
            "mixed_end_plates", "PINNED_END_REACH",
            "singular_end_corners", "MEETING_END_REACH", "meeting_end_plates", "FREE_END_REACH",
            "REACH_GROWTH_FROM", "free_end_lines", "meeting_end_lines", "end_layer_lines",
@@ -207,12 +207,12 @@ def singular_end_lines(case: Case) -> frozenset[str]:
                      if singular_end_edges(case, jid, meeting))
 
 
-def hanging_pinned_lines(case: Case) -> frozenset[str]:
-    """The moving lines with a pinned end (:func:`singular_end_edges`; no mixed end) on which a
-    member hangs (:meth:`assembly.Case.hanging_members`): their count is
+def pinned_lines(case: Case) -> dict[str, bool]:
+    """The moving lines with a pinned end (:func:`singular_end_edges`) and no mixed end, each
+    with whether a member hangs on it (:meth:`assembly.Case.hanging_members`): their count is
     :func:`solver.joint_rules.pinned_line_count`."""
-    return frozenset(jid for jid in singular_end_lines(case)
-                     if not case.singular_ends(jid) and case.hanging_members(jid))
+    return {jid: bool(case.hanging_members(jid)) for jid in singular_end_lines(case)
+            if not case.singular_ends(jid)}
 
 
 def singular_end_plates(case: Case) -> frozenset[str]:

@@ -22,6 +22,7 @@ from solver.errors import NumericalError
 from solver.estimate import (
     ErrorEstimate,
     solve_to_tolerance,
+    unseen_lines_remedy,
     unseen_lines_text,
 )
 from solver.sizing import available_memory, estimate_size
@@ -244,10 +245,11 @@ def print_estimates(console: Console, estimates: Mapping[float, ErrorEstimate],
     unseen = {f: e for f, e in estimates.items() if e.unseen_lines}
     if unseen:
         frequency, estimate = next(iter(unseen.items()))
+        fixed = estimate.unseen_count_fixed
         warn(console, f"{frequency:g} Hz"
              + (f" (and {len(unseen) - 1} more frequencies)" if len(unseen) > 1 else "")
-             + f": {unseen_lines_text(estimate.unseen_lines, estimate.total)}; let their "
-               "count grow (leave interface_functions out) for an estimate that sees them")
+             + f": {unseen_lines_text(estimate.unseen_lines, estimate.total, fixed)}; "
+             + unseen_lines_remedy(fixed))
     if worst.total > ESTIMATE_WARNING:
         warn(console, f"the estimated error {worst.total:.1e} exceeds {ESTIMATE_WARNING:g}: "
                        "raise [discretisation] resolution or give a tolerance")
