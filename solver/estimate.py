@@ -473,7 +473,8 @@ def unseen_lines_remedy(count_fixed: bool) -> str:
     """What gives an estimate that sees the lines of :func:`unseen_lines_text`."""
     if count_fixed:
         return "let their count grow (leave interface_functions out) for an estimate that sees them"
-    return "an estimate at a lower resolution, where their count still grows, sees them"
+    return ("an estimate at a lower [discretisation] resolution, where their count still "
+            "grows, sees them")
 
 
 def unrefined_lines(case: Case, frequency: float, resolution: Mapping[str, float],
