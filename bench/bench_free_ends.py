@@ -44,6 +44,12 @@ free, 1 N on the first leg).
   its finite elements at 300 Hz and 1 kHz, resolutions 1.5, 2.25 and 3.375, with its line's
   count c sqrt(kappa_a L) for each factor of ``SLIDING_FACTORS``, with the estimates
   over the errors; about ten minutes;
+* **sliding channel** (``--sliding-channel``): the U channel with its ends simply supported
+  and free in plane (``tests/test_free_ends.sliding_channel``; its web hangs on both lines),
+  no reference: the worst plate's change of ``w`` and of ``(u, v)`` between resolutions 1.5,
+  2.25 and 3.375 at 300 Hz and 1 kHz, and the largest estimates at each, with the rule's
+  count (7 sqrt(kappa_a L): no member hangs on either line alone), with the hanging factor
+  8.5 and with the usual count; about eight minutes;
 * **channel** (``--channel``): the U channel of ``tests/test_free_ends.channel`` (a web and two
   flanges, two rigid lines free at both ends) against ``tests/data/fem_channel.npz``
   (``bench/fem_channel.py``), by resolution with the count's floor and without it, then at
@@ -51,7 +57,7 @@ free, 1 N on the first leg).
 
 Run: ``OPENBLAS_NUM_THREADS=1 python bench/bench_free_ends.py [--quick | --finite-elements |
 --sliding-ends | --pinned-stiffener | --pinned-band | --pinned-counts | --sliding-factors |
---channel]`` (about two minutes; ``--quick`` stops at 1 kHz).
+--sliding-channel | --channel]`` (about two minutes; ``--quick`` stops at 1 kHz).
 """
 
 from __future__ import annotations
@@ -68,7 +74,15 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path[:0] = [str(ROOT), str(ROOT / "tests")]
 
 from support import inner_grid  # noqa: E402
-from test_free_ends import CHANNEL_PLATES, LY, PLATES, _bracket, channel, sliding_fold  # noqa: E402
+from test_free_ends import (  # noqa: E402
+    CHANNEL_PLATES,
+    LY,
+    PLATES,
+    _bracket,
+    channel,
+    sliding_channel,
+    sliding_fold,
+)
 from test_held_ends import pinned_stiffener  # noqa: E402
 from test_moving_lines import T_JUNCTION  # noqa: E402
 
@@ -352,6 +366,41 @@ def sliding_factors() -> None:
         solver.joint_rules.PINNED_LINE_FACTOR = factor
 
 
+def sliding_channel_refinement() -> None:
+    """The sliding channel's refinement (module notes), the three counts in turn: the rule's,
+    the hanging factor's (:data:`solver.joint_rules.PINNED_LINE_FACTOR` patched to
+    :data:`solver.joint_rules.HANGING_LINE_FACTOR`) and the usual count's
+    (:func:`solver.problems.pinned_lines` off)."""
+    print("sliding channel: worst plate's change of w, then of (u, v), between resolutions "
+          "1.5 -> 2.25 -> 3.375; the largest estimates of w and (u, v) at each; the count")
+    factor, lines = solver.joint_rules.PINNED_LINE_FACTOR, solver.layout.pinned_lines
+    models = (("rule", factor, lines),
+              ("factor 8.5", solver.joint_rules.HANGING_LINE_FACTOR, lines),
+              ("usual count", factor, lambda case: {}))
+    try:
+        for frequency in (300.0, 1000.0):
+            for label, value, pinned in models:
+                solver.joint_rules.PINNED_LINE_FACTOR, solver.layout.pinned_lines = value, pinned
+                steps, estimates, counts = [], [], []
+                for resolution in (1.5, 2.25, 3.375):
+                    description = sliding_channel(frequency, resolution)
+                    case = parse_case(description)
+                    solution = solve_assembly(case, frequency)
+                    estimate = estimate_error(case, solution)
+                    steps.append({name: (solution.plates[name].field(inner_grid(length, LY))["w"],
+                                         solution.in_plane(name, inner_grid(length, LY)))
+                                  for name, (length, *_) in CHANNEL_PLATES.items()})
+                    estimates.append(f"{max(estimate.plates.values()):.1e} / "
+                                     f"{max(estimate.in_plane.values()):.1e}")
+                    counts.append(line_counts(description, frequency)["AB"])
+                w, uv = (", ".join(f"{change(a, b, k):.1e}" for a, b in zip(steps, steps[1:]))
+                         for k in (0, 1))
+                print(f"  {frequency:6.0f} Hz  {label:11s}: w {w}; (u, v) {uv}; estimates "
+                      f"{'; '.join(estimates)}; counts {counts}", flush=True)
+    finally:
+        solver.joint_rules.PINNED_LINE_FACTOR, solver.layout.pinned_lines = factor, lines
+
+
 CHANNEL_RUNS = {300.0: (1.0, 1.5, 2.25, 3.375), 1000.0: (1.0, 1.5, 2.25)}
 """Per frequency of the channel's reference, the resolutions compared."""
 CHANNEL_COUNTS = tuple(range(12, 57, 4))
@@ -415,6 +464,7 @@ def main() -> None:
     parser.add_argument("--pinned-band", action="store_true")
     parser.add_argument("--pinned-counts", action="store_true")
     parser.add_argument("--sliding-factors", action="store_true")
+    parser.add_argument("--sliding-channel", action="store_true")
     parser.add_argument("--channel", action="store_true")
     args = parser.parse_args()
     if args.pinned_band:
@@ -423,6 +473,8 @@ def main() -> None:
         return pinned_counts()
     if args.sliding_factors:
         return sliding_factors()
+    if args.sliding_channel:
+        return sliding_channel_refinement()
     if args.channel:
         return channel_ends()
     if args.finite_elements:

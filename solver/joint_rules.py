@@ -120,11 +120,12 @@ def end_layer_count(kappa_answered: float, length: float, resolution: float,
 
 PINNED_LINE_FACTOR = 7.0
 r"""The factor :math:`c` of :func:`pinned_line_count` on a line with a pinned end on which no
-member hangs (the fold with sliding ends), :math:`c\sqrt{\kappa_aL}`."""
+member hangs alone (the fold with sliding ends, the channel whose web hangs on both its
+lines), :math:`c\sqrt{\kappa_aL}`."""
 
 HANGING_LINE_FACTOR = 8.5
 r"""The factor :math:`c` of :func:`pinned_line_count` on a line with a pinned end on which a
-member hangs (a stiffener free at its ends and top on a supported skin)."""
+member hangs alone (a stiffener free at its ends and top on a supported skin)."""
 
 
 def pinned_line_count(kappa_answered: float, length: float, resolution: float,
@@ -134,8 +135,8 @@ def pinned_line_count(kappa_answered: float, length: float, resolution: float,
     place of the usual count and its floors:
 
     .. math:: M_p = \lceil c\,\sqrt{\kappa_aL}\,\rceil,\qquad c =
-              \text{:data:`HANGING_LINE_FACTOR` (8.5) if a member hangs on the line, else
-              :data:`PINNED_LINE_FACTOR` (7)},
+              \text{:data:`HANGING_LINE_FACTOR` (8.5) if a member hangs on the line alone
+              (``hanging``), else :data:`PINNED_LINE_FACTOR` (7)},
 
     :math:`\kappa_a` as for :func:`end_layer_count`. The line's loads are concentrated at the
     pins, layers about 0.2 mm wide. Against independent finite elements the error falls
@@ -144,25 +145,29 @@ def pinned_line_count(kappa_answered: float, length: float, resolution: float,
     which is too small at low frequency and resolution and too large at 3 kHz from resolution
     3.375 on.
 
-    * *A member hangs* (``hanging``): its rigid motion in its plane, most of its error, is held
-      only through the line's functions. The T junction whose stiffener is free at its ends
-      and top (``bench/bench_free_ends.py --pinned-counts``): best counts 6.3 to 8.6
-      :math:`\sqrt{\kappa_aL}`; worst plate's ``w`` at resolutions 1.5 and 2.25, 300 Hz 1.5e-2
-      and 4.1e-3 with the usual count (25, 32 functions), 1.0e-4 and 1.2e-5 with this one
-      (52, 64); 1 kHz 6.1e-2 and 4.8e-3 (38, 56), 3.8e-4 and 2.2e-4 (70, 86); at 3 kHz (no
-      reference) the changes between resolutions 1.5, 2.25 and 3.375 fall, 1.0e-3 then
-      5.3e-4, where with the usual count they do not (9.4e-3, 1.0e-2). Of 7.5, 8 and 8.5
-      times, 8.5 left the estimates closest to the errors.
-    * *No member hangs*: the L fold with sliding ends (``--sliding-ends``), whose usual count
-      with the free end's floor was best before its members had their logarithmic families
-      (3.9 :math:`\sqrt{\kappa_aL}` at resolution 1.5) and fell short after. Worst plate's
-      ``w``, then ``(u, v)``, at resolutions 1.5, 2.25, 3.375: 300 Hz 7.0e-7, 7.5e-7, 3.4e-7
-      and 4.6e-4, 2.9e-4, 1.4e-4 (with the usual count 4.1e-5, 2.2e-5, 9.8e-6 and 2.7e-2,
-      1.3e-2, 4.9e-3); 1 kHz 2.4e-6, 5.2e-7, 6.7e-7 and 1.6e-4, 3.8e-5, 4.4e-5 (7.7e-5,
-      2.2e-5, 3.6e-6 and 1.2e-2, 2.9e-3, 3.2e-4); at 3 kHz the changes 1.4e-6, 5.4e-7 (1.3e-4,
-      1.5e-5). Factors 6.5 and 7.5 did about as well, 5.5 and 8.5 worse (5.5: 1.1e-5 at
-      1 kHz and 1.5, its ``(u, v)`` estimate 0.12 to 0.17 of the error at 3.375; 8.5: 1.6e-5
-      at 1 kHz and 2.25).
+    * *A member hangs on the line alone* (``hanging``): its rigid motion in its plane, most of
+      its error, is held only through this line's functions. The T junction whose stiffener is
+      free at its ends and top (``bench/bench_free_ends.py --pinned-counts``): best counts 6.3
+      to 8.6 :math:`\sqrt{\kappa_aL}`; worst plate's ``w`` at resolutions 1.5 and 2.25, 300 Hz
+      1.5e-2 and 4.1e-3 with the usual count (25, 32 functions), 1.0e-4 and 1.2e-5 with this
+      one (52, 64); 1 kHz 6.1e-2 and 4.8e-3 (38, 56), 3.8e-4 and 2.2e-4 (70, 86); at 3 kHz (no
+      reference) the changes between resolutions 1.5, 2.25 and 3.375 fall, 1.0e-3 then 5.3e-4,
+      where with the usual count they do not (9.4e-3, 1.0e-2). Of 7.5, 8 and 8.5 times, 8.5
+      left the estimates closest to the errors.
+    * *No member hangs alone*: the L fold with sliding ends (``--sliding-ends``), whose usual
+      count with the free end's floor was best before its members had their logarithmic
+      families (3.9 :math:`\sqrt{\kappa_aL}` at resolution 1.5) and fell short after. Worst
+      plate's ``w``, then ``(u, v)``, at resolutions 1.5, 2.25, 3.375: 300 Hz 7.0e-7, 7.5e-7,
+      3.4e-7 and 4.6e-4, 2.9e-4, 1.4e-4 (with the usual count 4.1e-5, 2.2e-5, 9.8e-6 and
+      2.7e-2, 1.3e-2, 4.9e-3); 1 kHz 2.4e-6, 5.2e-7, 6.7e-7 and 1.6e-4, 3.8e-5, 4.4e-5
+      (7.7e-5, 2.2e-5, 3.6e-6 and 1.2e-2, 2.9e-3, 3.2e-4); at 3 kHz the changes 1.4e-6, 5.4e-7
+      (1.3e-4, 1.5e-5). Factors 6.5 and 7.5 did about as well, 5.5 and 8.5 worse (5.5: 1.1e-5
+      at 1 kHz and 1.5, its ``(u, v)`` estimate 0.12 to 0.17 of the error at 3.375; 8.5:
+      1.6e-5 at 1 kHz and 2.25). A U channel whose ends slide (``--sliding-channel``, no
+      reference), whose web hangs on both lines: changes of ``w`` between resolutions 1.5,
+      2.25 and 3.375 of 1.6e-5, 2.9e-6 at 300 Hz and 7.3e-5, 1.6e-5 at 1 kHz, against 4.8e-5,
+      1.1e-5 and 1.2e-4, 3.8e-5 with 8.5 and 9.2e-4, 5.1e-4 and 7.3e-3, 2.1e-3 with the usual
+      count.
 
     ``docs/method.md`` section 10.4, *Pinned ends*. Below :data:`END_LAYER_FROM` the usual
     count stands: there the enriched solve of the error estimate has this count, and the

@@ -209,9 +209,16 @@ def singular_end_lines(case: Case) -> frozenset[str]:
 
 def pinned_lines(case: Case) -> dict[str, bool]:
     """The moving lines with a pinned end (:func:`singular_end_edges`) and no mixed end, each
-    with whether a member hangs on it (:meth:`assembly.Case.hanging_members`): their count is
-    :func:`solver.joint_rules.pinned_line_count`."""
-    return {jid: bool(case.hanging_members(jid)) for jid in singular_end_lines(case)
+    with whether a member hangs on it alone: held across it in its plane by no edge of its own
+    (:meth:`assembly.Case.hanging_members`) and a member of no other moving line (a stiffener
+    free at its ends and top; the web of a channel whose ends slide hangs on both its lines).
+    Their count is :func:`solver.joint_rules.pinned_line_count`."""
+    moving = case.moving_lines()
+
+    def alone(plate: str) -> bool:
+        return sum(plate in case.joints[jid].plates for jid in moving) == 1
+
+    return {jid: any(map(alone, case.hanging_members(jid))) for jid in singular_end_lines(case)
             if not case.singular_ends(jid)}
 
 
