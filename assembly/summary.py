@@ -19,6 +19,7 @@ from typing import Any, Literal
 from .case import Case
 from .graph import build_graph, components, plate_degrees
 from .joints import CoplanarJoint, Joint
+from .lines import free_ends, given_supports, meeting_ends
 from .models import PointForce
 from .types import EDGE_NAMES, EdgeId
 
@@ -112,7 +113,8 @@ def _sections(case: Case) -> list[_Section]:
         joints.rows.append(
             (
                 jid,
-                _joint_kind(joint, jid in moving),
+                _joint_kind(joint, jid in moving,
+                            _line_ends(case, jid) if jid in moving else ""),
                 " - ".join(joint.between),
                 _per_member(joint.log10_stiffness),
                 _per_member(joint.loss_factor),
@@ -135,15 +137,37 @@ def _sections(case: Case) -> list[_Section]:
     return [s for s in (plates, edges, joints, loads) if s.rows]
 
 
-def _joint_kind(joint: Joint, moving: bool) -> str:
-    """A joint's kind cell: a line's (junction or hinge) moving or held, and a junction's
+def _joint_kind(joint: Joint, moving: bool, ends: str = "") -> str:
+    """A joint's kind cell: a line's (junction or hinge) moving or held, what its ends are
+    where that sets how its loads converge (``ends``: :func:`_line_ends`), and a junction's
     members' translational springs (log10 k_t, N/m^2) where it has any."""
     if joint.kind == "coplanar":
         return joint.kind
     springs = ", ".join(f"{p} {joint.member_log10_translational_stiffness(p):g}"
                         for p in joint.translational_springs())
-    return (f"{joint.kind} ({'moving' if moving else 'held'}"
+    return (f"{joint.kind} ({'moving' if moving else 'held'}" + (f"; {ends}" if ends else "")
             + (f"; log10 k_t {springs}" if springs else "") + ")")
+
+
+def _line_ends(case: Case, joint_id: str) -> str:
+    """What a moving line's ends are where they slow its loads' convergence and raise its
+    cost (``docs/method.md`` section 10.4): ``"ends free to slide, pinned; T1 hangs"``, say,
+    or empty. Free to slide: on a free edge or one free in its plane; pinned: a member's
+    corner held across the line by another member's support; meeting other moving lines;
+    mixed: a plane of symmetry for part of the motion only. At pinned or mixed ends the members
+    that hang on the line (held across it in their plane by nothing else) are named: they set
+    the line's rule there."""
+    joint = case.joints[joint_id]
+    moving = case.moving_lines()
+    kinds = [name for name, present in (
+        ("free to slide",
+         free_ends(joint, case.edge_conditions(), given_supports(case.boundaries))),
+        ("pinned", case.pinned_ends(joint_id)),
+        ("meeting other lines", meeting_ends(joint, case.edge_joints(), moving)),
+        ("mixed", case.singular_ends(joint_id))) if present]
+    hanging = (case.hanging_members(joint_id) if {"pinned", "mixed"} & set(kinds) else [])
+    return (f"ends {', '.join(kinds)}" if kinds else "") + (
+        f"; {', '.join(hanging)} {'hangs' if len(hanging) == 1 else 'hang'}" if hanging else "")
 
 
 def _edge_cell(key: EdgeId, joined: dict[EdgeId, str], conditions: dict[EdgeId, str],

@@ -325,6 +325,31 @@ def test_a_channel_whose_web_hangs_on_both_lines_takes_the_pinned_count(monkeypa
     assert last_change() > 1e-4
 
 
+def test_check_names_the_ends_that_set_a_lines_rule():
+    """``vtcr check``'s summary says, for each moving line, what its ends are where they set
+    its rule and cost (free to slide, pinned, meeting other lines, mixed) and, at pinned ends,
+    the members that hang on it; a line whose ends are none of those reads as before."""
+    from test_held_ends import pinned_stiffener
+
+    from assembly import load_case
+    from assembly.summary import summary_text
+
+    def text(description: dict) -> str:
+        return summary_text(parse_case(description))
+
+    assert "junction (moving; ends free to slide, pinned)" in text(sliding_fold(300.0, 1.5))
+    assert "junction (moving; ends free to slide, pinned; A hangs)" in text(
+        sliding_channel(300.0, 1.5))
+    assert "junction (moving; ends free to slide, pinned; T1 hangs)" in text(
+        pinned_stiffener(300.0, 1.5))
+    assert "junction (moving; ends free to slide)" in text(_bracket(300.0))
+    box = summary_text(load_case(Path(__file__).parents[1] / "cases" / "box_with_wall.toml"))
+    assert "hinge (moving; ends meeting other lines)" in box
+    assert " hangs)" not in box and " hang)" not in box
+    panel = summary_text(load_case(Path(__file__).parents[1] / "cases" / "stiffened_panel.toml"))
+    assert "junction (moving)" in panel and "; ends " not in panel
+
+
 def test_the_line_functions_follow_the_members_reach_on_a_free_ended_fold(monkeypatch):
     """The line's Legendre count stops at the wavenumber its members' rays answer, which the
     free ends make three times the usual and more (:func:`solver.layout.answered_wavenumber`).
