@@ -106,6 +106,7 @@ def _sections(case: Case) -> list[_Section]:
         edges.rows.append((pid, *(_edge_cell(key, joined, conditions, in_plane, pid in members)
                                   for key in keys)))
 
+    supports = given_supports(case.boundaries)
     joints = _Section(
         "Joints", ("joint", "kind", "between", "log10 k", "zeta", "mu (kg/m)", "length (m)")
     )
@@ -114,7 +115,8 @@ def _sections(case: Case) -> list[_Section]:
             (
                 jid,
                 _joint_kind(joint, jid in moving,
-                            _line_ends(case, jid) if jid in moving else ""),
+                            _line_ends(case, jid, conditions, supports, joined, moving)
+                            if jid in moving else ""),
                 " - ".join(joint.between),
                 _per_member(joint.log10_stiffness),
                 _per_member(joint.loss_factor),
@@ -149,21 +151,23 @@ def _joint_kind(joint: Joint, moving: bool, ends: str = "") -> str:
             + (f"; log10 k_t {springs}" if springs else "") + ")")
 
 
-def _line_ends(case: Case, joint_id: str) -> str:
+def _line_ends(case: Case, joint_id: str, conditions: Mapping[EdgeId, str],
+               supports: Mapping[EdgeId, tuple[str, str]], joined: Mapping[EdgeId, str],
+               moving: set[str]) -> str:
     """What a moving line's ends are where they slow its loads' convergence and raise its
     cost (``docs/method.md`` section 10.4): ``"ends free to slide, pinned; T1 hangs"``, say,
     or empty. Free to slide: on a free edge or one free in its plane; pinned: a member's
     corner held across the line by another member's support; meeting other moving lines;
     mixed: a plane of symmetry for part of the motion only. At pinned or mixed ends the members
     that hang on the line (held across it in their plane by nothing else) are named: they set
-    the line's rule there."""
+    the line's rule there. ``conditions``, ``supports``, ``joined`` and ``moving``: the
+    assembly's edge conditions, given supports, joined edges and moving lines, found once for
+    all its lines."""
     joint = case.joints[joint_id]
-    moving = case.moving_lines()
     kinds = [name for name, present in (
-        ("free to slide",
-         free_ends(joint, case.edge_conditions(), given_supports(case.boundaries))),
+        ("free to slide", free_ends(joint, conditions, supports)),
         ("pinned", case.pinned_ends(joint_id)),
-        ("meeting other lines", meeting_ends(joint, case.edge_joints(), moving)),
+        ("meeting other lines", meeting_ends(joint, joined, moving)),
         ("mixed", case.singular_ends(joint_id))) if present]
     hanging = (case.hanging_members(joint_id) if {"pinned", "mixed"} & set(kinds) else [])
     return (f"ends {', '.join(kinds)}" if kinds else "") + (

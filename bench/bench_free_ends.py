@@ -97,15 +97,19 @@ RULE = (solver.problems.FREE_END_REACH, solver.problems.REACH_GROWTH_FROM)
 MODELS = {"rule": (RULE, None), "usual reach": ((1.0, math.inf), None), "held": (RULE, True)}
 
 
-def plate_fields(description: dict, frequency: float, plates: dict = PLATES) -> dict:
-    """Per plate of ``plates`` ``(w, (u, v))`` of a solve of ``description`` on its 15 x 15
-    grid."""
-    solution = solve_assembly(parse_case(description), frequency, residuals=False)
+def solution_fields(solution, plates: dict = PLATES) -> dict:
+    """Per plate of ``plates`` ``(w, (u, v))`` of ``solution`` on its 15 x 15 grid."""
     out = {}
     for name, (length, *_) in plates.items():
         points = inner_grid(length, LY)
         out[name] = (solution.plates[name].field(points)["w"], solution.in_plane(name, points))
     return out
+
+
+def plate_fields(description: dict, frequency: float, plates: dict = PLATES) -> dict:
+    """:func:`solution_fields` of a solve of ``description``."""
+    return solution_fields(solve_assembly(parse_case(description), frequency, residuals=False),
+                           plates)
 
 
 def fields(frequency: float, resolution: float, held: bool | None) -> dict:
@@ -387,9 +391,7 @@ def sliding_channel_refinement() -> None:
                     case = parse_case(description)
                     solution = solve_assembly(case, frequency)
                     estimate = estimate_error(case, solution)
-                    steps.append({name: (solution.plates[name].field(inner_grid(length, LY))["w"],
-                                         solution.in_plane(name, inner_grid(length, LY)))
-                                  for name, (length, *_) in CHANNEL_PLATES.items()})
+                    steps.append(solution_fields(solution, CHANNEL_PLATES))
                     estimates.append(f"{max(estimate.plates.values()):.1e} / "
                                      f"{max(estimate.in_plane.values()):.1e}")
                     counts.append(line_counts(description, frequency)["AB"])
@@ -456,39 +458,31 @@ def channel_ends() -> None:
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--quick", action="store_true")
-    parser.add_argument("--finite-elements", action="store_true")
-    parser.add_argument("--sliding-ends", action="store_true")
-    parser.add_argument("--pinned-stiffener", action="store_true")
-    parser.add_argument("--pinned-band", action="store_true")
-    parser.add_argument("--pinned-counts", action="store_true")
-    parser.add_argument("--sliding-factors", action="store_true")
-    parser.add_argument("--sliding-channel", action="store_true")
-    parser.add_argument("--channel", action="store_true")
-    args = parser.parse_args()
-    if args.pinned_band:
-        return pinned_band()
-    if args.pinned_counts:
-        return pinned_counts()
-    if args.sliding_factors:
-        return sliding_factors()
-    if args.sliding_channel:
-        return sliding_channel_refinement()
-    if args.channel:
-        return channel_ends()
-    if args.finite_elements:
-        return finite_elements()
-    if args.sliding_ends:
-        return pinned_ends(
+    studies = {
+        "finite_elements": finite_elements,
+        "sliding_ends": lambda: pinned_ends(
             "sliding ends (rigid line)", sliding_fold,
             np.load(ROOT / "tests" / "data" / "fem_fold_sliding_ends.npz"), PLATES, SLIDING_RUNS,
-            lambda frequency: "" if frequency == 300.0 else f"_{frequency:g}")
-    if args.pinned_stiffener:
-        return pinned_ends(
+            lambda frequency: "" if frequency == 300.0 else f"_{frequency:g}"),
+        "pinned_stiffener": lambda: pinned_ends(
             "stiffener free at its ends", pinned_stiffener,
             np.load(ROOT / "tests" / "data" / "fem_junction_stiffener_free.npz"),
-            T_JUNCTION[0], PINNED_RUNS, lambda frequency: f"_{frequency:g}")
+            T_JUNCTION[0], PINNED_RUNS, lambda frequency: f"_{frequency:g}"),
+        "pinned_band": pinned_band,
+        "pinned_counts": pinned_counts,
+        "sliding_factors": sliding_factors,
+        "sliding_channel": sliding_channel_refinement,
+        "channel": channel_ends,
+    }
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    choice = parser.add_mutually_exclusive_group()
+    choice.add_argument("--quick", action="store_true")
+    for name in studies:
+        choice.add_argument("--" + name.replace("_", "-"), action="store_true")
+    args = parser.parse_args()
+    for name, study in studies.items():
+        if getattr(args, name):
+            return study()
     frequencies = (300.0, 1000.0) if args.quick else (300.0, 1000.0, 3000.0)
     print("refinement: worst plate's change of w ; (u, v) between resolutions 1.5 and 2.25")
     for frequency in frequencies:

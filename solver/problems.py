@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections import Counter
 from collections.abc import Iterable, Mapping
 
 from assembly.case import Case
@@ -213,13 +214,9 @@ def pinned_lines(case: Case) -> dict[str, bool]:
     (:meth:`assembly.Case.hanging_members`) and a member of no other moving line (a stiffener
     free at its ends and top; the web of a channel whose ends slide hangs on both its lines).
     Their count is :func:`solver.joint_rules.pinned_line_count`."""
-    moving = case.moving_lines()
-
-    def alone(plate: str) -> bool:
-        return sum(plate in case.joints[jid].plates for jid in moving) == 1
-
-    return {jid: any(map(alone, case.hanging_members(jid))) for jid in singular_end_lines(case)
-            if not case.singular_ends(jid)}
+    lines = Counter(plate for jid in case.moving_lines() for plate in case.joints[jid].plates)
+    return {jid: any(lines[plate] == 1 for plate in case.hanging_members(jid))
+            for jid in singular_end_lines(case) if not case.singular_ends(jid)}
 
 
 def singular_end_plates(case: Case) -> frozenset[str]:

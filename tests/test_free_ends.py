@@ -223,29 +223,30 @@ bench/fem_folded.py --sliding-ends``; level 4 to 6 changed ``w`` by 3.6e-8 and 6
 Hz)."""
 
 
-def sliding_fold(frequency: float, resolution: float) -> dict:
-    """The L fold with a rigid line, its ends ``y = 0, 0.5`` simply supported and free in
-    plane (``in_plane = "free"``): the line's ends slide along it, held across it by the
-    members' bending supports alone; its far edges simply supported, 1 N on A."""
-    description = folded_description(PLATES, {"F": {"A": ("right", math.inf),
-                                                   "B": ("left", math.inf)}},
-                                     (ON_A[0], *ON_A[1]), frequency, None, LY, resolution)
+def _with_sliding_ends(description: dict) -> dict:
+    """A folded plate's ``description`` with every end ``y = 0, 0.5`` free in plane (its
+    bending condition kept): its lines' ends slide."""
     for boundary in description["boundaries"]:
         if boundary["edge"].endswith(("bottom", "top")):
             boundary["in_plane"] = "free"
     return description
+
+
+def sliding_fold(frequency: float, resolution: float) -> dict:
+    """The L fold with a rigid line, its ends ``y = 0, 0.5`` simply supported and free in
+    plane (``in_plane = "free"``): the line's ends slide along it, held across it by the
+    members' bending supports alone; its far edges simply supported, 1 N on A."""
+    return _with_sliding_ends(folded_description(
+        PLATES, {"F": {"A": ("right", math.inf), "B": ("left", math.inf)}},
+        (ON_A[0], *ON_A[1]), frequency, None, LY, resolution))
 
 
 def sliding_channel(frequency: float, resolution: float) -> dict:
     """The U channel of :data:`CHANNEL_PLATES` with every end ``y = 0, 0.5`` simply supported
     and free in plane: each line's ends pin its members, and the web, held in its plane by
     neither of its ends, hangs on both lines; 1 N on the web."""
-    description = folded_description(CHANNEL_PLATES, CHANNEL_LINES, ON_WEB, frequency, None, LY,
-                                      resolution)
-    for boundary in description["boundaries"]:
-        if boundary["edge"].endswith(("bottom", "top")):
-            boundary["in_plane"] = "free"
-    return description
+    return _with_sliding_ends(folded_description(CHANNEL_PLATES, CHANNEL_LINES, ON_WEB,
+                                                 frequency, None, LY, resolution))
 
 
 def test_a_fold_sliding_at_its_ends_meets_independent_finite_elements(monkeypatch):

@@ -292,7 +292,7 @@ def test_a_stiffener_pinned_at_its_corners_converges_to_finite_elements(monkeypa
     (:func:`assembly.lines.pinned_ends`), and the line's loads are concentrated there, on a
     layer far thinner than the rays resolve. With the logarithmic families at those corners,
     the members reaching as at a free end up to :data:`solver.problems.PINNED_END_REACH` and,
-    since the stiffener hangs on the line, the line's count of
+    since the stiffener hangs on the line alone, the line's count of
     :func:`solver.joint_rules.pinned_line_count` from resolution 1.5, the worst plate's ``w``
     is 1.0e-4 and 1.2e-5 off :data:`FINITE_ELEMENT_HANGING` at resolutions 1.5 and 2.25 at
     300 Hz (1.5e-2 and 4.1e-3 with the usual count, 25 and 32 functions instead of 52 and 64),
