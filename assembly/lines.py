@@ -10,8 +10,8 @@ wall's corners in ``cases/box_with_wall.toml``), a coplanar joint (a stiffener c
 joint: the point is the same) or a free edge (a junction point that nothing holds: it
 translates freely in 3D). The members of a line that meets others or ends on an edge free in
 its plane (a free edge, or a supported one with ``in_plane = "free"``: the end slides along the
-line) reach further with their edge waves (:data:`solver.problems.MEETING_END_REACH`,
-:data:`solver.problems.FREE_END_REACH`).
+line) reach further with their edge waves (:data:`solver.line_ends.MEETING_END_REACH`,
+:data:`solver.line_ends.FREE_END_REACH`).
 
 By default a line stays held only where its ends are a plane of symmetry for part of the
 motion and not for the rest (:func:`singular_ends`). A ``roller`` edge (:math:`u_n = 0`,
@@ -26,7 +26,7 @@ kink at the end and its loads are log-singular there (``docs/method.md`` section
 the usual rays refinement did not converge (2e-2 to 3e-1 between resolutions 1.5 and 2.25 on a
 three-bay panel with roller ends); the members of a moving line with such an end carry
 logarithmic corner functions there and reach further with their edge waves
-(:func:`solver.problems.singular_end_corners`, :data:`solver.problems.SINGULAR_END_REACH`), and
+(:func:`solver.line_ends.singular_end_corners`, :data:`solver.line_ends.SINGULAR_END_REACH`), and
 the line's load functions gain the loads' logarithmic terms at that end
 (:func:`singular_line_ends`, :func:`solver.joint_rules.load_function_values`), at 30 to 50
 times the cost of the held line. ``held = false`` moves such a line; ``vtcr check``
@@ -50,7 +50,7 @@ across the line at one point, its corner, and the line's load is concentrated th
 stiffener free at its ends on a supported skin; each member of a fold whose ends slide). The
 members of such a line, if it meets no other and not every member hangs on it
 (:func:`hanging_members`), carry the mixed ends' logarithmic families at those corners and
-reach as at a free end, up to :data:`solver.problems.PINNED_END_REACH` (``docs/method.md``
+reach as at a free end, up to :data:`solver.line_ends.PINNED_END_REACH` (``docs/method.md``
 section 10.4, *Pinned ends*).
 """
 

@@ -8,7 +8,7 @@ estimate over the error on every plate (smallest to largest), and the seconds of
 with its estimate, for the rule and its history:
 
 * **rule**: the members' edge waves reach three times the usual, growing with the resolution
-  from 1.5 (``solver.problems.MEETING_END_REACH``, ``REACH_GROWTH_FROM``), and the lines,
+  from 1.5 (``solver.line_ends.MEETING_END_REACH``, ``REACH_GROWTH_FROM``), and the lines,
   whose ends meet, have at least ``solver.joint_rules.end_layer_count`` functions from 1.5;
 * **no floor**: the same reach, the count without that floor (until 2026-11-28);
 * **fixed**: three times the reach, not growing (2026-11-27, before 0052e57), no floor;
@@ -44,13 +44,13 @@ from test_meeting_corner import (  # noqa: E402
 )
 
 import solver.joint_rules  # noqa: E402
-import solver.problems  # noqa: E402
+import solver.line_ends  # noqa: E402
 from assembly import parse_case  # noqa: E402
 from solver.estimate import estimate_error  # noqa: E402
 from solver.substructure import solve_assembly  # noqa: E402
 
-REACHES = {"rule": (solver.problems.MEETING_END_REACH, solver.problems.REACH_GROWTH_FROM),
-           "fixed": (solver.problems.MEETING_END_REACH, math.inf),
+REACHES = {"rule": (solver.line_ends.MEETING_END_REACH, solver.line_ends.REACH_GROWTH_FROM),
+           "fixed": (solver.line_ends.MEETING_END_REACH, math.inf),
            "usual": (1.0, math.inf)}
 RUNS = {300.0: (1.0, 1.5, 2.25, 3.375, 5.0), 1000.0: (1.0, 1.5, 2.25, 3.375)}
 FLOATING_RUNS = {300.0: (1.0, 1.5, 2.25, 3.375, 5.0, 7.5)}
@@ -90,7 +90,7 @@ def main() -> None:
         reaches |= {label: (*REACHES[label], math.inf) for label in ("fixed", "usual")}
     for frequency, resolutions in (FLOATING_RUNS if floating else RUNS).items():
         for label, (reach, growth, floor_from) in reaches.items():
-            solver.problems.MEETING_END_REACH, solver.problems.REACH_GROWTH_FROM = reach, growth
+            solver.line_ends.MEETING_END_REACH, solver.line_ends.REACH_GROWTH_FROM = reach, growth
             solver.joint_rules.END_LAYER_FROM = floor_from
             for resolution in resolutions:
                 (w, w_low, w_high), (uv, uv_low, uv_high), seconds = errors(
@@ -98,7 +98,7 @@ def main() -> None:
                 print(f"  {frequency:6.0f} Hz  {label:8s} {resolution:5.3g}: w {w:.1e} "
                       f"({w_low:.2f} to {w_high:.2f}); (u, v) {uv:.1e} ({uv_low:.2f} to "
                       f"{uv_high:.2f}); {seconds:.1f} s", flush=True)
-    solver.problems.MEETING_END_REACH, solver.problems.REACH_GROWTH_FROM = REACHES["rule"]
+    solver.line_ends.MEETING_END_REACH, solver.line_ends.REACH_GROWTH_FROM = REACHES["rule"]
     solver.joint_rules.END_LAYER_FROM = floor
 
 

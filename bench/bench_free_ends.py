@@ -1,5 +1,5 @@
 """Moving lines with free ends (``docs/method.md`` section 10.4): what the members' longer edge
-reach (``solver.problems.FREE_END_REACH``, growing with the resolution from
+reach (``solver.line_ends.FREE_END_REACH``, growing with the resolution from
 ``REACH_GROWTH_FROM``) buys and costs, on the bracket of ``tests/test_free_ends.py`` (2 mm
 steel legs 0.4 and 0.3 m folded at 90 degrees, a lossy weld, far edges simply supported, ends
 free, 1 N on the first leg).
@@ -20,7 +20,7 @@ free, 1 N on the first leg).
   in plane (``tests/test_free_ends.sliding_fold``), each member pinned at its corners by the
   other's supports (``assembly.lines.pinned_ends``), against
   ``tests/data/fem_fold_sliding_ends.npz``: the rule (logarithmic families at the pinned
-  ends, the reach capped at ``solver.problems.PINNED_END_REACH``, the line's count of
+  ends, the reach capped at ``solver.line_ends.PINNED_END_REACH``, the line's count of
   ``solver.joint_rules.pinned_line_count``), the same with the usual count and its floors (as
   until 0.3.14), and without the families (the free end's rule alone, until 2026-11-28); the
   error and estimate of ``(u, v)`` too; about twelve minutes;
@@ -88,12 +88,13 @@ from test_moving_lines import T_JUNCTION  # noqa: E402
 
 import solver.joint_rules  # noqa: E402
 import solver.layout  # noqa: E402
+import solver.line_ends  # noqa: E402
 import solver.problems  # noqa: E402
 from assembly import parse_case  # noqa: E402
 from solver.estimate import estimate_error  # noqa: E402
 from solver.substructure import solve_assembly  # noqa: E402
 
-RULE = (solver.problems.FREE_END_REACH, solver.problems.REACH_GROWTH_FROM)
+RULE = (solver.line_ends.FREE_END_REACH, solver.line_ends.REACH_GROWTH_FROM)
 MODELS = {"rule": (RULE, None), "usual reach": ((1.0, math.inf), None), "held": (RULE, True)}
 
 
@@ -178,13 +179,13 @@ def solve_errors(description: dict, frequency: float, reference: dict, plates: d
 
 def finite_elements() -> None:
     """The rigid bracket against the finite elements, by resolution: the members' reach
-    growing with the resolution (:data:`solver.problems.REACH_GROWTH_FROM`), as today; the
+    growing with the resolution (:data:`solver.line_ends.REACH_GROWTH_FROM`), as today; the
     reach fixed at three times, the line's count following it (2026-11-27); and the count
     stopped at the usual reach too (until then)."""
     reference = np.load(ROOT / "tests" / "data" / "fem_fold_free_ends.npz")
     print("against finite elements (rigid line): worst plate's error of w; estimate / error "
           "over the plates; seconds of the solve and its estimate")
-    growing, following = solver.problems.REACH_GROWTH_FROM, solver.layout.answered_wavenumber
+    growing, following = solver.line_ends.REACH_GROWTH_FROM, solver.layout.answered_wavenumber
     floor = solver.joint_rules.END_LAYER_FROM
     models = {"rule": (growing, following, floor),
               "no floor": (growing, following, math.inf),
@@ -193,7 +194,7 @@ def finite_elements() -> None:
                               solver.layout.members_wavenumber(case, jid, problems), math.inf)}
     for frequency, resolutions in FINITE_ELEMENT_RUNS.items():
         for label, (start, answered, floor_from) in models.items():
-            solver.problems.REACH_GROWTH_FROM = start
+            solver.line_ends.REACH_GROWTH_FROM = start
             solver.layout.answered_wavenumber = answered
             solver.joint_rules.END_LAYER_FROM = floor_from
             for resolution in resolutions:
@@ -202,7 +203,7 @@ def finite_elements() -> None:
                 ratios = "not estimated" if low is None else f"{low:.2f} to {high:.2f}"
                 print(f"  {frequency:6.0f} Hz  {label:11s} {resolution:5.3g}: {error:.1e}; "
                       f"{ratios}; {seconds:.1f} s", flush=True)
-    solver.problems.REACH_GROWTH_FROM = growing
+    solver.line_ends.REACH_GROWTH_FROM = growing
     solver.layout.answered_wavenumber = following
     solver.joint_rules.END_LAYER_FROM = floor
 
@@ -215,7 +216,7 @@ PINNED_RUNS = {300.0: (1.0, 1.5, 2.25, 3.375), 1000.0: (1.0, 1.5, 2.25, 3.375)}
 
 
 def without_families(case, joint_id: str, meeting=None) -> set:
-    """:func:`solver.problems.singular_end_edges` as it was until 2026-11-28: the mixed ends
+    """:func:`solver.line_ends.singular_end_edges` as it was until 2026-11-28: the mixed ends
     alone, a pinned end getting no logarithmic families and the free end's reach."""
     return set(case.singular_ends(joint_id))
 
@@ -224,19 +225,19 @@ def pinned_ends(label: str, description, reference: dict, plates: dict, runs: di
                 suffix) -> None:
     """A structure with pinned ends against its finite elements, by resolution: the rule (the
     logarithmic families at its pinned ends, the reach capped at
-    :data:`solver.problems.PINNED_END_REACH`, the line's count of
+    :data:`solver.line_ends.PINNED_END_REACH`, the line's count of
     :func:`solver.joint_rules.pinned_line_count`), the same with the usual count and its
     floors (as until 0.3.13 on a line on which a member hangs, until 0.3.14 on the others),
     and without the families, the free end's rule alone (until 2026-11-28)."""
     print(f"{label} against finite elements: worst plate's error of w, then of (u, v); estimate "
           "/ error over the plates; seconds of the solve and its estimate")
-    rule, pinned_lines = solver.problems.singular_end_edges, solver.layout.pinned_lines
+    rule, pinned_lines = solver.line_ends.singular_end_edges, solver.layout.pinned_lines
     models = (("rule", rule, pinned_lines), ("usual count", rule, lambda case: {}),
               ("no families", without_families, pinned_lines))
     try:
         for frequency, resolutions in runs.items():
             for model, edges, lines in models:
-                solver.problems.singular_end_edges, solver.layout.pinned_lines = edges, lines
+                solver.line_ends.singular_end_edges, solver.layout.pinned_lines = edges, lines
                 for resolution in resolutions:
                     (w, low, high), (uv, uv_low, uv_high), seconds = solve_errors(
                         description(frequency, resolution), frequency, reference, plates,
@@ -248,7 +249,7 @@ def pinned_ends(label: str, description, reference: dict, plates: dict, runs: di
                           f"{estimated[0]}; (u, v) {uv:.1e} {estimated[1]}; {seconds:.1f} s",
                           flush=True)
     finally:
-        solver.problems.singular_end_edges, solver.layout.pinned_lines = rule, pinned_lines
+        solver.line_ends.singular_end_edges, solver.layout.pinned_lines = rule, pinned_lines
 
 
 BAND_RUNS = ((2000.0, 0.01), (2500.0, 0.01), (3000.0, 0.01), (3500.0, 0.01), (3000.0, 0.05))
@@ -374,7 +375,7 @@ def sliding_channel_refinement() -> None:
     """The sliding channel's refinement (module notes), the three counts in turn: the rule's,
     the hanging factor's (:data:`solver.joint_rules.PINNED_LINE_FACTOR` patched to
     :data:`solver.joint_rules.HANGING_LINE_FACTOR`) and the usual count's
-    (:func:`solver.problems.pinned_lines` off)."""
+    (:func:`solver.line_ends.pinned_lines` off)."""
     print("sliding channel: worst plate's change of w, then of (u, v), between resolutions "
           "1.5 -> 2.25 -> 3.375; the largest estimates of w and (u, v) at each; the count")
     factor, lines = solver.joint_rules.PINNED_LINE_FACTOR, solver.layout.pinned_lines
@@ -487,7 +488,7 @@ def main() -> None:
     print("refinement: worst plate's change of w ; (u, v) between resolutions 1.5 and 2.25")
     for frequency in frequencies:
         for label, (reach, held) in MODELS.items():
-            solver.problems.FREE_END_REACH, solver.problems.REACH_GROWTH_FROM = reach
+            solver.line_ends.FREE_END_REACH, solver.line_ends.REACH_GROWTH_FROM = reach
             steps = [fields(frequency, r, held) for r in (1.5, 2.25)]
             w = ", ".join(f"{change(a, b, 0):.1e}" for a, b in zip(steps, steps[1:]))
             uv = ("" if held else "; " + ", ".join(f"{change(a, b, 1):.1e}"
@@ -497,7 +498,7 @@ def main() -> None:
     for frequency in frequencies:
         row = []
         for label, (reach, held) in MODELS.items():
-            solver.problems.FREE_END_REACH, solver.problems.REACH_GROWTH_FROM = reach
+            solver.line_ends.FREE_END_REACH, solver.line_ends.REACH_GROWTH_FROM = reach
             case = parse_case(_bracket(frequency, 1.5, held))
             times = []
             for _ in range(3):
@@ -510,7 +511,7 @@ def main() -> None:
         print(f"  {frequency:6.0f} Hz  " + "; ".join(f"{label} {t:.2f} s ({n})"
                                                     for label, t, n in row) + f"; {ratios}",
               flush=True)
-    solver.problems.FREE_END_REACH, solver.problems.REACH_GROWTH_FROM = RULE
+    solver.line_ends.FREE_END_REACH, solver.line_ends.REACH_GROWTH_FROM = RULE
 
 
 if __name__ == "__main__":

@@ -1,6 +1,6 @@
 """The Legendre count of a moving line held in its plane at its ends (``docs/method.md`` section
 10.4, *Ends held in their plane* and *The count*): its members reach twice as far from
-resolution 1.5 on (``solver.problems.HELD_END_REACH``), and its count follows that reach only
+resolution 1.5 on (``solver.line_ends.HELD_END_REACH``), and its count follows that reach only
 where the usual cap would stop it below the wavenumbers' count at 1.5
 (``solver.layout._held_count_follows``: a skin and its stiffeners, not two like plates).
 
@@ -19,7 +19,7 @@ and its smallest singular value over its largest; ``--rank-tolerance`` and
 ``--membrane-tolerance`` set the plates' ``solver.dense.RANK_TOLERANCE`` (bending, 1e-14) and
 ``MEMBRANE_RANK_TOLERANCE`` (in-plane, 1e-16), to see how much the figures move with them;
 ``--plain-loads`` leaves out the singular terms of the lines' loads at the held ends and the
-members' corner functions of their degrees (``solver.problems.held_end_exponents``, 0.3.8):
+members' corner functions of their degrees (``solver.line_ends.held_end_exponents``, 0.3.8):
 the model of 0.3.7. With them the T junction's count is the usual one whatever the rule (the
 three counts agree), and the L fold, whose line no exponent loads, is unchanged.
 
@@ -48,7 +48,7 @@ import solver.admissibility  # noqa: E402
 import solver.dense  # noqa: E402
 import solver.interface  # noqa: E402
 import solver.layout  # noqa: E402
-import solver.problems  # noqa: E402
+import solver.line_ends  # noqa: E402
 from assembly import parse_case  # noqa: E402
 from solver.estimate import estimate_error  # noqa: E402
 from solver.substructure import solve_assembly  # noqa: E402
@@ -124,7 +124,7 @@ def main() -> None:
                              "t^(lambda - 1) and their corner functions (0.3.7)")
     args = parser.parse_args()
     if args.plain_loads:
-        solver.problems.line_loading_exponents = lambda *_: ()
+        solver.line_ends.line_loading_exponents = lambda *_: ()
     solver.dense.RANK_TOLERANCE = args.rank_tolerance
     # the builders read the in-plane tolerance from their own import of it
     solver.admissibility.MEMBRANE_RANK_TOLERANCE = args.membrane_tolerance

@@ -1,8 +1,8 @@
 """Moving lines whose ends mix the halves of a plane of symmetry (in-plane ``roller`` ends
 simply supported in bending, say; ``docs/method.md`` section 10.4): the measurements behind the
 diagnosis and behind the rule (the logarithmic corner functions at such ends,
-``solver.problems.singular_end_corners``, three times the reach,
-``solver.problems.SINGULAR_END_REACH``, and the logarithmic terms of the line's load
+``solver.line_ends.singular_end_corners``, three times the reach,
+``solver.line_ends.SINGULAR_END_REACH``, and the logarithmic terms of the line's load
 functions, ``solver.joint_rules.load_function_values``), on the L fold of
 ``tests/test_moving_lines.py`` (plates A 0.4 m and B 0.3 m, 2 mm steel, 0.5 m long line, both
 members rigid, simply supported ends, 1 N on A), the in-plane condition of the end edges
@@ -71,9 +71,10 @@ sys.path[:0] = [str(ROOT), str(ROOT / "tests"), str(ROOT / "bench")]
 from support import folded_description, inner_grid  # noqa: E402
 from test_moving_lines import L_FOLD, LY, SHAPES  # noqa: E402
 
+import solver.line_ends  # noqa: E402
 import solver.problems  # noqa: E402
 from assembly import parse_case  # noqa: E402
-from solver.problems import SINGULAR_END_REACH  # noqa: E402
+from solver.line_ends import SINGULAR_END_REACH
 from solver.substructure import solve_assembly  # noqa: E402
 
 PLATES, LINES, LOAD = L_FOLD
@@ -207,8 +208,8 @@ def planes_of_symmetry() -> None:
 def end_treatment(reach: float, families: bool = True, load_functions: bool = True,
                   floor: bool = True):
     """Within the block, the members of lines with mixed ends reach ``reach`` times the usual
-    (``solver.problems.SINGULAR_END_REACH``), carry the logarithmic families at those ends
-    (``solver.problems.singular_end_corners``) only if ``families``, the line's load
+    (``solver.line_ends.SINGULAR_END_REACH``), carry the logarithmic families at those ends
+    (``solver.line_ends.singular_end_corners``) only if ``families``, the line's load
     functions have their logarithmic terms there (``solver.joint_rules.load_function_values``)
     only if ``load_functions``, and at least ``solver.joint_rules.mixed_end_legendre_count``
     Legendre functions only if ``floor`` (else the count of the line's wavenumbers alone): the
@@ -217,10 +218,11 @@ def end_treatment(reach: float, families: bool = True, load_functions: bool = Tr
     import solver.in_plane
     import solver.layout
 
-    reach_before, corners = solver.problems.SINGULAR_END_REACH, solver.problems.singular_end_corners
+    reach_before = solver.line_ends.SINGULAR_END_REACH
+    corners = solver.line_ends.singular_end_corners
     line_ends = assembly.case.Case.singular_line_ends
     count_floor = solver.layout.legendre_count_floor
-    solver.problems.SINGULAR_END_REACH = reach
+    solver.line_ends.SINGULAR_END_REACH = reach
     if not families:
         solver.problems.singular_end_corners = solver.in_plane.singular_end_corners = (
             lambda case, plate_id: ())
@@ -231,7 +233,7 @@ def end_treatment(reach: float, families: bool = True, load_functions: bool = Tr
     try:
         yield
     finally:
-        solver.problems.SINGULAR_END_REACH = reach_before
+        solver.line_ends.SINGULAR_END_REACH = reach_before
         solver.problems.singular_end_corners = solver.in_plane.singular_end_corners = corners
         assembly.case.Case.singular_line_ends = line_ends
         solver.layout.legendre_count_floor = count_floor
@@ -622,7 +624,7 @@ def main() -> None:
                       f"w_B(end)/max {corner:.1e}  {change}", flush=True)
                 previous = fields
     print(f"refinement with the rule (the logarithmic families, reach x "
-          f"{solver.problems.SINGULAR_END_REACH:g}; resolution 1.5 -> 2.25 -> 3.4)")
+          f"{solver.line_ends.SINGULAR_END_REACH:g}; resolution 1.5 -> 2.25 -> 3.4)")
     for frequency in (300.0, 1000.0):
         refinement("roller", frequency, (1.5, 2.25, 3.4))
 

@@ -81,8 +81,9 @@ from solver.membrane import MembraneSolution
 from solver.membrane_basis import membrane_grid_displacement
 from solver.plate import PlateProblem, PlateSolution
 from solver.power import grid_deflections, plate_gauss_axes
-from solver.problems import plate_problems, plate_resolution
+from solver.problems import plate_problems
 from solver.rays import QUASI_STATIC_KAPPA_R
+from solver.resolution import plate_resolution
 from solver.sizing import SizeEstimate, available_memory, estimate_size
 from solver.solution import CaseSolution
 from solver.substructure import solve_assembly
@@ -459,10 +460,10 @@ def unseen_lines_text(lines: Sequence[str], estimate: float, count_fixed: bool) 
     """Why an estimate cannot see the error of ``lines`` (:func:`unrefined_lines`), for a
     message: their count is the description's (``count_fixed``), or it stopped where their
     members' reach stops growing, at a pinned end's cap
-    (:data:`solver.problems.PINNED_END_REACH`)."""
+    (:data:`solver.line_ends.PINNED_END_REACH`)."""
     why = ("fixed by [discretisation] interface_functions" if count_fixed else
            "stopped where their members' reach stops growing, at a pinned end: "
-           "solver.problems.PINNED_END_REACH")
+           "solver.line_ends.PINNED_END_REACH")
     return (f"the Legendre functions of {', '.join(lines)} do not grow with the resolution "
             f"(their count {why}), and their loads converge slowly (an end free, pinned or "
             f"meeting other moving lines), so the estimate {estimate:.1e} cannot see their "
@@ -482,9 +483,9 @@ def unrefined_lines(case: Case, frequency: float, resolution: Mapping[str, float
     """The moving lines whose loads converge slowly (:func:`slow_lines`) and whose Legendre
     count the enriched solve does not raise: the estimate cannot see their loads' error. With
     the members' reach growing with the resolution
-    (:data:`solver.problems.REACH_GROWTH_FROM`) that happens where the description fixes the
+    (:data:`solver.line_ends.REACH_GROWTH_FROM`) that happens where the description fixes the
     count (``interface_functions``), and where the reach stops at its cap, at a pinned end
-    (:data:`solver.problems.PINNED_END_REACH`: from resolution 3.375 on the T junction whose
+    (:data:`solver.line_ends.PINNED_END_REACH`: from resolution 3.375 on the T junction whose
     stiffener is free at its ends and the fold with sliding ends, where the in-plane errors
     then fall little and the estimate read 0.18 to 0.56 of them, ``docs/accuracy.md`` section
     8). With the reach fixed, as until 2026-11-27, the free-ended fold of

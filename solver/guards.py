@@ -17,7 +17,8 @@ from assembly.case import Case
 from assembly.errors import DescriptionError, Issue, format_path
 from assembly.lines import members_coplanar
 from solver.in_plane import coplanar_closure, in_plane_edge_conditions, in_plane_plates
-from solver.problems import SINGULAR_END_REACH, plate_problems, plate_ray_counts
+from solver.line_ends import SINGULAR_END_REACH
+from solver.problems import plate_problems, plate_ray_counts
 from solver.rays import RayCounts, automatic_ray_counts
 from solver.sizing import available_memory, estimate_size
 
@@ -47,7 +48,7 @@ MAX_RAYS_PER_PLATE = 1500
 
 Single 0.5 x 0.4 m steel plate, 1 mm, simply supported (one dense solve, one thread):
 1098 unknowns at 30 kHz take 2.5 s with condition estimate 2e19; 1988 at 100 kHz take 9 s
-(0.8 GB) with 2e20, past :data:`solver.vtcr.CONDITION_WARNING`, where double precision starts
+(0.8 GB) with 2e20, past :data:`solver.errors.CONDITION_WARNING`, where double precision starts
 to lose the field; updating repeats such solves for every joint and step.
 """
 
@@ -406,7 +407,7 @@ def _singular_end_issues(case: Case) -> list[tuple[_Loc, str]]:
     symmetry for part of the motion only (:meth:`assembly.Case.singular_ends`: an in-plane
     ``roller`` edge simply supported in bending, say). There the line's loads are log-singular
     at its ends; its members carry logarithmic corner functions there and edge waves reaching
-    :data:`solver.problems.SINGULAR_END_REACH` times further (``docs/method.md`` section
+    :data:`solver.line_ends.SINGULAR_END_REACH` times further (``docs/method.md`` section
     10.4), and its line's loads carry their logarithmic terms there, at 30 to 50 times the cost
     of the held line; its field keeps an error of up to about 1.5e-4 in ``w`` and 1e-3
     in-plane against independent finite-element solutions of an L fold and a T junction,

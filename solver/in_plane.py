@@ -14,6 +14,7 @@ from collections.abc import Mapping
 
 from assembly.case import Case
 from assembly.geometry import EDGE_NAMES
+from solver.line_ends import edge_reach, held_end_corners, reach_growth, singular_end_corners
 from solver.membrane import MembraneEdge, MembraneProblem, membrane_stiffness
 from solver.membrane_basis import MembraneBasis, build_membrane_basis, membrane_ray_counts
 from solver.membrane_corners import (
@@ -23,13 +24,7 @@ from solver.membrane_corners import (
     logarithmic_corners,
 )
 from solver.plate import PlateProblem
-from solver.problems import (
-    edge_reach,
-    held_end_corners,
-    plate_resolution,
-    reach_growth,
-    singular_end_corners,
-)
+from solver.resolution import plate_resolution
 
 __all__ = ["MIRROR_CONDITIONS", "membrane_edge_reach", "in_plane_plates", "coplanar_closure",
            "in_plane_edge_conditions", "membrane_problems", "membrane_bases"]
@@ -117,7 +112,7 @@ def membrane_bases(case: Case, problems: Mapping[str, MembraneProblem],
     :math:`\beta_{max} = \tau\max(\kappa_0, k_S, 5/R_{max})`, with the plate's bending
     wavenumber :math:`\kappa_0` (the bending waves of the members load the line) and the
     description's ``edge_wavenumber_ratio`` :math:`\tau` (further on a member of a line with a
-    ``roller`` end or meeting other moving lines: :func:`solver.problems.edge_reach`), except on
+    ``roller`` end or meeting other moving lines: :func:`solver.line_ends.edge_reach`), except on
     a diaphragm or roller edge (:func:`membrane_edge_reach`); counts by the resolution rule."""
     settings = case.discretisation
     bases, shared = {}, {}  # identical plates share one basis, and through it their traces

@@ -17,7 +17,7 @@ from numpy.typing import ArrayLike
 
 from assembly.case import Case
 from assembly.joints import JunctionJoint
-from solver.problems import held_end_exponents
+from solver.line_ends import held_end_exponents
 from solver.rays import end_graded_rule, gauss_legendre
 
 __all__ = ["LOAD_WAVENUMBER_COUNT", "LoadEnds", "NO_SINGULAR_ENDS", "interface_function_count",
@@ -84,7 +84,7 @@ stands: at resolution 1 the floor made the sliding L fold at 1 kHz twenty times 
 def end_layer_count(kappa_answered: float, length: float, resolution: float,
                     tau: float = 2.5) -> int:
     r"""The fewest Legendre functions of a moving line with an end that translates along it,
-    from resolution :data:`END_LAYER_FROM` (:func:`solver.problems.end_layer_lines`): an end
+    from resolution :data:`END_LAYER_FROM` (:func:`solver.line_ends.end_layer_lines`): an end
     free to slide (a free edge, or a supported one free in plane) or a junction point where
     moving lines meet:
 
@@ -131,7 +131,7 @@ member hangs alone (a stiffener free at its ends and top on a supported skin).""
 def pinned_line_count(kappa_answered: float, length: float, resolution: float,
                       hanging: bool) -> int:
     r"""The Legendre functions of a moving line with a pinned end
-    (:func:`solver.problems.pinned_lines`), from resolution :data:`END_LAYER_FROM` on, in
+    (:func:`solver.line_ends.pinned_lines`), from resolution :data:`END_LAYER_FROM` on, in
     place of the usual count and its floors:
 
     .. math:: M_p = \lceil c\,\sqrt{\kappa_aL}\,\rceil,\qquad c =
@@ -211,7 +211,7 @@ def singular_load_ends(case: Case, joint_id: str,
     loads are not: without the in-plane field no member's deflection is tied to another's
     translation, and a line with a mixed end moves only with ``held = false``,
     :func:`assembly.lines.moving_lines`); the exponents :math:`\lambda` of
-    :func:`solver.problems.held_end_exponents` where they go like :math:`t^{\lambda - 1}`, at
+    :func:`solver.line_ends.held_end_exponents` where they go like :math:`t^{\lambda - 1}`, at
     an end fixed in its plane (``resolution`` as there); ``False`` elsewhere."""
     joint = case.joints[joint_id]
     if joint.kind == "coplanar":

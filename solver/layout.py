@@ -31,16 +31,11 @@ from solver.joint_rules import (
     pinned_line_count,
     singular_load_ends,
 )
+from solver.line_ends import HELD_END_FROM, edge_reach, end_layer_lines, pinned_lines
 from solver.membrane import MembraneProblem, membrane_edge_rule
 from solver.membrane_basis import MembraneBasis, membrane_edge_traces
 from solver.plate import PlateBoundary, PlateProblem, edge_projection
-from solver.problems import (
-    HELD_END_FROM,
-    edge_reach,
-    end_layer_lines,
-    joint_resolution,
-    pinned_lines,
-)
+from solver.resolution import joint_resolution
 
 __all__ = ["InterfaceLayout", "interface_layout", "answered_wavenumber", "members_wavenumber",
            "plate_loads", "membrane_loads", "plate_sides", "rigid_members", "balancing_member",
@@ -48,7 +43,7 @@ __all__ = ["InterfaceLayout", "interface_layout", "answered_wavenumber", "member
            "FORCE_COMPONENTS", "junction_point_axes", "KINEMATIC_DEFLECTION", "MOVING_MEMBER_LOADS"]
 
 Corner = tuple[str, int]
-"""A plate corner: the plate and the corner's index (:data:`solver.rays.EDGE_NAMES` order)."""
+"""A plate corner: the plate and the corner's index (:data:`assembly.geometry.EDGE_NAMES` order)."""
 
 KINEMATIC_DEFLECTION = frozenset({"clamped", "simply_supported"})
 
@@ -281,9 +276,9 @@ def interface_layout(case: Case, problems: Mapping[str, PlateProblem],
     largest wavenumber every member's rays answer (:func:`interface_function_count`, with the
     members' own edge reach: :func:`answered_wavenumber`); a moving line with a mixed end has
     at least :func:`legendre_count_floor` of them, one with an end that translates along it (an
-    end that slides, or a junction point: :func:`solver.problems.end_layer_lines`) at least
+    end that slides, or a junction point: :func:`solver.line_ends.end_layer_lines`) at least
     :func:`solver.joint_rules.end_layer_count`, one with a pinned end
-    (:func:`solver.problems.pinned_lines`) :func:`solver.joint_rules.pinned_line_count` from
+    (:func:`solver.line_ends.pinned_lines`) :func:`solver.joint_rules.pinned_line_count` from
     the resolution where that applies.
     """
     counts, load_ends = {}, {}
@@ -325,9 +320,9 @@ def answered_wavenumber(case: Case, joint_id: str, problems: Mapping[str, PlateP
     cap :math:`\tfrac\tau2\kappa_a` of :func:`solver.joint_rules.interface_function_count`
     (:math:`\tau` the description's ``edge_wavenumber_ratio``) is half the largest edge
     wavenumber every member's rays reach: :math:`\tau_m` is the member's own reach at its
-    resolution (:func:`solver.problems.edge_reach`, ``resolution`` as there: three times
+    resolution (:func:`solver.line_ends.edge_reach`, ``resolution`` as there: three times
     :math:`\tau` where the line meets other lines or ends on a free edge, growing with the
-    resolution above :data:`solver.problems.REACH_GROWTH_FROM`).
+    resolution above :data:`solver.line_ends.REACH_GROWTH_FROM`).
 
     There the line's loads converge slowly in their Legendre functions (its ends are corners
     of the assembled field), and stopping the count at :math:`\tau\kappa_0/2` hid it: from
@@ -336,7 +331,7 @@ def answered_wavenumber(case: Case, joint_id: str, problems: Mapping[str, PlateP
     independent finite elements while resolutions 2.25 and 3.375 agreed to 1e-6 and the
     estimate said 5e-6; with the members' reach it is 5.0e-4 and 3.4e-4 off there, and with
     the reach growing with the resolution 5.3e-4 and 4.4e-5
-    (:data:`solver.problems.REACH_GROWTH_FROM`). A line with a mixed end keeps
+    (:data:`solver.line_ends.REACH_GROWTH_FROM`). A line with a mixed end keeps
     :math:`\min_m\kappa_{0,m}`: its logarithmic loads and
     :func:`solver.joint_rules.legendre_count_floor` carry its ends, and more functions cost it
     reciprocity and convergence (the hanging L fold of ``tests/test_moving_lines.py`` at 1 kHz
@@ -344,12 +339,12 @@ def answered_wavenumber(case: Case, joint_id: str, problems: Mapping[str, PlateP
     to 3.2e-4).
 
     A line held in its plane at an end whose loads carry their singular terms there
-    (:func:`solver.problems.held_end_exponents`) keeps the usual cap: those terms carry the
+    (:func:`solver.line_ends.held_end_exponents`) keeps the usual cap: those terms carry the
     ends' layer, and following the doubled reach then spoils the solve (the T junction of
     ``tests/test_held_ends.py`` at 300 Hz, resolutions 2.25 and 3.4: 5.6e-4 and 3.0e-4 off its
     finite elements, against 1.8e-5 and 1.4e-5). Another line held in its plane at an end
-    (:func:`solver.problems.held_end_lines`), whose members reach twice as far from resolution
-    :data:`solver.problems.HELD_END_FROM` on, has its count follow that reach only where the
+    (:func:`solver.line_ends.held_end_lines`), whose members reach twice as far from resolution
+    :data:`solver.line_ends.HELD_END_FROM` on, has its count follow that reach only where the
     usual one would cap it below the wavenumbers' count at
     that resolution, :math:`\tfrac\tau2\kappa_a < 0.75\,s_h\max_m\kappa_{0,m}`
     (:func:`_held_count_follows`): members of different wavenumbers, the slowest capping the
@@ -379,7 +374,7 @@ def _held_count_follows(kappa0: float, kappa_usual: float, tau: float) -> bool:
     :math:`\tfrac\tau2\kappa_a < 0.75\,s_h\kappa_0` (0.75:
     :data:`solver.joint_rules.LOAD_WAVENUMBER_COUNT`), :math:`\kappa_a` what the usual reach
     answers, :math:`\kappa_0` the members' largest bending wavenumber and :math:`s_h`
-    :data:`solver.problems.HELD_END_FROM`: the usual cap of
+    :data:`solver.line_ends.HELD_END_FROM`: the usual cap of
     :func:`solver.joint_rules.interface_function_count` would stop the count below the
     wavenumbers' at :math:`s_h`.
 

@@ -444,7 +444,7 @@ def loaded_corner_family(point: np.ndarray, fixed_direction: np.ndarray,
     r"""The corner functions of degree :math:`\lambda` (each of ``exponents``) of a right-angle
     corner whose fixed edge leaves ``point`` along ``fixed_direction`` and whose other edge,
     along ``loaded_direction``, carries a load :math:`r^{\lambda - 1}` (a moving line's member
-    at an end fixed in its plane, :func:`solver.problems.held_end_exponents`): two per
+    at an end fixed in its plane, :func:`solver.line_ends.held_end_exponents`): two per
     exponent (:func:`_fixed_edge_space`). ``radius`` as for :func:`corner_family`."""
     fixed_first, first, second = _corner_frame(fixed_direction, loaded_direction)
     combinations = np.zeros((4 * len(exponents), 2 * len(exponents)), complex)

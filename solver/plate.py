@@ -142,7 +142,7 @@ class PlateProblem:
     omega : float
         Circular frequency, rad/s.
     edges : dict of str to EdgeCondition
-        One entry per edge name of :data:`solver.rays.EDGE_NAMES`; missing edges are free.
+        One entry per edge name of :data:`assembly.geometry.EDGE_NAMES`; missing edges are free.
     point_forces : tuple of PointForce
     """
 

@@ -141,7 +141,7 @@ def automatic_ray_counts(kappa0: float, size: tuple[float, float], resolution: f
     edge_resolution : float, optional
         The :math:`s` of :math:`N_H` and :math:`N_M` (default ``resolution``): lower where the
         reach grows with the resolution, so that the edge sectors widen instead of multiplying
-        (:func:`solver.problems.reach_growth`).
+        (:func:`solver.line_ends.reach_growth`).
     """
     edge_resolution = resolution if edge_resolution is None else edge_resolution
     lx, ly = size

@@ -21,8 +21,8 @@ from test_moving_lines import L_FOLD, LY, _finite_element_errors
 from assembly import parse_case
 from solver.estimate import enriched_solve, estimate_error
 from solver.guards import check_description
+from solver.line_ends import free_end_plates
 from solver.power import power_flow
-from solver.problems import free_end_plates
 from solver.substructure import solve_assembly
 
 PLATES = L_FOLD[0]  # the L fold's plates, with their own weld below
@@ -73,7 +73,7 @@ def _grid_w(solution) -> dict[str, np.ndarray]:
 
 def test_a_free_ended_fold_moves_by_default():
     """Its ends on free edges, the line moves without being asked and without a warning, and
-    its members' edge waves reach :data:`solver.problems.FREE_END_REACH` times further."""
+    its members' edge waves reach :data:`solver.line_ends.FREE_END_REACH` times further."""
     case = parse_case(_bracket(300.0))
     assert case.moving_lines() == ("F",)
     assert check_description(case, "bracket.toml") == []
@@ -149,7 +149,7 @@ def test_a_free_ended_fold_meets_independent_finite_elements():
     """Against :data:`FINITE_ELEMENTS`, worst plate's ``w``: 5.6e-3, 2.5e-4, 1.0e-4, 2.1e-5,
     7.3e-6 at resolutions 1, 1.5, 2.25, 3.375, 5 (the free corners slow the line's loads'
     convergence; the members' reach grows with the resolution from 1.5 on,
-    :data:`solver.problems.REACH_GROWTH_FROM`, and the line's count has a floor from 1.5 on,
+    :data:`solver.line_ends.REACH_GROWTH_FROM`, and the line's count has a floor from 1.5 on,
     :func:`solver.joint_rules.end_layer_count`: without it 2.4e-3, 5.3e-4, 4.4e-5 at 1.5, 2.25,
     3.375); the estimate is 0.59 to 1.04 times the error on every plate at 1.5, 2.25 and 3.375:
     the issue's bounds [0.5, 3] (``bench/bench_free_ends.py --finite-elements``). Tolerances,
@@ -252,10 +252,10 @@ def sliding_channel(frequency: float, resolution: float) -> dict:
 def test_a_fold_sliding_at_its_ends_meets_independent_finite_elements(monkeypatch):
     """A line whose ends are held across it by the members' bending supports alone, free in
     plane (``in_plane = "free"``), has the free end's slow loads: its members reach like a
-    free end's (:func:`solver.problems.free_end_plates`). Each member's supported end holds
+    free end's (:func:`solver.line_ends.free_end_plates`). Each member's supported end holds
     the deflection that is the other's displacement across the line, so its ends are pinned
     (:func:`assembly.lines.pinned_ends`): the members carry logarithmic families there, their
-    reach stops at :data:`solver.problems.PINNED_END_REACH`, and from resolution 1.5 the line
+    reach stops at :data:`solver.line_ends.PINNED_END_REACH`, and from resolution 1.5 the line
     has :func:`solver.joint_rules.pinned_line_count` functions (no member hangs on it: 7
     sqrt(kappa_a L)). Against :data:`SLIDING_FINITE_ELEMENTS` at 300 Hz and
     resolution 1.5, worst plate's ``w`` 7.0e-7 and ``(u, v)`` 4.6e-4, the estimates 1.34 to
@@ -267,11 +267,11 @@ def test_a_fold_sliding_at_its_ends_meets_independent_finite_elements(monkeypatc
     count's), the estimates within the issue's [0.5, 3]; the usual count and the families'
     absence beyond 3e-6."""
     import solver.layout
-    import solver.problems
+    import solver.line_ends
 
     case = parse_case(sliding_fold(300.0, 1.5))
     assert case.moving_lines() == ("F",) and free_end_plates(case) == {"A", "B"}
-    assert len(case.pinned_ends("F")) == 4 and solver.problems.pinned_lines(case) == {"F": False}
+    assert len(case.pinned_ends("F")) == 4 and solver.line_ends.pinned_lines(case) == {"F": False}
     reference = np.load(SLIDING_FINITE_ELEMENTS)
 
     def errors(frequency: float, resolution: float) -> tuple[dict, object]:
@@ -290,7 +290,7 @@ def test_a_fold_sliding_at_its_ends_meets_independent_finite_elements(monkeypatc
     with monkeypatch.context() as patch:
         patch.setattr(solver.layout, "pinned_lines", lambda case: {})
         assert max(w for w, _ in errors(300.0, 1.5)[0].values()) > 3e-6
-    monkeypatch.setattr(solver.problems, "singular_end_edges",
+    monkeypatch.setattr(solver.line_ends, "singular_end_edges",
                         lambda case, jid, meeting=None: set(case.singular_ends(jid)))
     assert max(w for w, _ in errors(1000.0, 2.25)[0].values()) > 3e-6
 
@@ -305,11 +305,11 @@ def test_a_channel_whose_web_hangs_on_both_lines_takes_the_pinned_count(monkeypa
     and 5.1e-4 with the usual count. Asked: the classification, the last change within 1e-5
     and, with the usual count, beyond 1e-4."""
     import solver.layout
-    import solver.problems
+    import solver.line_ends
 
     case = parse_case(sliding_channel(300.0, 1.5))
     assert case.hanging_members("AB") == case.hanging_members("AC") == ["A"]
-    assert solver.problems.pinned_lines(case) == {"AB": False, "AC": False}
+    assert solver.line_ends.pinned_lines(case) == {"AB": False, "AC": False}
 
     def last_change() -> float:
         fields = []
@@ -360,9 +360,9 @@ def test_the_line_functions_follow_the_members_reach_on_a_free_ended_fold(monkey
     resolutions 2.25 and 3.375 agreed to 1e-6: a convergence the count hid). Thresholds:
     1.5e-3 and 1e-4."""
     import solver.layout
-    import solver.problems
+    import solver.line_ends
 
-    monkeypatch.setattr(solver.problems, "REACH_GROWTH_FROM", math.inf)
+    monkeypatch.setattr(solver.line_ends, "REACH_GROWTH_FROM", math.inf)
     monkeypatch.setattr(solver.layout, "answered_wavenumber",
                         lambda case, jid, problems, resolution=None:
                         solver.layout.members_wavenumber(case, jid, problems))
@@ -379,10 +379,10 @@ def test_a_tolerance_is_not_claimed_where_the_estimate_cannot_see_the_lines(monk
     times, as until 2026-11-27, the bracket's count met its stop at resolution 5: the
     estimate, 5e-5 there for a field 8.5e-4 off the finite elements, names the line
     (``unseen_lines``), cannot check a tolerance of 1e-3, and the solve says so rather than
-    claim it. A pinned end caps the reach (:data:`solver.problems.PINNED_END_REACH`): the fold
+    claim it. A pinned end caps the reach (:data:`solver.line_ends.PINNED_END_REACH`): the fold
     with sliding ends meets its stop at 300 Hz from resolution 3.375 on, and the message says
     which of the two stops the count."""
-    import solver.problems
+    import solver.line_ends
     from solver.errors import ToleranceError
     from solver.estimate import (
         _resolutions,
@@ -405,7 +405,7 @@ def test_a_tolerance_is_not_claimed_where_the_estimate_cannot_see_the_lines(monk
         True)
     assert "PINNED_END_REACH" in unseen_lines_text(("F",), 1e-5, False)
     assert "interface_functions" not in unseen_lines_remedy(False)
-    monkeypatch.setattr(solver.problems, "REACH_GROWTH_FROM", math.inf)
+    monkeypatch.setattr(solver.line_ends, "REACH_GROWTH_FROM", math.inf)
     assert [unrefined_lines(case, 300.0, *pair) for pair in resolutions[:3]] \
         == [(), (), ("F",)]
     with pytest.raises(ToleranceError, match="Legendre functions of F"):

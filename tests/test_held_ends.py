@@ -1,6 +1,6 @@
 """Moving lines whose ends are held in their plane (``in_plane = "fixed"``, the default of a
 supported edge): the members reach twice as far from resolution 1.5 on
-(:data:`solver.problems.HELD_END_REACH`, ``docs/method.md`` section 10.4, *Ends held in their
+(:data:`solver.line_ends.HELD_END_REACH`, ``docs/method.md`` section 10.4, *Ends held in their
 plane*), checked against independent finite elements."""
 
 from __future__ import annotations
@@ -14,20 +14,15 @@ from support import folded_description
 from test_moving_lines import L_FOLD, LY, T_JUNCTION, _finite_element_errors
 
 import solver.layout
-import solver.problems
+import solver.line_ends
 from assembly import parse_case
 from solver.estimate import estimate_error
 from solver.junction_exponents import EndMember, junction_exponents, line_loading_exponents
 from solver.layout import answered_wavenumber, members_wavenumber
+from solver.line_ends import HELD_END_REACH, UNLOADED_HELD_END_REACH, edge_reach, held_end_lines
 from solver.membrane import membrane_stiffness, membrane_wavenumbers
 from solver.membrane_corners import corner_fields, loaded_corner_family
-from solver.problems import (
-    HELD_END_REACH,
-    UNLOADED_HELD_END_REACH,
-    edge_reach,
-    held_end_lines,
-    plate_problems,
-)
+from solver.problems import plate_problems
 from solver.substructure import solve_assembly
 
 FINITE_ELEMENT_JUNCTION = Path(__file__).parent / "data" / "fem_junction_fixed.npz"
@@ -102,7 +97,7 @@ r"""Per frequency, the bounds of the T junction's skin ``(u, v)`` against
 def test_a_junction_held_at_its_ends_meets_independent_finite_elements(frequency, monkeypatch):
     r"""The T junction with fixed ends at resolution 1.5 against
     :data:`FINITE_ELEMENT_JUNCTION`. Its loads go like :math:`t^{\lambda - 1}` at the ends,
-    :math:`\lambda` = 0.820 and 1.301 (:func:`solver.problems.held_end_exponents`): load
+    :math:`\lambda` = 0.820 and 1.301 (:func:`solver.line_ends.held_end_exponents`): load
     functions of their own, and corner functions of those degrees in every member
     (``docs/method.md`` section 10.4, *The loads' singular terms*). Measured: the skin's
     ``(u, v)`` 1.4e-5 and 1.8e-5 off (300 Hz), 1.5e-6 and 1.5e-6 (1 kHz), its estimate 0.87 to
@@ -120,11 +115,11 @@ def test_a_junction_held_at_its_ends_meets_independent_finite_elements(frequency
     for plate in SKIN:
         assert 0.5 < estimate.in_plane[plate] / errors[plate][1] < 3.0, (plate, estimate)
     with monkeypatch.context() as patch:
-        patch.setattr(solver.problems, "line_loading_exponents", lambda *_: ())
+        patch.setattr(solver.line_ends, "line_loading_exponents", lambda *_: ())
         plain = _errors(solve_assembly(_junction(frequency), frequency, residuals=False),
                         frequency)
     assert max(plain[p][1] for p in SKIN) > without, plain
-    monkeypatch.setattr(solver.problems, "HELD_END_REACH", 1.0)
+    monkeypatch.setattr(solver.line_ends, "HELD_END_REACH", 1.0)
     narrow = _errors(solve_assembly(_junction(frequency), frequency, residuals=False), frequency)
     assert max(narrow[p][1] for p in SKIN) > 4e-5, narrow
 
@@ -143,16 +138,16 @@ def test_an_l_fold_held_at_its_ends_meets_independent_finite_elements(monkeypatc
 
     wide = errors()
     assert max(uv for _, uv in wide) < 1.3e-5 and max(w for w, _ in wide) < 7.5e-7, wide
-    monkeypatch.setattr(solver.problems, "HELD_END_REACH", 1.0)
-    monkeypatch.setattr(solver.problems, "UNLOADED_HELD_END_REACH", 1.0)
+    monkeypatch.setattr(solver.line_ends, "HELD_END_REACH", 1.0)
+    monkeypatch.setattr(solver.line_ends, "UNLOADED_HELD_END_REACH", 1.0)
     narrow = errors()
     assert max(uv for _, uv in narrow) > 1.7e-5, narrow
 
 
 def test_an_l_fold_held_at_its_ends_reaches_three_times_as_far_in_bending(monkeypatch):
-    """No exponent loads the L fold's line (:func:`solver.problems.unloaded_held_end_plates`),
+    """No exponent loads the L fold's line (:func:`solver.line_ends.unloaded_held_end_plates`),
     so its members' bending rays carry the ends' layer, and reach
-    :data:`solver.problems.UNLOADED_HELD_END_REACH` times as far as elsewhere (their in-plane
+    :data:`solver.line_ends.UNLOADED_HELD_END_REACH` times as far as elsewhere (their in-plane
     waves and the T junction's members twice). At 1 kHz and resolution 1.5 against
     :data:`FINITE_ELEMENT_FOLD`, measured: ``(u, v)`` 2.3e-5 and 1.9e-5 off (A, B), ``w``
     1.3e-7 and 1.1e-6; with twice the reach 2.5e-4 and 2.0e-4, ``w`` 1.7e-6 and 1.1e-5.
@@ -169,7 +164,7 @@ def test_an_l_fold_held_at_its_ends_reaches_three_times_as_far_in_bending(monkey
 
     wide = errors()
     assert max(uv for _, uv in wide) < 7e-5 and max(w for w, _ in wide) < 3.3e-6, wide
-    monkeypatch.setattr(solver.problems, "UNLOADED_HELD_END_REACH", HELD_END_REACH)
+    monkeypatch.setattr(solver.line_ends, "UNLOADED_HELD_END_REACH", HELD_END_REACH)
     narrow = errors()
     assert max(uv for _, uv in narrow) > 1.5e-4, narrow
 
@@ -291,7 +286,7 @@ def test_a_stiffener_pinned_at_its_corners_converges_to_finite_elements(monkeypa
     that is the stiffener's displacement across the line, so they pin its corners
     (:func:`assembly.lines.pinned_ends`), and the line's loads are concentrated there, on a
     layer far thinner than the rays resolve. With the logarithmic families at those corners,
-    the members reaching as at a free end up to :data:`solver.problems.PINNED_END_REACH` and,
+    the members reaching as at a free end up to :data:`solver.line_ends.PINNED_END_REACH` and,
     since the stiffener hangs on the line alone, the line's count of
     :func:`solver.joint_rules.pinned_line_count` from resolution 1.5, the worst plate's ``w``
     is 1.0e-4 and 1.2e-5 off :data:`FINITE_ELEMENT_HANGING` at resolutions 1.5 and 2.25 at

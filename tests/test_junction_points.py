@@ -103,7 +103,7 @@ def test_reciprocity_across_points_where_moving_lines_meet():
     there gives on the top, across the twelve junction points. Measured at resolution 1:
     2.9e-5 (front) and 4.9e-7 (wall), at 1.5: 1e-8 and 3e-8 (so the difference is
     discretisation); with the usual edge reach on the lines' members (not
-    :data:`solver.problems.MEETING_END_REACH` times it) 5.0e-4 and 4.1e-5; with the coplanar
+    :data:`solver.line_ends.MEETING_END_REACH` times it) 5.0e-4 and 4.1e-5; with the coplanar
     rule of section 6.4 at these points, 2.1e-2 and 5.6e-4. Tolerance 2e-4: seven times the
     measured, below both."""
     top, others = ("Top1", (0.17, 0.13)), [("Front2", (0.07, 0.19)), ("Wall", (0.11, 0.21))]

@@ -7,8 +7,8 @@ Y = 0, C (0.3 x 0.25 m) in X = 0, each framed with its normal outward, as the fa
 ``cases/box_with_wall.toml`` are. Their other edges are simply supported and fixed in plane;
 1 N on A. The corner where the lines meet translates in 3D as one body, the members of
 lines that meet reach further with their edge waves
-(:data:`solver.problems.MEETING_END_REACH`, growing with the resolution from
-:data:`solver.problems.REACH_GROWTH_FROM`), and the lines' Legendre count has a floor
+(:data:`solver.line_ends.MEETING_END_REACH`, growing with the resolution from
+:data:`solver.line_ends.REACH_GROWTH_FROM`), and the lines' Legendre count has a floor
 (:func:`solver.joint_rules.end_layer_count`).
 """
 
@@ -22,7 +22,7 @@ from support import MATERIAL, inner_grid
 
 from assembly import load_case, parse_case
 from solver.estimate import estimate_error
-from solver.problems import meeting_end_plates
+from solver.line_ends import meeting_end_plates
 from solver.substructure import solve_assembly
 
 PLATES = {  # size, frame origin, x axis, y axis (the normal x axis ^ y axis points outward)
@@ -147,10 +147,10 @@ def test_with_the_usual_reach_the_corner_stalls(monkeypatch):
     the rule); with three times the reach fixed, as until 2026-11-27, it converged to 2.25
     (the rule's figures) and stalled at 5.4e-6 at 3.375, the estimate 6 to 42 times the
     error (1.6e-6 with the rule, the estimate 1.0 to 1.4 times). Threshold: 3e-4 at 2.25."""
-    import solver.problems
+    import solver.line_ends
 
-    monkeypatch.setattr(solver.problems, "MEETING_END_REACH", 1.0)
-    monkeypatch.setattr(solver.problems, "REACH_GROWTH_FROM", math.inf)
+    monkeypatch.setattr(solver.line_ends, "MEETING_END_REACH", 1.0)
+    monkeypatch.setattr(solver.line_ends, "REACH_GROWTH_FROM", math.inf)
     assert max(w for w, *_ in _errors(300.0, 2.25).values()) > 3e-4
 
 
@@ -176,7 +176,7 @@ def test_check_warns_of_plates_floating_in_their_plane():
 def test_a_corner_floating_in_its_plane_converges_to_finite_elements():
     """With every supported edge free in plane, the plates are held in their plane only through
     the others' bending, and the folds' far ends slide (they reach as free ends:
-    :func:`solver.problems.free_end_plates`, and their count has a floor:
+    :func:`solver.line_ends.free_end_plates`, and their count has a floor:
     :func:`solver.joint_rules.end_layer_count`). Refinement converges from far off, to the
     independent finite elements: worst plate's ``w`` 2.4e-2, 4.4e-3, 1.8e-3, 3.6e-4, 2.5e-4 at
     resolutions 1.5, 2.25, 3.375, 5, 7.5 (300 Hz), ``(u, v)`` 0.45, 0.12, 4.9e-2, 1.2e-2,

@@ -353,7 +353,7 @@ def test_two_moving_lines_with_fixed_ends_converge():
     the skin's wavenumber, beyond what the stiffeners' rays answer, the interface problem had
     72 near-null directions, loads of 1e5 N/m for a 1 N force and fields wrong by order 1
     (``solver.joint_rules.interface_function_count``). With the members reaching twice as far
-    from the fixed ends (``solver.problems.HELD_END_REACH``) and the lines' loads carrying
+    from the fixed ends (``solver.line_ends.HELD_END_REACH``) and the lines' loads carrying
     their singular terms there, with the members' corner functions of those degrees
     (``docs/method.md`` section 10.4, *The loads' singular terms*), they agree to 1.4e-7 to
     7.8e-7 (1.5 and 2.25: 8.3e-8 to 6.5e-7); with the count following the doubled reach
@@ -547,9 +547,9 @@ def _field_and_ends(case, frequency):
 def _without_logarithmic_families(monkeypatch) -> None:
     """The rays alone at a mixed end, with the usual reach, as before the families."""
     import solver.in_plane
-    import solver.problems
+    import solver.line_ends
 
-    monkeypatch.setattr(solver.problems, "SINGULAR_END_REACH", 1.0)
+    monkeypatch.setattr(solver.line_ends, "SINGULAR_END_REACH", 1.0)
     for module in (solver.problems, solver.in_plane):
         monkeypatch.setattr(module, "singular_end_corners", lambda case, plate_id: ())
 
@@ -558,7 +558,7 @@ def test_a_line_with_roller_ends_holds_its_ends_and_converges(monkeypatch):
     """With roller ends only the leg B's bending support holds the line's end along x, under
     line loads that are log-singular at the ends (``docs/method.md`` section 10.4). With the
     logarithmic families at the line's ends and three times the reach
-    (:func:`solver.problems.singular_end_corners`, :data:`solver.problems.SINGULAR_END_REACH`)
+    (:func:`solver.line_ends.singular_end_corners`, :data:`solver.line_ends.SINGULAR_END_REACH`)
     ``w`` at that supported corner is 3e-12 of B's largest (300 Hz, resolution 1.5), and
     resolutions 1.5 and 2.25 agree to 1.6e-7 (A) and 6.4e-7 (B). With the rays alone and the
     usual reach: 4.1e-8 at the corner, 8.1e-5 and 2.3e-4 between the resolutions. (Until the
@@ -619,9 +619,9 @@ def test_a_member_hanging_on_a_line_with_mixed_ends_converges_with_families_and_
 
     w_change, uv_change = change()
     assert w_change < 3e-4 and uv_change < 3e-3, (w_change, uv_change)
-    import solver.problems
+    import solver.line_ends
 
-    monkeypatch.setattr(solver.problems, "SINGULAR_END_REACH", 1.0)
+    monkeypatch.setattr(solver.line_ends, "SINGULAR_END_REACH", 1.0)
     assert change()[1] > 5e-3
 
 
@@ -906,12 +906,13 @@ def test_the_logarithmic_loads_sit_at_the_mixed_end_of_a_line_with_one(mixed, mo
 
 
 def test_the_logarithmic_families_sit_where_a_moving_line_meets_its_mixed_end():
-    """:func:`solver.problems.singular_end_corners`: on the T junction with roller ends and
+    """:func:`solver.line_ends.singular_end_corners`: on the T junction with roller ends and
     its line moving, the corners of each member's line edge (S1's right edge: corners 1 and 2;
     S2's and T1's left edges: 0 and 3); none with shear-diaphragm ends, where the end is
     consistent, nor with the line held. Bending and in-plane bases carry one family there."""
     from solver.in_plane import membrane_bases, membrane_problems
-    from solver.problems import plate_bases, singular_end_corners
+    from solver.line_ends import singular_end_corners
+    from solver.problems import plate_bases
 
     plates, lines, load = SHAPES["T"]
     description = folded_description(plates, lines, load, 1000.0, False, LY)

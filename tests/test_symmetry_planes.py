@@ -7,24 +7,23 @@ Plate: the 1 mm steel plate 0.5 x 0.4 m of ``tests/test_plate_accuracy.py``.
 
 import numpy as np
 import pytest
+from support import folded_description, folded_reference, folded_w, inner_grid
+from test_moving_lines import L_FOLD, SHAPES, _true_errors
+from test_moving_lines import LY as FOLD_LENGTH
 from test_plate_accuracy import (
-    D,
     FORCE_AT,
     GRID,
     LX,
     LY,
     RHO,
+    D,
     H,
     dissipated_power,
     rel_error,
     solve_with,
 )
 
-from support import folded_description, folded_reference, folded_w, inner_grid
-from test_moving_lines import L_FOLD, SHAPES, _true_errors
-from test_moving_lines import LY as FOLD_LENGTH
-
-import solver.problems
+import solver.line_ends
 from assembly import AssemblyError, parse_case
 from assembly.types import EdgeId
 from solver.estimate import estimate_error
@@ -218,11 +217,11 @@ def test_a_member_is_pinned_where_its_end_slides_and_another_member_is_supported
     # the solver gives such a line's members their families unless every member hangs on it
     sliding = {f"{plate}_{end}": ("simply_supported", "free")
                for plate in ("A", "B") for end in ("bottom", "top")}
-    assert solver.problems.singular_end_plates(_fold(**sliding)) == {"A", "B"}
+    assert solver.line_ends.singular_end_plates(_fold(**sliding)) == {"A", "B"}
     floating = _fold(**sliding, A_left=("simply_supported", "free"),
                      B_right=("simply_supported", "free"))
     assert floating.pinned_ends("F") and floating.hanging_members("F") == ["A", "B"]
-    assert solver.problems.singular_end_plates(floating) == frozenset()
+    assert solver.line_ends.singular_end_plates(floating) == frozenset()
     # the T junction's coplanar skin bays do not pin each other: its stiffener's free ends do
     tee = folded_description(*SHAPES["T"], 1000.0, None, FOLD_LENGTH, ends="fixed")
     assert parse_case(tee).pinned_ends("W") == []

@@ -375,7 +375,7 @@ def update_joints(problem: ModifiedProblem, settings: Updating, noise: float = 0
     Parameters
     ----------
     problem : updating.inverse.cost.ModifiedProblem
-    settings : assembly.models.Updating
+    settings : assembly.settings.Updating
         ``bounds``, ``identify``, ``max_steps``, ``stop_ratio``, ``significance``,
         ``min_decrease``.
     noise : float
