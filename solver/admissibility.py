@@ -23,7 +23,8 @@ from assembly import Case
 from assembly.geometry import edge_geometry
 from solver.dense import MEMBRANE_RANK_TOLERANCE, factorise_dense
 from solver.interface import Block
-from solver.layout import InterfaceLayout, membrane_loads, plate_loads, plate_sides
+from solver.interface_loads import membrane_loads, plate_loads, plate_sides
+from solver.layout import InterfaceLayout
 from solver.membrane import MembraneProblem, assemble_membrane
 from solver.membrane_basis import MembraneBasis, membrane_edge_traces
 from solver.plate import (
@@ -48,7 +49,7 @@ class MembraneBlock:
     amplitudes per unit interface unknown of ``unknowns``, those that load it), the
     reciprocal condition estimate of its VTCR matrix and, per joint whose tractions load it,
     the moments of its shape functions' ``u_n``, ``u_t`` on the joint's load functions
-    (:func:`solver.layout.membrane_loads`)."""
+    (:func:`solver.interface_loads.membrane_loads`)."""
 
     problem: MembraneProblem
     basis: MembraneBasis
@@ -159,7 +160,7 @@ class PlateBlock:
 def plate_block(problem: PlateProblem, basis: RayBasis) -> PlateBlock:
     r"""One plate's VTCR block, factorised. The plate's admissibility is then
     :math:`U_i^0 = K_i^{-1}F_i` and :math:`T_i = K_i^{-1}B_i`, with its loads :math:`B_i`
-    (:func:`solver.layout.plate_loads`)."""
+    (:func:`solver.interface_loads.plate_loads`)."""
     boundary = boundary_traces(problem, basis)
     matrix, force = assemble_plate(problem, boundary)
     solve, rcond = factorise_dense(matrix)
@@ -272,7 +273,7 @@ def membrane_blocks(case: Case, problems: Mapping[str, MembraneProblem],
                     bases: Mapping[str, MembraneBasis], arrangement: InterfaceLayout
                     ) -> dict[str, MembraneBlock]:
     r"""Every in-plane plate's :math:`T_i^m = K_i^{m\,-1}B_i^m`
-    (:func:`solver.layout.membrane_loads`); identical plates share one factorisation of
+    (:func:`solver.interface_loads.membrane_loads`); identical plates share one factorisation of
     :math:`K_i^m`."""
     sides, _ = plate_sides(case, arrangement.corner_columns)
     blocks, cache = {}, {}  # the traces, shared by identical plates and by both uses

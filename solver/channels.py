@@ -24,21 +24,20 @@ import numpy as np
 from assembly import Case
 from solver.admissibility import CornerDeflections, PlateAdmissibility
 from solver.interface import Block, residual_weight, squared_norm
+from solver.interface_loads import (
+    FORCE_COMPONENTS,
+    LoadTerms,
+    member_axes,
+    member_load,
+    rigid_members,
+)
 from solver.joint_rules import (
     joint_gauss,
     load_function_projection,
     load_function_values,
     translational_stiffness,
 )
-from solver.layout import (
-    FORCE_COMPONENTS,
-    PARALLEL_TOLERANCE,
-    InterfaceLayout,
-    LoadTerms,
-    member_axes,
-    member_load,
-    rigid_members,
-)
+from solver.layout import PARALLEL_TOLERANCE, InterfaceLayout
 from solver.plate import edge_values
 
 __all__ = ["Channel", "JointBuild", "RIGID_CROSSOVER", "two_plate_joint", "junction_line",
@@ -266,7 +265,7 @@ def junction_line(build: JointBuild, jid: str, group: int) -> tuple[list[Block],
     for plate in rigid[1:]:
         gap = Block.union(rotation[plate], line.scaled(-1.0)).projected(weighted)
         rows.append(gap.constraint(group))
-    if jid in build.moving:  # its balances hold by construction (solver.layout.member_load)
+    if jid in build.moving:  # its balances hold by construction (interface_loads.member_load)
         rows += _moving_line_rows(build, jid, group, sigma, psi, weighted)
     else:
         rows.append(_balance(slots, {(f"C.{p}"): 1.0 for p in joint.plates}, group))
@@ -285,8 +284,9 @@ def junction_line(build: JointBuild, jid: str, group: int) -> tuple[list[Block],
 
 
 def _load_block(terms: LoadTerms, samples: np.ndarray) -> Block:
-    r"""A load function :math:`\sum c\,S_{slot}` (``terms``, :func:`solver.layout.member_load`)
-    sampled by ``samples`` (the samples of each Legendre function, by columns), as a Block."""
+    r"""A load function :math:`\sum c\,S_{slot}` (``terms``,
+    :func:`solver.interface_loads.member_load`) sampled by ``samples`` (the samples of each
+    Legendre function, by columns), as a Block."""
     columns = np.concatenate([np.arange(part.start, part.stop) for part, _ in terms])
     matrix = np.hstack([coefficient * samples for _, coefficient in terms])
     order = np.argsort(columns)
@@ -311,12 +311,12 @@ def _moving_line_rows(build: JointBuild, jid: str, group: int, sigma: np.ndarray
     :math:`\int(\mathbf X_i - \mathbf X_J + \mathbf f_i/k_{t,i}^*)\psi_m\,d\sigma = 0`,
     three rows per function and member, with :math:`\mathbf X_i = u_n\mathbf n_i +
     u_t\mathbf t_i + w\,\mathbf e_{z,i}` the member edge's displacement
-    (:func:`solver.layout.member_axes`), :math:`\mathbf f_i = N_{nn}\mathbf n_i +
+    (:func:`solver.interface_loads.member_axes`), :math:`\mathbf f_i = N_{nn}\mathbf n_i +
     N_{nt}\mathbf t_i + K_n\mathbf e_{z,i}` the line's force on it and
     :math:`k_{t,i}^* = k_{t,i}(1 + j\zeta_{t,i})` its translational spring (no term for a
     rigid member). The balances of the massless line, :math:`\sum_iC_i = 0` and
     :math:`\sum_i\mathbf f_i = 0` per Legendre coefficient, need no rows: the balancing
-    member's loads are the others' (:func:`solver.layout.member_load`). The deflection's
+    member's loads are the others' (:func:`solver.interface_loads.member_load`). The deflection's
     traces are taken on the moments :math:`\psi^TW` (``weighted``) before the transfer
     operators multiply them, as in :func:`solver.channels.two_plate_joint`; the in-plane
     displacements' moments are those the member's tractions were loaded with

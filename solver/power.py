@@ -52,19 +52,19 @@ from numpy.typing import ArrayLike
 
 from assembly.case import Case
 from assembly.geometry import EdgeGeometry, plate_edges
-from solver.joint_rules import (
-    joint_gauss,
-    joint_parameters,
-    load_function_values,
-    translational_stiffness,
-)
-from solver.layout import (
+from solver.interface_loads import (
     FORCE_COMPONENTS,
     LoadTerms,
     load_values,
     member_axes,
     member_load,
     traction_loads,
+)
+from solver.joint_rules import (
+    joint_gauss,
+    joint_parameters,
+    load_function_values,
+    translational_stiffness,
 )
 from solver.membrane import membrane_dissipated_power
 from solver.plate import (

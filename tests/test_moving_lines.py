@@ -28,7 +28,8 @@ from solver.estimate import (
     solve_to_tolerance,
 )
 from solver.guards import check_description
-from solver.layout import interface_layout, load_values, member_axes, member_load
+from solver.interface_loads import load_values, member_axes, member_load
+from solver.layout import interface_layout
 from solver.membrane_basis import membrane_grid_displacement
 from solver.power import plate_gauss_axes, power_flow
 from solver.problems import plate_problems, plate_wedges
