@@ -44,8 +44,8 @@ sys.path[:0] = [str(ROOT), str(ROOT / "tests")]
 from support import folded_description, folded_reference, folded_w, inner_grid  # noqa: E402
 
 from assembly import parse_case  # noqa: E402
-from solver.estimate import solve_to_tolerance  # noqa: E402
 from solver.substructure import solve_assembly  # noqa: E402
+from solver.tolerance import solve_to_tolerance  # noqa: E402
 from updating.api import update_case  # noqa: E402
 from updating.data.measurements import Measurements, add_noise  # noqa: E402
 

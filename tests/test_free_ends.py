@@ -386,11 +386,11 @@ def test_a_tolerance_is_not_claimed_where_the_estimate_cannot_see_the_lines(monk
     from solver.errors import ToleranceError
     from solver.estimate import (
         _resolutions,
-        solve_to_tolerance,
         unrefined_lines,
         unseen_lines_remedy,
         unseen_lines_text,
     )
+    from solver.tolerance import solve_to_tolerance
 
     case = parse_case(_rigid_bracket(1.5))
     resolutions = [_resolutions(case, r) for r in (2.25, 3.375, 5.0, 7.5)]
@@ -445,7 +445,8 @@ def test_a_stalled_tolerance_names_the_slow_line():
     bracket's estimate went 1.9e-3, 8.0e-4, 4.7e-4 (the error against
     finite elements 2.4e-3, 5.0e-4, 3.4e-4) and stopped. The same history on the held
     bracket, which has no such line, keeps the round-off cause."""
-    from solver.estimate import ErrorEstimate, _tolerance_message
+    from solver.estimate import ErrorEstimate
+    from solver.tolerance import _tolerance_message
     from solver.vtcr import solve_case
 
     history = [ErrorEstimate(e, {"A": e / 3, "B": e}, r, 1.5 * r, 1.0)

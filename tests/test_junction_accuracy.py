@@ -21,8 +21,8 @@ from exact import Section, complex_rigidity, hinge, levy_chain
 from exact_junction import JunctionLine, StripPlate, junction_levy
 
 from assembly import parse_case
-from solver.estimate import solve_to_tolerance
 from solver.substructure import solve_assembly
+from solver.tolerance import solve_to_tolerance
 
 E, NU, RHO, ETA = 210e9, 0.3, 7800.0, 0.01
 LY = 0.4

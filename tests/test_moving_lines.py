@@ -21,12 +21,7 @@ from support import folded_description, folded_reference, folded_w, inner_grid
 
 from assembly import AssemblyError, parse_case
 from assembly.summary import summary_text
-from solver.estimate import (
-    estimate_error,
-    plate_l2_rule,
-    refined_together,
-    solve_to_tolerance,
-)
+from solver.estimate import estimate_error, plate_l2_rule
 from solver.guards import check_description
 from solver.interface_loads import load_values, member_axes, member_load
 from solver.layout import interface_layout
@@ -34,6 +29,7 @@ from solver.membrane_basis import membrane_grid_displacement
 from solver.power import plate_gauss_axes, power_flow
 from solver.problems import plate_problems, plate_wedges
 from solver.substructure import solve_assembly
+from solver.tolerance import refined_together, solve_to_tolerance
 from updating.cli.common import estimates_json
 
 LY = 0.5

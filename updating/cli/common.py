@@ -19,13 +19,9 @@ from rich.markup import escape
 
 from assembly import Case, load_case
 from solver.errors import NumericalError
-from solver.estimate import (
-    ErrorEstimate,
-    solve_to_tolerance,
-    unseen_lines_remedy,
-    unseen_lines_text,
-)
+from solver.estimate import ErrorEstimate, unseen_lines_remedy, unseen_lines_text
 from solver.sizing import available_memory, estimate_size
+from solver.tolerance import solve_to_tolerance
 from updating.cli.parser import version_text
 from updating.data.measurements import (
     Measurements,

@@ -14,14 +14,9 @@ from rich.table import Table
 from assembly import Case, summarise
 from assembly.schema import case_json_schema
 from solver import CaseSolution, field_grid, solve_case
-from solver.estimate import (
-    ErrorEstimate,
-    enriched_size,
-    enriched_solve,
-    estimate_error,
-    solve_to_tolerance,
-)
+from solver.estimate import ErrorEstimate, enriched_size, enriched_solve, estimate_error
 from solver.sizing import estimate_size
+from solver.tolerance import solve_to_tolerance
 from updating.cli.common import (
     console_for,
     estimates_json,

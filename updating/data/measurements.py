@@ -22,7 +22,7 @@ import numpy as np
 from assembly.graph import build_graph, components
 from solver import solve_case
 from solver.errors import ToleranceError
-from solver.estimate import solve_to_tolerance
+from solver.tolerance import solve_to_tolerance
 from updating.data.files import (
     parse_finite,
     point_key,

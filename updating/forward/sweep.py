@@ -16,12 +16,12 @@ from typing import TYPE_CHECKING, Any, TypeVar
 import numpy as np
 
 from solver import solve_case
-from solver.estimate import solve_to_tolerance
 from solver.guards import check_description
 from solver.plate import evaluate_field
 from solver.power import PowerFlow, power_flow
 from solver.substructure import AssemblySystem, build_assembly_system
 from solver.sweep import initial_frequencies, refine_frequencies
+from solver.tolerance import solve_to_tolerance
 from updating.data.measurements import Measurements
 from updating.inverse.cost import direct_amplitudes
 
@@ -100,7 +100,7 @@ def band_resolutions(case: Case, band: tuple[float, float], tolerance: float,
                      peaks: Sequence[float] = (), bands: int = TOLERANCE_BANDS) -> BandResolutions:
     """The resolutions at which a sweep over ``band`` meets ``tolerance`` (relative L2 of w):
     per each of ``bands`` equal sub-bands, the finest that
-    :func:`solver.estimate.solve_to_tolerance` needs at its top (the ray counts grow with the
+    :func:`solver.tolerance.solve_to_tolerance` needs at its top (the ray counts grow with the
     frequency) and at the resonance ``peaks`` it holds (where the relative error is largest),
     starting from the sub-band below (never coarser). Raises
     :class:`solver.errors.ToleranceError` where the tolerance cannot be reached."""
