@@ -13,8 +13,11 @@ member its reach (:func:`edge_reach`, :func:`reach_growth`); :mod:`solver.proble
 bases from them and :mod:`solver.layout` the lines' counts. ``docs/method.md`` section 10.4
 derives and measures each rule.
 
-The constants are read when a basis is built, so a study may patch them on this module
-(``bench/bench_free_ends.py``, the tests' ``monkeypatch``).
+The reaches are read here when a basis is built, so a study may patch them on this module
+(``bench/bench_free_ends.py``, the tests' ``monkeypatch``); :data:`HELD_END_FROM` is also read
+by :mod:`solver.layout` as imported, and the functions are imported by name where they are
+called, so a study patches a function there (``bench/bench_roller_ends.py`` patches
+:func:`singular_end_corners` in :mod:`solver.problems` and :mod:`solver.in_plane`).
 """
 
 from __future__ import annotations
