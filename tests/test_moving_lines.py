@@ -36,6 +36,7 @@ from solver.vtcr import solve_case
 from updating.cli import main
 from updating.cli.common import estimates_json
 from updating.data.measurements import measurement_layout, simulate_measurements
+from updating.forward.sweep import frequency_sweep
 from updating.inverse.plan import identifiability_plan
 
 LY = 0.5
@@ -291,6 +292,28 @@ def test_plan_reads_a_moving_line_as_direct_solves_do():
     flow = power_flow(case, solve_case(case, 1000.0))
     share = flow.joint_dissipated["W"] / flow.total_injected
     assert plan.damping_share[1000.0] == pytest.approx(share, rel=1e-6)
+
+
+def test_a_sweep_of_a_moving_line_matches_the_exact_folded_plate_and_balances():
+    """``vtcr frf``'s sweep (``updating.forward.sweep.frequency_sweep``) over 990-1010 Hz on the
+    T junction, its stiffener spring lossy (loss factor 0.2): at every swept frequency ``w``
+    at the probes is the exact folded plate's (with the complex spring stiffness) and the power
+    balances, the spring's dissipation (a few % of the injected power) and the in-plane
+    waves' counted. Measured: ``w`` within 8.5e-10 of the largest probe value, the imbalance
+    5.9e-11 of the injected power at most; asked 1e-6 and 1e-8."""
+    plates, lines, load = T_JUNCTION
+    description = _description(plates, lines, load, 1000.0, False)
+    description["joints"]["W"]["loss_factor"] = {"T1": 0.2}
+    lossy = {"W": {**lines["W"], "T1": ("left", cmath.log10(10.0**2.5 * (1.0 + 0.2j)))}}
+    points = {"S1": np.array([[0.1, 0.2], [0.3, 0.4]]), "T1": np.array([[0.05, 0.2]])}
+    sweep = frequency_sweep(parse_case(description), (990.0, 1010.0), points, count=3,
+                            tolerance=1.0)
+    assert len(sweep.frequencies) == 3 and max(sweep.imbalances) < 1e-8, sweep.imbalances
+    for frequency, values in zip(sweep.frequencies, sweep.values):
+        reference = _reference(plates, lossy, load, float(frequency), False)
+        for plate, at in points.items():
+            exact = reference.w(plate, *at.T)
+            assert np.abs(values[plate] - exact).max() < 1e-6 * np.abs(exact).max(), plate
 
 
 def test_check_shows_the_moving_lines_and_the_in_plane_conditions():
