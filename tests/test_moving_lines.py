@@ -327,7 +327,9 @@ def test_a_spring_identified_from_exact_data_needs_the_moving_lines():
     1.5 (the model says 2.5), its skin "measured" by the exact folded plate (an independent
     solution, lines moving) on the 0.1 m grid at 300 Hz, 600 Hz and 1 kHz with +-5 % noise.
     ``update_case`` with moving lines corrects W.T1 to 1.54 with the truth inside its 90 %
-    interval [1.44, 1.52]. With ``held = true`` no value of the spring explains the data: W.T1
+    interval [1.44, 1.52] (the estimate itself outside it, as the README's G2: the noise biases
+    the estimate, the interval is calibrated at each candidate value). With ``held = true`` no
+    value of the spring explains the data: W.T1
     still stands out of its threshold 28 times, its correction undone (status 1, no interval),
     the held line's error being far above the noise the data carry."""
     plates, lines, load = T_JUNCTION
