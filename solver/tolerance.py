@@ -22,13 +22,22 @@ from solver.estimate import (
     unseen_lines_text,
 )
 from solver.in_plane import in_plane_plates
+from solver.plate import PlateProblem
 from solver.rays import QUASI_STATIC_KAPPA_R
 from solver.resolution import plate_resolution
 from solver.solution import CaseSolution
 from solver.substructure import solve_assembly
 from solver.vtcr import solve_case
 
-__all__ = ["refined_together", "solve_to_tolerance"]
+__all__ = ["NEAR_FORCE_KAPPA_D", "forces_near_joints", "refined_together", "solve_to_tolerance"]
+
+NEAR_FORCE_KAPPA_D = 2.0
+r"""A point force closer to one of its plate's joined edges than this many :math:`1/\kappa_0`
+loads the joint with its near field, which the joint's functions and the rays' edge waves
+follow slowly (``docs/accuracy.md`` section 8): on the U channel of
+``tests/test_moving_lines.py`` at 1 kHz, a force at :math:`\kappa_0d` = 0.45 and 0.89 from a
+fold left ``w`` 7.4e-3 and 1.4e-3 off at resolution 3.375 and refinement stalled, at 2.2 it
+met 1e-4 at the default resolution."""
 
 
 def solve_to_tolerance(
@@ -155,6 +164,7 @@ def _tolerance_message(case: Case, frequency: float, tolerance: float,
     condition = solution.plates[plate].condition_estimate
     spans = 0.5 * math.hypot(*problem.size) * problem.kappa.real
     slow = [jid for jid in slow_lines(case, frequency) if plate in case.joints[jid].plates]
+    near = forces_near_joints(case, {pid: p.problem for pid, p in solution.plates.items()})
     if not stalled:
         cause = ("it still decreases; start from a higher [discretisation] resolution than "
                  f"{history[0].resolution_of(plate):g}")
@@ -162,6 +172,15 @@ def _tolerance_message(case: Case, frequency: float, tolerance: float,
         cause = (f"the plate is far below its first resonances (its half-diagonal is "
                  f"{spans / (2 * math.pi):.2g} bending wavelength), where the ray basis converges "
                  "slowly; raise the frequency or accept the estimated error")
+    elif near:
+        loaded, joint, distance, kappa_d = min(near, key=lambda force: force[3])
+        cause = (f"refinement no longer lowers it: the point force on plate {loaded} is "
+                 f"{distance:.2g} m from its joint {joint} (kappa0 d = {kappa_d:.2g}), whose "
+                 "near field the joint's functions and the rays' edge waves follow slowly "
+                 "(docs/accuracy.md section 8); raise [discretisation] edge_wavenumber_ratio "
+                 "(there 10 converged where the default 2.5 stalled, at 6 to 30 times the "
+                 "cost), move the force away from the joint, or accept a tolerance above the "
+                 "estimate")
     elif slow:
         cause = (f"refinement no longer lowers it: the loads of {', '.join(slow)} converge "
                  "slowly in their Legendre functions at their ends free or meeting other "
@@ -174,6 +193,28 @@ def _tolerance_message(case: Case, frequency: float, tolerance: float,
     return (f"{frequency:g} Hz: the estimated error {last.plate_errors()[plate]:.1e} of "
             f"{field_name} stays above the tolerance {tolerance:g}; plate {plate}: {steps}; "
             f"{cause}")
+
+
+def forces_near_joints(case: Case, problems: Mapping[str, PlateProblem]
+                       ) -> list[tuple[str, str, float, float]]:
+    r"""``(plate, joint, d, kappa0 d)`` for each point force closer than
+    :data:`NEAR_FORCE_KAPPA_D` :math:`/\kappa_0` to an edge of its plate that a joint joins,
+    :math:`d` its distance to that edge and :math:`\kappa_0` the plate's real bending
+    wavenumber (``problems``: the plates' :class:`solver.plate.PlateProblem` at the
+    frequency)."""
+    near = []
+    for load in case.loads:
+        if load.kind != "point_force" or load.plate not in problems:
+            continue
+        (lx, ly), (x, y) = case.plates[load.plate].size, load.at
+        to_edge = {"left": x, "right": lx - x, "bottom": y, "top": ly - y}
+        kappa = problems[load.plate].kappa.real
+        for jid, joint in case.joints.items():
+            for side in joint.sides:
+                if side.plate == load.plate and kappa * to_edge[side.edge] < NEAR_FORCE_KAPPA_D:
+                    near.append((load.plate, jid, to_edge[side.edge],
+                                 kappa * to_edge[side.edge]))
+    return near
 
 
 def _with_residuals(case: Case, solution: CaseSolution) -> CaseSolution:
