@@ -178,9 +178,9 @@ def _tolerance_message(case: Case, frequency: float, tolerance: float,
                  f"{distance:.2g} m from its joint {joint} (kappa0 d = {kappa_d:.2g}), whose "
                  "near field the joint's functions and the rays' edge waves follow slowly "
                  "(docs/accuracy.md section 8); raise [discretisation] edge_wavenumber_ratio "
-                 "(there 10 converged where the default 2.5 stalled, at 6 to 30 times the "
-                 "cost), move the force away from the joint, or accept a tolerance above the "
-                 "estimate")
+                 "(on the U channel measured there 10 converged where the default 2.5 "
+                 "stalled, at 6 to 30 times the cost), move the force away from the joint, or "
+                 "accept a tolerance above the estimate")
     elif slow:
         cause = (f"refinement no longer lowers it: the loads of {', '.join(slow)} converge "
                  "slowly in their Legendre functions at their ends free or meeting other "
