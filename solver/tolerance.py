@@ -209,11 +209,9 @@ def forces_near_joints(case: Case, problems: Mapping[str, PlateProblem]
         (lx, ly), (x, y) = case.plates[load.plate].size, load.at
         to_edge = {"left": x, "right": lx - x, "bottom": y, "top": ly - y}
         kappa = problems[load.plate].kappa.real
-        for jid, joint in case.joints.items():
-            for side in joint.sides:
-                if side.plate == load.plate and kappa * to_edge[side.edge] < NEAR_FORCE_KAPPA_D:
-                    near.append((load.plate, jid, to_edge[side.edge],
-                                 kappa * to_edge[side.edge]))
+        near += [(load.plate, jid, to_edge[side.edge], kappa * to_edge[side.edge])
+                 for jid, joint in case.joints.items() for side in joint.sides
+                 if side.plate == load.plate and kappa * to_edge[side.edge] < NEAR_FORCE_KAPPA_D]
     return near
 
 
