@@ -22,22 +22,14 @@ from solver.estimate import (
     unseen_lines_text,
 )
 from solver.in_plane import in_plane_plates
-from solver.plate import PlateProblem
+from solver.near_forces import NEAR_FORCE_REMEDY, forces_near_joints, near_forces_text
 from solver.rays import QUASI_STATIC_KAPPA_R
 from solver.resolution import plate_resolution
 from solver.solution import CaseSolution
 from solver.substructure import solve_assembly
 from solver.vtcr import solve_case
 
-__all__ = ["NEAR_FORCE_KAPPA_D", "forces_near_joints", "refined_together", "solve_to_tolerance"]
-
-NEAR_FORCE_KAPPA_D = 2.0
-r"""A point force closer to one of its plate's joined edges than this many :math:`1/\kappa_0`
-loads the joint with its near field, which the joint's functions and the rays' edge waves
-follow slowly (``docs/accuracy.md`` section 8): on the U channel of
-``tests/test_moving_lines.py`` at 1 kHz, a force at :math:`\kappa_0d` = 0.45 and 0.89 from a
-fold left ``w`` 7.4e-3 and 1.4e-3 off at resolution 3.375 and refinement stalled, at 2.2 it
-met 1e-4 at the default resolution."""
+__all__ = ["refined_together", "solve_to_tolerance"]
 
 
 def solve_to_tolerance(
@@ -72,7 +64,8 @@ def solve_to_tolerance(
         :func:`solver.estimate.slow_lines`): the message names the plate with the
         largest estimated error, its estimates at each resolution and its condition estimate.
         Or when the estimate meets ``tolerance`` but cannot see the error of some lines
-        (:func:`solver.estimate.unrefined_lines`): the message names them.
+        (:func:`solver.estimate.unrefined_lines`) or of a point force next to a joint
+        (:func:`solver.estimate.unresolved_near_forces`): the message names them.
     """
     resolution = {pid: plate_resolution(case, pid, resolution) for pid in case.plates}
     together = refined_together(case)
@@ -87,12 +80,10 @@ def solve_to_tolerance(
         history.append(estimate)
         worst = max(estimate.plate_errors().values())
         if worst <= tolerance:
-            if estimate.unseen_lines:
-                fixed = estimate.unseen_count_fixed
-                raise ToleranceError(
-                    f"{frequency:g} Hz: the tolerance cannot be checked: "
-                    f"{unseen_lines_text(estimate.unseen_lines, worst, fixed)}; "
-                    f"{unseen_lines_remedy(fixed)}, or solve without a tolerance")
+            if estimate.unseen_lines or estimate.unseen_near_forces:
+                raise ToleranceError(f"{frequency:g} Hz: the tolerance cannot be checked: "
+                                     f"{_unseen_text(estimate, worst)}, or solve without a "
+                                     "tolerance")
             return solution, estimate
         stalled = len(history) > 1 and worst > 0.5 * max(history[-2].plate_errors().values())
         if stalled or refinement == max_refinements:
@@ -109,6 +100,20 @@ def solve_to_tolerance(
             solution = finer = enriched = None  # freed before the next solve
             solution = solve_case(case, frequency, resolution=resolution, check=False)
     raise AssertionError("unreachable")
+
+
+def _unseen_text(estimate: ErrorEstimate, worst: float) -> str:
+    """Why ``estimate`` cannot see some error, and what would let it: its unseen lines, then its
+    forces next to joints."""
+    parts = []
+    if estimate.unseen_lines:
+        fixed = estimate.unseen_count_fixed
+        parts.append(f"{unseen_lines_text(estimate.unseen_lines, worst, fixed)}; "
+                     f"{unseen_lines_remedy(fixed)}")
+    if estimate.unseen_near_forces:
+        parts.append(f"{near_forces_text(estimate.unseen_near_forces, worst)}; "
+                     f"{NEAR_FORCE_REMEDY}")
+    return "; ".join(parts)
 
 
 def refined_together(case: Case) -> dict[str, frozenset[str]]:
@@ -177,10 +182,8 @@ def _tolerance_message(case: Case, frequency: float, tolerance: float,
         cause = (f"refinement no longer lowers it: the point force on plate {loaded} is "
                  f"{distance:.2g} m from its joint {joint} (kappa0 d = {kappa_d:.2g}), whose "
                  "near field the joint's functions and the rays' edge waves follow slowly "
-                 "(docs/accuracy.md section 8); raise [discretisation] edge_wavenumber_ratio "
-                 "(on the U channel measured there 10 converged where the default 2.5 "
-                 "stalled, at 6 to 30 times the cost), move the force away from the joint, or "
-                 "accept a tolerance above the estimate")
+                 f"(docs/accuracy.md section 8); {NEAR_FORCE_REMEDY}, or accept a tolerance "
+                 "above the estimate")
     elif slow:
         cause = (f"refinement no longer lowers it: the loads of {', '.join(slow)} converge "
                  "slowly in their Legendre functions at their ends free or meeting other "
@@ -193,26 +196,6 @@ def _tolerance_message(case: Case, frequency: float, tolerance: float,
     return (f"{frequency:g} Hz: the estimated error {last.plate_errors()[plate]:.1e} of "
             f"{field_name} stays above the tolerance {tolerance:g}; plate {plate}: {steps}; "
             f"{cause}")
-
-
-def forces_near_joints(case: Case, problems: Mapping[str, PlateProblem]
-                       ) -> list[tuple[str, str, float, float]]:
-    r"""``(plate, joint, d, kappa0 d)`` for each point force closer than
-    :data:`NEAR_FORCE_KAPPA_D` :math:`/\kappa_0` to an edge of its plate that a joint joins,
-    :math:`d` its distance to that edge and :math:`\kappa_0` the plate's real bending
-    wavenumber (``problems``: the plates' :class:`solver.plate.PlateProblem` at the
-    frequency)."""
-    near = []
-    for load in case.loads:
-        if load.kind != "point_force" or load.plate not in problems:
-            continue
-        (lx, ly), (x, y) = case.plates[load.plate].size, load.at
-        to_edge = {"left": x, "right": lx - x, "bottom": y, "top": ly - y}
-        kappa = problems[load.plate].kappa.real
-        near += [(load.plate, jid, to_edge[side.edge], kappa * to_edge[side.edge])
-                 for jid, joint in case.joints.items() for side in joint.sides
-                 if side.plate == load.plate and kappa * to_edge[side.edge] < NEAR_FORCE_KAPPA_D]
-    return near
 
 
 def _with_residuals(case: Case, solution: CaseSolution) -> CaseSolution:

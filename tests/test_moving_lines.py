@@ -29,10 +29,11 @@ from solver.guards import check_description
 from solver.interface_loads import load_values, member_axes, member_load
 from solver.layout import interface_layout
 from solver.membrane_basis import membrane_grid_displacement
+from solver.near_forces import forces_near_joints
 from solver.power import plate_gauss_axes, power_flow
 from solver.problems import plate_problems, plate_wedges
 from solver.substructure import solve_assembly
-from solver.tolerance import forces_near_joints, refined_together, solve_to_tolerance
+from solver.tolerance import refined_together, solve_to_tolerance
 from solver.vtcr import solve_case
 from updating.api import update_case
 from updating.cli import main

@@ -1,0 +1,80 @@
+r"""Point forces next to joints: where the joints' loads follow a force's near field slowly
+(``docs/accuracy.md`` section 8).
+
+A point force at a distance :math:`d` from a joined edge of its plate loads the joint with its
+near field: along the joint, a peak about :math:`d` wide, whose spectrum along the joint decays
+as :math:`e^{-\beta d}`. The joint's Legendre functions resolve wavenumbers up to about
+:math:`2(M - 2)/L`, and their count :math:`M` stops growing with the resolution where those
+reach what the members' edge waves answer, :math:`\tfrac{\tau}{2}\kappa_a`
+(:func:`solver.joint_rules.interface_function_count`). Where :math:`\kappa_0 d` is small, the
+part of the spectrum beyond stays unresolved at every resolution: refinement stalls, and the
+error estimate, whose enriched solve's count stops there too, no longer sees that part of the
+error.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import NamedTuple
+
+from assembly.case import Case
+from solver.plate import PlateProblem
+
+__all__ = ["NEAR_FORCE_KAPPA_D", "NEAR_FORCE_REMEDY", "NearForce", "forces_near_joints",
+           "near_forces_text"]
+
+NEAR_FORCE_KAPPA_D = 2.0
+r"""A point force closer to one of its plate's joined edges than this many :math:`1/\kappa_0`
+loads the joint with a near field that the joint's functions and the rays' edge waves follow
+slowly (``docs/accuracy.md`` section 8). Measured at resolutions 2.25 and 3.375, where the
+joints' counts have stopped: on the U channel of ``tests/test_moving_lines.py`` at 1 kHz, a
+force at :math:`\kappa_0d` = 0.45 and 0.89 from a fold left ``w`` 7.4e-3 and 1.4e-3 off and
+refinement stalled, at 2.2 it met 1e-4 at the default resolution; on a flat two-plate chain at
+450 Hz (against its Levy series) forces at :math:`\kappa_0d` = 0.42 to 1.7 left 1.3e-3 to
+4.1e-5 (worst plate), at 2.1 1.2e-5 and at 4.2 1.9e-8, the estimate reading 0.22 to 0.72 of
+the error."""
+
+NEAR_FORCE_REMEDY = (
+    "raise [discretisation] edge_wavenumber_ratio (10 converged where the default 2.5 stalled, "
+    "with an estimate that sees the error, at 6 to 40 times the cost), or move the force away "
+    "from the joint")
+"""What lets a solve follow the near field of a force next to a joint."""
+
+
+class NearForce(NamedTuple):
+    """A point force next to a joined edge of its plate (:func:`forces_near_joints`)."""
+
+    plate: str
+    joint: str
+    distance: float
+    kappa_d: float
+
+
+def forces_near_joints(case: Case, problems: Mapping[str, PlateProblem]) -> list[NearForce]:
+    r"""Each point force closer than :data:`NEAR_FORCE_KAPPA_D` :math:`/\kappa_0` to an edge of
+    its plate that a joint joins, with :math:`d` its distance to that edge and
+    :math:`\kappa_0 d`, :math:`\kappa_0` the plate's real bending wavenumber (``problems``: the
+    plates' :class:`solver.plate.PlateProblem` at the frequency)."""
+    near = []
+    for load in case.loads:
+        if load.kind != "point_force" or load.plate not in problems:
+            continue
+        (lx, ly), (x, y) = case.plates[load.plate].size, load.at
+        to_edge = {"left": x, "right": lx - x, "bottom": y, "top": ly - y}
+        kappa = problems[load.plate].kappa.real
+        near += [NearForce(load.plate, jid, to_edge[side.edge], kappa * to_edge[side.edge])
+                 for jid, joint in case.joints.items() for side in joint.sides
+                 if side.plate == load.plate and kappa * to_edge[side.edge] < NEAR_FORCE_KAPPA_D]
+    return near
+
+
+def near_forces_text(near: list[NearForce] | tuple[NearForce, ...], estimate: float) -> str:
+    """Why an estimate cannot see the error that forces next to joints leave
+    (:func:`solver.estimate.unresolved_near_forces`), for a message."""
+    forces = "; ".join(f"the point force on plate {force.plate} is {force.distance:.2g} m from "
+                       f"its joint {force.joint} (kappa0 d = {force.kappa_d:.2g})"
+                       for force in near)
+    return (f"{forces}: the enriched solve refines the joint's Legendre functions less than its "
+            "rays (their count stops at the members' reach), so neither solve follows that "
+            f"force's near field and the estimate {estimate:.1e} cannot see the error it leaves "
+            "(docs/accuracy.md section 8)")
