@@ -137,7 +137,8 @@ class ErrorEstimate:
         stopped with their members' reach (:func:`unseen_lines_text`).
     unseen_near_forces : tuple of :class:`solver.near_forces.NearForce`
         The point forces next to a joint whose error the estimate cannot see
-        (:func:`unresolved_near_forces`): there it read 0.22 to 0.6 of the error.
+        (:func:`unresolved_near_forces`): there it read 0.03 to 0.67 of the errors, of the
+        plates beyond the joint too.
     """
 
     total: float | None
@@ -443,9 +444,10 @@ def unresolved_near_forces(case: Case, frequency: float, resolution: Mapping[str
     section 8). Measured against exact solutions with the force 1 to 4 cm from the joint: a
     flat two-plate chain at 450 Hz (its Levy series), the estimate 0.48 to 0.60 of the error
     at resolution 1.5 (the count 26, enriched 29) and 0.22 to 0.52 from 2.25 on (29 and 29),
-    0.91 to 0.95 at resolution 1 (18 and 26); the U channel at 1 kHz (the exact folded plate,
-    the fold moving or held) 0.22 to 0.44 at 3.375. With the force 10 cm away (:math:`\kappa_0
-    d` 4.2) the chain's error is below 1.6e-7 from 1.5 on."""
+    0.91 to 0.95 at resolution 1 (18 and 26); with a third plate joined beyond, 0.03 to 0.04
+    of that plate's error (7.6e-4) from 1.5 on, 0.54 at resolution 1; the U channel at 1 kHz
+    (the exact folded plate, the fold moving or held) 0.22 to 0.44 at 3.375. With the force
+    10 cm away (:math:`\kappa_0 d` 4.2) the chains' errors are below 1.6e-7 from 1.5 on."""
     problems = plate_problems(case, frequency)
     near = forces_near_joints(case, problems)
     if not near:  # the common case
