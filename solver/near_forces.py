@@ -36,7 +36,7 @@ the error."""
 
 NEAR_FORCE_REMEDY = (
     "raise [discretisation] edge_wavenumber_ratio (10 converged where the default 2.5 stalled, "
-    "with an estimate that sees the error, at 6 to 40 times the cost), or move the force away "
+    "with an estimate that sees the error, at 5 to 43 times the cost), or move the force away "
     "from the joint")
 """What lets a solve follow the near field of a force next to a joint."""
 
