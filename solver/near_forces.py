@@ -5,7 +5,8 @@ A point force at a distance :math:`d` from a joined edge of its plate loads the 
 near field: along the joint, a peak about :math:`d` wide, whose spectrum along the joint decays
 as :math:`e^{-\beta d}`. The joint's Legendre functions resolve wavenumbers up to about
 :math:`2(M - 2)/L`, and their count :math:`M` stops growing with the resolution where those
-reach what the members' edge waves answer, :math:`\tfrac{\tau}{2}\kappa_a`
+reach the members' largest edge wavenumber :math:`\tau\kappa_a`, at
+:math:`M = \lceil\tfrac{\tau}{2}\kappa_aL\rceil + 2`
 (:func:`solver.joint_rules.interface_function_count`). Where :math:`\kappa_0 d` is small, the
 part of the spectrum beyond stays unresolved at every resolution: refinement stalls, and the
 error estimate, whose enriched solve's count stops there too, no longer sees that part of the
@@ -14,7 +15,7 @@ error.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from typing import NamedTuple
 
 from assembly.case import Case
@@ -76,7 +77,7 @@ def forces_near_joints(case: Case, problems: Mapping[str, PlateProblem]) -> list
     return near
 
 
-def near_forces_text(near: list[NearForce] | tuple[NearForce, ...], estimate: float) -> str:
+def near_forces_text(near: Sequence[NearForce], estimate: float) -> str:
     """Why an estimate cannot see the error that forces next to joints leave
     (:func:`solver.estimate.unresolved_near_forces`), for a message."""
     forces = "; ".join(f"the point force on plate {force.plate} is {force.distance:.2g} m from "

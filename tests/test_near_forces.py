@@ -92,7 +92,7 @@ def test_the_estimate_names_a_force_whose_error_it_cannot_see():
 
 def test_a_tolerance_is_not_claimed_next_to_a_force():
     """Asked 1e-3 from resolution 1 with the force 1 cm from G1, the refinement's estimate at
-    1.5 is 6.6e-4 while the solve is 1.2e-3 off its Levy series on P2: it was claimed met. It
+    1.5 is 6.7e-4 while the solve is 1.2e-3 off its Levy series on P2: it was claimed met. It
     now stops, naming the force, its joint and the remedy."""
     case, exact = _chain(0.01, 1.5)
     assert max(_true_errors(solve_assembly(case, FREQUENCY), exact).values()) > 1e-3
@@ -132,7 +132,7 @@ def test_an_estimate_blind_to_a_force_says_so():
         print_estimates(Console(file=buffer, width=400), {FREQUENCY: estimate})
         return buffer.getvalue(), estimate.to_json()
 
-    text, json = report((NearForce("P1", "G1", 0.01, 0.42),),)
+    text, json = report((NearForce("P1", "G1", 0.01, 0.42),))
     assert "warning" in text and "point force on plate P1 is 0.01 m from its joint G1" in text
     assert "edge_wavenumber_ratio" in text, text
     assert json["unseen_near_forces"] == [{"plate": "P1", "joint": "G1", "distance": 0.01,
