@@ -133,6 +133,7 @@ _EXAMPLES: dict[str, str] = {
     "discretisation.plates.*.edge_propagating": "edge_propagating = 10 (>= 0)",
     "discretisation.plates.*.edge_evanescent": "edge_evanescent = 24 (>= 0)",
     "discretisation.plates.*.corner": "corner = 1 (>= 0)",
+    "discretisation.plates.*.edge_wavenumber_ratio": "edge_wavenumber_ratio = 10.0 (> 1)",
     "measurement": "a [measurement] table",
     "measurement.spacing": "spacing = 0.1 (m; default a fifth of the largest plate side)",
     "measurement.plates": 'plates = ["P1", "P2"]',

@@ -41,12 +41,18 @@ class PlateDiscretisation(FrozenModel):
         Evanescent (boundary-layer) edge-ray sectors per edge, >= 0.
     corner : int, optional
         Corner-ray sectors per corner, >= 0.
+    edge_wavenumber_ratio : float, optional
+        The plate's own :math:`\tau_{max} > 1` (``[discretisation]`` ``edge_wavenumber_ratio``
+        elsewhere): its edge rays span ``|beta| <= tau_max * kappa0``, and its joints' counts
+        follow the smallest of their plates' (``docs/accuracy.md`` section 8: the plates next
+        to a point force that lies close to a joint).
     """
 
     interior: Annotated[int, Strict(), Field(ge=4)] | None = None
     edge_propagating: Count | None = None
     edge_evanescent: Count | None = None
     corner: Count | None = None
+    edge_wavenumber_ratio: Annotated[float, Strict(), Field(gt=1)] | None = None
 
 
 class Discretisation(FrozenModel):
@@ -84,6 +90,11 @@ class Discretisation(FrozenModel):
     def for_plate(self, plate_id: str) -> PlateDiscretisation:
         """Return the overrides of one plate (all None when it has none)."""
         return self.plates.get(plate_id, PlateDiscretisation())
+
+    def edge_ratio(self, plate_id: str) -> float:
+        """The ``edge_wavenumber_ratio`` of one plate: its own, else the description's."""
+        own = self.for_plate(plate_id).edge_wavenumber_ratio
+        return self.edge_wavenumber_ratio if own is None else own
 
 
 class PointMeasurement(FrozenModel):

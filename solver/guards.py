@@ -266,7 +266,6 @@ class _PlateRays:
 def _plate_rays(case: Case, f: float) -> list[_PlateRays]:
     """:class:`_PlateRays` of every plate at frequency ``f``."""
     settings = case.discretisation
-    tau = settings.edge_wavenumber_ratio
     simulation = settings.resolution * case.measurement.resolution
     problems = plate_problems(case, f)
     out = []
@@ -277,6 +276,7 @@ def _plate_rays(case: Case, f: float) -> list[_PlateRays]:
         lx, ly = plate.size
         override = settings.for_plate(pid)
         own = [fam for fam in _FAMILIES if getattr(override, fam) is not None]
+        tau = settings.edge_ratio(pid)
         out.append(_PlateRays(
             pid=pid,
             where=(f"plate {pid} at {f:g} Hz (bending wavelength {wavelength:.3g} m, "

@@ -282,7 +282,8 @@ def interface_layout(case: Case, problems: Mapping[str, PlateProblem],
         kappas = [problems[plate].kappa.real for plate in joint.plates]
         joint_scale = joint_resolution(case, jid, resolution)
         ends = load_ends[jid] = singular_load_ends(case, jid, resolution)
-        answered = answered_wavenumber(case, jid, problems, resolution) if jid in moving else None
+        answered = (answered_wavenumber(case, jid, problems, resolution) if jid in moving
+                    else _own_reach(case, joint.plates, max(kappas)))
         counts[jid] = (case.discretisation.interface_functions
                        or (jid in pinned and pinned_line_count(answered, length, joint_scale,
                                                             pinned[jid]))
@@ -304,6 +305,19 @@ def interface_layout(case: Case, problems: Mapping[str, PlateProblem],
     axes = [junction_point_axes(case, flags, in_plane) for flags in junctions]
     return InterfaceLayout(counts, layout, junctions, corner_columns, n_s,
                            *_plate_unknowns(case, layout, corner_columns), axes, load_ends)
+
+
+def _own_reach(case: Case, plates: Sequence[str], kappa0: float) -> float | None:
+    r""":math:`\kappa_a` of a joint that is not a moving line: None (its :math:`\kappa_0`, the
+    usual) unless one of its plates has its own ``edge_wavenumber_ratio``; then
+    :math:`\kappa_0\min_m\tau_m/\tau`, so that the count's cap
+    :math:`\tfrac\tau2\kappa_a` (:func:`solver.joint_rules.interface_function_count`) follows
+    the plates' shortest reach, as a moving line's does (:func:`answered_wavenumber`)."""
+    settings = case.discretisation
+    ratios = [settings.edge_ratio(plate) for plate in plates]
+    if all(ratio == settings.edge_wavenumber_ratio for ratio in ratios):
+        return None
+    return kappa0 * min(ratios) / settings.edge_wavenumber_ratio
 
 
 def answered_wavenumber(case: Case, joint_id: str, problems: Mapping[str, PlateProblem],

@@ -440,7 +440,8 @@ def edge_reach(case: Case, plate_id: str,
                resolution: float | Mapping[str, float] | None = None,
                held_ends: bool = True, in_plane: bool = False) -> float:
     r"""The largest edge-wave wavenumber of a plate in units of its bending wavenumber: the
-    description's ``edge_wavenumber_ratio`` :math:`\tau`, times :data:`SINGULAR_END_REACH` on a
+    description's ``edge_wavenumber_ratio`` :math:`\tau` (the plate's own where
+    ``[discretisation.plates.ID]`` gives one), times :data:`SINGULAR_END_REACH` on a
     member of a moving line with a mixed end (:func:`mixed_end_plates`), times
     :data:`MEETING_END_REACH` on a member of a moving line that meets others at its ends
     (:func:`meeting_end_plates`) or :data:`FREE_END_REACH` on one with an end on a free edge
@@ -454,7 +455,7 @@ def edge_reach(case: Case, plate_id: str,
     :func:`solver.layout.answered_wavenumber`), its bending waves
     :data:`UNLOADED_HELD_END_REACH` times where no exponent loads such a line
     (:func:`unloaded_held_end_plates`; ``in_plane``: the reach of its in-plane waves)."""
-    return case.discretisation.edge_wavenumber_ratio * _reach_factors(
+    return case.discretisation.edge_ratio(plate_id) * _reach_factors(
         case, plate_id, resolution, held_ends, in_plane)[0]
 
 

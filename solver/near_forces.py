@@ -21,7 +21,7 @@ from typing import NamedTuple
 from assembly.case import Case
 from solver.plate import PlateProblem
 
-__all__ = ["NEAR_FORCE_KAPPA_D", "NEAR_FORCE_REMEDY", "NearForce", "forces_near_joints",
+__all__ = ["NEAR_FORCE_KAPPA_D", "NearForce", "forces_near_joints", "near_force_remedy",
            "near_forces_text"]
 
 NEAR_FORCE_KAPPA_D = 2.0
@@ -35,20 +35,6 @@ refinement stalled, at 2.2 it met 1e-4 at the default resolution; on a flat two-
 4.1e-5 (worst plate), at 2.1 1.2e-5 and at 4.2 1.9e-8, the estimate reading 0.22 to 0.72 of
 the error."""
 
-NEAR_FORCE_REMEDY = (
-    "raise [discretisation] edge_wavenumber_ratio above 1.5 times the finest resolution asked, "
-    "so that the joint's count keeps growing (10 converged to resolution 3.375 where the "
-    "default 2.5 stalled, with an estimate that sees the error, at 5 to 43 times the cost), or "
-    "move the force away from the joint")
-r"""What lets a solve follow the near field of a force next to a joint. The joint's count stops
-growing from resolution :math:`s = 2\tau/3` on
-(:func:`solver.joint_rules.interface_function_count`), and at its cap the functions reach the
-rays' largest edge wavenumber, where a near field loads them: on the three-plate chain of
-``tests/test_near_forces.py`` at resolution 3.375, a ratio of 5 (56 functions, at the cap)
-left 1.4e-2, 7 and 10 (the same 56, below it) 5.0e-5 and 3.5e-5, 3.5 (40, at the cap) 8.0e-4
-and the default 2.5 (29) 1.0e-3; at 2.25 (38 functions below the cap from 3.5 on) 7.9e-4,
-4.4e-4, 2.8e-4 and 2.5e-4 for 3.5, 5, 7 and 10."""
-
 
 class NearForce(NamedTuple):
     """A point force next to a joined edge of its plate (:func:`forces_near_joints`)."""
@@ -57,13 +43,14 @@ class NearForce(NamedTuple):
     joint: str
     distance: float
     kappa_d: float
+    members: tuple[str, ...]
 
 
 def forces_near_joints(case: Case, problems: Mapping[str, PlateProblem]) -> list[NearForce]:
     r"""Each point force closer than :data:`NEAR_FORCE_KAPPA_D` :math:`/\kappa_0` to an edge of
-    its plate that a joint joins, with :math:`d` its distance to that edge and
-    :math:`\kappa_0 d`, :math:`\kappa_0` the plate's real bending wavenumber (``problems``: the
-    plates' :class:`solver.plate.PlateProblem` at the frequency)."""
+    its plate that a joint joins, with :math:`d` its distance to that edge,
+    :math:`\kappa_0 d` (:math:`\kappa_0` the plate's real bending wavenumber; ``problems``: the
+    plates' :class:`solver.plate.PlateProblem` at the frequency) and the joint's plates."""
     near = []
     for load in case.loads:
         if load.kind != "point_force" or load.plate not in problems:
@@ -71,7 +58,8 @@ def forces_near_joints(case: Case, problems: Mapping[str, PlateProblem]) -> list
         (lx, ly), (x, y) = case.plates[load.plate].size, load.at
         to_edge = {"left": x, "right": lx - x, "bottom": y, "top": ly - y}
         kappa = problems[load.plate].kappa.real
-        near += [NearForce(load.plate, jid, to_edge[side.edge], kappa * to_edge[side.edge])
+        near += [NearForce(load.plate, jid, to_edge[side.edge], kappa * to_edge[side.edge],
+                           tuple(joint.plates))
                  for jid, joint in case.joints.items() for side in joint.sides
                  if side.plate == load.plate and kappa * to_edge[side.edge] < NEAR_FORCE_KAPPA_D]
     return near
@@ -87,3 +75,28 @@ def near_forces_text(near: Sequence[NearForce], estimate: float) -> str:
             "rays (their count stops at the members' reach), so neither solve follows that "
             f"force's near field and the estimate {estimate:.1e} cannot see the error it leaves "
             "(docs/accuracy.md section 8)")
+
+
+def near_force_remedy(near: Sequence[NearForce]) -> str:
+    r"""What lets a solve follow the near field of forces next to joints (``near``): the joints'
+    plates with their own ``edge_wavenumber_ratio`` above 1.5 times the finest resolution
+    asked, or the forces moved away.
+
+    Why that ratio: the joint's count stops growing from resolution :math:`s = 2\tau/3` on
+    (:func:`solver.joint_rules.interface_function_count`), and at its cap the functions reach
+    the rays' largest edge wavenumber, where a near field loads them. On the three-plate chain
+    of ``tests/test_near_forces.py`` at resolution 3.375, a ratio of 5 (56 functions, at the
+    cap) left 1.4e-2, 7 and 10 (the same 56, below it) 5.0e-5 and 3.5e-5, 3.5 (40, at the cap)
+    8.0e-4 and the default 2.5 (29) 1.0e-3; at 2.25 (38 functions, below the cap from 3.5 on)
+    7.9e-4, 4.4e-4, 2.8e-4 and 2.5e-4 for 3.5, 5, 7 and 10. Given to P1 and P2 alone, 10 gives
+    the same fields on them as given to every plate (2.5e-4 and 2.0e-4 at 2.25, 3.5e-5 and
+    2.8e-5 at 3.375) in 2.9 s and 6.7 s instead of 4.0 s and 14 s, where the default's
+    stalled solves took 0.27 s and 0.52 s."""
+    plates = sorted({plate for force in near for plate in force.members})
+    also = f", and the same for {', '.join(plates[1:])}" if len(plates) > 1 else ""
+    return ("give the plates next to the force their own edge_wavenumber_ratio, above 1.5 times "
+            "the finest resolution asked, so that the joint's count keeps growing "
+            f"([discretisation.plates.{plates[0]}] edge_wavenumber_ratio = 10{also}: on a "
+            "three-plate chain 10 converged to resolution 3.375 where the default 2.5 stalled, "
+            "with an estimate that sees the error, at 4 to 13 times the solve), or move the "
+            "force away from the joint")

@@ -22,7 +22,7 @@ from solver.estimate import (
     unseen_lines_text,
 )
 from solver.in_plane import in_plane_plates
-from solver.near_forces import NEAR_FORCE_REMEDY, forces_near_joints, near_forces_text
+from solver.near_forces import forces_near_joints, near_force_remedy, near_forces_text
 from solver.rays import QUASI_STATIC_KAPPA_R
 from solver.resolution import plate_resolution
 from solver.solution import CaseSolution
@@ -112,7 +112,7 @@ def _unseen_text(estimate: ErrorEstimate, worst: float) -> str:
                      f"{unseen_lines_remedy(fixed)}")
     if estimate.unseen_near_forces:
         parts.append(f"{near_forces_text(estimate.unseen_near_forces, worst)}; "
-                     f"{NEAR_FORCE_REMEDY}")
+                     f"{near_force_remedy(estimate.unseen_near_forces)}")
     return "; ".join(parts)
 
 
@@ -178,12 +178,12 @@ def _tolerance_message(case: Case, frequency: float, tolerance: float,
                  f"{spans / (2 * math.pi):.2g} bending wavelength), where the ray basis converges "
                  "slowly; raise the frequency or accept the estimated error")
     elif near:
-        loaded, joint, distance, kappa_d = min(near, key=lambda force: force[3])
-        cause = (f"refinement no longer lowers it: the point force on plate {loaded} is "
-                 f"{distance:.2g} m from its joint {joint} (kappa0 d = {kappa_d:.2g}), whose "
-                 "near field the joint's functions and the rays' edge waves follow slowly "
-                 f"(docs/accuracy.md section 8); {NEAR_FORCE_REMEDY}, or accept a tolerance "
-                 "above the estimate")
+        closest = min(near, key=lambda force: force.kappa_d)
+        cause = (f"refinement no longer lowers it: the point force on plate {closest.plate} is "
+                 f"{closest.distance:.2g} m from its joint {closest.joint} (kappa0 d = "
+                 f"{closest.kappa_d:.2g}), whose near field the joint's functions and the rays' "
+                 "edge waves follow slowly (docs/accuracy.md section 8); "
+                 f"{near_force_remedy([closest])}, or accept a tolerance above the estimate")
     elif slow:
         cause = (f"refinement no longer lowers it: the loads of {', '.join(slow)} converge "
                  "slowly in their Legendre functions at their ends free or meeting other "

@@ -20,7 +20,7 @@ from rich.markup import escape
 from assembly import Case, load_case
 from solver.errors import NumericalError
 from solver.estimate import ErrorEstimate, unseen_lines_remedy, unseen_lines_text
-from solver.near_forces import NEAR_FORCE_REMEDY, near_forces_text
+from solver.near_forces import near_force_remedy, near_forces_text
 from solver.sizing import available_memory, estimate_size
 from solver.tolerance import solve_to_tolerance
 from updating.cli.parser import version_text
@@ -255,7 +255,7 @@ def print_estimates(console: Console, estimates: Mapping[float, ErrorEstimate],
                           + unseen_lines_remedy(e.unseen_count_fixed))
     _warn_blind(console, {f: e for f, e in estimates.items() if e.unseen_near_forces},
                 lambda e: f"{near_forces_text(e.unseen_near_forces, e.total)}; "
-                          + NEAR_FORCE_REMEDY)
+                          + near_force_remedy(e.unseen_near_forces))
     if worst.total > ESTIMATE_WARNING:
         warn(console, f"the estimated error {worst.total:.1e} exceeds {ESTIMATE_WARNING:g}: "
                        "raise [discretisation] resolution or give a tolerance")
