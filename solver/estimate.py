@@ -320,7 +320,8 @@ def estimate_error(
                          in_plane_total=in_plane_total, displacement=displacement,
                          unseen_lines=unseen, unseen_count_fixed=count_fixed,
                          unseen_near_forces=unresolved_near_forces(
-                             case, solution.frequency, resolution, enriched_resolution))
+                             case, {pid: p.problem for pid, p in solution.plates.items()},
+                             resolution, enriched_resolution))
 
 
 def _relative(integrals: Mapping[str, tuple[float, float]]
@@ -433,7 +434,8 @@ def unrefined_lines(case: Case, frequency: float, resolution: Mapping[str, float
     return tuple(jid for jid in slow if enriched[jid] <= counts[jid])
 
 
-def unresolved_near_forces(case: Case, frequency: float, resolution: Mapping[str, float],
+def unresolved_near_forces(case: Case, problems: Mapping[str, PlateProblem],
+                           resolution: Mapping[str, float],
                            enriched_resolution: Mapping[str, float]) -> tuple[NearForce, ...]:
     r"""The point forces next to a joint (:func:`solver.near_forces.forces_near_joints`) whose
     joint the enriched solve does not refine as it refines the rays, its count :math:`M^+`
@@ -447,8 +449,8 @@ def unresolved_near_forces(case: Case, frequency: float, resolution: Mapping[str
     0.91 to 0.95 at resolution 1 (18 and 26); with a third plate joined beyond, 0.03 to 0.04
     of that plate's error (7.6e-4) from 1.5 on, 0.54 at resolution 1; the U channel at 1 kHz
     (the exact folded plate, the fold moving or held) 0.22 to 0.44 at 3.375. With the force
-    10 cm away (:math:`\kappa_0 d` 4.2) the chains' errors are below 1.6e-7 from 1.5 on."""
-    problems = plate_problems(case, frequency)
+    10 cm away (:math:`\kappa_0 d` 4.2) the chains' errors are below 1.6e-7 from 1.5 on.
+    ``problems``: the plates' problems at the frequency, those of the solve."""
     near = forces_near_joints(case, problems)
     if not near:  # the common case
         return ()
