@@ -90,13 +90,14 @@ def near_force_remedy(near: Sequence[NearForce]) -> str:
     8.0e-4 and the default 2.5 (29) 1.0e-3; at 2.25 (38 functions, below the cap from 3.5 on)
     7.9e-4, 4.4e-4, 2.8e-4 and 2.5e-4 for 3.5, 5, 7 and 10. Given to P1 and P2 alone, 10 gives
     the same fields on them as given to every plate (2.5e-4 and 2.0e-4 at 2.25, 3.5e-5 and
-    2.8e-5 at 3.375) in 2.9 s and 6.7 s instead of 4.0 s and 14 s, where the default's
-    stalled solves took 0.27 s and 0.52 s."""
+    2.8e-5 at 3.375) in 1.1 s, 2.5 s and 6.8 s at resolutions 1.5, 2.25 and 3.375, against
+    1.5 s, 3.8 s and 11.0 s on every plate and 0.09 s, 0.16 s and 0.33 s for the default's
+    stalled solves (processor time, best of three, alternating in one run)."""
     plates = sorted({plate for force in near for plate in force.members})
     also = f", and the same for {', '.join(plates[1:])}" if len(plates) > 1 else ""
     return ("give the plates next to the force their own edge_wavenumber_ratio, above 1.5 times "
             "the finest resolution asked, so that the joint's count keeps growing "
             f"([discretisation.plates.{plates[0]}] edge_wavenumber_ratio = 10{also}: on a "
             "three-plate chain 10 converged to resolution 3.375 where the default 2.5 stalled, "
-            "with an estimate that sees the error, at 4 to 13 times the solve), or move the "
+            "with an estimate that sees the error, at 12 to 21 times the solve), or move the "
             "force away from the joint")
