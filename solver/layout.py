@@ -363,8 +363,12 @@ def answered_wavenumber(case: Case, joint_id: str, problems: Mapping[str, PlateP
     tau = case.discretisation.edge_wavenumber_ratio
 
     def answered(held_ends: bool) -> float:
-        return min(problems[plate].kappa.real * edge_reach(case, plate, resolution, held_ends)
-                   / tau for plate in plates)
+        # the reach in units of tau first: exactly 1 where a member reaches as the description
+        # says, so that such a line's kappa_a is its members' kappa_0 to the bit, which
+        # solver.estimate.slow_lines compares it with (kappa_0 tau / tau rounded above kappa_0
+        # at 5 to 9 % of the frequencies and made such lines "slow")
+        return min(problems[plate].kappa.real
+                   * (edge_reach(case, plate, resolution, held_ends) / tau) for plate in plates)
 
     usual, wider = answered(False), answered(True)
     if any(ends):  # its loads' functions t^(lambda - 1) carry the held ends' layer
