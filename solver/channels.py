@@ -166,8 +166,9 @@ def two_plate_joint(build: JointBuild, jid: str, group: int
     joint = case.joints[jid]
     a, b = joint.sides
     length = case.edge_length(a)
-    sigma, wq = joint_gauss(length, max(build.k_max[a.plate], build.k_max[b.plate]))
-    psi = load_function_values(sigma, length, build.counts[jid])
+    ends = plates.load_ends[jid]  # a hinge's moment is singular where it ends on a free edge
+    sigma, wq = joint_gauss(length, max(build.k_max[a.plate], build.k_max[b.plate]), ends)
+    psi = load_function_values(sigma, length, build.counts[jid], ends)
     slots = plates.layout[jid]
     on_functions = load_function_projection(np.sqrt(wq), psi)
     projections = {"slope": ("slope", on_functions)}

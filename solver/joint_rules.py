@@ -17,14 +17,15 @@ from numpy.typing import ArrayLike
 
 from assembly.case import Case
 from assembly.joints import JunctionJoint
-from solver.line_ends import held_end_exponents
+from solver.line_ends import held_end_exponents, held_free_ends
+from solver.plate_corners import clamped_free_exponents
 from solver.rays import end_graded_rule, gauss_legendre
 
 __all__ = ["LOAD_WAVENUMBER_COUNT", "LoadEnds", "NO_SINGULAR_ENDS", "interface_function_count",
            "end_layer_count",
            "END_LAYER_FROM", "PINNED_LINE_FACTOR", "HANGING_LINE_FACTOR",
            "pinned_line_count",
-           "load_function_projection", "singular_load_ends",
+           "load_function_projection", "singular_load_ends", "held_free_end_exponents",
            "extra_load_functions", "legendre_count_floor", "mixed_end_legendre_count",
            "load_function_values", "joint_gauss", "channel_parameters",
            "joint_parameters", "translational_stiffness"]
@@ -193,7 +194,7 @@ def load_function_projection(root_w: np.ndarray, psi: np.ndarray) -> np.ndarray:
     return scipy.linalg.orth(root_w[:, None] * psi).conj().T * root_w
 
 
-LoadEnds = tuple[bool | tuple[float, ...], ...]
+LoadEnds = tuple[bool | tuple[complex, ...], ...]
 """Per end of a joint line (start, end), how its loads are singular there
 (:func:`singular_load_ends`)."""
 
@@ -206,7 +207,9 @@ SINGULAR_END_FUNCTIONS = 2
 def singular_load_ends(case: Case, joint_id: str,
                        resolution: float | Mapping[str, float] | None = None) -> LoadEnds:
     r"""How a joint's loads are singular at its start and its end (along the line), per end:
-    ``True`` where they are log-singular, at the mixed ends of a moving line
+    the exponents :math:`\lambda` of :func:`held_free_end_exponents` at the end of a held
+    line on a free edge (:func:`solver.line_ends.held_free_ends`); ``True`` where they are
+    log-singular, at the mixed ends of a moving line
     (:meth:`assembly.Case.singular_line_ends`, ``docs/method.md`` section 10.4; a held line's
     loads are not: without the in-plane field no member's deflection is tied to another's
     translation, and a line with a mixed end moves only with ``held = false``,
@@ -216,22 +219,50 @@ def singular_load_ends(case: Case, joint_id: str,
     joint = case.joints[joint_id]
     if joint.kind == "coplanar":
         return NO_SINGULAR_ENDS
+    free = held_free_ends(case, joint_id)
+    if any(free):
+        exponents = held_free_end_exponents(
+            tuple(sorted({case.material_of(plate).poisson_ratio for plate in joint.plates})))
+        return tuple(exponents if end else False for end in free)
     logarithmic = case.singular_line_ends(joint_id) if joint.held is False else NO_SINGULAR_ENDS
     powers = held_end_exponents(case, joint_id, resolution)
     return tuple(True if log else (power or False) for log, power in zip(logarithmic, powers))
 
 
+@functools.cache
+def held_free_end_exponents(poisson_ratios: tuple[float, ...]) -> tuple[complex, ...]:
+    r"""The exponents :math:`\lambda` of the moment along a held line at an end on a free edge
+    (:func:`solver.line_ends.held_free_ends`), :math:`M \sim t^{\lambda - 1}`: those of its
+    members' clamped-free corners, :math:`\lambda = \mu - 1` for each exponent :math:`\mu` of
+    :func:`solver.plate_corners.clamped_free_exponents` (the moment of :math:`r^\mu F(\theta)`
+    goes like :math:`r^{\mu - 2}`), one of each conjugate pair (its load functions are the real
+    and imaginary parts): :math:`1.069 + 0.439j` and :math:`2.464` for :math:`\nu = 0.3`
+    (``docs/method.md`` section 5.5, *A held line's end on a free edge*)."""
+    exponents = {complex(mu) - 1.0 for nu in poisson_ratios
+                 for mu in clamped_free_exponents(nu) if complex(mu).imag >= 0.0}
+    return tuple(lam if lam.imag > 0.0 else lam.real
+                 for lam in sorted(exponents, key=lambda lam: (lam.real, lam.imag)))
+
+
+def _function_count(exponent: complex) -> int:
+    r"""Load functions of one exponent of a singular end: the real and imaginary parts of
+    :math:`t^{\lambda - 1}` where :math:`\lambda` is complex."""
+    return 2 if isinstance(exponent, complex) else 1
+
+
 def extra_load_functions(ends: LoadEnds) -> int:
     """The load functions :func:`load_function_values` adds to the Legendre ones at the
-    singular ``ends``: :data:`SINGULAR_END_FUNCTIONS` at a log-singular end, one per exponent
-    at an end fixed in its plane."""
-    return sum(SINGULAR_END_FUNCTIONS if end is True else len(end) if end else 0
-               for end in ends)
+    singular ``ends``: :data:`SINGULAR_END_FUNCTIONS` at a log-singular end, one per real
+    exponent and two per complex one at an end fixed in its plane or a held line's end on a
+    free edge."""
+    return sum(SINGULAR_END_FUNCTIONS if end is True
+               else sum(map(_function_count, end)) if end else 0 for end in ends)
 
 
 def _singular_functions(t: np.ndarray, s: np.ndarray, ends: LoadEnds) -> list[np.ndarray]:
     r""":math:`\ln t`, :math:`t\ln t` if the start is log-singular, :math:`t^{\lambda - 1}` for
-    each of its exponents if it is fixed in its plane; likewise of :math:`s` at the end; at
+    each of its exponents (its real and imaginary parts for a complex one) if it has exponents;
+    likewise of :math:`s` at the end; at
     ``t`` in (0, 1) with ``s`` = 1 - ``t`` (given apart: near the end ``t`` rounds to 1 before
     ``s`` to 0)."""
     functions = []
@@ -239,7 +270,9 @@ def _singular_functions(t: np.ndarray, s: np.ndarray, ends: LoadEnds) -> list[np
         if end is True:
             functions += [np.log(x), x * np.log(x)]
         elif end:
-            functions += [x ** (lam - 1.0) for lam in end]
+            for lam in end:
+                power = x ** (lam - 1.0)
+                functions += [power.real, power.imag] if isinstance(lam, complex) else [power]
     return functions
 
 

@@ -58,6 +58,7 @@ __all__ = [
     "held_end_exponents",
     "held_end_lines",
     "held_end_plates",
+    "held_free_ends",
     "meeting_end_lines",
     "meeting_end_plates",
     "mixed_end_plates",
@@ -454,7 +455,9 @@ def edge_reach(case: Case, plate_id: str,
     ``held_ends`` is false (the reach the line's count may follow instead:
     :func:`solver.layout.answered_wavenumber`), its bending waves
     :data:`UNLOADED_HELD_END_REACH` times where no exponent loads such a line
-    (:func:`unloaded_held_end_plates`; ``in_plane``: the reach of its in-plane waves)."""
+    (:func:`unloaded_held_end_plates`; ``in_plane``: the reach of its in-plane waves); times
+    :math:`\max(1, s/s_g)` on a member of a held line with an end on a free edge
+    (:func:`held_free_ends`), whose count follows it (:func:`solver.layout.interface_layout`)."""
     return case.discretisation.edge_ratio(plate_id) * _reach_factors(
         case, plate_id, resolution, held_ends, in_plane)[0]
 
@@ -462,9 +465,10 @@ def edge_reach(case: Case, plate_id: str,
 def reach_growth(case: Case, plate_id: str,
                  resolution: float | Mapping[str, float] | None = None) -> float:
     r"""How many times a plate's :func:`edge_reach` exceeds what it would be without growing
-    with the resolution (1 but on the members of a line with a free end or meeting others,
-    above :data:`REACH_GROWTH_FROM`). The edge waves' counts are those of the resolution divided
-    by it, so that their sectors widen with the reach instead of multiplying: the count of a
+    with the resolution (1 but on the members of a line with a free end or meeting others, and
+    of a held line with an end on a free edge, above :data:`REACH_GROWTH_FROM`). The edge
+    waves' counts are those of the resolution divided by it, so that their sectors widen with
+    the reach instead of multiplying: the count of a
     fixed reach at that resolution. Against the finite elements of the free-ended fold the
     error is the same (300 Hz: 5.3e-4, 4.4e-5 and 7.3e-6 at resolutions 2.25, 3.375 and 5, with
     2006, 2998 and 4418 unknowns instead of 2882, 6312 and 13598; 1 kHz: 3.8e-5 and 7.1e-6 at
@@ -479,7 +483,7 @@ def _reach_factors(case: Case, plate_id: str,
                    held_ends: bool = True, in_plane: bool = False) -> tuple[float, float]:
     r"""A plate's edge reach in units of :math:`\tau`, and the same without its growth
     (``held_ends``, ``in_plane`` as in :func:`edge_reach`)."""
-    singular, meeting, free, held, unloaded, mixed = _far_reaching_plates(case)
+    singular, meeting, free, held, unloaded, mixed, held_free = _far_reaching_plates(case)
     if plate_id in mixed:
         return SINGULAR_END_REACH, SINGULAR_END_REACH
     scale = plate_resolution(case, plate_id, resolution)
@@ -493,44 +497,85 @@ def _reach_factors(case: Case, plate_id: str,
         reach = (UNLOADED_HELD_END_REACH if plate_id in unloaded and not in_plane
                  else HELD_END_REACH)
         return reach, reach
+    if plate_id in held_free:
+        return max(1.0, scale / REACH_GROWTH_FROM), 1.0
     return 1.0, 1.0
 
 
-_FAR_REACHING: dict[int, tuple[Case, tuple[frozenset[str], ...], dict]] = {}
+_FAR_REACHING: dict[int, tuple[Case, tuple[frozenset[str], ...], dict, dict]] = {}
 
 
-def _case_lines(case: Case) -> tuple[Case, tuple[frozenset[str], ...], dict]:
+def _case_lines(case: Case) -> tuple[Case, tuple[frozenset[str], ...], dict, dict]:
     """The memo of ``case`` (a frozen model), for the few cases in use: its
-    :func:`_far_reaching_plates` and :func:`_held_line_exponents`, which find the moving lines
-    (5 ms on a 50-bay panel) and are asked for every plate and joint by several builders (0.5 s
-    a pass over its 99 plates without the memo; the lines' exponents, asked per joint, grew
-    the 50-bay panel's layout from 0.09 s to 2.4 s)."""
+    :func:`_far_reaching_plates`, :func:`_held_line_exponents` and :func:`_held_free_ends`,
+    which find the moving lines (5 ms on a 50-bay panel) and are asked for every plate and
+    joint by several builders (0.5 s a pass over its 99 plates without the memo; the lines'
+    exponents, asked per joint, grew the 50-bay panel's layout from 0.09 s to 2.4 s)."""
     entry = _FAR_REACHING.get(id(case))  # the memo holds its cases: their ids stay theirs
     if entry is None:
         if len(_FAR_REACHING) >= 8:
             _FAR_REACHING.clear()
         exponents = _line_exponents(case)
         unloaded = [jid for jid, ends in exponents.items() if not any(ends)]
+        held_free = _held_free_ends(case)
         entry = _FAR_REACHING[id(case)] = (case, (singular_end_plates(case),
                                                   meeting_end_plates(case),
                                                   free_end_plates(case),
                                                   held_end_plates(case),
                                                   _members(case, unloaded),
-                                                  mixed_end_plates(case)),
-                                           exponents)
+                                                  mixed_end_plates(case),
+                                                  _members(case, held_free)),
+                                           exponents, held_free)
     return entry
 
 
 def _far_reaching_plates(case: Case) -> tuple[frozenset[str], ...]:
     """:func:`singular_end_plates`, :func:`meeting_end_plates`, :func:`free_end_plates`,
-    :func:`held_end_plates`, :func:`unloaded_held_end_plates` and :func:`mixed_end_plates` of
-    ``case``, found once per case (:func:`_case_lines`)."""
+    :func:`held_end_plates`, :func:`unloaded_held_end_plates`, :func:`mixed_end_plates` and
+    the members of the held lines of :func:`held_free_ends` of ``case``, found once per case
+    (:func:`_case_lines`)."""
     return _case_lines(case)[1]
 
 
 def _held_line_exponents(case: Case) -> dict[str, tuple[tuple[float, ...], ...]]:
     """:func:`_line_exponents` of ``case``, found once per case (:func:`_case_lines`)."""
     return _case_lines(case)[2]
+
+
+def held_free_ends(case: Case, joint_id: str) -> tuple[bool, bool]:
+    r"""Per end of a held line (start, end along it), whether a member's edge ends there on a
+    free edge of its plate: a hinge or a junction line that neither continues its plates (a
+    coplanar joint) nor moves, whose members hold :math:`w = 0` and tie their rotations by a
+    spring. There a member has a corner between :math:`w = 0` and a free edge; its plate
+    carries the clamped-free corner functions (:func:`solver.problems.plate_wedges`) and the
+    line's moment goes like their :math:`t^{\mu - 2}`
+    (:func:`solver.joint_rules.singular_load_ends`; ``docs/method.md`` section 5.5, *A held
+    line's end on a free edge*). A member edge of a moving line counts as free, as in the
+    plates' bending problems. ``(False, False)`` for any other joint."""
+    return _case_lines(case)[3].get(joint_id, (False, False))
+
+
+def _held_free_ends(case: Case) -> dict[str, tuple[bool, bool]]:
+    """:func:`held_free_ends` of every held line of ``case`` that has such an end."""
+    moving = set(case.moving_lines())
+    conditions, joints = case.edge_conditions(), case.edge_joints()
+
+    def free(edge: EdgeId) -> bool:
+        return conditions[edge] == "free" or joints.get(edge) in moving
+
+    out = {}
+    for jid, joint in case.joints.items():
+        if joint.kind == "coplanar" or jid in moving:
+            continue
+        ends = [False, False]
+        for side, direction in zip(joint.sides, case.member_directions(jid)):
+            i = EDGE_NAMES.index(side.edge)
+            before, after = EDGE_NAMES[i - 1], EDGE_NAMES[(i + 1) % 4]  # at its start, its end
+            for k, edge in enumerate((before, after) if direction > 0 else (after, before)):
+                ends[k] = ends[k] or free(EdgeId(side.plate, edge))
+        if any(ends):
+            out[jid] = tuple(ends)
+    return out
 
 
 def singular_end_corners(case: Case, plate_id: str) -> tuple[int, ...]:

@@ -144,21 +144,26 @@ def plate_ray_counts(case: Case, plate_id: str, problem: PlateProblem,
 def plate_wedges(case: Case, plate_id: str, problem: PlateProblem) -> tuple[WedgeFamily, ...]:
     """The corner functions of the plate's corners where a clamped edge meets a free one
     (:func:`solver.plate_corners.clamped_free_wedges`): a free or loaded edge, or a member edge
-    of a moving line. A coplanar joint's edge does not count: the plate continues across it,
-    and the assembled field has no corner there. Then the bending logarithmic family
-    (:func:`solver.plate_corners.logarithmic_wedges`) at every corner of
+    of a moving line. The edge of a held line (a hinge, or a junction line held in translation:
+    :math:`w = 0`, its rotation tied by a spring) counts as clamped (``docs/method.md`` section
+    5.5, *A held line's end on a free edge*). A coplanar joint's edge does not count: the plate
+    continues across it, and the assembled field has no corner there. Then the bending
+    logarithmic family (:func:`solver.plate_corners.logarithmic_wedges`) at every corner of
     :func:`solver.line_ends.singular_end_corners`."""
     corners = singular_end_corners(case, plate_id)
     edges = plate_edges(problem.size) if corners else ()
     logarithmic = tuple(logarithmic_wedges(edges[c].start, edges[c].tangent) for c in corners)
     kinds = [problem.condition(name).kind for name in EDGE_NAMES]
-    if "clamped" not in kinds:  # the common case, without a pass over the joints
-        return logarithmic
+    if "clamped" not in kinds and not {"simply_supported", "free"} <= set(kinds):
+        return logarithmic  # the common case, without a pass over the joints
     for joint in case.joints.values():
-        if joint.kind == "coplanar":
-            for side in joint.sides:
-                if side.plate == plate_id:
-                    kinds[EDGE_NAMES.index(side.edge)] = "joined"
+        for side in joint.sides:
+            if side.plate == plate_id:
+                i = EDGE_NAMES.index(side.edge)
+                if joint.kind == "coplanar":
+                    kinds[i] = "joined"
+                elif kinds[i] == "simply_supported":  # a held line's edge (joint_edge_kinds)
+                    kinds[i] = "clamped"
     return clamped_free_wedges(problem.size, kinds, problem.poisson_ratio) + logarithmic
 
 
