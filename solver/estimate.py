@@ -78,7 +78,12 @@ from assembly.case import Case
 from solver.layout import answered_wavenumber, interface_layout, members_wavenumber
 from solver.membrane import MembraneSolution
 from solver.membrane_basis import membrane_grid_displacement
-from solver.near_forces import NearForce, forces_near_joints
+from solver.near_forces import (
+    NearForce,
+    forces_near_joints,
+    near_force_remedy,
+    near_forces_text,
+)
 from solver.plate import PlateProblem, PlateSolution
 from solver.power import grid_deflections, plate_gauss_axes
 from solver.problems import plate_problems
@@ -90,7 +95,7 @@ from solver.vtcr import solve_case
 __all__ = ["ENRICHMENT", "EnrichedSolve", "ErrorEstimate", "enriched_size",
            "enriched_solution", "enriched_solve", "estimate_error", "in_plane_l2_errors",
            "plate_l2_rule", "slow_lines", "unrefined_lines", "unresolved_near_forces",
-           "unseen_lines_remedy", "unseen_lines_text"]
+           "unseen_lines_remedy", "unseen_lines_text", "unseen_texts"]
 
 ENRICHMENT = 1.5
 ENRICHED_SOLVE_SECONDS = 60.0
@@ -408,6 +413,22 @@ def unseen_lines_remedy(count_fixed: bool) -> str:
         return "let their count grow (leave interface_functions out) for an estimate that sees them"
     return ("an estimate at a lower [discretisation] resolution, where their count still "
             "grows, sees them")
+
+
+def unseen_texts(estimate: ErrorEstimate, value: float) -> dict[str, str]:
+    """What ``estimate`` cannot see, by kind (``"lines"``: :func:`unrefined_lines`, ``"near
+    forces"``: :func:`unresolved_near_forces`): why, quoting the estimate ``value``, and what
+    would let it see; empty where it sees every error. For the messages of ``--tolerance`` and
+    the warnings beside a printed estimate."""
+    texts = {}
+    if estimate.unseen_lines:
+        fixed = estimate.unseen_count_fixed
+        texts["lines"] = (f"{unseen_lines_text(estimate.unseen_lines, value, fixed)}; "
+                          f"{unseen_lines_remedy(fixed)}")
+    if estimate.unseen_near_forces:
+        texts["near forces"] = (f"{near_forces_text(estimate.unseen_near_forces, value)}; "
+                                f"{near_force_remedy(estimate.unseen_near_forces)}")
+    return texts
 
 
 def unrefined_lines(case: Case, frequency: float, resolution: Mapping[str, float],

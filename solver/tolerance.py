@@ -18,11 +18,10 @@ from solver.estimate import (
     enriched_solution,
     estimate_error,
     slow_lines,
-    unseen_lines_remedy,
-    unseen_lines_text,
+    unseen_texts,
 )
 from solver.in_plane import in_plane_plates
-from solver.near_forces import forces_near_joints, near_force_remedy, near_forces_text
+from solver.near_forces import forces_near_joints, near_force_remedy
 from solver.rays import QUASI_STATIC_KAPPA_R
 from solver.resolution import plate_resolution
 from solver.solution import CaseSolution
@@ -80,9 +79,10 @@ def solve_to_tolerance(
         history.append(estimate)
         worst = max(estimate.plate_errors().values())
         if worst <= tolerance:
-            if estimate.unseen_lines or estimate.unseen_near_forces:
+            unseen = unseen_texts(estimate, worst)
+            if unseen:
                 raise ToleranceError(f"{frequency:g} Hz: the tolerance cannot be checked: "
-                                     f"{_unseen_text(estimate, worst)}, or solve without a "
+                                     f"{'; '.join(unseen.values())}, or solve without a "
                                      "tolerance")
             return solution, estimate
         stalled = len(history) > 1 and worst > 0.5 * max(history[-2].plate_errors().values())
@@ -100,20 +100,6 @@ def solve_to_tolerance(
             solution = finer = enriched = None  # freed before the next solve
             solution = solve_case(case, frequency, resolution=resolution, check=False)
     raise AssertionError("unreachable")
-
-
-def _unseen_text(estimate: ErrorEstimate, worst: float) -> str:
-    """Why ``estimate`` cannot see some error, and what would let it: its unseen lines, then its
-    forces next to joints."""
-    parts = []
-    if estimate.unseen_lines:
-        fixed = estimate.unseen_count_fixed
-        parts.append(f"{unseen_lines_text(estimate.unseen_lines, worst, fixed)}; "
-                     f"{unseen_lines_remedy(fixed)}")
-    if estimate.unseen_near_forces:
-        parts.append(f"{near_forces_text(estimate.unseen_near_forces, worst)}; "
-                     f"{near_force_remedy(estimate.unseen_near_forces)}")
-    return "; ".join(parts)
 
 
 def refined_together(case: Case) -> dict[str, frozenset[str]]:

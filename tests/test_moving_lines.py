@@ -504,7 +504,6 @@ def test_a_stalled_tolerance_names_a_force_next_to_a_line():
     assert forces_near_joints(far, plate_problems(far, 300.0)) == []
 
 
-
 def test_a_line_whose_members_reach_as_described_is_never_slow():
     r"""A moving line converges slowly (``docs/accuracy.md`` section 8) only where its members
     reach further than ``edge_wavenumber_ratio`` says (a free, pinned or meeting end): then
@@ -527,6 +526,7 @@ def test_a_line_whose_members_reach_as_described_is_never_slow():
             for jid in case.moving_lines():
                 assert (answered_wavenumber(case, jid, problems)
                         == members_wavenumber(case, jid, problems)), (name, frequency, jid)
+
 
 # a three-bay skin with two stiffeners (1 mm and 2 mm: the stiffeners' rays answer shorter
 # wavenumbers along the lines than the skin's)

@@ -152,7 +152,8 @@ def test_a_longer_reach_meets_the_tolerance_next_to_a_force():
     """With ``edge_wavenumber_ratio = 10`` on P1 and P2 alone, G1's count grows with the
     resolution, the estimate sees the error and the tolerance is met with P1 and P2 at
     resolution 2.25, P3 at 1: 2.6e-4, 2.1e-4 and 3.4e-4 off the Levy series, estimated 0.96 to
-    1.00 times that, in 13 s (with 10 on every plate 19 s; the default's refusal 0.4 s)."""
+    1.00 times that (the cost, measured beside its yardsticks: ``docs/accuracy.md`` section
+    8)."""
     case, exact = _chain(0.01, 1.0, {"P1": 10.0, "P2": 10.0})
     solution, estimate = solve_to_tolerance(case, FREQUENCY, 1e-3)
     errors = _true_errors(solution, exact)

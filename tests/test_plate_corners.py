@@ -321,9 +321,10 @@ def test_the_folded_plate_converges_against_finite_elements(frequency, log10_sti
     """``cases/folded_plate.toml`` at its resolution 1.25, with the true (2.4) or the model's
     (5.0) log10 k, worst face's relative L2 error of w on a 15 x 15 grid against
     :data:`FEM_HINGE`: measured 2.0e-5, 1.3e-5, 3.8e-5, the estimate 1.02, 1.40, 0.78 times
-    that. Bounds: 1e-4, and the issue's [0.5, 3]. With the rays alone (the corner functions,
-    the loads' terms and the growing reach left out, as until 0.3.20) 8.5e-4, 3.7e-1, 4.5e-2:
-    the second assertion block checks that the comparison sees it."""
+    that. Bounds: 1e-4, and the issue's [0.5, 3]. With the rays alone (the corner functions
+    and the loads' terms left out, as until 0.3.20; the members' reach grows only from
+    resolution 1.5) 8.5e-4, 3.7e-1, 4.5e-2: the last assertion checks that the comparison
+    sees it."""
     reference = np.load(FEM_HINGE)
     grid = np.array([(x, y) for x in reference["xs"] for y in reference["ys"]])
 

@@ -10,7 +10,7 @@ import hashlib
 import math
 import os
 import sys
-from collections.abc import Callable, Iterable, Mapping
+from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -19,8 +19,7 @@ from rich.markup import escape
 
 from assembly import Case, load_case
 from solver.errors import NumericalError
-from solver.estimate import ErrorEstimate, unseen_lines_remedy, unseen_lines_text
-from solver.near_forces import near_force_remedy, near_forces_text
+from solver.estimate import ErrorEstimate, unseen_texts
 from solver.sizing import available_memory, estimate_size
 from solver.tolerance import solve_to_tolerance
 from updating.cli.parser import version_text
@@ -211,17 +210,6 @@ def resolution_for_tolerance(case: Case, console: Console) -> dict[str, float] |
     return resolution
 
 
-def _warn_blind(console: Console, blind: Mapping[float, ErrorEstimate],
-                why: Callable[[ErrorEstimate], str]) -> None:
-    """One warning for the estimates that cannot see some error (``blind``, by frequency): why,
-    at the first of them."""
-    if blind:
-        frequency, estimate = next(iter(blind.items()))
-        warn(console, f"{frequency:g} Hz"
-             + (f" (and {len(blind) - 1} more frequencies)" if len(blind) > 1 else "")
-             + f": {why(estimate)}")
-
-
 def print_estimates(console: Console, estimates: Mapping[float, ErrorEstimate],
                     what: str = "") -> None:
     """One line: the estimated error of w at each frequency of ``estimates`` (``{frequency:
@@ -250,12 +238,14 @@ def print_estimates(console: Console, estimates: Mapping[float, ErrorEstimate],
                       f"{what}: " + ", ".join(f"{e.in_plane_total:.1e} at {f:g} Hz"
                                                for f, e in in_plane.items())
                       + f"; largest on plate {plate} ({worst_in_plane.in_plane[plate]:.1e})")
-    _warn_blind(console, {f: e for f, e in estimates.items() if e.unseen_lines},
-                lambda e: f"{unseen_lines_text(e.unseen_lines, e.total, e.unseen_count_fixed)}; "
-                          + unseen_lines_remedy(e.unseen_count_fixed))
-    _warn_blind(console, {f: e for f, e in estimates.items() if e.unseen_near_forces},
-                lambda e: f"{near_forces_text(e.unseen_near_forces, e.total)}; "
-                          + near_force_remedy(e.unseen_near_forces))
+    unseen = {f: unseen_texts(e, e.total) for f, e in estimates.items()}
+    for kind in ("lines", "near forces"):  # one warning per kind, at the first frequency
+        blind = [(f, texts[kind]) for f, texts in unseen.items() if kind in texts]
+        if blind:
+            frequency, text = blind[0]
+            warn(console, f"{frequency:g} Hz"
+                 + (f" (and {len(blind) - 1} more frequencies)" if len(blind) > 1 else "")
+                 + f": {text}")
     if worst.total > ESTIMATE_WARNING:
         warn(console, f"the estimated error {worst.total:.1e} exceeds {ESTIMATE_WARNING:g}: "
                        "raise [discretisation] resolution or give a tolerance")
