@@ -23,7 +23,7 @@ from assembly import Case
 from assembly.geometry import edge_geometry
 from solver.dense import MEMBRANE_RANK_TOLERANCE, factorise_dense
 from solver.interface import Block
-from solver.interface_loads import membrane_loads, plate_loads, plate_sides
+from solver.interface_loads import PlateLoads, membrane_loads, plate_loads, plate_sides
 from solver.layout import InterfaceLayout
 from solver.membrane import MembraneProblem, assemble_membrane
 from solver.membrane_basis import MembraneBasis, membrane_edge_traces
@@ -171,10 +171,25 @@ class _SharedSolves:
     """Solutions shared by identical plates whose loads are the same, to the bit (the inner
     bays of a panel, a grid's inner plates: their load functions are the same functions of
     the same traces, only the interface unknowns they load differ): one solve of
-    :math:`K_i^{-1}B_i` serves them all, and one array holds it (read-only)."""
+    :math:`K_i^{-1}B_i` serves them all, and one array holds it (read-only); so does one
+    transfer operator spread from it (:meth:`transfer`)."""
 
     def __init__(self) -> None:
         self._solutions: dict[tuple, list[tuple[np.ndarray, np.ndarray]]] = {}
+        self._spread: dict[tuple[int, int, bytes], tuple[np.ndarray, np.ndarray]] = {}
+
+    def transfer(self, loads: PlateLoads, solution: np.ndarray, first: int = 0) -> np.ndarray:
+        """The transfer operator ``loads.transfer(solution[:, first:])``
+        (:class:`solver.interface_loads.PlateLoads`) of a ``solution`` that :meth:`get`
+        returned: one array for the plates that share it and spread it alike."""
+        if not loads.compressed:
+            return solution[:, first:]
+        key = (id(solution), first, loads.pattern())
+        if key not in self._spread:  # the solution is kept with it, so its id stays its own
+            spread = loads.transfer(solution[:, first:])
+            spread.setflags(write=False)
+            self._spread[key] = solution, spread
+        return self._spread[key][1]
 
     def get(self, signature: tuple | None, loads: np.ndarray,
             solve: Callable[[np.ndarray], np.ndarray]) -> np.ndarray:
@@ -250,8 +265,10 @@ def plate_admissibility(case: Case, frequency: float, problems: Mapping[str, Pla
         loads = plate_loads(case, block.boundary, sides[pid], corners[pid], arrangement.counts,
                             arrangement.load_ends,
                             arrangement.slots, arrangement.unknowns[pid])
-        solution = solved.get(key, loads, functools.partial(_with_force, block))
-        u0[pid], transfer[pid], rcond[pid] = solution[:, 0], solution[:, 1:], block.rcond
+        solution = solved.get(key, loads.right_hand_sides(),
+                              functools.partial(_with_force, block))
+        u0[pid], rcond[pid] = solution[:, 0], block.rcond
+        transfer[pid] = solved.transfer(loads, solution, 1)
         corner_w[pid] = block.boundary.corner_w, block.boundary.corner_w_p
     plates = PlateAdmissibility(frequency, dict(problems), dict(bases), arrangement.unknowns, u0,
                                 transfer, arrangement.n_s, arrangement.slots, rcond,
@@ -289,6 +306,6 @@ def membrane_blocks(case: Case, problems: Mapping[str, MembraneProblem],
         loads, moments = membrane_loads(case, problem, bases[pid], sides[pid],
                                         arrangement.counts, arrangement.load_ends,
                                         arrangement.slots, unknowns, cache)
-        blocks[pid] = MembraneBlock(problem, bases[pid], solved.get(key, loads, solve), rcond,
-                                    unknowns, moments)
+        blocks[pid] = MembraneBlock(problem, bases[pid], solved.transfer(
+            loads, solved.get(key, loads.right_hand_sides(), solve)), rcond, unknowns, moments)
     return blocks

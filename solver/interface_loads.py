@@ -12,6 +12,7 @@ tractions, which for the line's balancing member are the others' with the opposi
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -23,9 +24,9 @@ from solver.membrane import MembraneProblem, membrane_edge_rule
 from solver.membrane_basis import MembraneBasis, membrane_edge_traces
 from solver.plate import PlateBoundary, edge_projection
 
-__all__ = ["FORCE_COMPONENTS", "MOVING_MEMBER_LOADS", "JointSide", "LoadTerms", "balancing_member",
-           "load_values", "member_axes", "member_load", "membrane_loads", "plate_loads",
-           "plate_sides", "rigid_members", "traction_loads"]
+__all__ = ["FORCE_COMPONENTS", "MOVING_MEMBER_LOADS", "JointSide", "LoadTerms", "PlateLoads",
+           "balancing_member", "load_values", "member_axes", "member_load", "membrane_loads",
+           "plate_loads", "plate_sides", "rigid_members", "traction_loads"]
 
 
 MOVING_MEMBER_LOADS = ("C", "K", "Nn", "Nt")
@@ -118,6 +119,66 @@ def load_values(terms: LoadTerms, s: np.ndarray) -> np.ndarray:
     return sum(values[1:], values[0])
 
 
+@dataclass(frozen=True)
+class PlateLoads:
+    r"""A plate's loads per unit interface unknown, :math:`B = \Phi E`: its distinct load
+    functions :math:`\Phi` (rows, functions), a joint side's projected Legendre loads or a
+    corner's deflection, and the unknowns each one loads, :math:`E` (functions, unknowns), as
+    ``targets``: ``(function columns, unknown positions, coefficient)``.
+
+    A function usually loads one unknown, and :math:`B` is :math:`\Phi` with its columns in
+    place. A moving line's balancing member takes each of its functions into the slot of every
+    other member with the coefficient its balance gives (:func:`member_load`), so that
+    :math:`B` has two to three times the columns of :math:`\Phi` there; the plate's transfer
+    operator is then solved on :math:`\Phi` and spread, :math:`K^{-1}B = (K^{-1}\Phi)E`
+    (``docs/method.md`` section 10.4), a linear solve being linear."""
+
+    functions: np.ndarray
+    targets: tuple[tuple[slice, np.ndarray, float], ...]
+    n_unknowns: int
+
+    @classmethod
+    def stacked(cls, blocks: Sequence[tuple[np.ndarray, Sequence[tuple[np.ndarray, float]]]],
+                n_rows: int, n_unknowns: int) -> PlateLoads:
+        """The loads of ``blocks``, ``(values (rows, m), [(unknown positions (m,),
+        coefficient), ...])``: each block's ``m`` functions, loading those unknowns."""
+        targets, start = [], 0
+        for values, destinations in blocks:
+            functions = slice(start, start + values.shape[1])
+            targets += [(functions, positions, coefficient)
+                        for positions, coefficient in destinations]
+            start = functions.stop
+        functions = (np.hstack([values for values, _ in blocks]) if blocks
+                     else np.zeros((n_rows, 0), dtype=complex))
+        return cls(functions.astype(complex, copy=False), tuple(targets), n_unknowns)
+
+    @property
+    def compressed(self) -> bool:
+        r"""Whether :math:`\Phi` has fewer columns than :math:`B`: then solving on it pays."""
+        return self.functions.shape[1] < self.n_unknowns
+
+    def spread(self, values: np.ndarray) -> np.ndarray:
+        """:math:`YE` for :math:`Y` (n, functions): the functions' columns summed into their
+        unknowns' with their coefficients."""
+        out = np.zeros((values.shape[0], self.n_unknowns), dtype=complex)
+        for functions, positions, coefficient in self.targets:
+            out[:, positions] += coefficient * values[:, functions]
+        return out
+
+    def right_hand_sides(self) -> np.ndarray:
+        r"""What a plate's solve takes: :math:`\Phi` where it is compressed, else :math:`B`."""
+        return self.functions if self.compressed else self.spread(self.functions)
+
+    def transfer(self, solutions: np.ndarray) -> np.ndarray:
+        """The transfer operator from the solutions of :meth:`right_hand_sides`."""
+        return self.spread(solutions) if self.compressed else solutions
+
+    def pattern(self) -> bytes:
+        """``targets`` as bytes: plates whose functions and patterns agree share one spread."""
+        return b"".join(np.asarray([f.start, f.stop, coefficient]).tobytes() + positions.tobytes()
+                        for f, positions, coefficient in self.targets)
+
+
 JointSide = tuple[str, int, EdgeId]
 """A plate's edge on a joint: the joint, the side's index in it and the edge."""
 
@@ -139,19 +200,21 @@ def plate_sides(case: Case, corner_columns: Mapping[tuple[str, int], int]
 def plate_loads(case: Case, boundary: PlateBoundary, sides: Sequence[JointSide],
                 corners: Sequence[tuple[int, int]], counts: Mapping[str, int],
                 load_ends: Mapping[str, LoadEnds], layout: Mapping[str, Mapping[str, slice]],
-                unknowns: np.ndarray) -> np.ndarray:
+                unknowns: np.ndarray) -> PlateLoads:
     r""":math:`B_i`: the plate's VTCR right-hand sides per unit interface unknown, over the
     interface unknowns ``unknowns`` it sees: the Legendre loads of its joint ``sides`` and the
     forces of its junction ``corners`` (:func:`plate_sides`), with the signs of
-    ``docs/method.md`` section 6.2."""
-    loads = np.zeros((boundary.corner_w.shape[1], len(unknowns)), dtype=complex)
+    ``docs/method.md`` section 6.2, as distinct functions and the unknowns they load
+    (:class:`PlateLoads`)."""
+    blocks = []
 
     def add(columns: Sequence[int] | np.ndarray, values: np.ndarray) -> None:
-        loads[:, np.searchsorted(unknowns, columns)] += values
+        blocks.append((values, [(np.searchsorted(unknowns, columns), 1.0)]))
 
     def add_terms(terms: LoadTerms, values: np.ndarray) -> None:
-        for part, coefficient in terms:
-            add(np.arange(part.start, part.stop), coefficient * values)
+        if terms:
+            blocks.append((values, [(np.searchsorted(unknowns, np.arange(part.start, part.stop)),
+                                     coefficient) for part, coefficient in terms]))
 
     for jid, side_index, side in sides:
         length = case.edge_length(side)
@@ -175,7 +238,7 @@ def plate_loads(case: Case, boundary: PlateBoundary, sides: Sequence[JointSide],
             add(slots[key], edge_projection(traces, "shear", psi))
     for c, column in corners:
         add([column], boundary.corner_w[c].conj()[:, None])
-    return loads
+    return PlateLoads.stacked(blocks, boundary.corner_w.shape[1], len(unknowns))
 
 
 def membrane_loads(case: Case, problem: MembraneProblem, basis: MembraneBasis,
@@ -183,7 +246,7 @@ def membrane_loads(case: Case, problem: MembraneProblem, basis: MembraneBasis,
                    load_ends: Mapping[str, LoadEnds],
                    layout: Mapping[str, Mapping[str, slice]], unknowns: np.ndarray,
                    cache: dict | None = None
-                   ) -> tuple[np.ndarray, dict[str, tuple[np.ndarray, np.ndarray]]]:
+                   ) -> tuple[PlateLoads, dict[str, tuple[np.ndarray, np.ndarray]]]:
     r""":math:`B_i^m`: the membrane VTCR right-hand sides of an in-plane plate per unit
     interface unknown, over the interface unknowns ``unknowns`` it sees: on each of its
     moving-line edges the static data :math:`N_{nn} = \sum_m(N_n)_m\psi_m` and
@@ -195,7 +258,7 @@ def membrane_loads(case: Case, problem: MembraneProblem, basis: MembraneBasis,
     sums, which a moving line's translation rows and a coplanar joint's in-plane continuity
     test (``solver.channels``), so that the rows and the loads pair the plate's functions
     with the joint's on one quadrature rule."""
-    loads = np.zeros((basis.n_dof, len(unknowns)), dtype=complex)
+    blocks = []
     moments = {}
     for jid, side_index, side in sides:
         tractions = traction_loads(case, jid, layout[jid], side.plate)
@@ -211,8 +274,7 @@ def membrane_loads(case: Case, problem: MembraneProblem, basis: MembraneBasis,
         works = [traces[displacement].conj().T @ (weights[:, None] * psi)
                  for displacement in ("u_n", "u_t")]
         moments[jid] = (works[0].conj().T, works[1].conj().T)
-        for terms, work in zip(tractions, works):
-            for part, coefficient in terms:
-                columns = np.searchsorted(unknowns, np.arange(part.start, part.stop))
-                loads[:, columns] += coefficient * work
-    return loads, moments
+        blocks += [(work, [(np.searchsorted(unknowns, np.arange(part.start, part.stop)),
+                            coefficient) for part, coefficient in terms])
+                   for terms, work in zip(tractions, works) if terms]
+    return PlateLoads.stacked(blocks, basis.n_dof, len(unknowns)), moments

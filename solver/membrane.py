@@ -154,28 +154,41 @@ def assemble_membrane(problem: MembraneProblem, basis: MembraneBasis,
         - \sum_{\alpha\ \mathrm{kin.}}\int\overline{N_\alpha(\delta\mathbf u)}
             (u_\alpha(\mathbf u) - u_{\alpha,d})\,ds = 0,
 
-    :math:`\alpha\in\{n, t\}` on each edge (``cache``: :func:`membrane_edge_traces`').
-    """
-    rows_test, rows_trial, rows_data = [], [], []
+    :math:`\alpha\in\{n, t\}` on each edge, :math:`K` edge by edge. ``cache`` keeps
+    :func:`membrane_edge_traces`' traces and each edge's part of :math:`K` by basis object,
+    material, edge and condition: plates that share a basis and differ in some edges' conditions
+    (a panel's end and inner bays) compute the others' once."""
+    matrix = np.zeros((basis.n_dof, basis.n_dof), dtype=complex)
+    force = np.zeros(basis.n_dof, dtype=complex)
     for edge in plate_edges(problem.size):
         s, w = membrane_edge_rule(edge, basis)
         traces = membrane_edge_traces(basis, edge, s, problem.stiffness, problem.poisson_ratio,
                                       cache)
         condition = problem.condition(edge.name)
-        for component, kind in zip(COMPONENTS, IN_PLANE_CONDITIONS[condition.condition]):
+        kinds = IN_PLANE_CONDITIONS[condition.condition]
+        tests, trials, given = [], [], []
+        for component, kind in zip(COMPONENTS, kinds):
             displacement, resultant = f"u_{component}", f"N_n{component}"
             if kind == "static":
-                test, trial, given, sign = displacement, resultant, resultant, 1.0
+                test, trial, datum, sign = displacement, resultant, resultant, 1.0
             else:
-                test, trial, given, sign = resultant, displacement, displacement, -1.0
-            data = condition.data.get(given)
-            values = np.zeros(len(s), complex) if data is None else np.asarray(data(s), complex)
-            weights = sign * w
-            rows_test.append(traces[test].conj().T * weights)
-            rows_trial.append(traces[trial])
-            rows_data.append(values)
-    test = np.hstack(rows_test)
-    return test @ np.vstack(rows_trial), test @ np.concatenate(rows_data)
+                test, trial, datum, sign = resultant, displacement, displacement, -1.0
+            data = condition.data.get(datum)
+            given.append(np.zeros(len(s), complex) if data is None
+                         else np.asarray(data(s), complex))
+            tests.append(traces[test].conj().T * (sign * w))
+            trials.append(traces[trial])
+        test = np.hstack(tests)
+        key = ("membrane edge", id(basis), problem.stiffness, problem.poisson_ratio, edge.name,
+               s.tobytes(), kinds)
+        part = None if cache is None else cache.get(key)
+        if part is None:
+            part = test @ np.vstack(trials)
+            if cache is not None:
+                cache[key] = part
+        matrix += part
+        force += test @ np.concatenate(given)
+    return matrix, force
 
 
 @dataclass(frozen=True)

@@ -282,19 +282,6 @@ def _resultant_factors(direction: np.ndarray, k: np.ndarray, stiffness: complex,
                                    poisson_ratio)
 
 
-def _traction_factors(direction: np.ndarray, k: np.ndarray, normal: np.ndarray,
-                      stiffness: complex, poisson_ratio: float) -> np.ndarray:
-    r""":math:`\mathbf N\mathbf n` of :math:`\mathbf d\,e^{\mathbf k\cdot\mathbf x}` over its
-    exponential, (nodes, 2), on an edge of normal :math:`\mathbf n`:
-    :math:`A^*[\nu(\mathbf d\cdot\mathbf k)\mathbf n + \tfrac{1-\nu}2((\mathbf k\cdot\mathbf n)
-    \mathbf d + (\mathbf d\cdot\mathbf n)\mathbf k)]` (:func:`_resultant_factors` times
-    :math:`\mathbf n`, without forming the tensor)."""
-    divergence = np.sum(direction * k, axis=1)
-    return stiffness * (poisson_ratio * divergence[:, None] * normal
-                        + 0.5 * (1.0 - poisson_ratio) * ((k @ normal)[:, None] * direction
-                                                         + (direction @ normal)[:, None] * k))
-
-
 def _node_factors(basis: MembraneBasis, stiffness: complex, poisson_ratio: float
                   ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     r"""Per node, the factors of the displacement and the resultants over the exponential
@@ -412,26 +399,28 @@ def _edge_factors(basis: MembraneBasis, edge: EdgeGeometry, stiffness: complex,
     boundary-layer groups whose :math:`g` varies along the edge,
     ``(nodes, rates, index, start, slope)`` with :math:`\nu = \mathrm{start} +
     \mathrm{slope}\,s`; on the node's own edge and the opposite one :math:`g` is constant and
-    already in the first factors. Kept on the basis by material and edge: they do not depend
-    on the points."""
+    already in the first factors. The factors are :func:`_node_factors`' vectors and
+    resultants projected on the edge's normal and tangent: the resultants are formed once per
+    basis and material, for its four edges. Kept on the basis by material and edge: they do
+    not depend on the points."""
     key = (stiffness, poisson_ratio, tuple(edge.start), tuple(edge.normal))
     if key in basis.edge_factors:
         return basis.edge_factors[key]
+    nodes_key = ("nodes", stiffness, poisson_ratio)
+    if nodes_key not in basis.edge_factors:
+        basis.edge_factors[nodes_key] = _node_factors(basis, stiffness, poisson_ratio)
+    d, b, plain, grown = basis.edge_factors[nodes_key]
     n, t = edge.normal, edge.tangent
-    layer = basis.layer_nodes
-    d, k, b = basis.polarisation, basis.k, basis.layer[layer]
-    normal, rate = basis.layer_normal[layer], basis.layer_rate[layer]
 
-    def on_edge(vectors: np.ndarray, tractions: np.ndarray) -> np.ndarray:
-        return np.stack([vectors @ n, vectors @ t, tractions @ n, tractions @ t])
+    def component(vectors: np.ndarray, axis: np.ndarray) -> np.ndarray:
+        return vectors[..., 0] * axis[0] + vectors[..., 1] * axis[1]
 
-    factors = on_edge(d, _traction_factors(d, k, n, stiffness, poisson_ratio))
-    # the b (x) n_q term of a boundary-layer node's gradient: a traction without displacement
-    traction = _traction_factors(b, normal, n, stiffness, poisson_ratio)
-    factors[2:, layer] += np.stack([traction @ n, traction @ t])
-    layer_factors = np.zeros((4, len(k)), complex)
-    layer_factors[:, layer] = on_edge(b, _traction_factors(
-        b, k[layer] + rate[:, None] * normal, n, stiffness, poisson_ratio))
+    def on_edge(vectors: np.ndarray, resultants: np.ndarray) -> np.ndarray:
+        traction = component(resultants, n)
+        return np.stack([component(vectors, n), component(vectors, t), component(traction, n),
+                         component(traction, t)])
+
+    factors, layer_factors = on_edge(d, plain), on_edge(b, grown)  # b = 0 off the layers
     along = []  # the groups whose distance to their edge varies along this one
     for nodes, rates, index in basis.layer_groups:
         group_normal = basis.layer_normal[nodes.start]
