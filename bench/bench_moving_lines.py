@@ -22,7 +22,9 @@ supported and fixed in-plane, the stiffeners' tops free, 1 N on bay B1.
   centres, a vibrometer's face), +-5 % uniform noise; ``vtcr update`` corrects W2.T2 with
   moving lines, then with ``held = true``.
 
-Run: ``OPENBLAS_NUM_THREADS=1 python bench/bench_moving_lines.py`` (about three minutes).
+Run: ``OPENBLAS_NUM_THREADS=1 python bench/bench_moving_lines.py`` (about three minutes);
+``--instructions 600`` counts the instructions of one solve of each model instead
+(``instructions``: valgrind's callgrind, a yardstick that a busy machine does not move).
 """
 
 from __future__ import annotations
@@ -30,7 +32,11 @@ from __future__ import annotations
 import argparse
 import cProfile
 import math
+import os
 import pstats
+import re
+import shutil
+import subprocess
 import sys
 import time
 import tracemalloc
@@ -305,12 +311,63 @@ def identification(frequencies: list[float], seed: int) -> None:
               f"({time.perf_counter() - start:.0f} s)")
 
 
+def counted_solve(model: str, frequency: float) -> None:
+    """One solve of ``model`` (``moving`` or ``held``) after a first, with valgrind's callgrind
+    instrumenting the second alone (this process runs under it: :func:`instructions`)."""
+    case = parse_case(description([frequency], model == "held"))
+    solve_assembly(case, frequency, residuals=False)  # imports, first-use caches
+    subprocess.run(["callgrind_control", "--instr=on", str(os.getpid())], check=True,
+                   capture_output=True)
+    solve_assembly(case, frequency, residuals=False)
+    subprocess.run(["callgrind_control", "--instr=off", str(os.getpid())], check=True,
+                   capture_output=True)
+
+
+def instructions(frequency: float) -> None:
+    """The instructions of one moving and one held solve at resolution 1.5, counted by
+    valgrind's callgrind (both at once, a process each, string hashing seeded: about four
+    minutes at 600 Hz, forty at 2500 Hz). A count repeats whatever else the machine does,
+    where processor times move by 10 % from run to run on a shared machine: the yardstick for
+    an A/B of a change, beside the times it does not replace."""
+    if shutil.which("valgrind") is None:
+        print("instructions: valgrind is not installed (Debian's package valgrind)")
+        return
+    runs = {model: subprocess.Popen(
+        ["valgrind", "--tool=callgrind", "--instr-atstart=no", "--callgrind-out-file=/dev/null",
+         sys.executable, __file__, "--counted-solve", model, str(frequency)],
+        stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
+        env=os.environ | {"OPENBLAS_NUM_THREADS": "1", "PYTHONHASHSEED": "0"})
+        for model in ("moving", "held")}
+    counts = {}
+    for model, run in runs.items():
+        _, log = run.communicate()
+        found = re.search(r"Collected : (\d+)", log)
+        if run.returncode != 0 or found is None:
+            print(f"instructions: the {model} run failed (exit {run.returncode})")
+            return
+        counts[model] = int(found.group(1))
+    print(f"instructions of one solve at {frequency:.0f} Hz, resolution 1.5 (callgrind): moving "
+          f"{counts['moving']:.4g}, held {counts['held']:.4g}: "
+          f"{counts['moving'] / counts['held']:.2f}x")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--matched", action="store_true",
                         help="only the cost at the same accuracy (matched_accuracy), five minutes")
+    parser.add_argument("--instructions", type=float, metavar="HZ",
+                        help="only the instructions of one solve of each model at HZ, counted by "
+                             "valgrind's callgrind (instructions)")
+    parser.add_argument("--counted-solve", nargs=2, metavar=("MODEL", "HZ"),
+                        help=argparse.SUPPRESS)  # the inside of --instructions
     args = parser.parse_args()
+    if args.counted_solve:
+        counted_solve(args.counted_solve[0], float(args.counted_solve[1]))
+        return
+    if args.instructions:
+        instructions(args.instructions)
+        return
     if args.matched:
         matched_accuracy([600.0, 2500.0])
         return
