@@ -567,14 +567,9 @@ def _held_free_ends(case: Case) -> dict[str, tuple[bool, bool]]:
     for jid, joint in case.joints.items():
         if joint.kind == "coplanar" or jid in moving:
             continue
-        ends = [False, False]
-        for side, direction in zip(joint.sides, case.member_directions(jid)):
-            i = EDGE_NAMES.index(side.edge)
-            before, after = EDGE_NAMES[i - 1], EDGE_NAMES[(i + 1) % 4]  # at its start, its end
-            for k, edge in enumerate((before, after) if direction > 0 else (after, before)):
-                ends[k] = ends[k] or free(EdgeId(side.plate, edge))
+        ends = tuple(any(map(free, edges)) for edges in line_ends(joint, case.plates))
         if any(ends):
-            out[jid] = tuple(ends)
+            out[jid] = ends
     return out
 
 
